@@ -1,0 +1,470 @@
+//! Stage 5: assembly of `K û = f` (paper eqs. (12)–(15); method.md §3.4–3.6).
+//!
+//! `K_int = −Q · blockdiag(D) · S`: `S` collocates the strains at the nodes
+//! (`ε̂_J = Σ_K B_K(x_J) û_K`, eq. 15), `φ_J(x_q)` interpolates them to the quadrature points of
+//! the interior faces (eq. 11), and `Q` integrates the traction `N(n) D ε^h` over each face
+//! (eq. 12), with opposite signs for its two cells. Rows of Dirichlet DOFs are then replaced
+//! by collocation of `u^h` (method.md §3.6). `K` is sparse and non-symmetric.
+
+use crate::geometry::{Domain, Point};
+use crate::material::Constitutive;
+use crate::mls::ShapeSet;
+use crate::nodes::{Axis, Nodes, dof};
+use crate::problem::{BodyForce, ComponentCondition, EdgeCondition, Field};
+use crate::weak_form::{
+    Cell, CellError, EdgeLabel, Face, FaceQuadrature, segment_rule, traction_operator,
+};
+use rayon::prelude::*;
+
+/// Failures of assembly.
+#[derive(Debug, thiserror::Error)]
+pub enum AssemblyError {
+    /// Cell/face bookkeeping is inconsistent with the boundary conditions.
+    #[error(transparent)]
+    Cells(#[from] CellError),
+    /// No displacement condition anywhere: `K` is singular (rigid-body motion).
+    #[error(
+        "no displacement is prescribed on any edge: the body can move rigidly and K is singular (add a displacement condition)"
+    )]
+    NoDirichlet,
+}
+
+/// A sparse matrix in block-row form: row `I` (a node) holds 2 × 2 blocks `(I, J)` for the
+/// column nodes `cols[offsets[I]..offsets[I+1]]`, ascending.
+#[derive(Clone, Debug, Default)]
+pub struct BlockRows {
+    /// Row starts (length = nodes + 1).
+    pub offsets: Vec<usize>,
+    /// Column node indices.
+    pub cols: Vec<u32>,
+    /// 2 × 2 blocks `[[K_xx, K_xy], [K_yx, K_yy]]`.
+    pub blocks: Vec<[[f64; 2]; 2]>,
+}
+
+impl BlockRows {
+    /// Number of block rows (nodes).
+    pub fn rows(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+    /// Number of stored scalar entries.
+    pub fn nnz(&self) -> usize {
+        4 * self.blocks.len()
+    }
+    /// `(K v)` for DOF row `(node, axis)`.
+    pub fn row_dot(&self, node: usize, axis: Axis, v: &[f64]) -> f64 {
+        let a = axis as usize;
+        (self.offsets[node]..self.offsets[node + 1])
+            .map(|k| {
+                let j = self.cols[k] as usize;
+                self.blocks[k][a][0] * v[2 * j] + self.blocks[k][a][1] * v[2 * j + 1]
+            })
+            .sum()
+    }
+    /// `K v` for all rows.
+    pub fn mul(&self, v: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; 2 * self.rows()];
+        out.par_chunks_mut(2).enumerate().for_each(|(i, o)| {
+            o[0] = self.row_dot(i, Axis::X, v);
+            o[1] = self.row_dot(i, Axis::Y, v);
+        });
+        out
+    }
+    /// Dense copy (small problems and tests only).
+    pub fn to_dense(&self) -> Vec<Vec<f64>> {
+        let n = 2 * self.rows();
+        let mut d = vec![vec![0.0; n]; n];
+        for i in 0..self.rows() {
+            for k in self.offsets[i]..self.offsets[i + 1] {
+                let j = self.cols[k] as usize;
+                for a in 0..2 {
+                    for b in 0..2 {
+                        d[2 * i + a][2 * j + b] += self.blocks[k][a][b];
+                    }
+                }
+            }
+        }
+        d
+    }
+}
+
+/// A Dirichlet condition on one DOF, imposed by collocation `u^h_axis(x_node) = value`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Constraint {
+    /// Node.
+    pub node: u32,
+    /// Component.
+    pub axis: Axis,
+    /// Prescribed displacement `ū`.
+    pub value: f64,
+}
+
+/// The scalar sparse system `K û = f` in compressed-column form, with Dirichlet rows replaced.
+#[derive(Clone, Debug)]
+pub struct SystemMatrix {
+    /// Size (= 2 N).
+    pub n: usize,
+    /// Column starts.
+    pub col_ptr: Vec<usize>,
+    /// Row indices.
+    pub row_idx: Vec<usize>,
+    /// Values.
+    pub values: Vec<f64>,
+}
+
+/// The assembled global system.
+#[derive(Clone, Debug)]
+pub struct GlobalSystem {
+    /// `K_int = −Q D S` from interior faces only, before any row is replaced.
+    pub interior_stiffness: BlockRows,
+    /// Applied load `f` (tractions and body force), interleaved, length 2 N.
+    pub load: Vec<f64>,
+    /// Dirichlet constraints, sorted by DOF.
+    pub constraints: Vec<Constraint>,
+    /// Factor applied to collocation rows so they scale like equilibrium rows (`D_00`).
+    pub collocation_scale: f64,
+    /// The solved matrix: `K_int` with constrained rows replaced by scaled collocation rows.
+    pub matrix: SystemMatrix,
+    /// The solved right-hand side: `f`, with constrained rows replaced by scaled `ū`.
+    pub rhs: Vec<f64>,
+}
+
+impl GlobalSystem {
+    /// Whether DOF `d` is constrained.
+    pub fn is_constrained(&self, d: usize) -> bool {
+        self.constraints.binary_search_by_key(&d, |c| dof(c.node as usize, c.axis)).is_ok()
+    }
+}
+
+/// What assembly needs from the earlier stages.
+pub struct AssemblyInput<'a> {
+    /// Domain (edge normals and parameters).
+    pub domain: &'a Domain,
+    /// Nodes.
+    pub nodes: &'a Nodes,
+    /// Cells.
+    pub cells: &'a [Cell],
+    /// Interior faces.
+    pub interior_faces: &'a [Face],
+    /// Boundary faces.
+    pub boundary_faces: &'a [Face],
+    /// Quadrature of the interior faces.
+    pub face_quadrature: &'a FaceQuadrature,
+    /// Shape functions at the interior-face quadrature points.
+    pub face_shapes: &'a ShapeSet,
+    /// Shape functions with gradients at the nodes (`S` and collocation).
+    pub node_shapes: &'a ShapeSet,
+    /// Constitutive matrix.
+    pub d: &'a Constitutive,
+    /// Edge conditions (one per domain edge).
+    pub boundary: &'a [EdgeCondition],
+    /// Body force.
+    pub body_force: Option<&'a BodyForce>,
+    /// Gauss points per segment for applied tractions.
+    pub load_quadrature_points: usize,
+}
+
+/// Assembles `K_int`, `f`, the constraints and the solved matrix.
+///
+/// # Errors
+/// [`AssemblyError`] when a Dirichlet edge's face belongs to a node off that edge, or when
+/// nothing is constrained.
+pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError> {
+    let interior_stiffness = interior_stiffness(input);
+    let load = applied_load(input)?;
+    let constraints = constraints(input);
+    if constraints.is_empty() {
+        return Err(AssemblyError::NoDirichlet);
+    }
+    let collocation_scale = input.d[0][0];
+    let (matrix, rhs) = system_matrix(
+        &interior_stiffness,
+        &load,
+        &constraints,
+        input.node_shapes,
+        collocation_scale,
+    );
+    Ok(GlobalSystem { interior_stiffness, load, constraints, collocation_scale, matrix, rhs })
+}
+
+/// One block row: column nodes and their 2 × 2 blocks.
+type BlockRow = (Vec<u32>, Vec<[[f64; 2]; 2]>);
+
+/// `K_int = −Q D S`, row by row in parallel (deterministic: each row is summed in face order).
+#[allow(non_snake_case)]
+fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
+    let n = input.nodes.len();
+    // Node -> (face, sign): the face normal points out of the owner.
+    let mut count = vec![0usize; n + 1];
+    for f in input.interior_faces {
+        count[f.owner as usize + 1] += 1;
+        if let EdgeLabel::Neighbour(j) = f.across {
+            count[j as usize + 1] += 1;
+        }
+    }
+    for i in 1..=n {
+        count[i] += count[i - 1];
+    }
+    let mut fill = count.clone();
+    let mut adj = vec![(0u32, 0.0f64); count[n]];
+    for (k, f) in input.interior_faces.iter().enumerate() {
+        adj[fill[f.owner as usize]] = (k as u32, 1.0);
+        fill[f.owner as usize] += 1;
+        if let EdgeLabel::Neighbour(j) = f.across {
+            adj[fill[j as usize]] = (k as u32, -1.0);
+            fill[j as usize] += 1;
+        }
+    }
+    let d = input.d;
+    let q = input.face_quadrature;
+    let S = input.node_shapes;
+    // Workspaces are dense over the nodes; `with_min_len` bounds how many get allocated.
+    let rows: Vec<BlockRow> = (0..n)
+        .into_par_iter()
+        .with_min_len(1024)
+        .map_init(
+            || (vec![[[0.0; 3]; 2]; n], vec![false; n], vec![[[0.0; 2]; 2]; n], vec![false; n]),
+            |(qd, qd_used, krow, k_used), i| {
+                // Row i of Q·blockdiag(D): a 2x3 block per strain node J.
+                let mut js: Vec<u32> = Vec::new();
+                for &(f, sign) in &adj[count[i]..count[i + 1]] {
+                    let face = &input.interior_faces[f as usize];
+                    let t = traction_operator(face.normal, d);
+                    for p in q.offsets[f as usize]..q.offsets[f as usize + 1] {
+                        let wq = sign * q.weights[p];
+                        for (&j, &phi) in
+                            input.face_shapes.support(p).iter().zip(input.face_shapes.phi(p))
+                        {
+                            let ju = j as usize;
+                            if !qd_used[ju] {
+                                qd_used[ju] = true;
+                                js.push(j);
+                            }
+                            let c = wq * phi;
+                            for a in 0..2 {
+                                for b in 0..3 {
+                                    qd[ju][a][b] += c * t[a][b];
+                                }
+                            }
+                        }
+                    }
+                }
+                js.sort_unstable();
+                // Times S: ε̂_J = Σ_K B_K(x_J) û_K, B_K = [[φ,x, 0], [0, φ,y], [φ,y, φ,x]].
+                let mut ks: Vec<u32> = Vec::new();
+                for &j in &js {
+                    let ju = j as usize;
+                    let blk = qd[ju];
+                    let (dx, dy) = S.grad(ju);
+                    for ((&k, &gx), &gy) in S.support(ju).iter().zip(dx).zip(dy) {
+                        let ku = k as usize;
+                        if !k_used[ku] {
+                            k_used[ku] = true;
+                            ks.push(k);
+                        }
+                        for a in 0..2 {
+                            // −(blk · B_K): columns x and y of the 2x2 block.
+                            krow[ku][a][0] -= blk[a][0] * gx + blk[a][2] * gy;
+                            krow[ku][a][1] -= blk[a][1] * gy + blk[a][2] * gx;
+                        }
+                    }
+                    qd[ju] = [[0.0; 3]; 2];
+                    qd_used[ju] = false;
+                }
+                ks.sort_unstable();
+                let blocks: Vec<[[f64; 2]; 2]> = ks
+                    .iter()
+                    .map(|&k| {
+                        let ku = k as usize;
+                        let b = krow[ku];
+                        krow[ku] = [[0.0; 2]; 2];
+                        k_used[ku] = false;
+                        b
+                    })
+                    .collect();
+                (ks, blocks)
+            },
+        )
+        .collect();
+    let mut out = BlockRows { offsets: Vec::with_capacity(n + 1), ..Default::default() };
+    out.offsets.push(0);
+    let total: usize = rows.iter().map(|r| r.0.len()).sum();
+    out.cols.reserve(total);
+    out.blocks.reserve(total);
+    for (cols, blocks) in rows {
+        out.cols.extend_from_slice(&cols);
+        out.blocks.extend_from_slice(&blocks);
+        out.offsets.push(out.cols.len());
+    }
+    out
+}
+
+/// `f_I = ∫_{Γt ∩ ∂Ω_I} t̄ dΓ + ∫_{Ω_I} b dΩ` (paper eq. 12, right-hand side).
+fn applied_load(input: &AssemblyInput<'_>) -> Result<Vec<f64>, AssemblyError> {
+    let n = input.nodes.len();
+    let mut f = vec![0.0; 2 * n];
+    for face in input.boundary_faces {
+        let EdgeLabel::Boundary(k) = face.across else { continue };
+        let k = k as usize;
+        let owner = face.owner as usize;
+        let condition = &input.boundary[k];
+        for axis in Axis::BOTH {
+            if condition.displacement(axis as usize).is_some()
+                && !input.nodes.edges[owner].contains(k)
+            {
+                return Err(CellError::DirichletOwnership {
+                    node: owner,
+                    edge: input.domain.edge_names()[k].clone(),
+                }
+                .into());
+            }
+        }
+        let normal = input.domain.outward_normal(k);
+        let traction = |p: Point| -> [f64; 2] {
+            let t = input.domain.edge_parameter(k, p);
+            match condition {
+                EdgeCondition::Pressure(pr) => {
+                    let v = pr.value(p, t);
+                    [-v * normal[0], -v * normal[1]]
+                }
+                EdgeCondition::Components(c) => {
+                    let comp = |c: &ComponentCondition| match c {
+                        ComponentCondition::Traction(field) => field.value(p, t),
+                        ComponentCondition::Displacement(_) => 0.0,
+                    };
+                    [comp(&c[0]), comp(&c[1])]
+                }
+            }
+        };
+        let zero = match condition {
+            EdgeCondition::Pressure(p) => p.is_zero(),
+            EdgeCondition::Components(c) => c.iter().all(|c| match c {
+                ComponentCondition::Traction(f) => f.is_zero(),
+                ComponentCondition::Displacement(_) => true,
+            }),
+        };
+        if zero {
+            continue;
+        }
+        for (p, w) in segment_rule(face.a, face.b, input.load_quadrature_points) {
+            let t = traction(p);
+            f[2 * owner] += w * t[0];
+            f[2 * owner + 1] += w * t[1];
+        }
+    }
+    if let Some(b) = input.body_force {
+        for (i, cell) in input.cells.iter().enumerate() {
+            let v = integrate_over_cell(cell, |p| b.at(p));
+            f[2 * i] += v[0];
+            f[2 * i + 1] += v[1];
+        }
+    }
+    Ok(f)
+}
+
+/// `∫_cell g dΩ` by a fan of triangles from the centroid with the 3-point (degree-2) rule.
+pub fn integrate_over_cell(cell: &Cell, g: impl Fn(Point) -> [f64; 2]) -> [f64; 2] {
+    let m = cell.vertices.len();
+    let c = cell.vertices.iter().fold([0.0; 2], |s, v| [s[0] + v[0], s[1] + v[1]]);
+    let c = [c[0] / m as f64, c[1] / m as f64];
+    let mut out = [0.0; 2];
+    for k in 0..m {
+        let (a, b) = cell.edge(k);
+        let area = 0.5 * ((a[0] - c[0]) * (b[1] - c[1]) - (b[0] - c[0]) * (a[1] - c[1]));
+        for (l1, l2, l3) in [(4.0, 1.0, 1.0), (1.0, 4.0, 1.0), (1.0, 1.0, 4.0)] {
+            let p = [
+                (l1 * c[0] + l2 * a[0] + l3 * b[0]) / 6.0,
+                (l1 * c[1] + l2 * a[1] + l3 * b[1]) / 6.0,
+            ];
+            let v = g(p);
+            out[0] += area / 3.0 * v[0];
+            out[1] += area / 3.0 * v[1];
+        }
+    }
+    out
+}
+
+/// One constraint per (node, axis) on an edge that prescribes that component's displacement
+/// (the lowest-numbered such edge wins at corners).
+fn constraints(input: &AssemblyInput<'_>) -> Vec<Constraint> {
+    let mut out = Vec::new();
+    for (i, edges) in input.nodes.edges.iter().enumerate() {
+        for axis in Axis::BOTH {
+            let hit = edges.iter().find_map(|k| {
+                input.boundary[k].displacement(axis as usize).map(|f: &Field| (k, f))
+            });
+            if let Some((k, field)) = hit {
+                let p = input.nodes.points[i];
+                let t = input.domain.edge_parameter(k, p);
+                out.push(Constraint { node: i as u32, axis, value: field.value(p, t) });
+            }
+        }
+    }
+    out
+}
+
+/// The solved system: `K_int` with constrained rows replaced by `c·Σ_J φ_J(x_I) û_J,i = c·ū_i`.
+fn system_matrix(
+    k_int: &BlockRows,
+    load: &[f64],
+    constraints: &[Constraint],
+    node_shapes: &ShapeSet,
+    scale: f64,
+) -> (SystemMatrix, Vec<f64>) {
+    let n = 2 * k_int.rows();
+    let mut rhs = load.to_vec();
+    let mut constrained = vec![false; n];
+    for c in constraints {
+        let r = dof(c.node as usize, c.axis);
+        constrained[r] = true;
+        rhs[r] = scale * c.value;
+    }
+    // Count entries per column.
+    let mut col_count = vec![0usize; n + 1];
+    for i in 0..k_int.rows() {
+        for axis in Axis::BOTH {
+            let r = dof(i, axis);
+            if constrained[r] {
+                for &j in node_shapes.support(i) {
+                    col_count[dof(j as usize, axis) + 1] += 1;
+                }
+            } else {
+                for &j in &k_int.cols[k_int.offsets[i]..k_int.offsets[i + 1]] {
+                    col_count[2 * j as usize + 1] += 1;
+                    col_count[2 * j as usize + 2] += 1;
+                }
+            }
+        }
+    }
+    for c in 1..=n {
+        col_count[c] += col_count[c - 1];
+    }
+    let col_ptr = col_count.clone();
+    let mut fill = col_count;
+    let mut row_idx = vec![0usize; col_ptr[n]];
+    let mut values = vec![0.0; col_ptr[n]];
+    // Rows are visited in increasing order, so each column's row indices come out sorted.
+    for i in 0..k_int.rows() {
+        for axis in Axis::BOTH {
+            let r = dof(i, axis);
+            if constrained[r] {
+                for (&j, &phi) in node_shapes.support(i).iter().zip(node_shapes.phi(i)) {
+                    let c = dof(j as usize, axis);
+                    row_idx[fill[c]] = r;
+                    values[fill[c]] = scale * phi;
+                    fill[c] += 1;
+                }
+            } else {
+                for k in k_int.offsets[i]..k_int.offsets[i + 1] {
+                    let j = k_int.cols[k] as usize;
+                    for b in 0..2 {
+                        let c = 2 * j + b;
+                        row_idx[fill[c]] = r;
+                        values[fill[c]] = k_int.blocks[k][axis as usize][b];
+                        fill[c] += 1;
+                    }
+                }
+            }
+        }
+    }
+    (SystemMatrix { n, col_ptr, row_idx, values }, rhs)
+}

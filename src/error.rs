@@ -1,0 +1,32 @@
+//! The crate error: one variant per pipeline stage, each wrapping that stage's typed error.
+
+use crate::{
+    assembly::AssemblyError, geometry::GeometryError, linear_solve::SolveError, mls::MlsError,
+    post::OutputError, problem::ProblemError, weak_form::CellError,
+};
+
+/// Any failure of the pipeline, tagged by the stage that raised it.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The problem description is invalid.
+    #[error(transparent)]
+    Problem(#[from] ProblemError),
+    /// Node generation or boundary tagging failed (stage 1).
+    #[error(transparent)]
+    Geometry(#[from] GeometryError),
+    /// An MLS moment matrix could not be factorised (stage 3).
+    #[error(transparent)]
+    Mls(#[from] MlsError),
+    /// Subdomain cells could not be built (stage 4).
+    #[error(transparent)]
+    Cells(#[from] CellError),
+    /// Assembly of the global system failed (stage 5).
+    #[error(transparent)]
+    Assembly(#[from] AssemblyError),
+    /// Factorisation or solve failed (stage 6).
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+    /// Writing outputs failed (stage 9).
+    #[error(transparent)]
+    Output(#[from] OutputError),
+}

@@ -1,0 +1,2 @@
+//! Command-line interface (in progress).
+fn main() {}

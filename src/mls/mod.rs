@@ -1,0 +1,68 @@
+//! Stage 3: moving least squares (MLS) shape functions and their gradients [LS81]; paper
+//! eqs. (1)–(5).
+//!
+//! MLS is **not interpolating**: `u^h(x_I) ≠ û_I`. The nodal unknowns are fictitious values and
+//! every displacement that is reported, constrained or compared is `u^h(x) = Σ_J φ_J(x) û_J`.
+
+mod basis;
+mod shape;
+mod weight;
+
+pub use basis::Basis;
+pub use shape::{ShapeSet, shape_functions};
+pub use weight::quartic_spline;
+
+use crate::geometry::Point;
+use serde::Serialize;
+
+/// Parameters of the MLS approximation.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MlsParams {
+    /// Polynomial basis (linear by default).
+    pub basis: Basis,
+    /// Support factor `α_s`: node `I` has support radius `r_I = α_s h_I` (default 2).
+    pub support_factor: f64,
+    /// Smallest accepted reciprocal 1-norm condition number of a moment matrix (default 1e-10).
+    pub min_rcond: f64,
+}
+
+impl Default for MlsParams {
+    fn default() -> Self {
+        Self { basis: Basis::Linear, support_factor: 2.0, min_rcond: 1e-10 }
+    }
+}
+
+/// Failures of the MLS approximation at an evaluation point.
+#[derive(Debug, thiserror::Error)]
+pub enum MlsError {
+    /// Fewer support nodes than the basis needs.
+    #[error(
+        "MLS support of point ({x:.6}, {y:.6}) holds {support_size} nodes; the {basis} basis needs at least {needed} (increase support_factor or refine the nodes)",
+        x = point[0], y = point[1]
+    )]
+    TooFewNodes {
+        /// The evaluation point.
+        point: Point,
+        /// Nodes found in its support.
+        support_size: usize,
+        /// Nodes needed.
+        needed: usize,
+        /// Basis name.
+        basis: &'static str,
+    },
+    /// The moment matrix `A(x)` is singular or ill-conditioned (e.g. collinear support nodes).
+    #[error(
+        "MLS moment matrix at point ({x:.6}, {y:.6}) is ill-conditioned: reciprocal condition {rcond:.3e} < {min_rcond:.1e} with {support_size} support nodes (collinear nodes? increase support_factor)",
+        x = point[0], y = point[1]
+    )]
+    SingularMoment {
+        /// The evaluation point.
+        point: Point,
+        /// Nodes found in its support.
+        support_size: usize,
+        /// Estimated reciprocal condition number.
+        rcond: f64,
+        /// The threshold.
+        min_rcond: f64,
+    },
+}

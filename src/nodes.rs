@@ -1,0 +1,262 @@
+//! Stage 1b: node layouts (structured, jittered) and boundary tags.
+//!
+//! Boundary nodes are placed on the domain's edges at the nominal spacing and are never
+//! jittered, so every boundary segment of a subdomain cell belongs to a node on that edge
+//! (stage 4 relies on this for Dirichlet edges).
+
+use crate::geometry::{Domain, GeometryError, Point};
+use serde::Serialize;
+
+/// Coordinate axis of a displacement component.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Axis {
+    /// `x`, component 0.
+    X = 0,
+    /// `y`, component 1.
+    Y = 1,
+}
+
+impl Axis {
+    /// Both axes in order.
+    pub const BOTH: [Axis; 2] = [Axis::X, Axis::Y];
+}
+
+/// The global DOF index of a node's displacement component: interleaved, `2·node + axis`.
+#[inline]
+pub fn dof(node: usize, axis: Axis) -> usize {
+    2 * node + axis as usize
+}
+
+/// The set of domain edges a node lies on (a bit per edge; corners lie on two).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct EdgeSet(u64);
+
+impl EdgeSet {
+    /// Whether edge `k` is in the set.
+    pub fn contains(self, k: usize) -> bool {
+        self.0 >> k & 1 == 1
+    }
+    /// Adds edge `k`.
+    pub fn insert(&mut self, k: usize) {
+        self.0 |= 1 << k;
+    }
+    /// Whether the node is on no edge (interior).
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    /// The edges, ascending.
+    pub fn iter(self) -> impl Iterator<Item = usize> {
+        (0..64).filter(move |&k| self.contains(k))
+    }
+}
+
+/// How nodes are laid out in the domain.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Layout {
+    /// A regular grid (rectangles: exact fit of the spacing to the sides).
+    Structured,
+    /// The regular grid with interior nodes moved by a seeded uniform random offset of at most
+    /// `amplitude · h` in each coordinate (`0 < amplitude ≤ 0.4`).
+    Jittered {
+        /// Maximum offset as a fraction of the spacing.
+        amplitude: f64,
+        /// Seed of the deterministic generator.
+        seed: u64,
+    },
+}
+
+/// The node cloud: positions, local spacing and boundary tags.
+#[derive(Clone, Debug)]
+pub struct Nodes {
+    /// Node positions.
+    pub points: Vec<Point>,
+    /// Local node spacing `h_I` (the support radius is `α_s · h_I`).
+    pub spacing: Vec<f64>,
+    /// The domain edges each node lies on.
+    pub edges: Vec<EdgeSet>,
+}
+
+impl Nodes {
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+    /// Whether there are no nodes.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+    /// Number of displacement unknowns, `2 N`.
+    pub fn dof_count(&self) -> usize {
+        2 * self.points.len()
+    }
+}
+
+/// Generates nodes in `domain` with nominal spacing `h`.
+///
+/// Rectangles get a grid that fits the sides exactly (`round(L/h)` intervals per side);
+/// other convex polygons get equally spaced nodes on each edge and the points of a grid of
+/// spacing `h` that lie at least `h/2` inside every edge.
+///
+/// # Errors
+/// [`GeometryError::Spacing`] when `h` is not positive or leaves fewer than two intervals
+/// across the domain, or would create more than 50 million nodes.
+pub fn generate(domain: &Domain, h: f64, layout: Layout) -> Result<Nodes, GeometryError> {
+    let (lo, hi) = domain.bounding_box();
+    let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
+    if !(h > 0.0 && h.is_finite()) {
+        return Err(GeometryError::Spacing { spacing: h, size, reason: "must be positive" });
+    }
+    if size / h < 1.999 {
+        return Err(GeometryError::Spacing {
+            spacing: h,
+            size,
+            reason: "needs at least two intervals across the domain",
+        });
+    }
+    if domain.area() / (h * h) > 5.0e7 {
+        return Err(GeometryError::Spacing {
+            spacing: h,
+            size,
+            reason: "would create more than 50 million nodes",
+        });
+    }
+    let mut points = match domain.as_rectangle() {
+        Some((x, y)) => rectangle_grid(x, y, h),
+        None => polygon_grid(domain, h),
+    };
+    if let Layout::Jittered { amplitude, seed } = layout {
+        let mut rng = SplitMix64::new(seed);
+        let tol = 1e-9 * h;
+        for p in points.iter_mut() {
+            let on_boundary = (0..domain.edge_count()).any(|k| domain.edge_distance(k, *p) > -tol);
+            // Draw for every node so the sequence does not depend on the boundary test.
+            let (dx, dy) = (rng.uniform_symmetric(), rng.uniform_symmetric());
+            if !on_boundary {
+                p[0] += amplitude * h * dx;
+                p[1] += amplitude * h * dy;
+            }
+        }
+    }
+    let tol = 1e-9 * h;
+    let edges = points
+        .iter()
+        .map(|p| {
+            let mut set = EdgeSet::default();
+            for k in 0..domain.edge_count() {
+                let t = domain.edge_parameter(k, *p);
+                if domain.edge_distance(k, *p).abs() <= tol && (-1e-12..=1.0 + 1e-12).contains(&t) {
+                    set.insert(k);
+                }
+            }
+            set
+        })
+        .collect();
+    let spacing = vec![h; points.len()];
+    Ok(Nodes { points, spacing, edges })
+}
+
+fn rectangle_grid(x: [f64; 2], y: [f64; 2], h: f64) -> Vec<Point> {
+    let nx = ((x[1] - x[0]) / h).round().max(1.0) as usize;
+    let ny = ((y[1] - y[0]) / h).round().max(1.0) as usize;
+    let mut points = Vec::with_capacity((nx + 1) * (ny + 1));
+    for j in 0..=ny {
+        let yj = if j == ny { y[1] } else { y[0] + (y[1] - y[0]) * j as f64 / ny as f64 };
+        for i in 0..=nx {
+            let xi = if i == nx { x[1] } else { x[0] + (x[1] - x[0]) * i as f64 / nx as f64 };
+            points.push([xi, yj]);
+        }
+    }
+    points
+}
+
+fn polygon_grid(domain: &Domain, h: f64) -> Vec<Point> {
+    let mut points = Vec::new();
+    for k in 0..domain.edge_count() {
+        let (a, b) = domain.edge(k);
+        let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let n = (len / h).round().max(1.0) as usize;
+        for i in 0..n {
+            let t = i as f64 / n as f64;
+            points.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
+        }
+    }
+    let (lo, hi) = domain.bounding_box();
+    let nx = ((hi[0] - lo[0]) / h).ceil() as usize;
+    let ny = ((hi[1] - lo[1]) / h).ceil() as usize;
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let p = [lo[0] + i as f64 * h, lo[1] + j as f64 * h];
+            if (0..domain.edge_count()).all(|k| domain.edge_distance(k, p) <= -0.5 * h) {
+                points.push(p);
+            }
+        }
+    }
+    points
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): a tiny deterministic generator for jitter.
+#[derive(Clone, Debug)]
+pub struct SplitMix64(u64);
+
+impl SplitMix64 {
+    /// A generator from a seed.
+    pub fn new(seed: u64) -> Self {
+        Self(seed)
+    }
+    /// Next 64 random bits.
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[0, 1)`.
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+    /// Uniform in `[-1, 1)`.
+    pub fn uniform_symmetric(&mut self) -> f64 {
+        2.0 * self.uniform() - 1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn structured_rectangle_counts_and_tags() {
+        let d = Domain::rectangle([0.0, 4.0], [0.0, 2.0]).unwrap();
+        let n = generate(&d, 0.5, Layout::Structured).unwrap();
+        assert_eq!(n.len(), 9 * 5);
+        // Corner (0,0) is on bottom (0) and left (3).
+        assert!(n.edges[0].contains(0) && n.edges[0].contains(3));
+        assert!(n.edges[10].is_empty());
+    }
+
+    #[test]
+    fn jitter_is_deterministic_and_keeps_boundary() {
+        let d = Domain::rectangle([0.0, 4.0], [0.0, 2.0]).unwrap();
+        let layout = Layout::Jittered { amplitude: 0.3, seed: 7 };
+        let a = generate(&d, 0.5, layout).unwrap();
+        let b = generate(&d, 0.5, layout).unwrap();
+        assert_eq!(a.points, b.points);
+        let boundary = a.edges.iter().filter(|e| !e.is_empty()).count();
+        assert_eq!(boundary, 2 * 9 + 2 * 3);
+    }
+
+    #[test]
+    fn polygon_nodes_are_inside() {
+        let d = Domain::polygon(
+            vec![[0.0, 0.0], [4.0, 0.0], [0.0, 3.0]],
+            vec!["a".into(), "b".into(), "c".into()],
+        )
+        .unwrap();
+        let n = generate(&d, 0.25, Layout::Structured).unwrap();
+        for p in &n.points {
+            assert!((0..3).all(|k| d.edge_distance(k, *p) <= 1e-12));
+        }
+    }
+}

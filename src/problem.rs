@@ -1,0 +1,569 @@
+//! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
+//! checked [`Problem`]. Only a `Problem` reaches the solver.
+
+use crate::geometry::{Domain, Point};
+use crate::material::{Material, PlaneState};
+use crate::mls::{Basis, MlsParams};
+use crate::nodes::Layout;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// A scalar field along an edge: constant, linear in the edge parameter, or any function of
+/// position (library use only).
+#[derive(Clone)]
+pub enum Field {
+    /// The same value everywhere.
+    Constant(f64),
+    /// `start` at the edge's first vertex to `end` at its second, linearly.
+    Linear {
+        /// Value at the first vertex.
+        start: f64,
+        /// Value at the second vertex.
+        end: f64,
+    },
+    /// Any function of position.
+    Function(Arc<dyn Fn(Point) -> f64 + Send + Sync>),
+}
+
+impl std::fmt::Debug for Field {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Field::Constant(v) => write!(f, "Constant({v})"),
+            Field::Linear { start, end } => write!(f, "Linear({start} -> {end})"),
+            Field::Function(_) => write!(f, "Function(..)"),
+        }
+    }
+}
+
+impl Field {
+    /// Value at point `p` with edge parameter `t ∈ [0, 1]`.
+    pub fn value(&self, p: Point, t: f64) -> f64 {
+        match self {
+            Field::Constant(v) => *v,
+            Field::Linear { start, end } => start + t * (end - start),
+            Field::Function(f) => f(p),
+        }
+    }
+    /// Whether the field is identically zero (a constant 0).
+    pub fn is_zero(&self) -> bool {
+        matches!(self, Field::Constant(v) if *v == 0.0)
+    }
+}
+
+/// What is prescribed for one displacement component on an edge.
+#[derive(Clone, Debug)]
+pub enum ComponentCondition {
+    /// Traction component `t̄_i` (force per length).
+    Traction(Field),
+    /// Displacement component `ū_i`, imposed by collocation of `u^h` at the edge's nodes.
+    Displacement(Field),
+}
+
+/// The boundary condition on one domain edge.
+#[derive(Clone, Debug)]
+pub enum EdgeCondition {
+    /// Per component (`[x, y]`): traction or displacement.
+    Components([ComponentCondition; 2]),
+    /// Normal pressure `p`, `t̄ = −p n` (positive pushes into the body).
+    Pressure(Field),
+}
+
+impl EdgeCondition {
+    /// Traction-free.
+    pub fn free() -> Self {
+        let zero = || ComponentCondition::Traction(Field::Constant(0.0));
+        EdgeCondition::Components([zero(), zero()])
+    }
+    /// Displacement prescribed for component `axis`, if any.
+    pub fn displacement(&self, axis: usize) -> Option<&Field> {
+        match self {
+            EdgeCondition::Components(c) => match &c[axis] {
+                ComponentCondition::Displacement(f) => Some(f),
+                ComponentCondition::Traction(_) => None,
+            },
+            EdgeCondition::Pressure(_) => None,
+        }
+    }
+}
+
+/// Discretisation parameters of the mixed MFVM.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Discretisation {
+    /// MLS approximation parameters.
+    pub mls: MlsParams,
+    /// Gauss–Legendre points per cell-boundary segment for the field traction (default 2).
+    pub quadrature_points: usize,
+    /// Gauss–Legendre points per segment for applied tractions (default 5, at least 3).
+    pub load_quadrature_points: usize,
+}
+
+impl Default for Discretisation {
+    fn default() -> Self {
+        Self { mls: MlsParams::default(), quadrature_points: 2, load_quadrature_points: 5 }
+    }
+}
+
+/// A validated problem: everything the solver needs, with all ranges checked.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    /// A short name (for outputs).
+    pub name: String,
+    /// The domain.
+    pub domain: Domain,
+    /// Nominal node spacing `h`.
+    pub node_spacing: f64,
+    /// Node layout.
+    pub layout: Layout,
+    /// Material.
+    pub material: Material,
+    /// Discretisation parameters.
+    pub discretisation: Discretisation,
+    /// One condition per domain edge (in edge order).
+    pub boundary: Vec<EdgeCondition>,
+    /// Body force `b` per unit volume, as a function of position.
+    pub body_force: Option<BodyForce>,
+    /// Edge whose displacement profile is plotted (default: edge 0).
+    pub profile_edge: usize,
+}
+
+/// Body force per unit volume `b(x)`.
+#[derive(Clone)]
+pub struct BodyForce(pub Arc<dyn Fn(Point) -> [f64; 2] + Send + Sync>);
+
+impl std::fmt::Debug for BodyForce {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "BodyForce(..)")
+    }
+}
+
+impl BodyForce {
+    /// A constant body force.
+    pub fn constant(b: [f64; 2]) -> Self {
+        Self(Arc::new(move |_| b))
+    }
+    /// `b(p)`.
+    pub fn at(&self, p: Point) -> [f64; 2] {
+        (self.0)(p)
+    }
+}
+
+/// A problem file that failed to parse or validate. Messages name the field and the value.
+#[derive(Debug, thiserror::Error)]
+pub enum ProblemError {
+    /// TOML syntax error, unknown key, missing field or wrong type.
+    #[error("cannot parse problem file: {0}")]
+    Parse(String),
+    /// A value out of its allowed range.
+    #[error("invalid value for `{field}`: {value} ({reason})")]
+    Invalid {
+        /// Dotted path of the field.
+        field: String,
+        /// The offending value, as written.
+        value: String,
+        /// What is allowed.
+        reason: String,
+    },
+}
+
+fn invalid(field: &str, value: impl std::fmt::Display, reason: impl Into<String>) -> ProblemError {
+    ProblemError::Invalid { field: field.into(), value: value.to_string(), reason: reason.into() }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Raw file form.
+
+/// The problem file as written (TOML). See `problems/*.toml` for annotated examples.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProblemFile {
+    /// Name used in outputs.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Body force `[b_x, b_y]` per unit volume.
+    #[serde(default)]
+    pub body_force: Option<[f64; 2]>,
+    /// The domain.
+    pub geometry: GeometryFile,
+    /// Node layout.
+    pub nodes: NodesFile,
+    /// Material.
+    pub material: MaterialFile,
+    /// Discretisation (all optional).
+    #[serde(default)]
+    pub discretisation: DiscretisationFile,
+    /// Boundary conditions per edge; edges not listed are traction-free.
+    #[serde(default)]
+    pub boundary: Vec<BoundaryFile>,
+    /// Output options.
+    #[serde(default)]
+    pub output: OutputFile,
+}
+
+/// `[geometry]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+pub enum GeometryFile {
+    /// `kind = "rectangle"`, `x = [x0, x1]`, `y = [y0, y1]`; edges `bottom, right, top, left`.
+    Rectangle {
+        /// `[x0, x1]`.
+        x: [f64; 2],
+        /// `[y0, y1]`.
+        y: [f64; 2],
+    },
+    /// `kind = "polygon"`: convex, counter-clockwise `vertices` and one name per edge.
+    Polygon {
+        /// Vertices `[[x, y], …]`.
+        vertices: Vec<[f64; 2]>,
+        /// Edge names; edge k runs from vertex k to k+1.
+        edges: Vec<String>,
+    },
+}
+
+/// `[nodes]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodesFile {
+    /// Nominal spacing `h` (> 0).
+    pub spacing: f64,
+    /// `"structured"` (default) or `"jittered"`.
+    #[serde(default)]
+    pub layout: Option<String>,
+    /// Jitter amplitude as a fraction of `h` (jittered only; default 0.25, range (0, 0.4]).
+    #[serde(default)]
+    pub jitter: Option<f64>,
+    /// Seed of the jitter (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+}
+
+/// `[material]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    /// Young's modulus `E` (> 0).
+    pub young: f64,
+    /// Poisson's ratio `ν`, `0 ≤ ν < 0.5`.
+    pub poisson: f64,
+    /// `"stress"` or `"strain"`.
+    pub plane: String,
+}
+
+/// `[discretisation]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscretisationFile {
+    /// `"linear"` (default) or `"quadratic"`.
+    #[serde(default)]
+    pub basis: Option<String>,
+    /// `α_s` (default 2; range [1, 6]).
+    #[serde(default)]
+    pub support_factor: Option<f64>,
+    /// Gauss points per segment for the field traction (default 2; 1–8).
+    #[serde(default)]
+    pub quadrature_points: Option<usize>,
+    /// Gauss points per segment for applied tractions (default 5; 3–8).
+    #[serde(default)]
+    pub load_quadrature_points: Option<usize>,
+}
+
+/// `[output]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputFile {
+    /// Edge whose displacement profile is plotted (default: the first edge).
+    #[serde(default)]
+    pub profile_edge: Option<String>,
+}
+
+/// One `[[boundary]]` entry.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryFile {
+    /// Edge name.
+    pub edge: String,
+    /// Prescribed displacement components, e.g. `{ x = 0.0, y = 0.0 }`.
+    #[serde(default)]
+    pub displacement: Option<ComponentsFile>,
+    /// Prescribed traction components, e.g. `{ y = -1.0 }` or `{ y = [-1.0, -2.0] }`.
+    #[serde(default)]
+    pub traction: Option<ComponentsFile>,
+    /// Normal pressure (positive pushes into the body), constant or `[start, end]`.
+    #[serde(default)]
+    pub pressure: Option<ValueFile>,
+}
+
+/// `{ x = …, y = … }`, each optional.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComponentsFile {
+    /// x component.
+    #[serde(default)]
+    pub x: Option<ValueFile>,
+    /// y component.
+    #[serde(default)]
+    pub y: Option<ValueFile>,
+}
+
+/// A constant or a `[start, end]` pair varying linearly along the edge.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum ValueFile {
+    /// Constant.
+    Constant(f64),
+    /// Linear from the edge's first vertex to its second.
+    Linear([f64; 2]),
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation.
+
+impl ProblemFile {
+    /// Parses TOML text.
+    ///
+    /// # Errors
+    /// [`ProblemError::Parse`] with the TOML error (line, column, unknown or missing key).
+    pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
+        toml::from_str(text).map_err(|e| ProblemError::Parse(e.to_string()))
+    }
+}
+
+fn check_finite(field: &str, v: f64) -> Result<f64, ProblemError> {
+    if v.is_finite() { Ok(v) } else { Err(invalid(field, v, "must be a finite number")) }
+}
+
+fn value_field(field: &str, v: ValueFile) -> Result<Field, ProblemError> {
+    Ok(match v {
+        ValueFile::Constant(c) => Field::Constant(check_finite(field, c)?),
+        ValueFile::Linear([a, b]) => {
+            Field::Linear { start: check_finite(field, a)?, end: check_finite(field, b)? }
+        }
+    })
+}
+
+impl TryFrom<ProblemFile> for Problem {
+    type Error = ProblemError;
+
+    fn try_from(file: ProblemFile) -> Result<Self, ProblemError> {
+        let domain = match &file.geometry {
+            GeometryFile::Rectangle { x, y } => {
+                for (name, v) in [("geometry.x", x), ("geometry.y", y)] {
+                    check_finite(name, v[0])?;
+                    check_finite(name, v[1])?;
+                    if v[1] <= v[0] {
+                        return Err(invalid(name, format!("{v:?}"), "needs min < max"));
+                    }
+                }
+                Domain::rectangle(*x, *y)
+            }
+            GeometryFile::Polygon { vertices, edges } => {
+                for v in vertices {
+                    check_finite("geometry.vertices", v[0])?;
+                    check_finite("geometry.vertices", v[1])?;
+                }
+                Domain::polygon(vertices.clone(), edges.clone())
+            }
+        }
+        .map_err(|e| invalid("geometry", "", e.to_string()))?;
+
+        let h = file.nodes.spacing;
+        let (lo, hi) = domain.bounding_box();
+        let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
+        if !(h.is_finite() && h > 0.0) {
+            return Err(invalid("nodes.spacing", h, "must be a positive number"));
+        }
+        if h > size / 2.0 {
+            return Err(invalid(
+                "nodes.spacing",
+                h,
+                format!("must be at most half the domain's smallest extent ({size})"),
+            ));
+        }
+        if domain.area() / (h * h) > 2.0e7 {
+            return Err(invalid("nodes.spacing", h, "would create more than 20 million nodes"));
+        }
+        let layout = match file.nodes.layout.as_deref().unwrap_or("structured") {
+            "structured" => {
+                if file.nodes.jitter.is_some() {
+                    return Err(invalid(
+                        "nodes.jitter",
+                        file.nodes.jitter.unwrap_or_default(),
+                        "only used with layout = \"jittered\"",
+                    ));
+                }
+                Layout::Structured
+            }
+            "jittered" => {
+                let amplitude = file.nodes.jitter.unwrap_or(0.25);
+                if !(amplitude > 0.0 && amplitude <= 0.4) {
+                    return Err(invalid(
+                        "nodes.jitter",
+                        amplitude,
+                        "must be in (0, 0.4] (fraction of the spacing)",
+                    ));
+                }
+                Layout::Jittered { amplitude, seed: file.nodes.seed.unwrap_or(1) }
+            }
+            other => {
+                return Err(invalid(
+                    "nodes.layout",
+                    other,
+                    "expected \"structured\" or \"jittered\"",
+                ));
+            }
+        };
+
+        let m = &file.material;
+        if !(m.young.is_finite() && m.young > 0.0) {
+            return Err(invalid("material.young", m.young, "must be a positive number"));
+        }
+        if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
+            return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
+        }
+        let plane = match m.plane.as_str() {
+            "stress" => PlaneState::Stress,
+            "strain" => PlaneState::Strain,
+            other => {
+                return Err(invalid("material.plane", other, "expected \"stress\" or \"strain\""));
+            }
+        };
+        let material = Material { young: m.young, poisson: m.poisson, plane };
+
+        let d = &file.discretisation;
+        let basis = match d.basis.as_deref().unwrap_or("linear") {
+            "linear" => Basis::Linear,
+            "quadratic" => Basis::Quadratic,
+            other => {
+                return Err(invalid(
+                    "discretisation.basis",
+                    other,
+                    "expected \"linear\" or \"quadratic\"",
+                ));
+            }
+        };
+        let support_factor = d.support_factor.unwrap_or(2.0);
+        if !(support_factor.is_finite() && (1.0..=6.0).contains(&support_factor)) {
+            return Err(invalid(
+                "discretisation.support_factor",
+                support_factor,
+                "must be in [1, 6]; supports smaller than one spacing cannot hold enough nodes (recommended 2 for the linear basis)",
+            ));
+        }
+        let quadrature_points = d.quadrature_points.unwrap_or(2);
+        if !(1..=8).contains(&quadrature_points) {
+            return Err(invalid(
+                "discretisation.quadrature_points",
+                quadrature_points,
+                "must be 1–8",
+            ));
+        }
+        let load_quadrature_points = d.load_quadrature_points.unwrap_or(5);
+        if !(3..=8).contains(&load_quadrature_points) {
+            return Err(invalid(
+                "discretisation.load_quadrature_points",
+                load_quadrature_points,
+                "must be 3–8",
+            ));
+        }
+        let discretisation = Discretisation {
+            mls: MlsParams { basis, support_factor, ..MlsParams::default() },
+            quadrature_points,
+            load_quadrature_points,
+        };
+
+        let mut boundary: Vec<Option<EdgeCondition>> = vec![None; domain.edge_count()];
+        for (i, b) in file.boundary.iter().enumerate() {
+            let field = format!("boundary[{i}]");
+            let k = domain.edge_index(&b.edge).ok_or_else(|| {
+                invalid(
+                    &format!("{field}.edge"),
+                    &b.edge,
+                    format!("no such edge; the edges are {:?}", domain.edge_names()),
+                )
+            })?;
+            if boundary[k].is_some() {
+                return Err(invalid(&format!("{field}.edge"), &b.edge, "edge listed twice"));
+            }
+            let condition = if let Some(p) = b.pressure {
+                if b.displacement.is_some() || b.traction.is_some() {
+                    return Err(invalid(
+                        &format!("{field}.pressure"),
+                        &b.edge,
+                        "pressure cannot be combined with displacement or traction on one edge",
+                    ));
+                }
+                EdgeCondition::Pressure(value_field(&format!("{field}.pressure"), p)?)
+            } else {
+                let mut comps = [None, None];
+                for (axis, name) in ["x", "y"].iter().enumerate() {
+                    let disp =
+                        b.displacement.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y });
+                    let trac = b.traction.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y });
+                    comps[axis] = Some(match (disp, trac) {
+                        (Some(_), Some(_)) => {
+                            return Err(invalid(
+                                &format!("{field}.{name}"),
+                                &b.edge,
+                                "a component cannot have both a displacement and a traction",
+                            ));
+                        }
+                        (Some(v), None) => ComponentCondition::Displacement(value_field(
+                            &format!("{field}.displacement.{name}"),
+                            v,
+                        )?),
+                        (None, Some(v)) => ComponentCondition::Traction(value_field(
+                            &format!("{field}.traction.{name}"),
+                            v,
+                        )?),
+                        (None, None) => ComponentCondition::Traction(Field::Constant(0.0)),
+                    });
+                }
+                let [Some(cx), Some(cy)] = comps else {
+                    unreachable!("both components are set above")
+                };
+                EdgeCondition::Components([cx, cy])
+            };
+            boundary[k] = Some(condition);
+        }
+        let boundary: Vec<EdgeCondition> =
+            boundary.into_iter().map(|c| c.unwrap_or_else(EdgeCondition::free)).collect();
+        let body_force = match file.body_force {
+            Some(b) => {
+                check_finite("body_force", b[0])?;
+                check_finite("body_force", b[1])?;
+                Some(BodyForce::constant(b))
+            }
+            None => None,
+        };
+        let profile_edge = match &file.output.profile_edge {
+            Some(name) => domain.edge_index(name).ok_or_else(|| {
+                invalid(
+                    "output.profile_edge",
+                    name,
+                    format!("no such edge; the edges are {:?}", domain.edge_names()),
+                )
+            })?,
+            None => 0,
+        };
+        Ok(Problem {
+            name: file.name.clone().unwrap_or_else(|| "problem".into()),
+            domain,
+            node_spacing: h,
+            layout,
+            material,
+            discretisation,
+            boundary,
+            body_force,
+            profile_edge,
+        })
+    }
+}
+
+impl Problem {
+    /// Parses and validates TOML text.
+    ///
+    /// # Errors
+    /// [`ProblemError`] naming the offending field and value.
+    pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
+        Problem::try_from(ProblemFile::from_toml(text)?)
+    }
+}

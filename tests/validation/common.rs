@@ -1,0 +1,74 @@
+//! Shared helpers for the validation cases.
+
+use mlpg_contact::geometry::{Domain, Point};
+use mlpg_contact::material::{Material, PlaneState};
+use mlpg_contact::nodes::Layout;
+use mlpg_contact::problem::{ComponentCondition, Discretisation, EdgeCondition, Field, Problem};
+use std::sync::Arc;
+
+/// A vector field given as a function of position.
+pub type VectorField = Arc<dyn Fn(Point) -> [f64; 2] + Send + Sync>;
+
+/// A problem on `domain` with default discretisation and no boundary conditions (free).
+pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) -> Problem {
+    let edges = domain.edge_count();
+    Problem {
+        name: "validation".into(),
+        domain,
+        node_spacing: h,
+        layout,
+        material,
+        discretisation: Discretisation::default(),
+        boundary: vec![EdgeCondition::free(); edges],
+        body_force: None,
+        profile_edge: 0,
+    }
+}
+
+/// Plane-stress material.
+pub fn plane_stress(young: f64, poisson: f64) -> Material {
+    Material { young, poisson, plane: PlaneState::Stress }
+}
+
+/// Both components of `u` prescribed from a field.
+pub fn displacement(u: VectorField) -> EdgeCondition {
+    let (ux, uy) = (u.clone(), u);
+    EdgeCondition::Components([
+        ComponentCondition::Displacement(Field::Function(Arc::new(move |p| ux(p)[0]))),
+        ComponentCondition::Displacement(Field::Function(Arc::new(move |p| uy(p)[1]))),
+    ])
+}
+
+/// Both traction components from a field.
+pub fn traction(t: VectorField) -> EdgeCondition {
+    let (tx, ty) = (t.clone(), t);
+    EdgeCondition::Components([
+        ComponentCondition::Traction(Field::Function(Arc::new(move |p| tx(p)[0]))),
+        ComponentCondition::Traction(Field::Function(Arc::new(move |p| ty(p)[1]))),
+    ])
+}
+
+/// Least-squares slope of `log e` against `log h`.
+pub fn convergence_rate(h: &[f64], e: &[f64]) -> f64 {
+    let n = h.len() as f64;
+    let (lx, ly): (Vec<f64>, Vec<f64>) = h.iter().zip(e).map(|(h, e)| (h.ln(), e.ln())).unzip();
+    let mx = lx.iter().sum::<f64>() / n;
+    let my = ly.iter().sum::<f64>() / n;
+    let sxy: f64 = lx.iter().zip(&ly).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = lx.iter().map(|x| (x - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+/// Writes a small CSV of a convergence table to `target/validation/<case>/<file>`.
+pub fn write_table(case: &str, file: &str, header: &str, rows: &[Vec<f64>]) {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/validation").join(case);
+    if std::fs::create_dir_all(&dir).is_ok() {
+        let mut text = format!("{header}\n");
+        for r in rows {
+            let line: Vec<String> = r.iter().map(|v| format!("{v:.6e}")).collect();
+            text.push_str(&line.join(","));
+            text.push('\n');
+        }
+        let _ = std::fs::write(dir.join(file), text);
+    }
+}
