@@ -332,3 +332,45 @@ fn recover(problem: &Problem, model: &Model, u_hat: Vec<f64>) -> Solution {
         timings: Vec::new(),
     }
 }
+
+/// What a run reports: the summary JSON and the files written.
+#[derive(Debug)]
+pub struct RunReport {
+    /// Contents of `summary.json`.
+    pub summary: serde_json::Value,
+    /// Files written.
+    pub files: Vec<std::path::PathBuf>,
+}
+
+impl std::fmt::Display for RunReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = &self.summary;
+        writeln!(
+            f,
+            "{} nodes, {} DOFs; residual {:.2e}, equilibrium error {:.2e}",
+            s["counts"]["nodes"],
+            s["counts"]["dofs"],
+            s["checks"]["relative_residual"].as_f64().unwrap_or(f64::NAN),
+            s["checks"]["equilibrium_error"].as_f64().unwrap_or(f64::NAN)
+        )?;
+        write!(f, "wrote {} files", self.files.len() + 1)
+    }
+}
+
+/// Solves `problem` and writes every output into `out` (the CLI's job; `summary.json` is
+/// returned for the caller to write, `input` is echoed into it).
+///
+/// # Errors
+/// Any stage's error.
+pub fn run(
+    problem: &Problem,
+    out: &std::path::Path,
+    input: serde_json::Value,
+    progress: &mut dyn Progress,
+) -> Result<RunReport, Error> {
+    let model = discretise(problem, progress)?;
+    let (model, solution) = solve_model(problem, model, progress)?;
+    let files = post::write_solution(out, problem, &model, &solution)?;
+    let summary = post::summary(input, problem, &model, &solution);
+    Ok(RunReport { summary, files })
+}

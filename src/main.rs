@@ -1,2 +1,50 @@
-//! Command-line interface (in progress).
-fn main() {}
+//! `mlpg-contact <problem.toml> --out <dir>`: solve a problem file and write the outputs.
+use anyhow::Context;
+use clap::Parser;
+use mlpg_contact::{post, problem};
+use std::{path::PathBuf, process::ExitCode};
+
+/// Meshless mixed MLPG finite volume solver for 2-D elastostatics and frictionless contact.
+#[derive(Parser)]
+#[command(version, about)]
+struct Args {
+    /// Problem file (TOML); see problems/ for annotated examples.
+    problem: PathBuf,
+    /// Output directory (created if missing).
+    #[arg(long, default_value = "out")]
+    out: PathBuf,
+    /// No progress on stderr.
+    #[arg(long)]
+    quiet: bool,
+}
+
+fn run(args: &Args) -> anyhow::Result<()> {
+    let text = std::fs::read_to_string(&args.problem)
+        .with_context(|| format!("cannot read {}", args.problem.display()))?;
+    let file = problem::ProblemFile::from_toml(&text)
+        .with_context(|| format!("in {}", args.problem.display()))?;
+    let echo = serde_json::to_value(&file)?;
+    let problem = problem::Problem::try_from(file)
+        .with_context(|| format!("in {}", args.problem.display()))?;
+    let mut progress = mlpg_contact::post::progress::StageProgress::new(args.quiet);
+    let report = mlpg_contact::run(&problem, &args.out, echo, &mut progress)?;
+    if !args.quiet {
+        eprintln!("{report}");
+    }
+    post::write_text(
+        &args.out.join("summary.json"),
+        &serde_json::to_string_pretty(&report.summary)?,
+    )?;
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

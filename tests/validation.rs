@@ -3,4 +3,8 @@ mod validation {
     mod common;
     // Linear field reproduced to round-off, structured and jittered nodes.
     mod patch_test;
+    // Timoshenko & Goodier cantilever: errors and rates, structured and jittered.
+    mod cantilever_end_shear;
+    // Free body: exactly three rigid modes at α_s = 2; checkerboard modes at α_s = 3.
+    mod free_body;
 }

@@ -1,0 +1,77 @@
+//! VTK XML unstructured grid (`.vtu`, ASCII): one polygon per subdomain cell, carrying that
+//! node's displacement and stress as cell data. Opens in ParaView.
+
+use super::num;
+use crate::problem::Problem;
+use crate::{Model, Solution};
+use std::fmt::Write as _;
+
+/// The VTU text of a solution.
+pub fn solution_vtu(problem: &Problem, model: &Model, solution: &Solution) -> String {
+    let cells = &model.cells;
+    let n_points: usize = cells.iter().map(|c| c.vertices.len()).sum();
+    let mut s = String::new();
+    let _ = writeln!(s, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(
+        s,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">"
+    );
+    let _ = writeln!(s, "<UnstructuredGrid>");
+    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{}\">", cells.len());
+    let _ = writeln!(
+        s,
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+    );
+    for c in cells {
+        for v in &c.vertices {
+            let _ = writeln!(s, "{} {} 0", num(v[0]), num(v[1]));
+        }
+    }
+    let _ = writeln!(s, "</DataArray>\n</Points>\n<Cells>");
+    let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
+    let mut next = 0usize;
+    for c in cells {
+        let ids: Vec<String> = (next..next + c.vertices.len()).map(|k| k.to_string()).collect();
+        next += c.vertices.len();
+        let _ = writeln!(s, "{}", ids.join(" "));
+    }
+    let _ =
+        writeln!(s, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
+    let mut end = 0usize;
+    for c in cells {
+        end += c.vertices.len();
+        let _ = writeln!(s, "{end}");
+    }
+    let _ = writeln!(s, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
+    for _ in cells {
+        let _ = writeln!(s, "7");
+    }
+    let _ = writeln!(s, "</DataArray>\n</Cells>\n<CellData Vectors=\"displacement\">");
+    let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"node\" format=\"ascii\">");
+    for i in 0..cells.len() {
+        let _ = writeln!(s, "{i}");
+    }
+    let _ = writeln!(
+        s,
+        "</DataArray>\n<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">"
+    );
+    for u in &solution.displacement {
+        let _ = writeln!(s, "{} {} 0", num(u[0]), num(u[1]));
+    }
+    let _ = writeln!(
+        s,
+        "</DataArray>\n<DataArray type=\"Float64\" Name=\"stress_xx_yy_xy\" NumberOfComponents=\"3\" format=\"ascii\">"
+    );
+    for t in &solution.stress {
+        let _ = writeln!(s, "{} {} {}", num(t[0]), num(t[1]), num(t[2]));
+    }
+    let _ = writeln!(
+        s,
+        "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">"
+    );
+    for t in &solution.stress {
+        let _ = writeln!(s, "{}", num(problem.material.von_mises(*t)));
+    }
+    let _ = writeln!(s, "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>");
+    s
+}
