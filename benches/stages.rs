@@ -1,2 +1,243 @@
-//! Placeholder; filled by the benchmark work.
-fn main() {}
+//! Per-stage benchmarks of the discretisation pipeline, swept over node counts.
+//!
+//! The problem is the cantilever of `problems/cantilever.toml` (48 × 12, plane stress, linear
+//! basis, `α_s = 2`, 2-point face quadrature) on structured grids of `4 ny × ny` intervals:
+//! `ny = 25, 50, 100` give 2 626, 10 251 and 40 501 nodes. Override with a comma-separated list
+//! of `ny` in `MLPG_BENCH_NY` (e.g. `MLPG_BENCH_NY=25,50`).
+//!
+//! One benchmark group per stage, each measured on inputs prepared once per size:
+//!
+//! | group | measured call |
+//! |---|---|
+//! | `neighbours` | `Supports::new` + `Supports::support_of` at every node |
+//! | `cells` | `weak_form::build_cells` |
+//! | `mls` | `mls::shape_functions` at the nodes, with gradients |
+//! | `assembly` | `assembly::assemble` |
+//! | `factorisation` | `linear_solve::Factorisation::new` (symbolic + numeric LU) |
+//! | `solve` | `Factorisation::solve` (one right-hand side) |
+//!
+//! Samples are few and short (`sample_size(10)`, 1 s warm-up, 3 s measurement) so the whole
+//! run takes a few minutes; criterion switches to flat sampling for the slow cases.
+//!
+//! ```text
+//! cargo bench --bench stages [-- <group filter>]
+//! ```
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use mlpg_contact::assembly::{self, AssemblyInput, GlobalSystem};
+use mlpg_contact::linear_solve::Factorisation;
+use mlpg_contact::mls::{self, ShapeSet};
+use mlpg_contact::neighbours::Supports;
+use mlpg_contact::nodes::{self, Nodes};
+use mlpg_contact::problem::Problem;
+use mlpg_contact::weak_form::{self, Cell, FaceQuadrature, Faces};
+
+/// Default grid heights (intervals across the 12-unit height).
+const DEFAULT_NY: [usize; 3] = [25, 50, 100];
+
+/// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height.
+fn cantilever(ny: usize) -> Problem {
+    let spacing = 12.0 / ny as f64;
+    let text = format!(
+        r#"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 48.0]
+        y = [-6.0, 6.0]
+        [nodes]
+        spacing = {spacing:?}
+        [material]
+        young = 3.0e7
+        poisson = 0.3
+        plane = "stress"
+        [discretisation]
+        basis = "linear"
+        support_factor = 2.0
+        quadrature_points = 2
+        [[boundary]]
+        edge = "left"
+        displacement = {{ x = 0.0, y = 0.0 }}
+        [[boundary]]
+        edge = "right"
+        traction = {{ y = 83.333333333333 }}
+        "#
+    );
+    Problem::from_toml(&text).expect("benchmark cantilever is valid")
+}
+
+/// The outputs of the stages before assembly, for one size.
+struct Inputs {
+    problem: Problem,
+    nodes: Nodes,
+    supports: Supports,
+    cells: Vec<Cell>,
+    faces: Faces,
+    face_quadrature: FaceQuadrature,
+    face_shapes: ShapeSet,
+    node_shapes: ShapeSet,
+}
+
+impl Inputs {
+    fn new(ny: usize) -> Self {
+        let problem = cantilever(ny);
+        let disc = &problem.discretisation;
+        let nodes = nodes::generate(&problem.domain, problem.node_spacing, problem.layout)
+            .expect("nodes");
+        let supports = Supports::new(&nodes, disc.mls.support_factor);
+        let cells = weak_form::build_cells(&problem.domain, &nodes).expect("cells");
+        let faces = weak_form::collect_faces(&cells);
+        let face_quadrature = FaceQuadrature::new(&faces.interior, disc.quadrature_points);
+        let node_shapes = mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)
+            .expect("node shapes");
+        let face_shapes = mls::shape_functions(
+            &face_quadrature.points,
+            &nodes,
+            &supports,
+            &disc.mls,
+            false,
+        )
+        .expect("face shapes");
+        Self { problem, nodes, supports, cells, faces, face_quadrature, face_shapes, node_shapes }
+    }
+
+    fn assemble(&self) -> GlobalSystem {
+        assembly::assemble(&AssemblyInput {
+            domain: &self.problem.domain,
+            nodes: &self.nodes,
+            cells: &self.cells,
+            interior_faces: &self.faces.interior,
+            boundary_faces: &self.faces.boundary,
+            face_quadrature: &self.face_quadrature,
+            face_shapes: &self.face_shapes,
+            node_shapes: &self.node_shapes,
+            d: &self.problem.material.constitutive(),
+            boundary: &self.problem.boundary,
+            body_force: self.problem.body_force.as_ref(),
+            load_quadrature_points: self.problem.discretisation.load_quadrature_points,
+        })
+        .expect("assembly")
+    }
+}
+
+/// Every stage's output for one size, so each benchmark can run its stage alone.
+struct Fixture {
+    inputs: Inputs,
+    system: GlobalSystem,
+    factorisation: Factorisation,
+}
+
+impl Fixture {
+    fn new(ny: usize) -> Self {
+        let inputs = Inputs::new(ny);
+        let system = inputs.assemble();
+        let factorisation = Factorisation::new(&system.matrix).expect("LU");
+        Self { inputs, system, factorisation }
+    }
+
+    fn id(&self) -> BenchmarkId {
+        BenchmarkId::from_parameter(self.inputs.nodes.len())
+    }
+
+    fn elements(&self) -> Throughput {
+        Throughput::Elements(self.inputs.nodes.len() as u64)
+    }
+}
+
+fn sizes() -> Vec<usize> {
+    match std::env::var("MLPG_BENCH_NY") {
+        Ok(list) => list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
+        Err(_) => DEFAULT_NY.to_vec(),
+    }
+}
+
+fn stages(c: &mut Criterion) {
+    let fixtures: Vec<Fixture> = sizes().into_iter().map(Fixture::new).collect();
+
+    let mut group = c.benchmark_group("neighbours");
+    for f in &fixtures {
+        group.throughput(f.elements());
+        group.bench_with_input(f.id(), f, |b, f| {
+            let alpha = f.inputs.problem.discretisation.mls.support_factor;
+            let mut support = Vec::new();
+            b.iter(|| {
+                let supports = Supports::new(black_box(&f.inputs.nodes), alpha);
+                let mut total = 0usize;
+                for &p in &f.inputs.nodes.points {
+                    supports.support_of(&f.inputs.nodes.points, p, &mut support);
+                    total += support.len();
+                }
+                black_box((supports, total))
+            });
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("cells");
+    for f in &fixtures {
+        group.throughput(f.elements());
+        group.bench_with_input(f.id(), f, |b, f| {
+            b.iter(|| weak_form::build_cells(black_box(&f.inputs.problem.domain), black_box(&f.inputs.nodes)));
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("mls");
+    for f in &fixtures {
+        group.throughput(f.elements());
+        group.bench_with_input(f.id(), f, |b, f| {
+            let params = &f.inputs.problem.discretisation.mls;
+            b.iter(|| {
+                mls::shape_functions(
+                    black_box(&f.inputs.nodes.points),
+                    &f.inputs.nodes,
+                    &f.inputs.supports,
+                    params,
+                    true,
+                )
+            });
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("assembly");
+    for f in &fixtures {
+        group.throughput(f.elements());
+        group.bench_with_input(f.id(), f, |b, f| b.iter(|| black_box(f.inputs.assemble())));
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("factorisation");
+    for f in &fixtures {
+        group.throughput(f.elements());
+        group.bench_with_input(f.id(), f, |b, f| {
+            b.iter(|| Factorisation::new(black_box(&f.system.matrix)));
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("solve");
+    for f in &fixtures {
+        group.throughput(f.elements());
+        group.bench_with_input(f.id(), f, |b, f| {
+            b.iter(|| f.factorisation.solve(black_box(&f.system.rhs)));
+        });
+    }
+    group.finish();
+}
+
+fn config() -> Criterion {
+    Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3))
+}
+
+criterion_group! {
+    name = benches;
+    config = config();
+    targets = stages
+}
+criterion_main!(benches);

@@ -7,4 +7,6 @@ mod validation {
     mod cantilever_end_shear;
     // Free body: exactly three rigid modes at α_s = 2; checkerboard modes at α_s = 3.
     mod free_body;
+    // Applied load + reactions = 0 with body force, linear traction and pressure.
+    mod equilibrium;
 }

@@ -1,0 +1,227 @@
+//! End-to-end scaling of the solver on the cantilever of `problems/cantilever.toml`
+//! (48 × 12, plane stress, clamped left edge, shear traction on the right edge), refined to a
+//! list of node counts. Run with
+//!
+//! ```text
+//! cargo run --release --example scaling [N1 N2 ...]
+//! ```
+//!
+//! Node counts may be written `25000`, `25k` or `1.5M` (default: 10k 25k 50k 100k 250k). The
+//! grid has `ny` intervals across the height and `4 ny` along the length, with `ny` chosen so
+//! that `(4 ny + 1)(ny + 1)` is nearest to `N`.
+//!
+//! Each size runs in a fresh child process (the example re-invokes itself with `--one N`), so
+//! the peak resident memory (`VmHWM` from `/proc/self/status`) of a row is that size's own.
+//! Prints one row per size: nodes, DOFs, nonzeros of `K`, seconds per stage (`discretise` and
+//! `solve_model`), their total, and the peak memory; then the least-squares growth exponent
+//! `p` of `t ∝ N^p` of each stage over the sizes run. Nothing is asserted about timings.
+
+use std::process::Command;
+use std::time::Instant;
+
+use mlpg_contact::problem::Problem;
+use mlpg_contact::{Silent, discretise, solve_model};
+
+/// Stages in pipeline order, as named in `Model::timings`.
+const STAGES: [&str; 10] = [
+    "nodes",
+    "supports",
+    "cells",
+    "faces",
+    "mls_nodes",
+    "mls_faces",
+    "assembly",
+    "factorisation",
+    "solve",
+    "recovery",
+];
+
+/// Short column headers for [`STAGES`].
+const HEADERS: [&str; 10] =
+    ["nodes_s", "supp", "cells", "faces", "mls_n", "mls_f", "assem", "factor", "solve", "recov"];
+
+const DEFAULT_SIZES: [usize; 5] = [10_000, 25_000, 50_000, 100_000, 250_000];
+
+/// Intervals across the height for about `n` nodes on the 48 × 12 rectangle.
+fn intervals_for(n: usize) -> usize {
+    let count = |ny: usize| (4 * ny + 1) * (ny + 1);
+    let mut ny = ((n as f64 / 4.0).sqrt().round() as usize).max(2);
+    // Step to the nearest count (the estimate is off by at most one or two).
+    while ny > 2 && count(ny - 1).abs_diff(n) <= count(ny).abs_diff(n) {
+        ny -= 1;
+    }
+    while count(ny + 1).abs_diff(n) < count(ny).abs_diff(n) {
+        ny += 1;
+    }
+    ny
+}
+
+/// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height.
+fn cantilever(ny: usize) -> Problem {
+    let spacing = 12.0 / ny as f64;
+    let text = format!(
+        r#"
+        name = "cantilever"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 48.0]
+        y = [-6.0, 6.0]
+        [nodes]
+        spacing = {spacing:?}
+        layout = "structured"
+        [material]
+        young = 3.0e7
+        poisson = 0.3
+        plane = "stress"
+        [discretisation]
+        basis = "linear"
+        support_factor = 2.0
+        quadrature_points = 2
+        [[boundary]]
+        edge = "left"
+        displacement = {{ x = 0.0, y = 0.0 }}
+        [[boundary]]
+        edge = "right"
+        traction = {{ y = 83.333333333333 }}
+        "#
+    );
+    match Problem::from_toml(&text) {
+        Ok(p) => p,
+        Err(e) => panic!("cantilever with ny = {ny} is invalid: {e}"),
+    }
+}
+
+/// Peak resident set size (`VmHWM`) of this process in MiB, if the kernel reports it.
+fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib / 1024.0)
+}
+
+/// Parses `25000`, `25k`, `1.5M`.
+fn parse_count(s: &str) -> Option<usize> {
+    let s = s.trim();
+    let (num, mult) = match s.chars().last()? {
+        'k' | 'K' => (&s[..s.len() - 1], 1e3),
+        'm' | 'M' => (&s[..s.len() - 1], 1e6),
+        _ => (s, 1.0),
+    };
+    let v: f64 = num.replace('_', "").parse().ok()?;
+    (v > 0.0).then(|| (v * mult).round() as usize)
+}
+
+/// Child mode: solves one size and prints one JSON line on stdout.
+fn run_one(n: usize) -> Result<(), Box<dyn std::error::Error>> {
+    let ny = intervals_for(n);
+    let problem = cantilever(ny);
+    let t0 = Instant::now();
+    let model = discretise(&problem, &mut Silent)?;
+    let (model, solution) = solve_model(&problem, model, &mut Silent)?;
+    let total = t0.elapsed().as_secs_f64();
+    let stages: serde_json::Map<String, serde_json::Value> =
+        model.timings.iter().map(|t| (t.stage.to_string(), t.seconds.into())).collect();
+    let row = serde_json::json!({
+        "nodes": model.nodes.len(),
+        "dofs": model.system.matrix.n,
+        "nnz": model.system.matrix.values.len(),
+        "stages": stages,
+        "total": total,
+        "peak_mib": peak_rss_mib(),
+        "relative_residual": solution.relative_residual,
+    });
+    println!("{row}");
+    Ok(())
+}
+
+/// One finished row, as read back from a child.
+struct Row {
+    nodes: f64,
+    stages: Vec<f64>,
+    total: f64,
+}
+
+/// Least-squares slope of `log y` against `log x` (NaN with fewer than two usable points).
+fn exponent(xs: &[f64], ys: &[f64]) -> f64 {
+    let pts: Vec<(f64, f64)> = xs
+        .iter()
+        .zip(ys)
+        .filter(|(x, y)| **x > 0.0 && **y > 0.0)
+        .map(|(x, y)| (x.ln(), y.ln()))
+        .collect();
+    let n = pts.len() as f64;
+    if pts.len() < 2 {
+        return f64::NAN;
+    }
+    let (mx, my) = pts.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    let sxy: f64 = pts.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = pts.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    sxy / sxx
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(pos) = args.iter().position(|a| a == "--one") {
+        let n = args.get(pos + 1).and_then(|s| parse_count(s)).ok_or("--one needs a count")?;
+        return run_one(n);
+    }
+    let mut sizes = Vec::new();
+    for a in &args {
+        sizes.push(parse_count(a).ok_or_else(|| format!("not a node count: {a}"))?);
+    }
+    if sizes.is_empty() {
+        sizes = DEFAULT_SIZES.to_vec();
+    }
+    let exe = std::env::current_exe()?;
+    println!(
+        "cantilever 48 x 12, linear basis, alpha_s = 2, 2-point face quadrature; {} rayon threads",
+        rayon::current_num_threads()
+    );
+    println!("seconds per stage; peak = VmHWM of a fresh process per size");
+    let mut header = format!("{:>8} {:>8} {:>10}", "nodes", "dofs", "nnz(K)");
+    for h in HEADERS {
+        header += &format!(" {h:>7}");
+    }
+    header += &format!(" {:>8} {:>9} {:>9}", "total", "peak MiB", "residual");
+    println!("{header}");
+    let mut rows = Vec::new();
+    for n in sizes {
+        let out = Command::new(&exe).arg("--one").arg(n.to_string()).output()?;
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        let line = stdout.lines().find(|l| l.starts_with('{'));
+        let parsed: Option<serde_json::Value> = line.and_then(|l| serde_json::from_str(l).ok());
+        let Some(v) = parsed.filter(|_| out.status.success()) else {
+            let err = String::from_utf8_lossy(&out.stderr);
+            println!("{n:>8} failed ({}): {}", out.status, err.trim());
+            continue;
+        };
+        let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+        let stages: Vec<f64> =
+            STAGES.iter().map(|s| v["stages"][s].as_f64().unwrap_or(f64::NAN)).collect();
+        let mut line =
+            format!("{:>8} {:>8} {:>10}", v["nodes"], v["dofs"], v["nnz"].as_u64().unwrap_or(0));
+        for s in &stages {
+            line += &format!(" {s:>7.3}");
+        }
+        line += &format!(
+            " {:>8.3} {:>9.0} {:>9.1e}",
+            num("total"),
+            num("peak_mib"),
+            num("relative_residual")
+        );
+        println!("{line}");
+        rows.push(Row { nodes: num("nodes"), stages, total: num("total") });
+    }
+    if rows.len() >= 2 {
+        let xs: Vec<f64> = rows.iter().map(|r| r.nodes).collect();
+        let mut line = format!("{:>28}", "exponent p (t ~ N^p)");
+        for (k, _) in STAGES.iter().enumerate() {
+            let ys: Vec<f64> = rows.iter().map(|r| r.stages[k]).collect();
+            line += &format!(" {:>7.2}", exponent(&xs, &ys));
+        }
+        let ys: Vec<f64> = rows.iter().map(|r| r.total).collect();
+        line += &format!(" {:>8.2}", exponent(&xs, &ys));
+        println!("{line}");
+    }
+    Ok(())
+}
