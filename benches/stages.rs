@@ -84,22 +84,17 @@ impl Inputs {
     fn new(ny: usize) -> Self {
         let problem = cantilever(ny);
         let disc = &problem.discretisation;
-        let nodes = nodes::generate(&problem.domain, problem.node_spacing, problem.layout)
-            .expect("nodes");
+        let nodes =
+            nodes::generate(&problem.domain, problem.node_spacing, problem.layout).expect("nodes");
         let supports = Supports::new(&nodes, disc.mls.support_factor);
         let cells = weak_form::build_cells(&problem.domain, &nodes).expect("cells");
         let faces = weak_form::collect_faces(&cells);
         let face_quadrature = FaceQuadrature::new(&faces.interior, disc.quadrature_points);
         let node_shapes = mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)
             .expect("node shapes");
-        let face_shapes = mls::shape_functions(
-            &face_quadrature.points,
-            &nodes,
-            &supports,
-            &disc.mls,
-            false,
-        )
-        .expect("face shapes");
+        let face_shapes =
+            mls::shape_functions(&face_quadrature.points, &nodes, &supports, &disc.mls, false)
+                .expect("face shapes");
         Self { problem, nodes, supports, cells, faces, face_quadrature, face_shapes, node_shapes }
     }
 
@@ -179,7 +174,12 @@ fn stages(c: &mut Criterion) {
     for f in &fixtures {
         group.throughput(f.elements());
         group.bench_with_input(f.id(), f, |b, f| {
-            b.iter(|| weak_form::build_cells(black_box(&f.inputs.problem.domain), black_box(&f.inputs.nodes)));
+            b.iter(|| {
+                weak_form::build_cells(
+                    black_box(&f.inputs.problem.domain),
+                    black_box(&f.inputs.nodes),
+                )
+            });
         });
     }
     group.finish();

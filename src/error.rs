@@ -1,8 +1,9 @@
 //! The crate error: one variant per pipeline stage, each wrapping that stage's typed error.
 
 use crate::{
-    assembly::AssemblyError, geometry::GeometryError, linear_solve::SolveError, mls::MlsError,
-    post::OutputError, problem::ProblemError, weak_form::CellError,
+    assembly::AssemblyError, contact::ContactError, geometry::GeometryError, lcp::LcpError,
+    linear_solve::SolveError, mls::MlsError, post::OutputError, problem::ProblemError,
+    weak_form::CellError,
 };
 
 /// Any failure of the pipeline, tagged by the stage that raised it.
@@ -26,6 +27,12 @@ pub enum Error {
     /// Factorisation or solve failed (stage 6).
     #[error(transparent)]
     Solve(#[from] SolveError),
+    /// Contact candidates or condensation failed (stage 7).
+    #[error(transparent)]
+    Contact(#[from] ContactError),
+    /// The LCP has no solution or Lemke failed (stage 8).
+    #[error(transparent)]
+    Lcp(#[from] LcpError),
     /// Writing outputs failed (stage 9).
     #[error(transparent)]
     Output(#[from] OutputError),

@@ -19,6 +19,7 @@
 //! | 4 | [`weak_form`] | subdomain cells `Ω_s`, faces, face quadrature |
 //! | 5 | [`assembly`] | [`assembly::GlobalSystem`]: `K = −Q D S`, `f`, collocation rows |
 //! | 6 | [`linear_solve`] | [`linear_solve::Factorisation`] (sparse LU) |
+//! | 7 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E` |
 //! | 8 | [`lcp`] | LCP solver (Lemke) |
 //! | 9 | [`post`] | displacement `u^h`, stress, reactions; CSV, VTU, plots, summary |
 //!
@@ -79,6 +80,7 @@
 #![warn(rustdoc::broken_intra_doc_links)]
 
 pub mod assembly;
+pub mod contact;
 pub mod error;
 pub mod geometry;
 pub mod lcp;
@@ -237,9 +239,13 @@ pub struct Solution {
     pub applied_force: [f64; 2],
     /// Total reaction `Σ R`.
     pub reaction_force: [f64; 2],
+    /// Total contact force on the body `Σ ν P_c` (zero without contact).
+    pub contact_force: [f64; 2],
+    /// The contact solution, when the problem has contact.
+    pub contact: Option<ContactSolution>,
     /// `‖K û − f‖ / ‖f‖` of the solved system.
     pub relative_residual: f64,
-    /// `|Σ f + Σ R| / max(|Σ f|, Σ |R|)`: global force balance.
+    /// `|Σ f + Σ R + Σ ν P| / max(|Σ f|, Σ |R|, Σ P)`: global force balance.
     pub equilibrium_error: f64,
     /// Stage timings.
     pub timings: Vec<StageTiming>,
@@ -255,25 +261,138 @@ pub fn solve(problem: &Problem) -> Result<Solution, Error> {
     solve_model(problem, model, &mut silent).map(|(_, s)| s)
 }
 
-/// Solves a discretised model and recovers displacements, stresses and reactions.
+/// The solution of the contact problem on the candidates.
+#[derive(Debug)]
+pub struct ContactSolution {
+    /// Candidates (positions, arc length, owned segment, initial gap).
+    pub candidates: contact::Candidates,
+    /// The condensed problem (`M`, `q`) and its run-time checks.
+    pub condensed: contact::CondensedContact,
+    /// Lemke's result: `z` = contact forces `P`, `w` = gaps.
+    pub lcp: lcp::LcpSolution,
+    /// Gaps recomputed from the final `û`: `g0 + G û`.
+    pub gap: Vec<f64>,
+    /// Contact pressure `P_c / |segment_c|`.
+    pub pressure: Vec<f64>,
+    /// Whether each candidate is closed (gap at most the tolerance).
+    pub closed: Vec<bool>,
+    /// The gap tolerance used.
+    pub gap_tolerance: f64,
+    /// Contact onset estimates.
+    pub onset: contact::ContactOnset,
+    /// `Σ P_c`.
+    pub total_force: f64,
+    /// A warning when the compliance checks failed but were overridden.
+    pub warning: Option<String>,
+}
+
+/// Solves a discretised model (with contact when the problem has it) and recovers
+/// displacements, stresses, reactions and contact forces.
 ///
 /// # Errors
-/// [`Error::Solve`] when `K` is numerically singular.
+/// [`Error::Solve`] when `K` is numerically singular; [`Error::Contact`] and [`Error::Lcp`]
+/// when the contact problem cannot be solved or its compliance fails the run-time checks.
 pub fn solve_model(
     problem: &Problem,
     mut model: Model,
     progress: &mut dyn Progress,
 ) -> Result<(Model, Solution), Error> {
     let mut clock = Clock { progress, timings: std::mem::take(&mut model.timings) };
-    let u_hat = clock.run("solve", || model.factorisation.solve(&model.system.rhs))?;
-    let solution = clock.run("recovery", || recover(problem, &model, u_hat));
-    let mut solution = solution;
+    let (u_hat, contact) = match &problem.contact {
+        None => (clock.run("solve", || model.factorisation.solve(&model.system.rhs))?, None),
+        Some(spec) => {
+            let (u, c) = solve_contact(problem, spec, &model, &mut clock)?;
+            (u, Some(c))
+        }
+    };
+    let mut solution = clock.run("recovery", || recover(problem, &model, u_hat, contact));
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
     Ok((model, solution))
 }
 
-fn recover(problem: &Problem, model: &Model, u_hat: Vec<f64>) -> Solution {
+fn solve_contact(
+    problem: &Problem,
+    spec: &contact::ContactSpec,
+    model: &Model,
+    clock: &mut Clock<'_>,
+) -> Result<(Vec<f64>, ContactSolution), Error> {
+    let candidates = clock.run("contact_candidates", || {
+        contact::candidates(
+            &problem.domain,
+            &model.nodes,
+            &model.faces.boundary,
+            &model.system,
+            spec,
+        )
+    })?;
+    let condensed = clock.run("condensation", || {
+        contact::condense(&model.factorisation, &model.system.rhs, &candidates, &model.node_shapes)
+    })?;
+    // Run-time checks before trusting an LCP answer (method.md §4.1).
+    let scale = condensed.max_symmetric_eigenvalue.abs().max(f64::MIN_POSITIVE);
+    let failed = if condensed.min_diagonal <= 0.0 {
+        Some(("smallest diagonal entry of M", condensed.min_diagonal))
+    } else if condensed.min_symmetric_eigenvalue <= 1e-12 * scale {
+        Some(("smallest eigenvalue of (M + Mᵀ)/2", condensed.min_symmetric_eigenvalue))
+    } else {
+        None
+    };
+    let mut warning = None;
+    if let Some((what, value)) = failed {
+        let err = contact::ContactError::IndefiniteCompliance {
+            what,
+            value,
+            support_factor: problem.discretisation.mls.support_factor,
+        };
+        if !spec.allow_indefinite {
+            return Err(err.into());
+        }
+        warning = Some(err.to_string());
+    }
+    let m = candidates.len();
+    let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
+    let result = clock.run("lemke", || lcp::lemke(&lcp_problem, &lcp::LemkeParams::default()))?;
+    let mut rhs = model.system.rhs.clone();
+    candidates.add_forces(&result.z, &mut rhs);
+    let u_hat = clock.run("solve", || model.factorisation.solve(&rhs))?;
+    let normal = candidates.normal_displacement(&model.node_shapes, &u_hat);
+    let gap: Vec<f64> = candidates.initial_gap.iter().zip(&normal).map(|(a, b)| a + b).collect();
+    let gap_tolerance = spec.gap_tolerance.unwrap_or_else(|| {
+        1e-5 * candidates
+            .initial_gap
+            .iter()
+            .fold(0.0f64, |m, g| m.max(g.abs()))
+            .max(f64::MIN_POSITIVE)
+    });
+    let closed: Vec<bool> = result.w.iter().map(|&w| w <= gap_tolerance).collect();
+    let pressure: Vec<f64> =
+        result.z.iter().zip(&candidates.segment_length).map(|(p, l)| p / l).collect();
+    let onset = contact::onset(&candidates.arc_length, &result.w, &pressure, &closed);
+    let total_force = result.z.iter().sum();
+    Ok((
+        u_hat,
+        ContactSolution {
+            candidates,
+            condensed,
+            lcp: result,
+            gap,
+            pressure,
+            closed,
+            gap_tolerance,
+            onset,
+            total_force,
+            warning,
+        },
+    ))
+}
+
+fn recover(
+    problem: &Problem,
+    model: &Model,
+    u_hat: Vec<f64>,
+    contact: Option<ContactSolution>,
+) -> Solution {
     let system = &model.system;
     let ns = &model.node_shapes;
     let n = model.nodes.len();
@@ -293,6 +412,18 @@ fn recover(problem: &Problem, model: &Model, u_hat: Vec<f64>) -> Solution {
         })
         .collect();
     let stress = strain.iter().map(|e| material::apply(&d, *e)).collect();
+    // E P: contact forces on the right-hand side (zero without contact).
+    let mut contact_rhs = vec![0.0; 2 * n];
+    let mut contact_force = [0.0; 2];
+    let mut contact_abs = 0.0;
+    if let Some(c) = &contact {
+        c.candidates.add_forces(&c.lcp.z, &mut contact_rhs);
+        for &p in &c.lcp.z {
+            contact_force[0] += c.candidates.normal[0] * p;
+            contact_force[1] += c.candidates.normal[1] * p;
+            contact_abs += p.abs();
+        }
+    }
     let reactions: Vec<(u32, Axis, f64)> = system
         .constraints
         .iter()
@@ -314,11 +445,14 @@ fn recover(problem: &Problem, model: &Model, u_hat: Vec<f64>) -> Solution {
         reaction[axis as usize] += r;
         reaction_abs += r.abs();
     }
-    let imbalance = (applied[0] + reaction[0]).hypot(applied[1] + reaction[1]);
-    let scale = applied[0].hypot(applied[1]).max(reaction_abs).max(f64::MIN_POSITIVE);
+    let imbalance = (applied[0] + reaction[0] + contact_force[0])
+        .hypot(applied[1] + reaction[1] + contact_force[1]);
+    let scale =
+        applied[0].hypot(applied[1]).max(reaction_abs).max(contact_abs).max(f64::MIN_POSITIVE);
     let ku = linear_solve::mul(&system.matrix, &u_hat);
-    let res: f64 = ku.iter().zip(&system.rhs).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
-    let rhs_norm = system.rhs.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+    let rhs: Vec<f64> = system.rhs.iter().zip(&contact_rhs).map(|(a, b)| a + b).collect();
+    let res: f64 = ku.iter().zip(&rhs).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+    let rhs_norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
     Solution {
         nodal_parameters: u_hat,
         displacement,
@@ -327,6 +461,8 @@ fn recover(problem: &Problem, model: &Model, u_hat: Vec<f64>) -> Solution {
         reactions,
         applied_force: applied,
         reaction_force: reaction,
+        contact_force,
+        contact,
         relative_residual: res / rhs_norm,
         equilibrium_error: imbalance / scale,
         timings: Vec::new(),

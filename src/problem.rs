@@ -1,6 +1,7 @@
 //! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
 //! checked [`Problem`]. Only a `Problem` reaches the solver.
 
+use crate::contact::{ContactSpec, RigidLine};
 use crate::geometry::{Domain, Point};
 use crate::material::{Material, PlaneState};
 use crate::mls::{Basis, MlsParams};
@@ -124,6 +125,8 @@ pub struct Problem {
     pub body_force: Option<BodyForce>,
     /// Edge whose displacement profile is plotted (default: edge 0).
     pub profile_edge: usize,
+    /// Frictionless contact with a rigid obstacle, if any.
+    pub contact: Option<ContactSpec>,
 }
 
 /// Body force per unit volume `b(x)`.
@@ -197,6 +200,27 @@ pub struct ProblemFile {
     /// Output options.
     #[serde(default)]
     pub output: OutputFile,
+    /// Frictionless contact with a rigid straight obstacle.
+    #[serde(default)]
+    pub contact: Option<ContactFile>,
+}
+
+/// `[contact]`: one edge of the body against a rigid straight line.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactFile {
+    /// The edge that may touch the obstacle.
+    pub edge: String,
+    /// A point of the obstacle line.
+    pub obstacle_point: [f64; 2],
+    /// Normal of the obstacle line, pointing into the body (normalised on reading).
+    pub obstacle_normal: [f64; 2],
+    /// Absolute gap below which a candidate counts as closed (default 1e-5 · max |g0|).
+    #[serde(default)]
+    pub gap_tolerance: Option<f64>,
+    /// Proceed (with a warning) when the condensed compliance fails its checks.
+    #[serde(default)]
+    pub allow_indefinite: Option<bool>,
 }
 
 /// `[geometry]`.
@@ -544,6 +568,10 @@ impl TryFrom<ProblemFile> for Problem {
             })?,
             None => 0,
         };
+        let contact = match &file.contact {
+            None => None,
+            Some(c) => Some(contact_spec(c, &domain, &boundary)?),
+        };
         Ok(Problem {
             name: file.name.clone().unwrap_or_else(|| "problem".into()),
             domain,
@@ -554,8 +582,75 @@ impl TryFrom<ProblemFile> for Problem {
             boundary,
             body_force,
             profile_edge,
+            contact,
         })
     }
+}
+
+fn contact_spec(
+    c: &ContactFile,
+    domain: &Domain,
+    boundary: &[EdgeCondition],
+) -> Result<ContactSpec, ProblemError> {
+    let edge = domain.edge_index(&c.edge).ok_or_else(|| {
+        invalid(
+            "contact.edge",
+            &c.edge,
+            format!("no such edge; the edges are {:?}", domain.edge_names()),
+        )
+    })?;
+    if boundary[edge].displacement(0).is_some() || boundary[edge].displacement(1).is_some() {
+        return Err(invalid(
+            "contact.edge",
+            &c.edge,
+            "this edge has a displacement condition; a contact edge must be free to move",
+        ));
+    }
+    for v in c.obstacle_point.iter().chain(&c.obstacle_normal) {
+        check_finite("contact", *v)?;
+    }
+    let [nx, ny] = c.obstacle_normal;
+    let len = nx.hypot(ny);
+    if len == 0.0 {
+        return Err(invalid("contact.obstacle_normal", "[0, 0]", "must be a non-zero vector"));
+    }
+    let obstacle = RigidLine { point: c.obstacle_point, normal: [nx / len, ny / len] };
+    // The body must lie on the side the normal points to: its centroid, at least.
+    let v = domain.vertices();
+    let centroid = v.iter().fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
+    let centroid = [centroid[0] / v.len() as f64, centroid[1] / v.len() as f64];
+    if obstacle.gap(centroid) <= 0.0 {
+        return Err(invalid(
+            "contact.obstacle_normal",
+            format!("{:?}", c.obstacle_normal),
+            "the body's centroid is not on the side the normal points to: the obstacle would cross the body (the normal must point into the body)",
+        ));
+    }
+    let (a, b) = domain.edge(edge);
+    let worst = obstacle.gap(a).min(obstacle.gap(b));
+    let (lo, hi) = domain.bounding_box();
+    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    if worst < -0.1 * size {
+        return Err(invalid(
+            "contact.obstacle_point",
+            format!("{:?}", c.obstacle_point),
+            format!(
+                "the obstacle penetrates the contact edge by {:.3e}, more than 10 % of the body's size: not a small-strain indentation",
+                -worst
+            ),
+        ));
+    }
+    if let Some(t) = c.gap_tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(invalid("contact.gap_tolerance", t, "must be a positive number"));
+        }
+    }
+    Ok(ContactSpec {
+        edge,
+        obstacle,
+        gap_tolerance: c.gap_tolerance,
+        allow_indefinite: c.allow_indefinite.unwrap_or(false),
+    })
 }
 
 impl Problem {

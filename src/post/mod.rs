@@ -9,7 +9,7 @@ mod vtk;
 
 use crate::nodes::Axis;
 use crate::problem::Problem;
-use crate::{Model, Solution};
+use crate::{ContactSolution, Model, Solution};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -120,6 +120,104 @@ pub fn write_solution(
     written.push(save(dir, "solution.vtu", &vtu)?);
 
     written.extend(solution_plots(dir, problem, model, solution)?);
+    if let Some(c) = &solution.contact {
+        written.extend(contact_outputs(dir, problem, model, solution, c)?);
+    }
+    Ok(written)
+}
+
+/// `contact.csv` and the two contact plots (the paper's Figs. 2 and 3).
+fn contact_outputs(
+    dir: &Path,
+    problem: &Problem,
+    model: &Model,
+    solution: &Solution,
+    c: &ContactSolution,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let cand = &c.candidates;
+    let mut text =
+        String::from("candidate,node,x,y,arc_length,initial_gap,gap,force,pressure,in_contact\n");
+    for k in 0..cand.len() {
+        let p = cand.points[k];
+        let _ = writeln!(
+            text,
+            "{k},{},{},{},{},{},{},{},{},{}",
+            cand.nodes[k],
+            num(p[0]),
+            num(p[1]),
+            num(cand.arc_length[k]),
+            num(cand.initial_gap[k]),
+            num(c.lcp.w[k]),
+            num(c.lcp.z[k]),
+            num(c.pressure[k]),
+            u8::from(c.closed[k])
+        );
+    }
+    let mut written = vec![save(dir, "contact.csv", &text)?];
+    let plots = dir.join("plots");
+    create_dir(&plots)?;
+    let edge = &problem.domain.edge_names()[problem.contact.as_ref().map_or(0, |s| s.edge)];
+    let nu = cand.normal;
+    // Deflection of the contact edge along the normal, and the obstacle at −g0.
+    let deflection: Vec<(f64, f64)> = (0..cand.len())
+        .map(|k| {
+            let u = solution.displacement[cand.nodes[k] as usize];
+            (cand.arc_length[k], nu[0] * u[0] + nu[1] * u[1])
+        })
+        .collect();
+    let obstacle: Vec<(f64, f64)> =
+        (0..cand.len()).map(|k| (cand.arc_length[k], -cand.initial_gap[k])).collect();
+    let _ = model;
+    let chart = plot::Chart {
+        title: format!("{}: displacement of edge `{edge}` towards the obstacle", problem.name),
+        x_label: format!("distance along `{edge}`"),
+        y_label: "normal displacement ν·u^h".into(),
+        series: vec![
+            plot::Series {
+                label: "ν·u^h (MFVM)".into(),
+                points: deflection,
+                style: plot::Style::Line,
+                colour: 1,
+            },
+            plot::Series {
+                label: "rigid obstacle".into(),
+                points: obstacle,
+                style: plot::Style::Dashed,
+                colour: 0,
+            },
+        ],
+    };
+    let stem = plots.join("contact_deflection");
+    plot::write_chart(&stem, &chart)?;
+    written.push(stem.with_extension("svg"));
+    written.push(stem.with_extension("png"));
+    let pressure: Vec<(f64, f64)> =
+        (0..cand.len()).map(|k| (cand.arc_length[k], c.pressure[k])).collect();
+    let mut series = vec![plot::Series {
+        label: "contact pressure P_c/|segment|".into(),
+        points: pressure,
+        style: plot::Style::Line,
+        colour: 4,
+    }];
+    if let Some(lc) = c.onset.from_gap {
+        let top = c.pressure.iter().copied().fold(0.0, f64::max);
+        series.push(plot::Series {
+            label: format!("onset l_c = {lc:.4}"),
+            points: vec![(lc, 0.0), (lc, top)],
+            style: plot::Style::Dashed,
+            colour: 0,
+        });
+    }
+    let chart = plot::Chart {
+        title: format!("{}: contact pressure along `{edge}`", problem.name),
+        x_label: format!("distance along `{edge}`"),
+        y_label: "pressure".into(),
+        series,
+    };
+    let stem = plots.join("contact_pressure");
+    plot::write_chart(&stem, &chart)?;
+    written.push(stem.with_extension("svg"));
+    written.push(stem.with_extension("png"));
     Ok(written)
 }
 
@@ -215,11 +313,40 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "equilibrium_error": solution.equilibrium_error,
             "applied_force": solution.applied_force,
             "reaction_force": solution.reaction_force,
+            "contact_force": solution.contact_force,
         },
         "results": {
             "max_displacement": solution.displacement.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max),
             "max_von_mises": solution.stress.iter().map(|s| problem.material.von_mises(*s)).fold(0.0, f64::max),
         },
+        "lcp": solution.contact.as_ref().map(|c| json!({
+            "size": c.candidates.len(),
+            "pivots": c.lcp.pivots,
+            "min_z": c.lcp.residuals.min_z,
+            "min_w": c.lcp.residuals.min_w,
+            "max_complementarity": c.lcp.residuals.max_complementarity,
+            "equation_residual": c.lcp.residuals.equation_residual,
+            "residual_scale": c.lcp.residuals.scale,
+            "compliance_min_diagonal": c.condensed.min_diagonal,
+            "compliance_min_symmetric_eigenvalue": c.condensed.min_symmetric_eigenvalue,
+            "compliance_max_symmetric_eigenvalue": c.condensed.max_symmetric_eigenvalue,
+            "compliance_skew_ratio": c.condensed.skew_ratio,
+        })),
+        "contact": solution.contact.as_ref().map(|c| json!({
+            "candidates": c.candidates.len(),
+            "closed": c.closed.iter().filter(|&&v| v).count(),
+            "closed_intervals": c.onset.closed_intervals,
+            "total_force": c.total_force,
+            "onset_x": c.onset.from_gap,
+            "onset_x_unclipped": c.onset.from_gap_raw,
+            "onset_x_from_pressure": c.onset.from_pressure,
+            "last_open_x": c.onset.last_open,
+            "first_closed_x": c.onset.first_closed,
+            "gap_tolerance": c.gap_tolerance,
+            "max_gap_mismatch": c.gap.iter().zip(&c.lcp.w).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max),
+            "warning": c.warning,
+            "onset_note": "distances along the contact edge from its first vertex; onset_x: gap^(2/3) extrapolated from the last two open candidates, clipped to [last_open_x, first_closed_x]; onset_x_from_pressure: p^2 extrapolated from the first two closed candidates",
+        })),
         "timings": timings,
     })
 }

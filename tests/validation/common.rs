@@ -22,6 +22,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         boundary: vec![EdgeCondition::free(); edges],
         body_force: None,
         profile_edge: 0,
+        contact: None,
     }
 }
 
