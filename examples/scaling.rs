@@ -13,7 +13,8 @@
 //! Each size runs in a fresh child process (the example re-invokes itself with `--one N`), so
 //! the peak resident memory (`VmHWM` from `/proc/self/status`) of a row is that size's own.
 //! Prints one row per size: nodes, DOFs, nonzeros of `K`, seconds per stage (`discretise` and
-//! `solve_model`), their total, and the peak memory; then the least-squares growth exponent
+//! `solve_model`), their total (wall), the child's CPU time (user + system, all threads), and
+//! the peak memory; then the least-squares growth exponent
 //! `p` of `t ∝ N^p` of each stage over the sizes run. Nothing is asserted about timings.
 
 use std::process::Command;
@@ -22,23 +23,19 @@ use std::time::Instant;
 use mlpg_contact::problem::Problem;
 use mlpg_contact::{Silent, discretise, solve_model};
 
-/// Stages in pipeline order, as named in `Model::timings`.
-const STAGES: [&str; 10] = [
-    "nodes",
-    "supports",
-    "cells",
-    "faces",
-    "mls_nodes",
-    "mls_faces",
-    "assembly",
-    "factorisation",
-    "solve",
-    "recovery",
+/// Short column headers for the stages of `Model::timings` (other stages use their name).
+const HEADERS: [(&str, &str); 10] = [
+    ("nodes", "nodes_s"),
+    ("supports", "supp"),
+    ("cells", "cells"),
+    ("faces", "faces"),
+    ("mls_nodes", "mls_n"),
+    ("mls_faces", "mls_f"),
+    ("assembly", "assem"),
+    ("factorisation", "factor"),
+    ("solve", "solve"),
+    ("recovery", "recov"),
 ];
-
-/// Short column headers for [`STAGES`].
-const HEADERS: [&str; 10] =
-    ["nodes_s", "supp", "cells", "faces", "mls_n", "mls_f", "assem", "factor", "solve", "recov"];
 
 const DEFAULT_SIZES: [usize; 5] = [10_000, 25_000, 50_000, 100_000, 250_000];
 
@@ -99,6 +96,17 @@ fn peak_rss_mib() -> Option<f64> {
     Some(kib / 1024.0)
 }
 
+/// User + system CPU seconds of this process (all threads) from `/proc/self/stat`, assuming
+/// the usual 100 clock ticks per second.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the parenthesised command name; utime and stime are fields 14 and 15.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
 /// Parses `25000`, `25k`, `1.5M`.
 fn parse_count(s: &str) -> Option<usize> {
     let s = s.trim();
@@ -119,14 +127,14 @@ fn run_one(n: usize) -> Result<(), Box<dyn std::error::Error>> {
     let model = discretise(&problem, &mut Silent)?;
     let (model, solution) = solve_model(&problem, model, &mut Silent)?;
     let total = t0.elapsed().as_secs_f64();
-    let stages: serde_json::Map<String, serde_json::Value> =
-        model.timings.iter().map(|t| (t.stage.to_string(), t.seconds.into())).collect();
+    let stages: Vec<(&str, f64)> = model.timings.iter().map(|t| (t.stage, t.seconds)).collect();
     let row = serde_json::json!({
         "nodes": model.nodes.len(),
         "dofs": model.system.matrix.n,
         "nnz": model.system.matrix.values.len(),
         "stages": stages,
         "total": total,
+        "cpu": cpu_seconds(),
         "peak_mib": peak_rss_mib(),
         "relative_residual": solution.relative_residual,
     });
@@ -137,8 +145,57 @@ fn run_one(n: usize) -> Result<(), Box<dyn std::error::Error>> {
 /// One finished row, as read back from a child.
 struct Row {
     nodes: f64,
-    stages: Vec<f64>,
+    dofs: f64,
+    nnz: f64,
+    /// `(stage, seconds)` in pipeline order.
+    stages: Vec<(String, f64)>,
     total: f64,
+    cpu: f64,
+    peak_mib: f64,
+    residual: f64,
+}
+
+/// Runs one size in a fresh child process.
+fn run_child(exe: &std::path::Path, n: usize) -> Result<Row, String> {
+    let out = Command::new(exe)
+        .arg("--one")
+        .arg(n.to_string())
+        .output()
+        .map_err(|e| format!("cannot start {}: {e}", exe.display()))?;
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let line = stdout.lines().find(|l| l.starts_with('{'));
+    let parsed: Option<serde_json::Value> = line.and_then(|l| serde_json::from_str(l).ok());
+    let Some(v) = parsed.filter(|_| out.status.success()) else {
+        let err = String::from_utf8_lossy(&out.stderr);
+        return Err(format!("{}: {}", out.status, err.trim()));
+    };
+    let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    let stages = v["stages"]
+        .as_array()
+        .map(|a| {
+            a.iter().filter_map(|p| Some((p[0].as_str()?.to_string(), p[1].as_f64()?))).collect()
+        })
+        .unwrap_or_default();
+    Ok(Row {
+        nodes: num("nodes"),
+        dofs: num("dofs"),
+        nnz: num("nnz"),
+        stages,
+        total: num("total"),
+        cpu: num("cpu"),
+        peak_mib: num("peak_mib"),
+        residual: num("relative_residual"),
+    })
+}
+
+/// Column header of a stage.
+fn header(stage: &str) -> &str {
+    HEADERS.iter().find(|(s, _)| *s == stage).map_or(stage, |(_, h)| h)
+}
+
+/// Seconds of `stage` in `row` (NaN when the row does not have it).
+fn seconds(row: &Row, stage: &str) -> f64 {
+    row.stages.iter().find(|(s, _)| s == stage).map_or(f64::NAN, |(_, t)| *t)
 }
 
 /// Least-squares slope of `log y` against `log x` (NaN with fewer than two usable points).
@@ -177,50 +234,57 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "cantilever 48 x 12, linear basis, alpha_s = 2, 2-point face quadrature; {} rayon threads",
         rayon::current_num_threads()
     );
-    println!("seconds per stage; peak = VmHWM of a fresh process per size");
-    let mut header = format!("{:>8} {:>8} {:>10}", "nodes", "dofs", "nnz(K)");
-    for h in HEADERS {
-        header += &format!(" {h:>7}");
-    }
-    header += &format!(" {:>8} {:>9} {:>9}", "total", "peak MiB", "residual");
-    println!("{header}");
+    println!(
+        "wall seconds per stage; total = discretise + solve_model (wall), cpu = user + sys of \
+         the child; peak = VmHWM of a fresh process per size"
+    );
+    // Stage columns: the pipeline's stages, in order (taken from the first finished row).
+    let mut stages: Vec<String> = Vec::new();
     let mut rows = Vec::new();
     for n in sizes {
-        let out = Command::new(&exe).arg("--one").arg(n.to_string()).output()?;
-        let stdout = String::from_utf8_lossy(&out.stdout);
-        let line = stdout.lines().find(|l| l.starts_with('{'));
-        let parsed: Option<serde_json::Value> = line.and_then(|l| serde_json::from_str(l).ok());
-        let Some(v) = parsed.filter(|_| out.status.success()) else {
-            let err = String::from_utf8_lossy(&out.stderr);
-            println!("{n:>8} failed ({}): {}", out.status, err.trim());
-            continue;
+        let row = match run_child(&exe, n) {
+            Ok(row) => row,
+            Err(e) => {
+                println!("{n:>8} nodes requested: failed ({e})");
+                continue;
+            }
         };
-        let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
-        let stages: Vec<f64> =
-            STAGES.iter().map(|s| v["stages"][s].as_f64().unwrap_or(f64::NAN)).collect();
-        let mut line =
-            format!("{:>8} {:>8} {:>10}", v["nodes"], v["dofs"], v["nnz"].as_u64().unwrap_or(0));
+        if stages.is_empty() {
+            stages = row.stages.iter().map(|(s, _)| s.clone()).collect();
+            let mut line = format!("{:>8} {:>8} {:>10}", "nodes", "dofs", "nnz(K)");
+            for s in &stages {
+                line += &format!(" {:>7}", header(s));
+            }
+            line += &format!(
+                " {:>8} {:>8} {:>9} {:>9}",
+                "total", "cpu", "peak MiB", "residual"
+            );
+            println!("{line}");
+        }
+        let mut line = format!("{:>8} {:>8} {:>10}", row.nodes, row.dofs, row.nnz);
         for s in &stages {
-            line += &format!(" {s:>7.3}");
+            line += &format!(" {:>7.3}", seconds(&row, s));
         }
         line += &format!(
-            " {:>8.3} {:>9.0} {:>9.1e}",
-            num("total"),
-            num("peak_mib"),
-            num("relative_residual")
+            " {:>8.3} {:>8.2} {:>9.0} {:>9.1e}",
+            row.total, row.cpu, row.peak_mib, row.residual
         );
         println!("{line}");
-        rows.push(Row { nodes: num("nodes"), stages, total: num("total") });
+        rows.push(row);
     }
     if rows.len() >= 2 {
         let xs: Vec<f64> = rows.iter().map(|r| r.nodes).collect();
         let mut line = format!("{:>28}", "exponent p (t ~ N^p)");
-        for (k, _) in STAGES.iter().enumerate() {
-            let ys: Vec<f64> = rows.iter().map(|r| r.stages[k]).collect();
+        for s in &stages {
+            let ys: Vec<f64> = rows.iter().map(|r| seconds(r, s)).collect();
             line += &format!(" {:>7.2}", exponent(&xs, &ys));
         }
         let ys: Vec<f64> = rows.iter().map(|r| r.total).collect();
         line += &format!(" {:>8.2}", exponent(&xs, &ys));
+        let ys: Vec<f64> = rows.iter().map(|r| r.cpu).collect();
+        line += &format!(" {:>8.2}", exponent(&xs, &ys));
+        let ys: Vec<f64> = rows.iter().map(|r| r.peak_mib).collect();
+        line += &format!(" {:>9.2}", exponent(&xs, &ys));
         println!("{line}");
     }
     Ok(())

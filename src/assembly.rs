@@ -27,6 +27,14 @@ pub enum AssemblyError {
         "no displacement is prescribed on any edge: the body can move rigidly and K is singular (add a displacement condition)"
     )]
     NoDirichlet,
+    /// The displacement conditions leave a rigid-body motion free: `K` is singular.
+    #[error(
+        "the displacement conditions do not prevent rigid-body {mode}: K is singular (a body held only by contact or by rollers in one direction is not supported; add a displacement condition)"
+    )]
+    RigidBodyMotion {
+        /// Which motion is free.
+        mode: &'static str,
+    },
 }
 
 /// A sparse matrix in block-row form: row `I` (a node) holds 2 × 2 blocks `(I, J)` for the
@@ -175,6 +183,7 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
     if constraints.is_empty() {
         return Err(AssemblyError::NoDirichlet);
     }
+    check_rigid_body_restraint(&constraints, input.nodes)?;
     let collocation_scale = input.d[0][0];
     let (matrix, rhs) = system_matrix(
         &interior_stiffness,
@@ -400,6 +409,45 @@ fn constraints(input: &AssemblyInput<'_>) -> Vec<Constraint> {
         }
     }
     out
+}
+
+/// Checks that the collocation rows restrain the three rigid-body modes. MLS reproduces linear
+/// fields, so a constraint row applied to the modes `(1, 0)`, `(0, 1)`, `(−y, x)` gives
+/// `(1, 0, −y_I)` for an x-constraint and `(0, 1, x_I)` for a y-constraint; the modes are
+/// restrained exactly when these rows have rank 3.
+fn check_rigid_body_restraint(
+    constraints: &[Constraint],
+    nodes: &Nodes,
+) -> Result<(), AssemblyError> {
+    let has = |a: Axis| constraints.iter().any(|c| c.axis == a);
+    if !has(Axis::X) {
+        return Err(AssemblyError::RigidBodyMotion { mode: "translation in x" });
+    }
+    if !has(Axis::Y) {
+        return Err(AssemblyError::RigidBodyMotion { mode: "translation in y" });
+    }
+    // Rotation is free iff every row's third entry is an affine function a·(first) + b·(second)
+    // of the others, i.e. all x-constraints share one y and all y-constraints share one x
+    // while the pair (a, b) fits both: −y_I = a for x-rows and x_I = b for y-rows. It is
+    // restrained as soon as two x-constraints differ in y or two y-constraints differ in x.
+    let (lo, hi) =
+        nodes.points.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+            ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+        });
+    let tol = 1e-9 * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    let spread = |a: Axis, coord: usize| {
+        let values = constraints
+            .iter()
+            .filter(|c| c.axis == a)
+            .map(|c| nodes.points[c.node as usize][coord]);
+        let (mn, mx) =
+            values.fold((f64::INFINITY, f64::NEG_INFINITY), |(mn, mx), v| (mn.min(v), mx.max(v)));
+        mx - mn
+    };
+    if spread(Axis::X, 1) <= tol && spread(Axis::Y, 0) <= tol {
+        return Err(AssemblyError::RigidBodyMotion { mode: "rotation" });
+    }
+    Ok(())
 }
 
 /// The solved system: `K_int` with constrained rows replaced by `c·Σ_J φ_J(x_I) û_J,i = c·ū_i`.

@@ -629,13 +629,13 @@ fn contact_spec(
     let (a, b) = domain.edge(edge);
     let worst = obstacle.gap(a).min(obstacle.gap(b));
     let (lo, hi) = domain.bounding_box();
-    let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
+    let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
     if worst < -0.1 * size {
         return Err(invalid(
             "contact.obstacle_point",
             format!("{:?}", c.obstacle_point),
             format!(
-                "the obstacle penetrates the contact edge by {:.3e}, more than 10 % of the body's size: not a small-strain indentation",
+                "the obstacle penetrates the contact edge by {:.3e}, more than 10 % of the body's smallest extent: not a small-strain indentation",
                 -worst
             ),
         ));

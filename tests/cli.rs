@@ -108,6 +108,89 @@ fn bad_input_gives_a_clear_error_and_exit_code_2() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// A small beam on a rigid foundation (the shape of problems/beam_on_foundation.toml).
+const CONTACT: &str = r#"
+[geometry]
+kind = "rectangle"
+x = [0.0, 12.0]
+y = [-1.0, 1.0]
+[nodes]
+spacing = 0.25
+[material]
+young = 30000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0, y = 0.0 }
+[[boundary]]
+edge = "top"
+traction = { y = -1.0 }
+[contact]
+edge = "bottom"
+obstacle_point = [0.0, -1.01]
+obstacle_normal = [0.0, 1.0]
+"#;
+
+#[test]
+fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
+    let cases: &[(&str, String, &str)] = &[
+        (
+            "obstacle_wrong_side",
+            CONTACT.replace("obstacle_normal = [0.0, 1.0]", "obstacle_normal = [0.0, -1.0]"),
+            "contact.obstacle_normal",
+        ),
+        (
+            "obstacle_through_body",
+            CONTACT.replace("obstacle_point = [0.0, -1.01]", "obstacle_point = [0.0, -0.7]"),
+            "contact.obstacle_point",
+        ),
+        (
+            "zero_normal",
+            CONTACT.replace("obstacle_normal = [0.0, 1.0]", "obstacle_normal = [0.0, 0.0]"),
+            "contact.obstacle_normal",
+        ),
+        (
+            "contact_on_dirichlet_edge",
+            CONTACT.replace("edge = \"bottom\"", "edge = \"left\""),
+            "contact edge must be free",
+        ),
+        (
+            "held_only_by_contact_and_a_roller",
+            CONTACT.replace("displacement = { x = 0.0, y = 0.0 }", "displacement = { y = 0.0 }"),
+            "rigid-body translation in x",
+        ),
+        (
+            "large_support_breaks_contact",
+            CONTACT.replace("[nodes]", "[discretisation]\nsupport_factor = 3.0\n[nodes]"),
+            "not trustworthy",
+        ),
+        (
+            "no_candidates",
+            CONTACT
+                .replace(
+                    "kind = \"rectangle\"\nx = [0.0, 12.0]\ny = [-1.0, 1.0]",
+                    "kind = \"polygon\"\nvertices = [[0.0, -1.0], [12.0, -1.0], [12.0, 1.0], [0.1, 1.0], [0.0, 0.9]]\nedges = [\"bottom\", \"right\", \"top\", \"cut\", \"left\"]",
+                )
+                .replace("edge = \"top\"\ntraction", "edge = \"right\"\ntraction")
+                .replace("edge = \"bottom\"\nobstacle_point = [0.0, -1.01]\nobstacle_normal = [0.0, 1.0]", "edge = \"cut\"\nobstacle_point = [-0.5, 1.5]\nobstacle_normal = [1.0, -1.0]")
+                .replace("[[boundary]]\nedge = \"left\"", "[[boundary]]\nedge = \"top\"\ndisplacement = { x = 0.0, y = 0.0 }\n[[boundary]]\nedge = \"left\""),
+            "has no contact candidates",
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (name, text, expected) in cases {
+        let (code, stderr) = run_text(name, text);
+        if code != Some(2) || !stderr.contains(expected) || stderr.contains("panicked") {
+            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    // The unmodified file solves.
+    let (code, stderr) = run_text("contact_ok", CONTACT);
+    assert_eq!(code, Some(0), "{stderr}");
+}
+
 #[test]
 fn missing_file_is_exit_code_2() {
     let out = Command::new(binary()).arg("no/such/file.toml").arg("--quiet").output().unwrap();

@@ -9,4 +9,8 @@ mod validation {
     mod free_body;
     // Applied load + reactions = 0 with body force, linear traction and pressure.
     mod equilibrium;
+    // The paper's beam on a rigid foundation: KKT, equilibrium, contact zone, convergence.
+    mod beam_on_foundation;
+    // Condensed compliance M = G K⁻¹ E equals a dense computation.
+    mod condensation;
 }
