@@ -255,10 +255,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             for s in &stages {
                 line += &format!(" {:>7}", header(s));
             }
-            line += &format!(
-                " {:>8} {:>8} {:>9} {:>9}",
-                "total", "cpu", "peak MiB", "residual"
-            );
+            line += &format!(" {:>8} {:>8} {:>9} {:>9}", "total", "cpu", "peak MiB", "residual");
             println!("{line}");
         }
         let mut line = format!("{:>8} {:>8} {:>10}", row.nodes, row.dofs, row.nnz);

@@ -1,0 +1,125 @@
+//! Refinement study of the paper's beam on a rigid foundation (problems/beam_on_foundation.toml):
+//! node spacing, then support factor and quadrature at one spacing. Prints Markdown tables
+//! (the README's) and the successive differences of the headline values.
+//!
+//! `cargo run --release --example beam_refinement [-- --finest 0.0625]`
+
+use mlpg_contact::problem::Problem;
+use std::time::Instant;
+
+struct Row {
+    h: f64,
+    alpha: f64,
+    quad: usize,
+    nodes: usize,
+    candidates: usize,
+    pivots: usize,
+    force: f64,
+    onset_gap: f64,
+    onset_pressure: f64,
+    last_open: f64,
+    first_closed: f64,
+    tip: f64,
+    seconds: f64,
+}
+
+fn run(base: &Problem, h: f64, alpha: f64, quad: usize) -> Row {
+    let mut p = base.clone();
+    p.node_spacing = h;
+    p.discretisation.mls.support_factor = alpha;
+    p.discretisation.quadrature_points = quad;
+    let t0 = Instant::now();
+    let s = mlpg_contact::solve(&p).expect("solve");
+    let seconds = t0.elapsed().as_secs_f64();
+    let c = s.contact.as_ref().expect("contact");
+    let nodes = s.displacement.len();
+    let points = mlpg_contact::nodes::generate(&p.domain, h, p.layout).expect("nodes").points;
+    let tip = points
+        .iter()
+        .position(|q| q[0] == 48.0 && q[1] == 0.0)
+        .map(|i| s.displacement[i][1])
+        .unwrap_or(f64::NAN);
+    Row {
+        h,
+        alpha,
+        quad,
+        nodes,
+        candidates: c.candidates.len(),
+        pivots: c.lcp.pivots,
+        force: c.total_force,
+        onset_gap: c.onset.from_gap.unwrap_or(f64::NAN),
+        onset_pressure: c.onset.from_pressure.unwrap_or(f64::NAN),
+        last_open: c.onset.last_open.unwrap_or(f64::NAN),
+        first_closed: c.onset.first_closed.unwrap_or(f64::NAN),
+        tip,
+        seconds,
+    }
+}
+
+fn print_table(rows: &[Row]) {
+    println!(
+        "| h | α_s | Gauss | nodes | candidates | pivots | F_c | l_c (gap) | l_c (pressure) | last open | first closed | u_y(48, 0) | time [s] |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for r in rows {
+        println!(
+            "| {} | {} | {} | {} | {} | {} | {:.6} | {:.4} | {:.4} | {:.4} | {:.4} | {:.7e} | {:.2} |",
+            r.h,
+            r.alpha,
+            r.quad,
+            r.nodes,
+            r.candidates,
+            r.pivots,
+            r.force,
+            r.onset_gap,
+            r.onset_pressure,
+            r.last_open,
+            r.first_closed,
+            r.tip,
+            r.seconds
+        );
+    }
+}
+
+/// Successive differences and, where they shrink, the observed order (halving h each level).
+/// The onset jumps between candidates, so F_c converges irregularly: read the differences.
+fn differences(name: &str, v: &[f64]) {
+    let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+    let text: Vec<String> = d.iter().map(|x| format!("{x:.3e}")).collect();
+    println!("{name}: successive differences {}", text.join(", "));
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let finest = args
+        .iter()
+        .position(|a| a == "--finest")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse::<f64>().ok())
+        .unwrap_or(0.0625);
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/beam_on_foundation.toml");
+    let base = Problem::from_toml(&std::fs::read_to_string(path).expect("problem file"))
+        .expect("valid problem");
+    let mut spacings = vec![0.5];
+    while spacings.last().copied().unwrap_or(0.0) / 2.0 >= finest * 0.999 {
+        let next = spacings.last().copied().unwrap_or(0.5) / 2.0;
+        spacings.push(next);
+    }
+    println!("## Node spacing (α_s = 2, 2 Gauss points)\n");
+    let rows: Vec<Row> = spacings.iter().map(|&h| run(&base, h, 2.0, 2)).collect();
+    print_table(&rows);
+    println!();
+    differences("F_c", &rows.iter().map(|r| r.force).collect::<Vec<_>>());
+    differences("l_c (gap)", &rows.iter().map(|r| r.onset_gap).collect::<Vec<_>>());
+    differences("u_y(48, 0)", &rows.iter().map(|r| r.tip).collect::<Vec<_>>());
+    let h = 0.125;
+    println!("\n## Support factor and quadrature at h = {h}\n");
+    let mut rows = Vec::new();
+    for alpha in [1.75, 2.0, 2.25] {
+        rows.push(run(&base, h, alpha, 2));
+    }
+    for quad in [1, 3, 4] {
+        rows.push(run(&base, h, 2.0, quad));
+    }
+    print_table(&rows);
+}
