@@ -243,6 +243,8 @@ pub struct Solution {
     pub contact_force: [f64; 2],
     /// The contact solution, when the problem has contact.
     pub contact: Option<ContactSolution>,
+    /// The second body's solution (two-body contact).
+    pub second_body: Option<Box<Solution>>,
     /// `‖K û − f‖ / ‖f‖` of the solved system.
     pub relative_residual: f64,
     /// `|Σ f + Σ R + Σ ν P| / max(|Σ f|, Σ |R|, Σ P)`: global force balance.
@@ -258,7 +260,11 @@ pub struct Solution {
 pub fn solve(problem: &Problem) -> Result<Solution, Error> {
     let mut silent = Silent;
     let model = discretise(problem, &mut silent)?;
-    solve_model(problem, model, &mut silent).map(|(_, s)| s)
+    let second = match &problem.second_body {
+        Some(p2) => Some(discretise(p2, &mut silent)?),
+        None => None,
+    };
+    solve_model(problem, model, second, &mut silent).map(|(_, _, s)| s)
 }
 
 /// The solution of the contact problem on the candidates.
@@ -266,11 +272,15 @@ pub fn solve(problem: &Problem) -> Result<Solution, Error> {
 pub struct ContactSolution {
     /// Candidates (positions, arc length, owned segment, initial gap).
     pub candidates: contact::Candidates,
+    /// Two bodies: the second body's operator (`d = −ν`, paired points' shapes and owners).
+    pub target: Option<contact::BodyOperator>,
+    /// Two bodies: the closest point of the second body paired with each candidate.
+    pub paired_points: Vec<geometry::Point>,
     /// The condensed problem (`M`, `q`) and its run-time checks.
     pub condensed: contact::CondensedContact,
     /// Lemke's result: `z` = contact forces `P`, `w` = gaps.
     pub lcp: lcp::LcpSolution,
-    /// Gaps recomputed from the final `û`: `g0 + G û`.
+    /// Gaps recomputed from the final displacements: `g0 + G_1 û_1 (+ G_2 û_2)`.
     pub gap: Vec<f64>,
     /// Contact pressure `P_c / |segment_c|`.
     pub pressure: Vec<f64>,
@@ -286,48 +296,96 @@ pub struct ContactSolution {
     pub warning: Option<String>,
 }
 
-/// Solves a discretised model (with contact when the problem has it) and recovers
-/// displacements, stresses, reactions and contact forces.
+/// Solves a discretised model (with contact when the problem has it; `second` is the model of
+/// `problem.second_body` for a two-body contact) and recovers displacements, stresses,
+/// reactions and contact forces.
 ///
 /// # Errors
 /// [`Error::Solve`] when `K` is numerically singular; [`Error::Contact`] and [`Error::Lcp`]
 /// when the contact problem cannot be solved or its compliance fails the run-time checks.
+///
+/// # Panics
+/// When `second` is given without `problem.second_body`, or the other way round (a caller bug).
 pub fn solve_model(
     problem: &Problem,
     mut model: Model,
+    second: Option<Model>,
     progress: &mut dyn Progress,
-) -> Result<(Model, Solution), Error> {
+) -> Result<(Model, Option<Model>, Solution), Error> {
+    assert_eq!(
+        second.is_some(),
+        problem.second_body.is_some(),
+        "solve_model: pass the second body's model exactly when the problem has one"
+    );
     let mut clock = Clock { progress, timings: std::mem::take(&mut model.timings) };
-    let (u_hat, contact) = match &problem.contact {
-        None => (clock.run("solve", || model.factorisation.solve(&model.system.rhs))?, None),
-        Some(spec) => {
-            let (u, c) = solve_contact(problem, spec, &model, &mut clock)?;
-            (u, Some(c))
-        }
+    let Some(spec) = &problem.contact else {
+        let u_hat = clock.run("solve", || model.factorisation.solve(&model.system.rhs))?;
+        let mut solution = clock.run("recovery", || recover(problem, &model, u_hat, None));
+        solution.timings = clock.timings.clone();
+        model.timings = clock.timings;
+        return Ok((model, None, solution));
     };
-    let mut solution = clock.run("recovery", || recover(problem, &model, u_hat, contact));
+    let pair = problem.second_body.as_deref().zip(second.as_ref());
+    let (u1, u2, contact) = solve_contact(problem, spec, &model, pair, &mut clock)?;
+    let mut solution = clock.run("recovery", || {
+        let mut s =
+            recover(problem, &model, u1, Some((&contact.candidates.operator, &contact.lcp.z)));
+        if let (Some((p2, m2)), Some(u2), Some(target)) = (pair, u2, &contact.target) {
+            s.second_body = Some(Box::new(recover(p2, m2, u2, Some((target, &contact.lcp.z)))));
+        }
+        s
+    });
+    solution.contact = Some(contact);
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
-    Ok((model, solution))
+    Ok((model, second, solution))
+}
+
+type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
+
+fn body_view<'a>(problem: &'a Problem, model: &'a Model) -> contact::BodyView<'a> {
+    contact::BodyView {
+        domain: &problem.domain,
+        nodes: &model.nodes,
+        supports: &model.supports,
+        mls: &problem.discretisation.mls,
+        boundary_faces: &model.faces.boundary,
+        system: &model.system,
+    }
 }
 
 fn solve_contact(
     problem: &Problem,
     spec: &contact::ContactSpec,
     model: &Model,
+    second: Option<(&Problem, &Model)>,
     clock: &mut Clock<'_>,
-) -> Result<(Vec<f64>, ContactSolution), Error> {
-    let candidates = clock.run("contact_candidates", || {
-        contact::candidates(
-            &problem.domain,
-            &model.nodes,
-            &model.faces.boundary,
-            &model.system,
-            spec,
-        )
-    })?;
+) -> Result<ContactOutcome, Error> {
+    let view = body_view(problem, model);
+    let (candidates, target, paired_points) =
+        clock.run("contact_candidates", || match (&spec.target, second) {
+            (contact::ContactTarget::Rigid(line), _) => {
+                let c = contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x))?;
+                Ok::<_, contact::ContactError>((c, None, Vec::new()))
+            }
+            (contact::ContactTarget::Body { edge }, Some((p2, m2))) => {
+                let normal = p2.domain.outward_normal(*edge);
+                let mut c = contact::candidates(view, spec.edge, normal, &|_| 0.0)?;
+                let (op, gaps, paired) = contact::target_operator(body_view(p2, m2), *edge, &c)?;
+                c.initial_gap = gaps;
+                Ok((c, Some(op), paired))
+            }
+            (contact::ContactTarget::Body { .. }, None) => {
+                unreachable!("a two-body contact is validated to have a second body")
+            }
+        })?;
     let condensed = clock.run("condensation", || {
-        contact::condense(&model.factorisation, &model.system.rhs, &candidates, &model.node_shapes)
+        let mut parts =
+            vec![contact::condense(&model.factorisation, &model.system.rhs, &candidates.operator)?];
+        if let (Some(op), Some((_, m2))) = (&target, second) {
+            parts.push(contact::condense(&m2.factorisation, &m2.system.rhs, op)?);
+        }
+        contact::CondensedContact::combine(&candidates.initial_gap, &parts)
     })?;
     // Run-time checks before trusting an LCP answer (method.md §4.1).
     let scale = condensed.max_symmetric_eigenvalue.abs().max(f64::MIN_POSITIVE);
@@ -354,15 +412,31 @@ fn solve_contact(
     let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
     let result = clock.run("lemke", || lcp::lemke(&lcp_problem, &lcp::LemkeParams::default()))?;
     let mut rhs = model.system.rhs.clone();
-    candidates.add_forces(&result.z, &mut rhs);
-    let u_hat = clock.run("solve", || model.factorisation.solve(&rhs))?;
-    let normal = candidates.normal_displacement(&model.node_shapes, &u_hat);
-    let gap: Vec<f64> = candidates.initial_gap.iter().zip(&normal).map(|(a, b)| a + b).collect();
+    candidates.operator.add_forces(&result.z, &mut rhs);
+    let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
+    let mut gap: Vec<f64> = candidates
+        .initial_gap
+        .iter()
+        .zip(candidates.operator.gap_contribution(&u1))
+        .map(|(a, b)| a + b)
+        .collect();
+    let u2 = match (&target, second) {
+        (Some(op), Some((_, m2))) => {
+            let mut rhs2 = m2.system.rhs.clone();
+            op.add_forces(&result.z, &mut rhs2);
+            let u2 = clock.run("solve", || m2.factorisation.solve(&rhs2))?;
+            for (g, d) in gap.iter_mut().zip(op.gap_contribution(&u2)) {
+                *g += d;
+            }
+            Some(u2)
+        }
+        _ => None,
+    };
+    // Default: 1e-5 of the largest initial gap (method.md §6), plus 1e-12 of the largest
+    // contact-free gap so that bodies touching at the start (g0 = 0) still have a scale.
+    let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
     let gap_tolerance = spec.gap_tolerance.unwrap_or_else(|| {
-        1e-5 * candidates
-            .initial_gap
-            .iter()
-            .fold(0.0f64, |m, g| m.max(g.abs()))
+        (1e-5 * max_abs(&candidates.initial_gap) + 1e-12 * max_abs(&condensed.free_gap))
             .max(f64::MIN_POSITIVE)
     });
     let closed: Vec<bool> = result.w.iter().map(|&w| w <= gap_tolerance).collect();
@@ -371,9 +445,12 @@ fn solve_contact(
     let onset = contact::onset(&candidates.arc_length, &result.w, &pressure, &closed);
     let total_force = result.z.iter().sum();
     Ok((
-        u_hat,
+        u1,
+        u2,
         ContactSolution {
             candidates,
+            target,
+            paired_points,
             condensed,
             lcp: result,
             gap,
@@ -391,7 +468,7 @@ fn recover(
     problem: &Problem,
     model: &Model,
     u_hat: Vec<f64>,
-    contact: Option<ContactSolution>,
+    contact: Option<(&contact::BodyOperator, &[f64])>,
 ) -> Solution {
     let system = &model.system;
     let ns = &model.node_shapes;
@@ -416,21 +493,19 @@ fn recover(
     let mut contact_rhs = vec![0.0; 2 * n];
     let mut contact_force = [0.0; 2];
     let mut contact_abs = 0.0;
-    if let Some(c) = &contact {
-        c.candidates.add_forces(&c.lcp.z, &mut contact_rhs);
-        for &p in &c.lcp.z {
-            contact_force[0] += c.candidates.normal[0] * p;
-            contact_force[1] += c.candidates.normal[1] * p;
-            contact_abs += p.abs();
-        }
+    if let Some((op, forces)) = contact {
+        op.add_forces(forces, &mut contact_rhs);
+        contact_force = op.resultant(forces);
+        contact_abs = forces.iter().map(|p| p.abs()).sum();
     }
     let reactions: Vec<(u32, Axis, f64)> = system
         .constraints
         .iter()
         .map(|c| {
             let i = c.node as usize;
-            let r =
-                system.interior_stiffness.row_dot(i, c.axis, &u_hat) - system.load[dof(i, c.axis)];
+            let r = system.interior_stiffness.row_dot(i, c.axis, &u_hat)
+                - system.load[dof(i, c.axis)]
+                - contact_rhs[dof(i, c.axis)];
             (c.node, c.axis, r)
         })
         .collect();
@@ -462,7 +537,8 @@ fn recover(
         applied_force: applied,
         reaction_force: reaction,
         contact_force,
-        contact,
+        contact: None,
+        second_body: None,
         relative_residual: res / rhs_norm,
         equilibrium_error: imbalance / scale,
         timings: Vec::new(),
@@ -505,8 +581,17 @@ pub fn run(
     progress: &mut dyn Progress,
 ) -> Result<RunReport, Error> {
     let model = discretise(problem, progress)?;
-    let (model, solution) = solve_model(problem, model, progress)?;
-    let files = post::write_solution(out, problem, &model, &solution)?;
+    let second = match &problem.second_body {
+        Some(p2) => Some(discretise(p2, progress)?),
+        None => None,
+    };
+    let (model, second, solution) = solve_model(problem, model, second, progress)?;
+    let mut files = post::write_solution(out, problem, &model, &solution)?;
+    if let (Some(p2), Some(m2), Some(s2)) =
+        (problem.second_body.as_deref(), second.as_ref(), solution.second_body.as_deref())
+    {
+        files.extend(post::write_solution(&out.join(&p2.name), p2, m2, s2)?);
+    }
     let summary = post::summary(input, problem, &model, &solution);
     Ok(RunReport { summary, files })
 }

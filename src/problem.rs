@@ -1,7 +1,7 @@
 //! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
 //! checked [`Problem`]. Only a `Problem` reaches the solver.
 
-use crate::contact::{ContactSpec, RigidLine};
+use crate::contact::{ContactSpec, ContactTarget, RigidLine};
 use crate::geometry::{Domain, Point};
 use crate::material::{Material, PlaneState};
 use crate::mls::{Basis, MlsParams};
@@ -125,8 +125,10 @@ pub struct Problem {
     pub body_force: Option<BodyForce>,
     /// Edge whose displacement profile is plotted (default: edge 0).
     pub profile_edge: usize,
-    /// Frictionless contact with a rigid obstacle, if any.
+    /// Frictionless contact, if any.
     pub contact: Option<ContactSpec>,
+    /// The second elastic body of a two-body contact (its own `contact` is `None`).
+    pub second_body: Option<Box<Problem>>,
 }
 
 /// Body force per unit volume `b(x)`.
@@ -185,12 +187,19 @@ pub struct ProblemFile {
     /// Body force `[b_x, b_y]` per unit volume.
     #[serde(default)]
     pub body_force: Option<[f64; 2]>,
-    /// The domain.
-    pub geometry: GeometryFile,
-    /// Node layout.
-    pub nodes: NodesFile,
-    /// Material.
-    pub material: MaterialFile,
+    /// The domain (single body).
+    #[serde(default)]
+    pub geometry: Option<GeometryFile>,
+    /// Node layout (single body).
+    #[serde(default)]
+    pub nodes: Option<NodesFile>,
+    /// Material (single body).
+    #[serde(default)]
+    pub material: Option<MaterialFile>,
+    /// Two elastic bodies in contact: exactly two `[[body]]` tables instead of the single-body
+    /// `geometry`, `nodes`, `material`, `boundary` and `body_force`.
+    #[serde(default)]
+    pub body: Vec<BodyFile>,
     /// Discretisation (all optional).
     #[serde(default)]
     pub discretisation: DiscretisationFile,
@@ -205,22 +214,50 @@ pub struct ProblemFile {
     pub contact: Option<ContactFile>,
 }
 
-/// `[contact]`: one edge of the body against a rigid straight line.
+/// `[contact]`: one edge of the body against a rigid straight line (`obstacle_point`,
+/// `obstacle_normal`), or, with two `[[body]]` tables, against an edge of the second body
+/// (`target_edge`).
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
     /// The edge that may touch the obstacle.
     pub edge: String,
-    /// A point of the obstacle line.
-    pub obstacle_point: [f64; 2],
+    /// A point of the rigid obstacle line.
+    #[serde(default)]
+    pub obstacle_point: Option<[f64; 2]>,
     /// Normal of the obstacle line, pointing into the body (normalised on reading).
-    pub obstacle_normal: [f64; 2],
+    #[serde(default)]
+    pub obstacle_normal: Option<[f64; 2]>,
+    /// Two bodies: the edge of the second body that `edge` (of the first) touches.
+    #[serde(default)]
+    pub target_edge: Option<String>,
     /// Absolute gap below which a candidate counts as closed (default 1e-5 · max |g0|).
     #[serde(default)]
     pub gap_tolerance: Option<f64>,
     /// Proceed (with a warning) when the condensed compliance fails its checks.
     #[serde(default)]
     pub allow_indefinite: Option<bool>,
+}
+
+/// One `[[body]]` table of a two-body problem.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyFile {
+    /// Name (outputs of the second body go to `<out>/<name>/`).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Body force `[b_x, b_y]` per unit volume.
+    #[serde(default)]
+    pub body_force: Option<[f64; 2]>,
+    /// The domain.
+    pub geometry: GeometryFile,
+    /// Node layout.
+    pub nodes: NodesFile,
+    /// Material.
+    pub material: MaterialFile,
+    /// Boundary conditions per edge; edges not listed are traction-free.
+    #[serde(default)]
+    pub boundary: Vec<BoundaryFile>,
 }
 
 /// `[geometry]`.
@@ -368,230 +405,321 @@ impl TryFrom<ProblemFile> for Problem {
     type Error = ProblemError;
 
     fn try_from(file: ProblemFile) -> Result<Self, ProblemError> {
-        let domain = match &file.geometry {
-            GeometryFile::Rectangle { x, y } => {
-                for (name, v) in [("geometry.x", x), ("geometry.y", y)] {
-                    check_finite(name, v[0])?;
-                    check_finite(name, v[1])?;
-                    if v[1] <= v[0] {
-                        return Err(invalid(name, format!("{v:?}"), "needs min < max"));
-                    }
-                }
-                Domain::rectangle(*x, *y)
-            }
-            GeometryFile::Polygon { vertices, edges } => {
-                for v in vertices {
-                    check_finite("geometry.vertices", v[0])?;
-                    check_finite("geometry.vertices", v[1])?;
-                }
-                Domain::polygon(vertices.clone(), edges.clone())
-            }
-        }
-        .map_err(|e| invalid("geometry", "", e.to_string()))?;
-
-        let h = file.nodes.spacing;
-        let (lo, hi) = domain.bounding_box();
-        let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
-        if !(h.is_finite() && h > 0.0) {
-            return Err(invalid("nodes.spacing", h, "must be a positive number"));
-        }
-        if h > size / 2.0 {
-            return Err(invalid(
-                "nodes.spacing",
-                h,
-                format!("must be at most half the domain's smallest extent ({size})"),
-            ));
-        }
-        if domain.area() / (h * h) > 2.0e7 {
-            return Err(invalid("nodes.spacing", h, "would create more than 20 million nodes"));
-        }
-        let layout = match file.nodes.layout.as_deref().unwrap_or("structured") {
-            "structured" => {
-                if file.nodes.jitter.is_some() {
-                    return Err(invalid(
-                        "nodes.jitter",
-                        file.nodes.jitter.unwrap_or_default(),
-                        "only used with layout = \"jittered\"",
-                    ));
-                }
-                Layout::Structured
-            }
-            "jittered" => {
-                let amplitude = file.nodes.jitter.unwrap_or(0.25);
-                if !(amplitude > 0.0 && amplitude <= 0.4) {
-                    return Err(invalid(
-                        "nodes.jitter",
-                        amplitude,
-                        "must be in (0, 0.4] (fraction of the spacing)",
-                    ));
-                }
-                Layout::Jittered { amplitude, seed: file.nodes.seed.unwrap_or(1) }
-            }
-            other => {
-                return Err(invalid(
-                    "nodes.layout",
-                    other,
-                    "expected \"structured\" or \"jittered\"",
-                ));
-            }
-        };
-
-        let m = &file.material;
-        if !(m.young.is_finite() && m.young > 0.0) {
-            return Err(invalid("material.young", m.young, "must be a positive number"));
-        }
-        if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
-            return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
-        }
-        let plane = match m.plane.as_str() {
-            "stress" => PlaneState::Stress,
-            "strain" => PlaneState::Strain,
-            other => {
-                return Err(invalid("material.plane", other, "expected \"stress\" or \"strain\""));
-            }
-        };
-        let material = Material { young: m.young, poisson: m.poisson, plane };
-
-        let d = &file.discretisation;
-        let basis = match d.basis.as_deref().unwrap_or("linear") {
-            "linear" => Basis::Linear,
-            "quadratic" => Basis::Quadratic,
-            other => {
-                return Err(invalid(
-                    "discretisation.basis",
-                    other,
-                    "expected \"linear\" or \"quadratic\"",
-                ));
-            }
-        };
-        let support_factor = d.support_factor.unwrap_or(2.0);
-        if !(support_factor.is_finite() && (1.0..=6.0).contains(&support_factor)) {
-            return Err(invalid(
-                "discretisation.support_factor",
-                support_factor,
-                "must be in [1, 6]; supports smaller than one spacing cannot hold enough nodes (recommended 2 for the linear basis)",
-            ));
-        }
-        let quadrature_points = d.quadrature_points.unwrap_or(2);
-        if !(1..=8).contains(&quadrature_points) {
-            return Err(invalid(
-                "discretisation.quadrature_points",
-                quadrature_points,
-                "must be 1–8",
-            ));
-        }
-        let load_quadrature_points = d.load_quadrature_points.unwrap_or(5);
-        if !(3..=8).contains(&load_quadrature_points) {
-            return Err(invalid(
-                "discretisation.load_quadrature_points",
-                load_quadrature_points,
-                "must be 3–8",
-            ));
-        }
-        let discretisation = Discretisation {
-            mls: MlsParams { basis, support_factor, ..MlsParams::default() },
-            quadrature_points,
-            load_quadrature_points,
-        };
-
-        let mut boundary: Vec<Option<EdgeCondition>> = vec![None; domain.edge_count()];
-        for (i, b) in file.boundary.iter().enumerate() {
-            let field = format!("boundary[{i}]");
-            let k = domain.edge_index(&b.edge).ok_or_else(|| {
+        let discretisation = validate_discretisation(&file.discretisation)?;
+        let name = file.name.clone().unwrap_or_else(|| "problem".into());
+        let mut problem = if file.body.is_empty() {
+            let missing = |what: &str| {
                 invalid(
-                    &format!("{field}.edge"),
-                    &b.edge,
-                    format!("no such edge; the edges are {:?}", domain.edge_names()),
+                    what,
+                    "(missing)",
+                    "a problem needs [geometry], [nodes] and [material] (or two [[body]] tables)",
                 )
-            })?;
-            if boundary[k].is_some() {
-                return Err(invalid(&format!("{field}.edge"), &b.edge, "edge listed twice"));
-            }
-            let condition = if let Some(p) = b.pressure {
-                if b.displacement.is_some() || b.traction.is_some() {
-                    return Err(invalid(
-                        &format!("{field}.pressure"),
-                        &b.edge,
-                        "pressure cannot be combined with displacement or traction on one edge",
-                    ));
-                }
-                EdgeCondition::Pressure(value_field(&format!("{field}.pressure"), p)?)
-            } else {
-                let mut comps = [None, None];
-                for (axis, name) in ["x", "y"].iter().enumerate() {
-                    let disp =
-                        b.displacement.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y });
-                    let trac = b.traction.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y });
-                    comps[axis] = Some(match (disp, trac) {
-                        (Some(_), Some(_)) => {
-                            return Err(invalid(
-                                &format!("{field}.{name}"),
-                                &b.edge,
-                                "a component cannot have both a displacement and a traction",
-                            ));
-                        }
-                        (Some(v), None) => ComponentCondition::Displacement(value_field(
-                            &format!("{field}.displacement.{name}"),
-                            v,
-                        )?),
-                        (None, Some(v)) => ComponentCondition::Traction(value_field(
-                            &format!("{field}.traction.{name}"),
-                            v,
-                        )?),
-                        (None, None) => ComponentCondition::Traction(Field::Constant(0.0)),
-                    });
-                }
-                let [Some(cx), Some(cy)] = comps else {
-                    unreachable!("both components are set above")
-                };
-                EdgeCondition::Components([cx, cy])
             };
-            boundary[k] = Some(condition);
-        }
-        let boundary: Vec<EdgeCondition> =
-            boundary.into_iter().map(|c| c.unwrap_or_else(EdgeCondition::free)).collect();
-        let body_force = match file.body_force {
-            Some(b) => {
-                check_finite("body_force", b[0])?;
-                check_finite("body_force", b[1])?;
-                Some(BodyForce::constant(b))
+            let parts = BodyParts {
+                geometry: file.geometry.as_ref().ok_or_else(|| missing("geometry"))?,
+                nodes: file.nodes.as_ref().ok_or_else(|| missing("nodes"))?,
+                material: file.material.as_ref().ok_or_else(|| missing("material"))?,
+                boundary: &file.boundary,
+                body_force: file.body_force,
+            };
+            validate_body(name, parts, discretisation)?
+        } else {
+            if file.body.len() != 2 {
+                return Err(invalid(
+                    "body",
+                    file.body.len(),
+                    "give exactly two [[body]] tables (or one body at the top level)",
+                ));
             }
-            None => None,
+            if file.geometry.is_some()
+                || file.nodes.is_some()
+                || file.material.is_some()
+                || !file.boundary.is_empty()
+                || file.body_force.is_some()
+            {
+                return Err(invalid(
+                    "geometry",
+                    "(top level)",
+                    "with [[body]] tables, geometry, nodes, material, boundary and body_force go inside each body",
+                ));
+            }
+            let mut bodies = Vec::new();
+            for (k, b) in file.body.iter().enumerate() {
+                let parts = BodyParts {
+                    geometry: &b.geometry,
+                    nodes: &b.nodes,
+                    material: &b.material,
+                    boundary: &b.boundary,
+                    body_force: b.body_force,
+                };
+                let body_name = b.name.clone().unwrap_or_else(|| format!("body{}", k + 1));
+                bodies.push(
+                    validate_body(body_name, parts, discretisation)
+                        .map_err(|e| prefixed(&format!("body[{k}]."), e))?,
+                );
+            }
+            if bodies[0].name == bodies[1].name {
+                return Err(invalid(
+                    "body[1].name",
+                    &bodies[1].name,
+                    "the two bodies need different names (outputs of the second go to <out>/<name>/)",
+                ));
+            }
+            let second = bodies.pop().map(Box::new);
+            let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
+            first.second_body = second;
+            first
         };
+
         let profile_edge = match &file.output.profile_edge {
-            Some(name) => domain.edge_index(name).ok_or_else(|| {
+            Some(name) => problem.domain.edge_index(name).ok_or_else(|| {
                 invalid(
                     "output.profile_edge",
                     name,
-                    format!("no such edge; the edges are {:?}", domain.edge_names()),
+                    format!("no such edge; the edges are {:?}", problem.domain.edge_names()),
                 )
             })?,
             None => 0,
         };
-        let contact = match &file.contact {
+        problem.profile_edge = profile_edge;
+        problem.contact = match &file.contact {
             None => None,
-            Some(c) => Some(contact_spec(c, &domain, &boundary)?),
+            Some(c) => Some(contact_spec(c, &problem)?),
         };
-        Ok(Problem {
-            name: file.name.clone().unwrap_or_else(|| "problem".into()),
-            domain,
-            node_spacing: h,
-            layout,
-            material,
-            discretisation,
-            boundary,
-            body_force,
-            profile_edge,
-            contact,
-        })
+        if problem.second_body.is_some() && problem.contact.is_none() {
+            return Err(invalid(
+                "contact",
+                "(missing)",
+                "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
+            ));
+        }
+        Ok(problem)
     }
 }
 
-fn contact_spec(
-    c: &ContactFile,
-    domain: &Domain,
-    boundary: &[EdgeCondition],
-) -> Result<ContactSpec, ProblemError> {
+fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, ProblemError> {
+    let d = file;
+    let basis = match d.basis.as_deref().unwrap_or("linear") {
+        "linear" => Basis::Linear,
+        "quadratic" => Basis::Quadratic,
+        other => {
+            return Err(invalid(
+                "discretisation.basis",
+                other,
+                "expected \"linear\" or \"quadratic\"",
+            ));
+        }
+    };
+    let support_factor = d.support_factor.unwrap_or(2.0);
+    if !(support_factor.is_finite() && (1.0..=6.0).contains(&support_factor)) {
+        return Err(invalid(
+            "discretisation.support_factor",
+            support_factor,
+            "must be in [1, 6]; supports smaller than one spacing cannot hold enough nodes (recommended 2 for the linear basis)",
+        ));
+    }
+    let quadrature_points = d.quadrature_points.unwrap_or(2);
+    if !(1..=8).contains(&quadrature_points) {
+        return Err(invalid("discretisation.quadrature_points", quadrature_points, "must be 1–8"));
+    }
+    let load_quadrature_points = d.load_quadrature_points.unwrap_or(5);
+    if !(3..=8).contains(&load_quadrature_points) {
+        return Err(invalid(
+            "discretisation.load_quadrature_points",
+            load_quadrature_points,
+            "must be 3–8",
+        ));
+    }
+    Ok(Discretisation {
+        mls: MlsParams { basis, support_factor, ..MlsParams::default() },
+        quadrature_points,
+        load_quadrature_points,
+    })
+}
+
+/// The parts of a problem file that describe one body.
+struct BodyParts<'a> {
+    geometry: &'a GeometryFile,
+    nodes: &'a NodesFile,
+    material: &'a MaterialFile,
+    boundary: &'a [BoundaryFile],
+    body_force: Option<[f64; 2]>,
+}
+
+/// Validates one body into a [`Problem`] without contact (field names as in a single-body file).
+fn validate_body(
+    name: String,
+    file: BodyParts<'_>,
+    discretisation: Discretisation,
+) -> Result<Problem, ProblemError> {
+    let domain = match &file.geometry {
+        GeometryFile::Rectangle { x, y } => {
+            for (name, v) in [("geometry.x", x), ("geometry.y", y)] {
+                check_finite(name, v[0])?;
+                check_finite(name, v[1])?;
+                if v[1] <= v[0] {
+                    return Err(invalid(name, format!("{v:?}"), "needs min < max"));
+                }
+            }
+            Domain::rectangle(*x, *y)
+        }
+        GeometryFile::Polygon { vertices, edges } => {
+            for v in vertices {
+                check_finite("geometry.vertices", v[0])?;
+                check_finite("geometry.vertices", v[1])?;
+            }
+            Domain::polygon(vertices.clone(), edges.clone())
+        }
+    }
+    .map_err(|e| invalid("geometry", "", e.to_string()))?;
+
+    let h = file.nodes.spacing;
+    let (lo, hi) = domain.bounding_box();
+    let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
+    if !(h.is_finite() && h > 0.0) {
+        return Err(invalid("nodes.spacing", h, "must be a positive number"));
+    }
+    if h > size / 2.0 {
+        return Err(invalid(
+            "nodes.spacing",
+            h,
+            format!("must be at most half the domain's smallest extent ({size})"),
+        ));
+    }
+    if domain.area() / (h * h) > 2.0e7 {
+        return Err(invalid("nodes.spacing", h, "would create more than 20 million nodes"));
+    }
+    let layout = match file.nodes.layout.as_deref().unwrap_or("structured") {
+        "structured" => {
+            if file.nodes.jitter.is_some() {
+                return Err(invalid(
+                    "nodes.jitter",
+                    file.nodes.jitter.unwrap_or_default(),
+                    "only used with layout = \"jittered\"",
+                ));
+            }
+            Layout::Structured
+        }
+        "jittered" => {
+            let amplitude = file.nodes.jitter.unwrap_or(0.25);
+            if !(amplitude > 0.0 && amplitude <= 0.4) {
+                return Err(invalid(
+                    "nodes.jitter",
+                    amplitude,
+                    "must be in (0, 0.4] (fraction of the spacing)",
+                ));
+            }
+            Layout::Jittered { amplitude, seed: file.nodes.seed.unwrap_or(1) }
+        }
+        other => {
+            return Err(invalid("nodes.layout", other, "expected \"structured\" or \"jittered\""));
+        }
+    };
+
+    let m = &file.material;
+    if !(m.young.is_finite() && m.young > 0.0) {
+        return Err(invalid("material.young", m.young, "must be a positive number"));
+    }
+    if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
+        return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
+    }
+    let plane = match m.plane.as_str() {
+        "stress" => PlaneState::Stress,
+        "strain" => PlaneState::Strain,
+        other => {
+            return Err(invalid("material.plane", other, "expected \"stress\" or \"strain\""));
+        }
+    };
+    let material = Material { young: m.young, poisson: m.poisson, plane };
+
+    let mut boundary: Vec<Option<EdgeCondition>> = vec![None; domain.edge_count()];
+    for (i, b) in file.boundary.iter().enumerate() {
+        let field = format!("boundary[{i}]");
+        let k = domain.edge_index(&b.edge).ok_or_else(|| {
+            invalid(
+                &format!("{field}.edge"),
+                &b.edge,
+                format!("no such edge; the edges are {:?}", domain.edge_names()),
+            )
+        })?;
+        if boundary[k].is_some() {
+            return Err(invalid(&format!("{field}.edge"), &b.edge, "edge listed twice"));
+        }
+        let condition = if let Some(p) = b.pressure {
+            if b.displacement.is_some() || b.traction.is_some() {
+                return Err(invalid(
+                    &format!("{field}.pressure"),
+                    &b.edge,
+                    "pressure cannot be combined with displacement or traction on one edge",
+                ));
+            }
+            EdgeCondition::Pressure(value_field(&format!("{field}.pressure"), p)?)
+        } else {
+            let mut comps = [None, None];
+            for (axis, name) in ["x", "y"].iter().enumerate() {
+                let disp = b.displacement.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y });
+                let trac = b.traction.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y });
+                comps[axis] = Some(match (disp, trac) {
+                    (Some(_), Some(_)) => {
+                        return Err(invalid(
+                            &format!("{field}.{name}"),
+                            &b.edge,
+                            "a component cannot have both a displacement and a traction",
+                        ));
+                    }
+                    (Some(v), None) => ComponentCondition::Displacement(value_field(
+                        &format!("{field}.displacement.{name}"),
+                        v,
+                    )?),
+                    (None, Some(v)) => ComponentCondition::Traction(value_field(
+                        &format!("{field}.traction.{name}"),
+                        v,
+                    )?),
+                    (None, None) => ComponentCondition::Traction(Field::Constant(0.0)),
+                });
+            }
+            let [Some(cx), Some(cy)] = comps else { unreachable!("both components are set above") };
+            EdgeCondition::Components([cx, cy])
+        };
+        boundary[k] = Some(condition);
+    }
+    let boundary: Vec<EdgeCondition> =
+        boundary.into_iter().map(|c| c.unwrap_or_else(EdgeCondition::free)).collect();
+    let body_force = match file.body_force {
+        Some(b) => {
+            check_finite("body_force", b[0])?;
+            check_finite("body_force", b[1])?;
+            Some(BodyForce::constant(b))
+        }
+        None => None,
+    };
+    Ok(Problem {
+        name,
+        domain,
+        node_spacing: h,
+        layout,
+        material,
+        discretisation,
+        boundary,
+        body_force,
+        profile_edge: 0,
+        contact: None,
+        second_body: None,
+    })
+}
+
+/// Prefixes the field name of an [`ProblemError::Invalid`] (for `body[k].` tables).
+fn prefixed(prefix: &str, e: ProblemError) -> ProblemError {
+    match e {
+        ProblemError::Invalid { field, value, reason } => {
+            ProblemError::Invalid { field: format!("{prefix}{field}"), value, reason }
+        }
+        other => other,
+    }
+}
+
+fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, ProblemError> {
+    let (domain, boundary) = (&problem.domain, &problem.boundary);
     let edge = domain.edge_index(&c.edge).ok_or_else(|| {
         invalid(
             "contact.edge",
@@ -606,15 +734,88 @@ fn contact_spec(
             "this edge has a displacement condition; a contact edge must be free to move",
         ));
     }
-    for v in c.obstacle_point.iter().chain(&c.obstacle_normal) {
+    if let Some(t) = c.gap_tolerance {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(invalid("contact.gap_tolerance", t, "must be a positive number"));
+        }
+    }
+    let allow_indefinite = c.allow_indefinite.unwrap_or(false);
+    if let Some(second) = problem.second_body.as_deref() {
+        if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
+            return Err(invalid(
+                "contact.obstacle_point",
+                "",
+                "two bodies touch each other: give `target_edge`, not an obstacle",
+            ));
+        }
+        let name = c.target_edge.as_deref().ok_or_else(|| {
+            invalid(
+                "contact.target_edge",
+                "(missing)",
+                "the edge of the second body that the first body's `edge` touches",
+            )
+        })?;
+        let target = second.domain.edge_index(name).ok_or_else(|| {
+            invalid(
+                "contact.target_edge",
+                name,
+                format!(
+                    "no such edge of `{}`; its edges are {:?}",
+                    second.name,
+                    second.domain.edge_names()
+                ),
+            )
+        })?;
+        if second.boundary[target].displacement(0).is_some()
+            || second.boundary[target].displacement(1).is_some()
+        {
+            return Err(invalid(
+                "contact.target_edge",
+                name,
+                "this edge has a displacement condition; a contact edge must be free to move",
+            ));
+        }
+        // The edges must face each other: body 1 must lie on the side the target normal points to.
+        let nu = second.domain.outward_normal(target);
+        let (a2, _) = second.domain.edge(target);
+        let v = domain.vertices();
+        let centroid = v.iter().fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
+        let centroid = [centroid[0] / v.len() as f64, centroid[1] / v.len() as f64];
+        if (centroid[0] - a2[0]) * nu[0] + (centroid[1] - a2[1]) * nu[1] <= 0.0 {
+            return Err(invalid(
+                "contact.target_edge",
+                name,
+                "the first body is not on the outer side of this edge of the second body: the bodies would overlap",
+            ));
+        }
+        return Ok(ContactSpec {
+            edge,
+            target: ContactTarget::Body { edge: target },
+            gap_tolerance: c.gap_tolerance,
+            allow_indefinite,
+        });
+    }
+    if c.target_edge.is_some() {
+        return Err(invalid(
+            "contact.target_edge",
+            "",
+            "only for two bodies ([[body]] tables); a rigid obstacle takes obstacle_point and obstacle_normal",
+        ));
+    }
+    let missing = |f: &str| {
+        invalid(f, "(missing)", "a rigid obstacle needs obstacle_point and obstacle_normal")
+    };
+    let obstacle_point = c.obstacle_point.ok_or_else(|| missing("contact.obstacle_point"))?;
+    let obstacle_normal = c.obstacle_normal.ok_or_else(|| missing("contact.obstacle_normal"))?;
+    for v in obstacle_point.iter().chain(&obstacle_normal) {
         check_finite("contact", *v)?;
     }
-    let [nx, ny] = c.obstacle_normal;
+    let [nx, ny] = obstacle_normal;
     let len = nx.hypot(ny);
     if len == 0.0 {
         return Err(invalid("contact.obstacle_normal", "[0, 0]", "must be a non-zero vector"));
     }
-    let obstacle = RigidLine { point: c.obstacle_point, normal: [nx / len, ny / len] };
+    let obstacle = RigidLine { point: obstacle_point, normal: [nx / len, ny / len] };
     // The body must lie on the side the normal points to: its centroid, at least.
     let v = domain.vertices();
     let centroid = v.iter().fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
@@ -622,7 +823,7 @@ fn contact_spec(
     if obstacle.gap(centroid) <= 0.0 {
         return Err(invalid(
             "contact.obstacle_normal",
-            format!("{:?}", c.obstacle_normal),
+            format!("{obstacle_normal:?}"),
             "the body's centroid is not on the side the normal points to: the obstacle would cross the body (the normal must point into the body)",
         ));
     }
@@ -633,23 +834,18 @@ fn contact_spec(
     if worst < -0.1 * size {
         return Err(invalid(
             "contact.obstacle_point",
-            format!("{:?}", c.obstacle_point),
+            format!("{obstacle_point:?}"),
             format!(
                 "the obstacle penetrates the contact edge by {:.3e}, more than 10 % of the body's smallest extent: not a small-strain indentation",
                 -worst
             ),
         ));
     }
-    if let Some(t) = c.gap_tolerance {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(invalid("contact.gap_tolerance", t, "must be a positive number"));
-        }
-    }
     Ok(ContactSpec {
         edge,
-        obstacle,
+        target: ContactTarget::Rigid(obstacle),
         gap_tolerance: c.gap_tolerance,
-        allow_indefinite: c.allow_indefinite.unwrap_or(false),
+        allow_indefinite,
     })
 }
 

@@ -232,6 +232,19 @@ fn cantilever_problem_tip_deflection() {
     assert!(s["checks"]["equilibrium_error"].as_f64().unwrap() < 1e-9);
 }
 
+/// problems/two_blocks.toml: two blocks with non-matching layouts pressed together; exact
+/// answer uniform pressure `E δ / (H_1 + H_2) = 5`, total 10 (a contact patch test).
+#[test]
+fn two_blocks_problem_total_force() {
+    let s = summary_of("two_blocks.toml", "two_blocks");
+    let total = s["contact"]["total_force"].as_f64().unwrap();
+    assert!((total - 10.0).abs() < 1e-9, "total contact force {total}");
+    assert_eq!(s["contact"]["closed"], s["contact"]["candidates"]);
+    assert!(s["second_body"]["equilibrium_error"].as_f64().unwrap() < 1e-9);
+    let csv = std::fs::read_to_string(scratch("two_blocks").join("out/lower/displacement.csv"));
+    assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
+}
+
 /// The same input gives the same bytes, whatever the number of threads (timings aside).
 #[test]
 fn outputs_are_deterministic_across_thread_counts() {

@@ -13,4 +13,6 @@ mod validation {
     mod beam_on_foundation;
     // Condensed compliance M = G K⁻¹ E equals a dense computation.
     mod condensation;
+    // Two elastic bodies: uniform pressure, non-matching layouts, mirror symmetry.
+    mod two_bodies;
 }

@@ -13,11 +13,12 @@
 
 mod condense;
 
-pub use condense::{CondensedContact, condense};
+pub use condense::{CondensedContact, CondensedPart, condense};
 
 use crate::assembly::GlobalSystem;
 use crate::geometry::{Domain, Point};
-use crate::mls::ShapeSet;
+use crate::mls::{self, MlsError, MlsParams, ShapeSet};
+use crate::neighbours::Supports;
 use crate::nodes::{Axis, Nodes, dof};
 use crate::weak_form::{EdgeLabel, Face};
 use serde::Serialize;
@@ -40,15 +41,28 @@ impl RigidLine {
     }
 }
 
-/// Contact of one edge of the body with a rigid line.
+/// What the contact edge touches.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactTarget {
+    /// A rigid straight obstacle.
+    Rigid(RigidLine),
+    /// A straight edge of the second elastic body (`Problem::second_body`).
+    Body {
+        /// The second body's edge.
+        edge: usize,
+    },
+}
+
+/// Contact of one edge of the body with a rigid line or with a second elastic body.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ContactSpec {
-    /// Domain edge that may touch the obstacle.
+    /// Domain edge of the (first) body that may touch the target; it carries the candidates.
     pub edge: usize,
-    /// The obstacle.
-    pub obstacle: RigidLine,
+    /// The obstacle or the second body's edge.
+    pub target: ContactTarget,
     /// A candidate is reported closed when its gap is at most this (absolute; default
-    /// `1e-5 · max |g0|`, see method.md §6).
+    /// `1e-5 · max |g0| + 1e-12 · max |q|`, see method.md §6).
     pub gap_tolerance: Option<f64>,
     /// Accept a condensed compliance `M` that fails the run-time checks (with a warning).
     pub allow_indefinite: bool,
@@ -77,9 +91,70 @@ pub enum ContactError {
         /// The support factor in use.
         support_factor: f64,
     },
+    /// A target cell's normal rows are Dirichlet rows: the contact force would be lost.
+    #[error(
+        "the contact force on edge `{edge}` of the second body would go to node {node}, whose normal displacement is prescribed"
+    )]
+    TargetConstrained {
+        /// Edge name.
+        edge: String,
+        /// Node.
+        node: usize,
+    },
+    /// MLS failed at a contact point.
+    #[error(transparent)]
+    Mls(#[from] MlsError),
     /// Factorisation solve failed during condensation.
     #[error(transparent)]
     Solve(#[from] crate::linear_solve::SolveError),
+}
+
+/// How one body enters the contact constraint: its displacement at the contact points adds
+/// `d·u^h(x_c)` to the gap (the `G` rows) and the contact force adds `d P_c` to the owner
+/// cell's equilibrium rows (the `E` columns). `d = +ν` for the candidate body and `−ν` for
+/// the target body of a two-body contact (method.md §4.3).
+#[derive(Clone, Debug)]
+pub struct BodyOperator {
+    /// MLS shape functions at the contact points on this body (one row per candidate).
+    pub shapes: ShapeSet,
+    /// Nodes whose cells receive each contact force, with weights summing to 1.
+    pub owners: Vec<Vec<(u32, f64)>>,
+    /// `d`: `+ν` or `−ν`.
+    pub direction: Point,
+}
+
+impl BodyOperator {
+    /// Number of contact points.
+    pub fn len(&self) -> usize {
+        self.owners.len()
+    }
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.owners.is_empty()
+    }
+    /// `G û`: `d·u^h(x_c)` at every contact point.
+    pub fn gap_contribution(&self, u_hat: &[f64]) -> Vec<f64> {
+        (0..self.len())
+            .map(|c| {
+                let u = self.shapes.interpolate(c, u_hat);
+                self.direction[0] * u[0] + self.direction[1] * u[1]
+            })
+            .collect()
+    }
+    /// Adds `E P` (force `d P_c` on each owner's rows) to `rhs`.
+    pub fn add_forces(&self, forces: &[f64], rhs: &mut [f64]) {
+        for (owners, &p) in self.owners.iter().zip(forces) {
+            for &(i, w) in owners {
+                rhs[dof(i as usize, Axis::X)] += self.direction[0] * w * p;
+                rhs[dof(i as usize, Axis::Y)] += self.direction[1] * w * p;
+            }
+        }
+    }
+    /// Resultant `Σ d P_c` of the contact forces on this body.
+    pub fn resultant(&self, forces: &[f64]) -> [f64; 2] {
+        let total: f64 = forces.iter().sum();
+        [self.direction[0] * total, self.direction[1] * total]
+    }
 }
 
 /// The contact candidates of one edge and their operators.
@@ -93,10 +168,14 @@ pub struct Candidates {
     pub arc_length: Vec<f64>,
     /// Length of the boundary segment each candidate owns (for the pressure).
     pub segment_length: Vec<f64>,
+    /// End points of that segment (its extent along the edge).
+    pub segment_ends: Vec<(Point, Point)>,
     /// Initial gaps `g0_c`.
     pub initial_gap: Vec<f64>,
-    /// The obstacle normal `ν` (into the body).
+    /// The contact normal `ν` (pointing into the candidate body).
     pub normal: Point,
+    /// The candidate body's operator (`d = +ν`, owners = the candidate nodes).
+    pub operator: BodyOperator,
 }
 
 impl Candidates {
@@ -108,52 +187,60 @@ impl Candidates {
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
-
-    /// `G û`: the normal displacement `ν·u^h(x_c)` at every candidate.
-    pub fn normal_displacement(&self, node_shapes: &ShapeSet, u_hat: &[f64]) -> Vec<f64> {
-        self.nodes
-            .iter()
-            .map(|&i| {
-                let u = node_shapes.interpolate(i as usize, u_hat);
-                self.normal[0] * u[0] + self.normal[1] * u[1]
-            })
-            .collect()
-    }
-
-    /// Adds `E P` (force `ν P_c` on each owner's rows) to `rhs`.
-    pub fn add_forces(&self, forces: &[f64], rhs: &mut [f64]) {
-        for (&i, &p) in self.nodes.iter().zip(forces) {
-            rhs[dof(i as usize, Axis::X)] += self.normal[0] * p;
-            rhs[dof(i as usize, Axis::Y)] += self.normal[1] * p;
-        }
-    }
 }
 
-/// Collects the candidates of `spec.edge`: the nodes on that edge whose cells own a boundary
+/// The discretised body a contact operator is built on.
+#[derive(Clone, Copy)]
+pub struct BodyView<'a> {
+    /// Domain.
+    pub domain: &'a Domain,
+    /// Nodes.
+    pub nodes: &'a Nodes,
+    /// MLS supports.
+    pub supports: &'a Supports,
+    /// MLS parameters.
+    pub mls: &'a MlsParams,
+    /// Boundary faces of the cells.
+    pub boundary_faces: &'a [Face],
+    /// Assembled system (for the constrained rows).
+    pub system: &'a GlobalSystem,
+}
+
+/// Collects the candidates of `edge`: the nodes on that edge whose cells own a boundary
 /// segment on it and whose equilibrium rows carrying the normal force are not replaced by
-/// displacement conditions, sorted along the edge.
+/// displacement conditions, sorted along the edge. `normal` is the contact normal `ν` (into
+/// the body) and `initial_gap(x)` the gap before deformation.
 ///
 /// # Errors
-/// [`ContactError::NoCandidates`].
+/// [`ContactError::NoCandidates`], or an MLS failure at a candidate.
 pub fn candidates(
-    domain: &Domain,
-    nodes: &Nodes,
-    boundary_faces: &[Face],
-    system: &GlobalSystem,
-    spec: &ContactSpec,
+    body: BodyView<'_>,
+    edge: usize,
+    normal: Point,
+    initial_gap: &dyn Fn(Point) -> f64,
 ) -> Result<Candidates, ContactError> {
-    let k = spec.edge;
+    let (domain, nodes) = (body.domain, body.nodes);
+    let k = edge;
     let mut segment = vec![0.0; nodes.len()];
-    for f in boundary_faces {
+    // Extent of each node's owned segment, as edge parameters.
+    let mut extent = vec![[f64::INFINITY, f64::NEG_INFINITY]; nodes.len()];
+    for f in body.boundary_faces {
         if f.across == EdgeLabel::Boundary(k as u32) {
-            segment[f.owner as usize] += f.length();
+            let o = f.owner as usize;
+            segment[o] += f.length();
+            for p in [f.a, f.b] {
+                let t = domain.edge_parameter(k, p);
+                extent[o] = [extent[o][0].min(t), extent[o][1].max(t)];
+            }
         }
     }
-    let nu = spec.obstacle.normal;
+    let nu = normal;
     let mut list: Vec<(f64, usize)> = (0..nodes.len())
         .filter(|&i| nodes.edges[i].contains(k) && segment[i] > 0.0)
         .filter(|&i| {
-            Axis::BOTH.iter().all(|&a| nu[a as usize] == 0.0 || !system.is_constrained(dof(i, a)))
+            Axis::BOTH
+                .iter()
+                .all(|&a| nu[a as usize] == 0.0 || !body.system.is_constrained(dof(i, a)))
         })
         .map(|i| (domain.edge_parameter(k, nodes.points[i]), i))
         .collect();
@@ -163,14 +250,112 @@ pub fn candidates(
     list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let (a, b) = domain.edge(k);
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
+    let shapes = mls::shape_functions(&points, nodes, body.supports, body.mls, false)?;
+    let owners: Vec<Vec<(u32, f64)>> = list.iter().map(|&(_, i)| vec![(i as u32, 1.0)]).collect();
+    let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
     Ok(Candidates {
         nodes: list.iter().map(|&(_, i)| i as u32).collect(),
-        points: list.iter().map(|&(_, i)| nodes.points[i]).collect(),
+        segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
         arc_length: list.iter().map(|&(t, _)| t * len).collect(),
         segment_length: list.iter().map(|&(_, i)| segment[i]).collect(),
-        initial_gap: list.iter().map(|&(_, i)| spec.obstacle.gap(nodes.points[i])).collect(),
+        initial_gap: points.iter().map(|&p| initial_gap(p)).collect(),
         normal: nu,
+        operator: BodyOperator { shapes, owners, direction: nu },
+        points,
     })
+}
+
+/// The target body of a two-body contact: each candidate `x_c` of body 1 is paired with the
+/// closest point `y_c` of body 2's straight edge `edge`; `ν` is that edge's outward normal
+/// (from body 2 into body 1) and `g0_c = ν·(x_c − y_c)`. The reaction `−ν P_c` is spread over
+/// the body-2 cells whose boundary faces overlap the candidate's segment projected onto the
+/// edge, in proportion to the overlap (a uniform pressure over the segment), so that
+/// non-matching layouts pass the uniform-pressure patch test; where nothing overlaps, it goes
+/// to the cell holding `y_c` (method.md §4.3 describes the closest-point pairing).
+///
+/// Returns the operator (`d = −ν`), the initial gaps and the paired points.
+///
+/// # Errors
+/// [`ContactError::TargetConstrained`] when a receiving cell's normal rows are Dirichlet rows,
+/// or an MLS failure at a paired point.
+pub fn target_operator(
+    body: BodyView<'_>,
+    edge: usize,
+    candidates: &Candidates,
+) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
+    let (a, b) = body.domain.edge(edge);
+    let nu = body.domain.outward_normal(edge);
+    let name = || body.domain.edge_names()[edge].clone();
+    // Body-2 faces on the edge as parameter intervals.
+    let faces: Vec<(f64, f64, u32, &Face)> = body
+        .boundary_faces
+        .iter()
+        .filter(|f| f.across == EdgeLabel::Boundary(edge as u32))
+        .map(|f| {
+            let (s, t) =
+                (body.domain.edge_parameter(edge, f.a), body.domain.edge_parameter(edge, f.b));
+            (s.min(t), s.max(t), f.owner, f)
+        })
+        .collect();
+    if faces.is_empty() {
+        return Err(ContactError::NoCandidates { edge: name() });
+    }
+    let mut paired = Vec::with_capacity(candidates.len());
+    let mut owners = Vec::with_capacity(candidates.len());
+    let mut gaps = Vec::with_capacity(candidates.len());
+    for (c, &x) in candidates.points.iter().enumerate() {
+        let t = body.domain.edge_parameter(edge, x).clamp(0.0, 1.0);
+        let y = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        let (p, q) = candidates.segment_ends[c];
+        let (s0, s1) = {
+            let (u, v) = (body.domain.edge_parameter(edge, p), body.domain.edge_parameter(edge, q));
+            (u.min(v), u.max(v))
+        };
+        let mut share: Vec<(u32, f64)> = Vec::new();
+        for &(f0, f1, owner, _) in &faces {
+            let overlap = s1.min(f1) - s0.max(f0);
+            if overlap > 0.0 {
+                match share.iter_mut().find(|(o, _)| *o == owner) {
+                    Some(entry) => entry.1 += overlap,
+                    None => share.push((owner, overlap)),
+                }
+            }
+        }
+        let total: f64 = share.iter().map(|s| s.1).sum();
+        if total > 0.0 {
+            for s in share.iter_mut() {
+                s.1 /= total;
+            }
+        } else {
+            // No overlap (a candidate past the end of the edge): the cell holding y_c.
+            let owner = faces
+                .iter()
+                .map(|&(_, _, o, f)| (segment_distance(y, f.a, f.b), o))
+                .min_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)))
+                .map(|(_, o)| o)
+                .ok_or_else(|| ContactError::NoCandidates { edge: name() })?;
+            share = vec![(owner, 1.0)];
+        }
+        for &(owner, _) in &share {
+            if Axis::BOTH.iter().any(|&ax| {
+                nu[ax as usize] != 0.0 && body.system.is_constrained(dof(owner as usize, ax))
+            }) {
+                return Err(ContactError::TargetConstrained { edge: name(), node: owner as usize });
+            }
+        }
+        gaps.push((x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]);
+        paired.push(y);
+        owners.push(share);
+    }
+    let shapes = mls::shape_functions(&paired, body.nodes, body.supports, body.mls, false)?;
+    Ok((BodyOperator { shapes, owners, direction: [-nu[0], -nu[1]] }, gaps, paired))
+}
+
+fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let t = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
 /// Where contact begins along the edge: the last open and first closed candidates of the first

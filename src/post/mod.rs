@@ -347,6 +347,16 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "warning": c.warning,
             "onset_note": "distances along the contact edge from its first vertex; onset_x: gap^(2/3) extrapolated from the last two open candidates, clipped to [last_open_x, first_closed_x]; onset_x_from_pressure: p^2 extrapolated from the first two closed candidates",
         })),
+        "second_body": solution.second_body.as_deref().map(|s2| json!({
+            "name": problem.second_body.as_ref().map(|p| p.name.clone()),
+            "nodes": s2.displacement.len(),
+            "dofs": 2 * s2.displacement.len(),
+            "relative_residual": s2.relative_residual,
+            "equilibrium_error": s2.equilibrium_error,
+            "applied_force": s2.applied_force,
+            "reaction_force": s2.reaction_force,
+            "contact_force": s2.contact_force,
+        })),
         "timings": timings,
     })
 }

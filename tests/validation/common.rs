@@ -23,6 +23,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         body_force: None,
         profile_edge: 0,
         contact: None,
+        second_body: None,
     }
 }
 

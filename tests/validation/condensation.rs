@@ -13,17 +13,18 @@ fn condensed_compliance_equals_dense_computation() {
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
     let spec = problem.contact.unwrap();
-    let cand = contact::candidates(
-        &problem.domain,
-        &model.nodes,
-        &model.faces.boundary,
-        &model.system,
-        &spec,
-    )
-    .unwrap();
-    let condensed =
-        contact::condense(&model.factorisation, &model.system.rhs, &cand, &model.node_shapes)
-            .unwrap();
+    let contact::ContactTarget::Rigid(line) = spec.target else { panic!("rigid obstacle") };
+    let view = contact::BodyView {
+        domain: &problem.domain,
+        nodes: &model.nodes,
+        supports: &model.supports,
+        mls: &problem.discretisation.mls,
+        boundary_faces: &model.faces.boundary,
+        system: &model.system,
+    };
+    let cand = contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x)).unwrap();
+    let part = contact::condense(&model.factorisation, &model.system.rhs, &cand.operator).unwrap();
+    let condensed = contact::CondensedContact::combine(&cand.initial_gap, &[part]).unwrap();
     // Dense K.
     let a = &model.system.matrix;
     let n = a.n;

@@ -1,0 +1,143 @@
+//! Two elastic bodies in frictionless contact (method.md §4.3; paper eqs. 28–34):
+//! `M = M_1 + M_2`, `q = g0 + G_1 K_1⁻¹ f_1 + G_2 K_2⁻¹ f_2`, the candidate body's force `+ν P`
+//! and the target body's `−ν P` at the closest point of its edge.
+//!
+//! 1. Two identical blocks pressed together (top displacement `−δ`, rollers): the exact
+//!    solution is uniaxial stress, contact pressure `p = E δ / (H_1 + H_2)` uniform. It is a
+//!    linear field, so matching and non-matching layouts (the reaction spread over the target
+//!    cells by overlap) must reproduce it to round-off: a contact patch test.
+//! 2. Mirror symmetry: a block and its mirror image about `y = 0`, loaded symmetrically, give
+//!    the same contact forces as the block alone on a rigid line at `y = 0`.
+
+use super::common::*;
+use mlpg_contact::contact::{ContactSpec, ContactTarget, RigidLine};
+use mlpg_contact::geometry::Domain;
+use mlpg_contact::nodes::Layout;
+use mlpg_contact::problem::{ComponentCondition, EdgeCondition, Field, Problem};
+
+const YOUNG: f64 = 1000.0;
+const PRESS: f64 = 0.01;
+
+fn roller_x() -> ComponentCondition {
+    ComponentCondition::Displacement(Field::Constant(0.0))
+}
+fn free() -> ComponentCondition {
+    ComponentCondition::Traction(Field::Constant(0.0))
+}
+
+/// Edges of a rectangle: 0 bottom, 1 right, 2 top, 3 left.
+fn block(y: [f64; 2], h: f64, top_uy: Option<Field>, bottom_uy: Option<Field>) -> Problem {
+    let domain = Domain::rectangle([0.0, 2.0], y).unwrap();
+    let mut p = base_problem(domain, h, Layout::Structured, plane_stress(YOUNG, 0.3));
+    p.boundary[3] = EdgeCondition::Components([roller_x(), free()]);
+    if let Some(f) = top_uy {
+        p.boundary[2] = EdgeCondition::Components([free(), ComponentCondition::Displacement(f)]);
+    }
+    if let Some(f) = bottom_uy {
+        p.boundary[0] = EdgeCondition::Components([free(), ComponentCondition::Displacement(f)]);
+    }
+    p
+}
+
+fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
+    let mut upper = block([1.0, 2.0], h_upper, Some(Field::Constant(-PRESS)), None);
+    let lower = block([0.0, 1.0], h_lower, None, Some(Field::Constant(0.0)));
+    upper.contact = Some(ContactSpec {
+        edge: 0,
+        target: ContactTarget::Body { edge: 2 },
+        gap_tolerance: None,
+        allow_indefinite: false,
+    });
+    let mut lower = lower;
+    lower.name = "lower".into();
+    upper.second_body = Some(Box::new(lower));
+    upper
+}
+
+fn pressures(problem: &Problem) -> (Vec<f64>, f64, f64) {
+    let s = mlpg_contact::solve(problem).unwrap();
+    let c = s.contact.as_ref().unwrap();
+    let r = &c.lcp.residuals;
+    assert!(r.max_violation() < 1e-9, "KKT residuals {r:?}");
+    assert!(s.equilibrium_error < 1e-9, "body 1 equilibrium {}", s.equilibrium_error);
+    let s2 = s.second_body.as_ref().unwrap();
+    assert!(s2.equilibrium_error < 1e-9, "body 2 equilibrium {}", s2.equilibrium_error);
+    // Action and reaction: the forces on the two bodies cancel.
+    assert!((s.contact_force[1] + s2.contact_force[1]).abs() < 1e-12 * c.total_force);
+    (c.pressure.clone(), c.total_force, c.condensed.skew_ratio)
+}
+
+#[test]
+fn identical_blocks_give_uniform_pressure() {
+    let exact = YOUNG * PRESS / 2.0;
+    let (p, total, _) = pressures(&two_blocks(0.1, 0.1));
+    let worst = p.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+    println!(
+        "matching: max |p/p_exact − 1| = {worst:.3e}, total {total:.6} (exact {})",
+        2.0 * exact
+    );
+    assert!(worst < 1e-8, "pressure not uniform: {worst:.3e}");
+    assert!((total / (2.0 * exact) - 1.0).abs() < 1e-8);
+}
+
+#[test]
+fn non_matching_layouts() {
+    let exact = YOUNG * PRESS / 2.0;
+    let (p, total, skew) = pressures(&two_blocks(0.1, 0.125));
+    let worst = p.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+    let mean = p.iter().sum::<f64>() / p.len() as f64;
+    println!(
+        "non-matching: max |p/p_exact − 1| = {worst:.3e}, mean {mean:.6}, total {total:.6} (exact {}), skew {skew:.2e}",
+        2.0 * exact
+    );
+    // Round-off bound, as for the matching case (observed 3.8e-15). With the reaction put at
+    // the closest point only, this case deviated by 33 % pointwise (session 1).
+    assert!((total / (2.0 * exact) - 1.0).abs() < 1e-8, "total {total}");
+    assert!(worst < 1e-8, "pressure deviates by {worst:.3e}");
+}
+
+#[test]
+fn mirror_image_equals_rigid_line() {
+    let (gap, d) = (0.01, 0.015);
+    // Body 1 above y = 0; its top edge runs from x = 2 (t = 0) to x = 0 (t = 1).
+    let top = Field::Linear { start: -d, end: -0.5 * d };
+    let bottom = Field::Linear { start: 0.5 * d, end: d }; // mirror: x = 0 → 2
+    let upper = |tag: &str| {
+        let mut b = block([gap, 1.0 + gap], 0.1, Some(top.clone()), None);
+        b.name = tag.into();
+        b
+    };
+    let mut rigid = upper("rigid");
+    rigid.contact = Some(ContactSpec {
+        edge: 0,
+        target: ContactTarget::Rigid(RigidLine { point: [0.0, 0.0], normal: [0.0, 1.0] }),
+        gap_tolerance: None,
+        allow_indefinite: false,
+    });
+    let mut pair = upper("upper");
+    let mut mirror = block([-1.0 - gap, -gap], 0.1, None, Some(bottom));
+    mirror.name = "mirror".into();
+    pair.contact = Some(ContactSpec {
+        edge: 0,
+        target: ContactTarget::Body { edge: 2 },
+        gap_tolerance: None,
+        allow_indefinite: false,
+    });
+    pair.second_body = Some(Box::new(mirror));
+    let a = mlpg_contact::solve(&rigid).unwrap();
+    let b = mlpg_contact::solve(&pair).unwrap();
+    let (ca, cb) = (a.contact.unwrap(), b.contact.unwrap());
+    assert_eq!(ca.lcp.z.len(), cb.lcp.z.len());
+    let scale = ca.lcp.z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = ca.lcp.z.iter().zip(&cb.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    println!(
+        "mirror: total {:.6} vs rigid {:.6}, closed {}/{}, max |ΔP|/max P = {:.3e}",
+        cb.total_force,
+        ca.total_force,
+        ca.closed.iter().filter(|&&c| c).count(),
+        ca.closed.len(),
+        worst / scale
+    );
+    assert!(ca.closed.iter().any(|&c| c) && ca.closed.iter().any(|&c| !c), "want partial contact");
+    assert!(worst < 1e-9 * scale, "forces differ by {worst:.3e}");
+}
