@@ -5,6 +5,10 @@
 //! `ny = 25, 50, 100` give 2 626, 10 251 and 40 501 nodes. Override with a comma-separated list
 //! of `ny` in `MLPG_BENCH_NY` (e.g. `MLPG_BENCH_NY=25,50`).
 //!
+//! The sparse LU costs ~25 s at 40 k nodes, and criterion needs at least 11 runs per size,
+//! so the `factorisation` group has its own, smaller sweep: `ny = 25, 50, 70` (2 626, 10 251
+//! and 19 951 nodes), overridden by `MLPG_BENCH_FACTOR_NY`.
+//!
 //! One benchmark group per stage, each measured on inputs prepared once per size:
 //!
 //! | group | measured call |
@@ -17,7 +21,8 @@
 //! | `solve` | `Factorisation::solve` (one right-hand side) |
 //!
 //! Samples are few and short (`sample_size(10)`, 1 s warm-up, 3 s measurement) so the whole
-//! run takes a few minutes; criterion switches to flat sampling for the slow cases.
+//! run takes a few minutes; criterion switches to flat sampling for the slow cases. Plots are
+//! off (they need system fonts).
 //!
 //! ```text
 //! cargo bench --bench stages [-- <group filter>]
@@ -27,7 +32,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
-use mlpg_contact::assembly::{self, AssemblyInput, GlobalSystem};
+use mlpg_contact::assembly::{self, AssemblyInput, GlobalSystem, SystemMatrix};
 use mlpg_contact::linear_solve::Factorisation;
 use mlpg_contact::mls::{self, ShapeSet};
 use mlpg_contact::neighbours::Supports;
@@ -37,6 +42,9 @@ use mlpg_contact::weak_form::{self, Cell, FaceQuadrature, Faces};
 
 /// Default grid heights (intervals across the 12-unit height).
 const DEFAULT_NY: [usize; 3] = [25, 50, 100];
+
+/// Default grid heights of the `factorisation` group.
+const DEFAULT_FACTOR_NY: [usize; 3] = [25, 50, 70];
 
 /// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height.
 fn cantilever(ny: usize) -> Problem {
@@ -119,6 +127,7 @@ impl Inputs {
 
 /// Every stage's output for one size, so each benchmark can run its stage alone.
 struct Fixture {
+    ny: usize,
     inputs: Inputs,
     system: GlobalSystem,
     factorisation: Factorisation,
@@ -129,7 +138,7 @@ impl Fixture {
         let inputs = Inputs::new(ny);
         let system = inputs.assemble();
         let factorisation = Factorisation::new(&system.matrix).expect("LU");
-        Self { inputs, system, factorisation }
+        Self { ny, inputs, system, factorisation }
     }
 
     fn id(&self) -> BenchmarkId {
@@ -141,15 +150,29 @@ impl Fixture {
     }
 }
 
-fn sizes() -> Vec<usize> {
-    match std::env::var("MLPG_BENCH_NY") {
+/// Grid heights from the environment variable `var`, else `default`.
+fn sizes(var: &str, default: &[usize]) -> Vec<usize> {
+    match std::env::var(var) {
         Ok(list) => list.split(',').filter_map(|s| s.trim().parse().ok()).collect(),
-        Err(_) => DEFAULT_NY.to_vec(),
+        Err(_) => default.to_vec(),
     }
 }
 
 fn stages(c: &mut Criterion) {
-    let fixtures: Vec<Fixture> = sizes().into_iter().map(Fixture::new).collect();
+    let fixtures: Vec<Fixture> =
+        sizes("MLPG_BENCH_NY", &DEFAULT_NY).into_iter().map(Fixture::new).collect();
+    // (nodes, K) for the factorisation sweep, reusing the fixtures' matrices where possible.
+    let factor_inputs: Vec<(usize, SystemMatrix)> =
+        sizes("MLPG_BENCH_FACTOR_NY", &DEFAULT_FACTOR_NY)
+            .into_iter()
+            .map(|ny| match fixtures.iter().find(|f| f.ny == ny) {
+                Some(f) => (f.inputs.nodes.len(), f.system.matrix.clone()),
+                None => {
+                    let inputs = Inputs::new(ny);
+                    (inputs.nodes.len(), inputs.assemble().matrix)
+                }
+            })
+            .collect();
 
     let mut group = c.benchmark_group("neighbours");
     for f in &fixtures {
@@ -210,10 +233,10 @@ fn stages(c: &mut Criterion) {
     group.finish();
 
     let mut group = c.benchmark_group("factorisation");
-    for f in &fixtures {
-        group.throughput(f.elements());
-        group.bench_with_input(f.id(), f, |b, f| {
-            b.iter(|| Factorisation::new(black_box(&f.system.matrix)));
+    for (nodes, matrix) in &factor_inputs {
+        group.throughput(Throughput::Elements(*nodes as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(nodes), matrix, |b, matrix| {
+            b.iter(|| Factorisation::new(black_box(matrix)));
         });
     }
     group.finish();
@@ -233,6 +256,8 @@ fn config() -> Criterion {
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3))
+        // Plotting needs system fonts, which headless machines may lack; numbers suffice.
+        .without_plots()
 }
 
 criterion_group! {

@@ -280,7 +280,7 @@ pub struct ContactSolution {
     pub condensed: contact::CondensedContact,
     /// Lemke's result: `z` = contact forces `P`, `w` = gaps.
     pub lcp: lcp::LcpSolution,
-    /// Gaps recomputed from the final displacements: `g0 + G_1 û_1 (+ G_2 û_2)`.
+    /// MLS gaps from the final displacements: `g0 + ν·u_1^h(x_c) (− ν·u_2^h(y_c))`.
     pub gap: Vec<f64>,
     /// Contact pressure `P_c / |segment_c|`.
     pub pressure: Vec<f64>,
@@ -365,12 +365,19 @@ fn solve_contact(
     let (candidates, target, paired_points) =
         clock.run("contact_candidates", || match (&spec.target, second) {
             (contact::ContactTarget::Rigid(line), _) => {
-                let c = contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x))?;
+                let c = contact::candidates(
+                    view,
+                    spec.edge,
+                    line.normal,
+                    &|x| line.gap(x),
+                    spec.condensation,
+                )?;
                 Ok::<_, contact::ContactError>((c, None, Vec::new()))
             }
             (contact::ContactTarget::Body { edge }, Some((p2, m2))) => {
                 let normal = p2.domain.outward_normal(*edge);
-                let mut c = contact::candidates(view, spec.edge, normal, &|_| 0.0)?;
+                let mut c =
+                    contact::candidates(view, spec.edge, normal, &|_| 0.0, spec.condensation)?;
                 let (op, gaps, paired) = contact::target_operator(body_view(p2, m2), *edge, &c)?;
                 c.initial_gap = gaps;
                 Ok((c, Some(op), paired))
@@ -414,11 +421,17 @@ fn solve_contact(
     let mut rhs = model.system.rhs.clone();
     candidates.operator.add_forces(&result.z, &mut rhs);
     let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
+    // The MLS gap g0 + ν·u^h(x_c) (also for the stiffness form, whose LCP reads nodal
+    // parameters instead; `max_gap_mismatch` in the summary shows the difference).
+    let nu = candidates.normal;
     let mut gap: Vec<f64> = candidates
         .initial_gap
         .iter()
-        .zip(candidates.operator.gap_contribution(&u1))
-        .map(|(a, b)| a + b)
+        .zip(&candidates.nodes)
+        .map(|(g0, &i)| {
+            let u = model.node_shapes.interpolate(i as usize, &u1);
+            g0 + nu[0] * u[0] + nu[1] * u[1]
+        })
         .collect();
     let u2 = match (&target, second) {
         (Some(op), Some((_, m2))) => {

@@ -1,7 +1,7 @@
 //! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
 //! checked [`Problem`]. Only a `Problem` reaches the solver.
 
-use crate::contact::{ContactSpec, ContactTarget, RigidLine};
+use crate::contact::{Condensation, ContactSpec, ContactTarget, RigidLine};
 use crate::geometry::{Domain, Point};
 use crate::material::{Material, PlaneState};
 use crate::mls::{Basis, MlsParams};
@@ -237,6 +237,10 @@ pub struct ContactFile {
     /// Proceed (with a warning) when the condensed compliance fails its checks.
     #[serde(default)]
     pub allow_indefinite: Option<bool>,
+    /// `"compliance"` (default, exact for MLS) or `"stiffness"` (the paper's literal form on
+    /// nodal parameters, for comparison).
+    #[serde(default)]
+    pub condensation: Option<String>,
 }
 
 /// One `[[body]]` table of a two-body problem.
@@ -740,6 +744,17 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         }
     }
     let allow_indefinite = c.allow_indefinite.unwrap_or(false);
+    let condensation = match c.condensation.as_deref().unwrap_or("compliance") {
+        "compliance" => Condensation::Compliance,
+        "stiffness" => Condensation::Stiffness,
+        other => {
+            return Err(invalid(
+                "contact.condensation",
+                other,
+                "expected \"compliance\" or \"stiffness\"",
+            ));
+        }
+    };
     if let Some(second) = problem.second_body.as_deref() {
         if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
             return Err(invalid(
@@ -793,6 +808,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             target: ContactTarget::Body { edge: target },
             gap_tolerance: c.gap_tolerance,
             allow_indefinite,
+            condensation,
         });
     }
     if c.target_edge.is_some() {
@@ -846,6 +862,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         target: ContactTarget::Rigid(obstacle),
         gap_tolerance: c.gap_tolerance,
         allow_indefinite,
+        condensation,
     })
 }
 

@@ -66,6 +66,22 @@ pub struct ContactSpec {
     pub gap_tolerance: Option<f64>,
     /// Accept a condensed compliance `M` that fails the run-time checks (with a warning).
     pub allow_indefinite: bool,
+    /// Which condensation (default: the compliance form, exact for MLS).
+    pub condensation: Condensation,
+}
+
+/// How the problem is condensed onto the contact unknowns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Condensation {
+    /// `M = G K⁻¹ E` with MLS-evaluated gaps (method.md §4.2; default).
+    #[default]
+    Compliance,
+    /// The paper's literal stiffness form (eqs. 22–27): the Schur complement on the nodal
+    /// parameters of the candidates, `K_p = K_cc − K_ci K_ii⁻¹ K_ic`, i.e. `M = K_p⁻¹`, which
+    /// reads fictitious nodal values as displacements. Offered for comparison only: its gaps
+    /// are not the MLS gaps (the summary reports the mismatch).
+    Stiffness,
 }
 
 /// Failures of the contact stage.
@@ -209,7 +225,9 @@ pub struct BodyView<'a> {
 /// Collects the candidates of `edge`: the nodes on that edge whose cells own a boundary
 /// segment on it and whose equilibrium rows carrying the normal force are not replaced by
 /// displacement conditions, sorted along the edge. `normal` is the contact normal `ν` (into
-/// the body) and `initial_gap(x)` the gap before deformation.
+/// the body) and `initial_gap(x)` the gap before deformation. With
+/// [`Condensation::Stiffness`] the gap rows read the candidates' nodal parameters instead of
+/// the MLS displacement.
 ///
 /// # Errors
 /// [`ContactError::NoCandidates`], or an MLS failure at a candidate.
@@ -218,6 +236,7 @@ pub fn candidates(
     edge: usize,
     normal: Point,
     initial_gap: &dyn Fn(Point) -> f64,
+    condensation: Condensation,
 ) -> Result<Candidates, ContactError> {
     let (domain, nodes) = (body.domain, body.nodes);
     let k = edge;
@@ -251,7 +270,14 @@ pub fn candidates(
     let (a, b) = domain.edge(k);
     let len = (b[0] - a[0]).hypot(b[1] - a[1]);
     let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
-    let shapes = mls::shape_functions(&points, nodes, body.supports, body.mls, false)?;
+    let shapes = match condensation {
+        Condensation::Compliance => {
+            mls::shape_functions(&points, nodes, body.supports, body.mls, false)?
+        }
+        Condensation::Stiffness => {
+            ShapeSet::nodal(&list.iter().map(|&(_, i)| i as u32).collect::<Vec<_>>())
+        }
+    };
     let owners: Vec<Vec<(u32, f64)>> = list.iter().map(|&(_, i)| vec![(i as u32, 1.0)]).collect();
     let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
     Ok(Candidates {

@@ -18,6 +18,18 @@ pub struct ShapeSet {
 }
 
 impl ShapeSet {
+    /// Kronecker-delta rows: point `k` has the single entry `φ = 1` at `nodes[k]` (nodal
+    /// parameters read as if they were displacements; used by the paper's stiffness-form
+    /// condensation).
+    pub fn nodal(nodes: &[u32]) -> Self {
+        Self {
+            offsets: (0..=nodes.len()).collect(),
+            nodes: nodes.to_vec(),
+            phi: vec![1.0; nodes.len()],
+            dphi_dx: Vec::new(),
+            dphi_dy: Vec::new(),
+        }
+    }
     /// Number of evaluation points.
     pub fn len(&self) -> usize {
         self.offsets.len().saturating_sub(1)

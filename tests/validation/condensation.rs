@@ -22,7 +22,9 @@ fn condensed_compliance_equals_dense_computation() {
         boundary_faces: &model.faces.boundary,
         system: &model.system,
     };
-    let cand = contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x)).unwrap();
+    let cand =
+        contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x), spec.condensation)
+            .unwrap();
     let part = contact::condense(&model.factorisation, &model.system.rhs, &cand.operator).unwrap();
     let condensed = contact::CondensedContact::combine(&cand.initial_gap, &[part]).unwrap();
     // Dense K.

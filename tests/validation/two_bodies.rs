@@ -47,6 +47,7 @@ fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
         target: ContactTarget::Body { edge: 2 },
         gap_tolerance: None,
         allow_indefinite: false,
+        condensation: Default::default(),
     });
     let mut lower = lower;
     lower.name = "lower".into();
@@ -113,6 +114,7 @@ fn mirror_image_equals_rigid_line() {
         target: ContactTarget::Rigid(RigidLine { point: [0.0, 0.0], normal: [0.0, 1.0] }),
         gap_tolerance: None,
         allow_indefinite: false,
+        condensation: Default::default(),
     });
     let mut pair = upper("upper");
     let mut mirror = block([-1.0 - gap, -gap], 0.1, None, Some(bottom));
@@ -122,6 +124,7 @@ fn mirror_image_equals_rigid_line() {
         target: ContactTarget::Body { edge: 2 },
         gap_tolerance: None,
         allow_indefinite: false,
+        condensation: Default::default(),
     });
     pair.second_body = Some(Box::new(mirror));
     let a = mlpg_contact::solve(&rigid).unwrap();
