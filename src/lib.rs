@@ -233,7 +233,7 @@ pub struct Solution {
     pub strain: Vec<[f64; 3]>,
     /// Stresses `σ_I = D ε̂_I = (σ_xx, σ_yy, σ_xy)`.
     pub stress: Vec<[f64; 3]>,
-    /// Reactions at constrained DOFs: `(node, axis, R)` with `R = (K_int û − f)`.
+    /// Reactions at constrained DOFs: `(node, axis, R)` with `R = K_int û − f − E P`.
     pub reactions: Vec<(u32, Axis, f64)>,
     /// Total applied load `Σ f` (tractions and body force).
     pub applied_force: [f64; 2],
@@ -253,7 +253,7 @@ pub struct Solution {
     pub timings: Vec<StageTiming>,
 }
 
-/// Solves `problem` end to end (stages 1–6 and 9).
+/// Solves `problem` end to end (stages 1–9; both bodies of a two-body contact).
 ///
 /// # Errors
 /// Any stage's error, wrapped in [`Error`].
@@ -343,14 +343,18 @@ pub fn solve_model(
 
 type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
 
-fn body_view<'a>(problem: &'a Problem, model: &'a Model) -> contact::BodyView<'a> {
-    contact::BodyView {
-        domain: &problem.domain,
-        nodes: &model.nodes,
-        supports: &model.supports,
-        mls: &problem.discretisation.mls,
-        boundary_faces: &model.faces.boundary,
-        system: &model.system,
+impl Model {
+    /// The view of this model the contact stage works on (`problem` is the one it was built
+    /// from).
+    pub fn contact_view<'a>(&'a self, problem: &'a Problem) -> contact::BodyView<'a> {
+        contact::BodyView {
+            domain: &problem.domain,
+            nodes: &self.nodes,
+            supports: &self.supports,
+            mls: &problem.discretisation.mls,
+            boundary_faces: &self.faces.boundary,
+            system: &self.system,
+        }
     }
 }
 
@@ -361,7 +365,7 @@ fn solve_contact(
     second: Option<(&Problem, &Model)>,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let view = body_view(problem, model);
+    let view = model.contact_view(problem);
     let (candidates, target, paired_points) =
         clock.run("contact_candidates", || match (&spec.target, second) {
             (contact::ContactTarget::Rigid(line), _) => {
@@ -378,7 +382,7 @@ fn solve_contact(
                 let normal = p2.domain.outward_normal(*edge);
                 let mut c =
                     contact::candidates(view, spec.edge, normal, &|_| 0.0, spec.condensation)?;
-                let (op, gaps, paired) = contact::target_operator(body_view(p2, m2), *edge, &c)?;
+                let (op, gaps, paired) = contact::target_operator(m2.contact_view(p2), *edge, &c)?;
                 c.initial_gap = gaps;
                 Ok((c, Some(op), paired))
             }

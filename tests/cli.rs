@@ -46,6 +46,19 @@ fn run_text(name: &str, text: &str) -> (Option<i32>, String) {
     (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
+/// Runs every `(name, file text, expected message part)` case and asserts, for all of them at
+/// once, exit code 2, the message, and no panic.
+fn expect_refusals(cases: &[(&str, String, &str)]) {
+    let mut failures = Vec::new();
+    for (name, text, expected) in cases {
+        let (code, stderr) = run_text(name, text);
+        if code != Some(2) || !stderr.contains(expected) || stderr.contains("panicked") {
+            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 #[test]
 fn bad_input_gives_a_clear_error_and_exit_code_2() {
     // (case, edit of the base file, text the message must contain)
@@ -98,14 +111,7 @@ fn bad_input_gives_a_clear_error_and_exit_code_2() {
             "both a displacement and a traction",
         ),
     ];
-    let mut failures = Vec::new();
-    for (name, text, expected) in cases {
-        let (code, stderr) = run_text(name, text);
-        if code != Some(2) || !stderr.contains(expected) || stderr.contains("panicked") {
-            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
-        }
-    }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    expect_refusals(cases);
 }
 
 /// A small beam on a rigid foundation (the shape of problems/beam_on_foundation.toml).
@@ -178,14 +184,7 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
             "has no contact candidates",
         ),
     ];
-    let mut failures = Vec::new();
-    for (name, text, expected) in cases {
-        let (code, stderr) = run_text(name, text);
-        if code != Some(2) || !stderr.contains(expected) || stderr.contains("panicked") {
-            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
-        }
-    }
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    expect_refusals(cases);
     // The unmodified file solves.
     let (code, stderr) = run_text("contact_ok", CONTACT);
     assert_eq!(code, Some(0), "{stderr}");

@@ -14,14 +14,7 @@ fn condensed_compliance_equals_dense_computation() {
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
     let spec = problem.contact.unwrap();
     let contact::ContactTarget::Rigid(line) = spec.target else { panic!("rigid obstacle") };
-    let view = contact::BodyView {
-        domain: &problem.domain,
-        nodes: &model.nodes,
-        supports: &model.supports,
-        mls: &problem.discretisation.mls,
-        boundary_faces: &model.faces.boundary,
-        system: &model.system,
-    };
+    let view = model.contact_view(&problem);
     let cand =
         contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x), spec.condensation)
             .unwrap();
