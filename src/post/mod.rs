@@ -121,7 +121,7 @@ pub fn write_solution(
 
     written.extend(solution_plots(dir, problem, model, solution)?);
     if let Some(c) = &solution.contact {
-        written.extend(contact_outputs(dir, problem, model, solution, c)?);
+        written.extend(contact_outputs(dir, problem, solution, c)?);
     }
     Ok(written)
 }
@@ -130,7 +130,6 @@ pub fn write_solution(
 fn contact_outputs(
     dir: &Path,
     problem: &Problem,
-    model: &Model,
     solution: &Solution,
     c: &ContactSolution,
 ) -> Result<Vec<PathBuf>, OutputError> {
@@ -147,7 +146,7 @@ fn contact_outputs(
             num(p[1]),
             num(cand.arc_length[k]),
             num(cand.initial_gap[k]),
-            num(c.lcp.w[k]),
+            num(c.gap[k]),
             num(c.lcp.z[k]),
             num(c.pressure[k]),
             u8::from(c.closed[k])
@@ -167,7 +166,6 @@ fn contact_outputs(
         .collect();
     let obstacle: Vec<(f64, f64)> =
         (0..cand.len()).map(|k| (cand.arc_length[k], -cand.initial_gap[k])).collect();
-    let _ = model;
     let chart = plot::Chart {
         title: format!("{}: displacement of edge `{edge}` towards the obstacle", problem.name),
         x_label: format!("distance along `{edge}`"),
