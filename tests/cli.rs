@@ -231,6 +231,32 @@ fn cantilever_problem_tip_deflection() {
     assert!(s["checks"]["equilibrium_error"].as_f64().unwrap() < 1e-9);
 }
 
+/// Every shipped problem file runs (the README's main command among them).
+#[test]
+fn every_shipped_problem_runs() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 3, "problems/: {names:?}");
+    for file in names {
+        let stem = file.file_stem().unwrap().to_string_lossy().into_owned();
+        let out_dir = scratch(&format!("shipped-{stem}")).join("out");
+        let out = Command::new(binary())
+            .arg(&file)
+            .arg("--out")
+            .arg(&out_dir)
+            .arg("--quiet")
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{stem}: {}", String::from_utf8_lossy(&out.stderr));
+        assert!(out_dir.join("summary.json").is_file(), "{stem}: no summary.json");
+    }
+}
+
 /// problems/two_blocks.toml: two blocks with non-matching layouts pressed together; exact
 /// answer uniform pressure `E δ / (H_1 + H_2) = 5`, total 10 (a contact patch test).
 #[test]
