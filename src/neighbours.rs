@@ -1,8 +1,9 @@
 //! Stage 2: neighbour search — a uniform cell grid over the nodes, and the MLS supports.
 //!
 //! A bucket grid (cell size = largest support radius) answers every query by scanning a few
-//! cells; for the near-uniform node clouds this solver uses it beats a kd-tree and is
-//! deterministic by construction (results are sorted by node index).
+//! cells. It suits the near-uniform node clouds this solver generates and is deterministic by
+//! construction (results are sorted by node index); it has not been benchmarked against a
+//! kd-tree (40k nodes: 9 ms, `cargo bench --bench stages`).
 
 use crate::geometry::Point;
 use crate::nodes::Nodes;
