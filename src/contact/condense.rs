@@ -26,8 +26,6 @@ pub struct CondensedPart {
     pub compliance: Vec<f64>,
     /// `G_k K_k⁻¹ f_k`: this body's gap contribution without contact forces.
     pub free_gap: Vec<f64>,
-    /// `K_k⁻¹ f_k`.
-    pub free_solution: Vec<f64>,
 }
 
 /// The condensed contact problem `g = q + M P` with its run-time checks.
@@ -102,7 +100,7 @@ pub fn condense(
             SolveError::Singular { detail: format!("non-finite compliance entry {i}") }.into()
         );
     }
-    Ok(CondensedPart { compliance, free_gap, free_solution })
+    Ok(CondensedPart { compliance, free_gap })
 }
 
 impl CondensedContact {
