@@ -327,7 +327,9 @@ fn applied_load(input: &AssemblyInput<'_>) -> Result<Vec<f64>, AssemblyError> {
                 .into());
             }
         }
-        let normal = input.domain.outward_normal(k);
+        // Straight edges: the edge's normal. Arcs: the normal of the chord this face lies on,
+        // so that a pressure on the polygonal approximation is in equilibrium by itself.
+        let normal = input.domain.straight_normal(k).unwrap_or(face.normal);
         let traction = |p: Point| -> [f64; 2] {
             let t = input.domain.edge_parameter(k, p);
             match condition {

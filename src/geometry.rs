@@ -1,4 +1,12 @@
-//! Stage 1a: the domain — a convex polygon whose edges carry names for boundary conditions.
+//! Stage 1a: the domain — a closed loop of named boundary curves (straight segments and
+//! circular arcs) with the body on its left (counter-clockwise outer boundary).
+//!
+//! The discretisation works on a polygonal approximation of the loop
+//! ([`Domain::boundary_polygon`]): straight edges are kept, arcs are replaced by the chords
+//! between their boundary nodes (which lie on the exact arc). The area lost to the chords is
+//! `O(h²)` per unit arc length; `tests/validation/curved.rs` measures it.
+
+use std::f64::consts::PI;
 
 /// A point or vector in the plane.
 pub type Point = [f64; 2];
@@ -22,6 +30,14 @@ pub enum GeometryError {
         /// The cross product of the adjacent edges there.
         cross: f64,
     },
+    /// A boundary loop of curves that is not closed, not counter-clockwise, or degenerate.
+    #[error("boundary curve {curve}: {reason}")]
+    Loop {
+        /// Index of the offending curve.
+        curve: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// Edge names are not one per edge, or not unique.
     #[error("edge names: {reason}")]
     EdgeNames {
@@ -40,12 +56,230 @@ pub enum GeometryError {
     },
 }
 
-/// A convex polygon with counter-clockwise vertices; edge `k` runs from vertex `k` to
-/// vertex `k+1` (cyclically) and has a name used by boundary conditions.
+/// One piece of the boundary loop.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Curve {
+    /// The straight segment from `a` to `b`.
+    Segment {
+        /// Start.
+        a: Point,
+        /// End.
+        b: Point,
+    },
+    /// The circular arc of `radius` about `center` from polar angle `start` over `sweep`
+    /// radians (positive: counter-clockwise, the body inside the circle; negative: clockwise,
+    /// the body outside it, as around a hole). `|sweep| = 2π` is a full circle.
+    Arc {
+        /// Centre.
+        center: Point,
+        /// Radius (> 0).
+        radius: f64,
+        /// Polar angle of the start point.
+        start: f64,
+        /// Signed angle swept.
+        sweep: f64,
+    },
+}
+
+impl Curve {
+    /// The arc from `from` to `to` about `center`, turning counter-clockwise (`ccw`) or
+    /// clockwise; `from == to` gives the full circle.
+    pub fn arc_between(from: Point, to: Point, center: Point, ccw: bool) -> Self {
+        let radius = (from[0] - center[0]).hypot(from[1] - center[1]);
+        let start = (from[1] - center[1]).atan2(from[0] - center[0]);
+        let end = (to[1] - center[1]).atan2(to[0] - center[0]);
+        let mut sweep = if ccw {
+            (end - start).rem_euclid(2.0 * PI)
+        } else {
+            -(start - end).rem_euclid(2.0 * PI)
+        };
+        if sweep.abs() < 1e-12 {
+            sweep = if ccw { 2.0 * PI } else { -2.0 * PI };
+        }
+        Curve::Arc { center, radius, start, sweep }
+    }
+
+    /// Whether this is a straight segment.
+    pub fn is_straight(&self) -> bool {
+        matches!(self, Curve::Segment { .. })
+    }
+
+    /// The point at parameter `t ∈ [0, 1]` (proportional to arc length).
+    pub fn point_at(&self, t: f64) -> Point {
+        match *self {
+            Curve::Segment { a, b } => [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])],
+            Curve::Arc { center, radius, start, sweep } => {
+                let (s, c) = (start + t * sweep).sin_cos();
+                [center[0] + radius * c, center[1] + radius * s]
+            }
+        }
+    }
+
+    /// Start point.
+    pub fn start(&self) -> Point {
+        match *self {
+            Curve::Segment { a, .. } => a,
+            Curve::Arc { .. } => self.point_at(0.0),
+        }
+    }
+
+    /// End point.
+    pub fn end(&self) -> Point {
+        match *self {
+            Curve::Segment { b, .. } => b,
+            Curve::Arc { .. } => self.point_at(1.0),
+        }
+    }
+
+    /// Length.
+    pub fn length(&self) -> f64 {
+        match *self {
+            Curve::Segment { a, b } => (b[0] - a[0]).hypot(b[1] - a[1]),
+            Curve::Arc { radius, sweep, .. } => radius * sweep.abs(),
+        }
+    }
+
+    /// Parameter `t` of the point of the curve's line or circle closest to `p` (`0` at the
+    /// start, `1` at the end; outside `[0, 1]` beyond the ends; for an arc the angular
+    /// position measured in the sweep direction, beyond-the-end angles split at the middle of
+    /// the missing part of the circle).
+    pub fn parameter(&self, p: Point) -> f64 {
+        match *self {
+            Curve::Segment { a, b } => {
+                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)
+            }
+            Curve::Arc { center, start, sweep, .. } => {
+                let angle = (p[1] - center[1]).atan2(p[0] - center[0]);
+                let s = sweep.signum();
+                let mut d = (s * (angle - start)).rem_euclid(2.0 * PI);
+                let full = sweep.abs();
+                if d > full + 0.5 * (2.0 * PI - full) {
+                    d -= 2.0 * PI;
+                }
+                d / full
+            }
+        }
+    }
+
+    /// Outward unit normal (the body lies on the curve's left) at the curve point nearest `p`.
+    pub fn outward_normal_at(&self, p: Point) -> Point {
+        match *self {
+            Curve::Segment { a, b } => {
+                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                let len = dx.hypot(dy);
+                [dy / len, -dx / len]
+            }
+            Curve::Arc { sweep, .. } => {
+                let q = self.point_at(self.parameter(p).clamp(0.0, 1.0));
+                let Curve::Arc { center, radius, .. } = *self else { unreachable!() };
+                let s = sweep.signum();
+                [s * (q[0] - center[0]) / radius, s * (q[1] - center[1]) / radius]
+            }
+        }
+    }
+
+    /// Signed distance of `p` to the curve's supporting line or circle (negative on the
+    /// body's side).
+    pub fn signed_distance(&self, p: Point) -> f64 {
+        match *self {
+            Curve::Segment { a, .. } => {
+                let n = self.outward_normal_at(p);
+                (p[0] - a[0]) * n[0] + (p[1] - a[1]) * n[1]
+            }
+            Curve::Arc { center, radius, sweep, .. } => {
+                sweep.signum() * ((p[0] - center[0]).hypot(p[1] - center[1]) - radius)
+            }
+        }
+    }
+
+    /// Distance of `p` to the curve piece itself (ends included).
+    pub fn distance(&self, p: Point) -> f64 {
+        let t = self.parameter(p);
+        if (0.0..=1.0).contains(&t) {
+            match self {
+                Curve::Segment { .. } => self.signed_distance(p).abs(),
+                Curve::Arc { .. } => self.signed_distance(p).abs(),
+            }
+        } else {
+            let (a, b) = (self.start(), self.end());
+            (p[0] - a[0]).hypot(p[1] - a[1]).min((p[0] - b[0]).hypot(p[1] - b[1]))
+        }
+    }
+
+    /// Number of intervals the curve is divided into at nominal spacing `h` (boundary nodes
+    /// and the chords of the polygonal approximation): `round(length / h)`, at least 1 for a
+    /// segment and at least one per 45° of an arc.
+    pub fn divisions(&self, h: f64) -> usize {
+        let n = (self.length() / h).round().max(1.0) as usize;
+        match *self {
+            Curve::Segment { .. } => n,
+            Curve::Arc { sweep, .. } => n.max((sweep.abs() / (0.25 * PI)).ceil() as usize),
+        }
+    }
+
+    /// Crossings of the ray `{p + s e_x : s > 0}` with the curve, counted with the half-open
+    /// rule (a piece counts when one end is above `p_y` and the other is not), for the
+    /// even–odd inside test.
+    fn ray_crossings(&self, p: Point) -> usize {
+        let crosses = |a: Point, b: Point, x_at: &dyn Fn() -> f64| {
+            usize::from((a[1] > p[1]) != (b[1] > p[1]) && x_at() > p[0])
+        };
+        match *self {
+            Curve::Segment { a, b } => {
+                crosses(a, b, &|| a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]))
+            }
+            Curve::Arc { center, radius, start, sweep } => {
+                // Split at the circle's top and bottom so each piece is monotone in y.
+                let mut cuts = vec![0.0];
+                for k in -4..=4 {
+                    let a = 0.5 * PI + k as f64 * PI;
+                    let t = (a - start) / sweep;
+                    if t > 0.0 && t < 1.0 {
+                        cuts.push(t);
+                    }
+                }
+                cuts.push(1.0);
+                cuts.sort_by(f64::total_cmp);
+                cuts.windows(2)
+                    .map(|w| {
+                        let (a, b) = (self.point_at(w[0]), self.point_at(w[1]));
+                        let mid = self.point_at(0.5 * (w[0] + w[1]));
+                        let side = if mid[0] >= center[0] { 1.0 } else { -1.0 };
+                        crosses(a, b, &|| {
+                            let dy = p[1] - center[1];
+                            center[0] + side * (radius * radius - dy * dy).max(0.0).sqrt()
+                        })
+                    })
+                    .sum()
+            }
+        }
+    }
+}
+
+/// A closed loop of named boundary curves (edges) with the body on the left: a convex
+/// polygon, a rectangle, or any simple loop of segments and circular arcs (a disk, a
+/// half-disk, a plate with a quarter hole). Edge `k` is curve `k`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Domain {
-    vertices: Vec<Point>,
+    curves: Vec<Curve>,
     edge_names: Vec<String>,
+}
+
+fn check_names(edge_names: &[String], n: usize) -> Result<(), GeometryError> {
+    if edge_names.len() != n {
+        return Err(GeometryError::EdgeNames {
+            reason: format!("{} names for {} edges", edge_names.len(), n),
+        });
+    }
+    for (i, name) in edge_names.iter().enumerate() {
+        if name.is_empty() || edge_names[..i].contains(name) {
+            return Err(GeometryError::EdgeNames {
+                reason: format!("edge {i} has an empty or repeated name {name:?}"),
+            });
+        }
+    }
+    Ok(())
 }
 
 impl Domain {
@@ -59,18 +293,7 @@ impl Domain {
         if n < 3 {
             return Err(GeometryError::TooFewVertices { count: n });
         }
-        if edge_names.len() != n {
-            return Err(GeometryError::EdgeNames {
-                reason: format!("{} names for {} edges", edge_names.len(), n),
-            });
-        }
-        for (i, name) in edge_names.iter().enumerate() {
-            if name.is_empty() || edge_names[..i].contains(name) {
-                return Err(GeometryError::EdgeNames {
-                    reason: format!("edge {i} has an empty or repeated name {name:?}"),
-                });
-            }
-        }
+        check_names(&edge_names, n)?;
         let scale = vertices.iter().flat_map(|p| p.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
         for k in 0..n {
             let a = vertices[(k + n - 1) % n];
@@ -81,7 +304,85 @@ impl Domain {
                 return Err(GeometryError::NotConvex { vertex: k, cross });
             }
         }
-        Ok(Self { vertices, edge_names })
+        let curves =
+            (0..n).map(|k| Curve::Segment { a: vertices[k], b: vertices[(k + 1) % n] }).collect();
+        Ok(Self { curves, edge_names })
+    }
+
+    /// A loop of curves, each starting where the previous one ends (the last closing on the
+    /// first), enclosing the body on its left, with one name per curve. The loop may be
+    /// non-convex (a hole cut into a plate's corner); it must not cross itself and its
+    /// features must be several node spacings wide (not checked).
+    ///
+    /// # Errors
+    /// [`GeometryError::Loop`] for a gap between curves, a degenerate curve or a clockwise
+    /// loop; [`GeometryError::EdgeNames`] when the names do not match.
+    pub fn from_curves(curves: Vec<Curve>, edge_names: Vec<String>) -> Result<Self, GeometryError> {
+        let n = curves.len();
+        if n == 0 {
+            return Err(GeometryError::Loop { curve: 0, reason: "no curves".into() });
+        }
+        check_names(&edge_names, n)?;
+        let scale = curves
+            .iter()
+            .flat_map(|c| [c.start(), c.end()])
+            .flat_map(|p| p.into_iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(curves.iter().map(Curve::length).fold(0.0, f64::max));
+        for (k, c) in curves.iter().enumerate() {
+            let finite = match *c {
+                Curve::Segment { a, b } => a.iter().chain(&b).all(|v| v.is_finite()),
+                Curve::Arc { center, radius, start, sweep } => {
+                    center.iter().all(|v| v.is_finite())
+                        && radius.is_finite()
+                        && start.is_finite()
+                        && sweep.is_finite()
+                }
+            };
+            if !finite {
+                return Err(GeometryError::Loop {
+                    curve: k,
+                    reason: "non-finite coordinates".into(),
+                });
+            }
+            if c.length() <= 1e-12 * scale {
+                return Err(GeometryError::Loop { curve: k, reason: "has zero length".into() });
+            }
+            if let Curve::Arc { sweep, .. } = *c {
+                if sweep.abs() > 2.0 * PI * (1.0 + 1e-12) {
+                    return Err(GeometryError::Loop {
+                        curve: k,
+                        reason: "an arc sweeps more than a full circle".into(),
+                    });
+                }
+            }
+            let next = curves[(k + 1) % n].start();
+            let end = c.end();
+            let gap = (end[0] - next[0]).hypot(end[1] - next[1]);
+            if gap > 1e-9 * scale {
+                return Err(GeometryError::Loop {
+                    curve: k,
+                    reason: format!(
+                        "ends at ({:.6}, {:.6}) but the next curve starts at ({:.6}, {:.6})",
+                        end[0], end[1], next[0], next[1]
+                    ),
+                });
+            }
+        }
+        if n < 3 && curves.iter().all(Curve::is_straight) {
+            return Err(GeometryError::TooFewVertices { count: n });
+        }
+        let domain = Self { curves, edge_names };
+        if domain.area().is_nan() || domain.area() <= 0.0 {
+            return Err(GeometryError::Loop {
+                curve: 0,
+                reason: format!(
+                    "the loop encloses a signed area of {:.3e}: it must run counter-clockwise around the body",
+                    domain.area()
+                ),
+            });
+        }
+        Ok(domain)
     }
 
     /// The axis-aligned rectangle `[x0, x1] × [y0, y1]` with edges named
@@ -96,14 +397,24 @@ impl Domain {
         )
     }
 
-    /// Vertices, counter-clockwise.
-    pub fn vertices(&self) -> &[Point] {
-        &self.vertices
+    /// The curves, in edge order.
+    pub fn curves(&self) -> &[Curve] {
+        &self.curves
     }
 
-    /// Number of edges (= vertices).
+    /// Curve of edge `k`.
+    pub fn curve(&self, k: usize) -> &Curve {
+        &self.curves[k]
+    }
+
+    /// Whether every edge is a straight segment.
+    pub fn is_polygon(&self) -> bool {
+        self.curves.iter().all(Curve::is_straight)
+    }
+
+    /// Number of edges (curves).
     pub fn edge_count(&self) -> usize {
-        self.vertices.len()
+        self.curves.len()
     }
 
     /// Edge names, in edge order.
@@ -116,62 +427,138 @@ impl Domain {
         self.edge_names.iter().position(|n| n == name)
     }
 
-    /// End points `(a, b)` of edge `k`.
+    /// End points `(start, end)` of edge `k`.
     pub fn edge(&self, k: usize) -> (Point, Point) {
-        (self.vertices[k], self.vertices[(k + 1) % self.vertices.len()])
+        (self.curves[k].start(), self.curves[k].end())
     }
 
-    /// Outward unit normal of edge `k`.
-    pub fn outward_normal(&self, k: usize) -> Point {
-        let (a, b) = self.edge(k);
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        let len = dx.hypot(dy);
-        [dy / len, -dx / len]
+    /// Outward unit normal of a straight edge `k`; `None` for an arc (use
+    /// [`Self::outward_normal_at`]).
+    pub fn straight_normal(&self, k: usize) -> Option<Point> {
+        let c = &self.curves[k];
+        c.is_straight().then(|| c.outward_normal_at(c.start()))
     }
 
-    /// Axis-aligned bounding box `([xmin, ymin], [xmax, ymax])`.
+    /// Outward unit normal of edge `k` at its point nearest `p`.
+    pub fn outward_normal_at(&self, k: usize, p: Point) -> Point {
+        self.curves[k].outward_normal_at(p)
+    }
+
+    /// Axis-aligned bounding box `([xmin, ymin], [xmax, ymax])` (exact for arcs).
     pub fn bounding_box(&self) -> (Point, Point) {
         let mut lo = [f64::INFINITY; 2];
         let mut hi = [f64::NEG_INFINITY; 2];
-        for p in &self.vertices {
+        let mut add = |p: Point| {
             for d in 0..2 {
                 lo[d] = lo[d].min(p[d]);
                 hi[d] = hi[d].max(p[d]);
+            }
+        };
+        for c in &self.curves {
+            add(c.start());
+            add(c.end());
+            if let Curve::Arc { center, radius, start, sweep } = *c {
+                for k in -8..=8 {
+                    let t = (k as f64 * 0.5 * PI - start) / sweep;
+                    if (0.0..=1.0).contains(&t) {
+                        let (s, co) = (k as f64 * 0.5 * PI).sin_cos();
+                        add([center[0] + radius * co, center[1] + radius * s]);
+                    }
+                }
             }
         }
         (lo, hi)
     }
 
-    /// Area (shoelace formula).
+    /// Area enclosed by the exact loop (shoelace over the chords plus the circular segments).
     pub fn area(&self) -> f64 {
-        let n = self.vertices.len();
-        0.5 * (0..n)
-            .map(|k| {
-                let (a, b) = self.edge(k);
-                a[0] * b[1] - b[0] * a[1]
+        self.curves
+            .iter()
+            .map(|c| {
+                let (a, b) = (c.start(), c.end());
+                let chord = 0.5 * (a[0] * b[1] - b[0] * a[1]);
+                match *c {
+                    Curve::Segment { .. } => chord,
+                    Curve::Arc { radius, sweep, .. } => {
+                        let th = sweep.abs();
+                        chord + sweep.signum() * 0.5 * radius * radius * (th - th.sin())
+                    }
+                }
             })
-            .sum::<f64>()
+            .sum()
     }
 
-    /// Signed distance of `p` to the line of edge `k` (negative inside).
+    /// Centroid of the enclosed area (of a fine polygonal approximation).
+    pub fn centroid(&self) -> Point {
+        let (poly, _) = self.boundary_polygon(f64::INFINITY);
+        let fine: Vec<Point> = self
+            .curves
+            .iter()
+            .flat_map(|c| {
+                let n = if c.is_straight() { 1 } else { 256 };
+                (0..n).map(move |i| c.point_at(i as f64 / n as f64))
+            })
+            .collect();
+        let pts = if fine.len() >= 3 { fine } else { poly };
+        let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+        for k in 0..pts.len() {
+            let (p, q) = (pts[k], pts[(k + 1) % pts.len()]);
+            let w = p[0] * q[1] - q[0] * p[1];
+            a += w;
+            cx += (p[0] + q[0]) * w;
+            cy += (p[1] + q[1]) * w;
+        }
+        [cx / (3.0 * a), cy / (3.0 * a)]
+    }
+
+    /// Whether `p` lies inside the exact loop (even–odd rule; points on the boundary may go
+    /// either way).
+    pub fn contains(&self, p: Point) -> bool {
+        self.curves.iter().map(|c| c.ray_crossings(p)).sum::<usize>() % 2 == 1
+    }
+
+    /// Distance of `p` to the boundary.
+    pub fn boundary_distance(&self, p: Point) -> f64 {
+        self.curves.iter().map(|c| c.distance(p)).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Signed distance of `p` to the line or circle carrying edge `k` (negative on the
+    /// body's side).
     pub fn edge_distance(&self, k: usize, p: Point) -> f64 {
-        let (a, _) = self.edge(k);
-        let n = self.outward_normal(k);
-        (p[0] - a[0]) * n[0] + (p[1] - a[1]) * n[1]
+        self.curves[k].signed_distance(p)
     }
 
-    /// Parameter `t ∈ [0, 1]` of the projection of `p` on edge `k` (`0` at its first vertex).
+    /// Parameter `t ∈ [0, 1]` of the projection of `p` on edge `k` (`0` at its start,
+    /// proportional to arc length).
     pub fn edge_parameter(&self, k: usize, p: Point) -> f64 {
-        let (a, b) = self.edge(k);
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)
+        self.curves[k].parameter(p)
+    }
+
+    /// The polygonal approximation used by the discretisation at nominal spacing `h`:
+    /// vertices counter-clockwise, and for each polygon edge (from vertex `i` to `i + 1`) the
+    /// domain edge it approximates. Straight edges are kept whole; an arc becomes the chords
+    /// between its [`Curve::divisions`]`(h)` equally spaced points, which are exactly the
+    /// arc's boundary nodes.
+    pub fn boundary_polygon(&self, h: f64) -> (Vec<Point>, Vec<u32>) {
+        let mut vertices = Vec::new();
+        let mut labels = Vec::new();
+        for (k, c) in self.curves.iter().enumerate() {
+            let n = if c.is_straight() { 1 } else { c.divisions(h) };
+            for i in 0..n {
+                vertices.push(c.point_at(i as f64 / n as f64));
+                labels.push(k as u32);
+            }
+        }
+        (vertices, labels)
     }
 
     /// Whether the domain is an axis-aligned rectangle built by [`Self::rectangle`] order.
     pub fn as_rectangle(&self) -> Option<([f64; 2], [f64; 2])> {
-        let v = &self.vertices;
-        (v.len() == 4
-            && v[0][1] == v[1][1]
+        if self.curves.len() != 4 || !self.is_polygon() {
+            return None;
+        }
+        let v: Vec<Point> = self.curves.iter().map(Curve::start).collect();
+        (v[0][1] == v[1][1]
             && v[1][0] == v[2][0]
             && v[2][1] == v[3][1]
             && v[3][0] == v[0][0]
@@ -187,10 +574,83 @@ mod tests {
     #[test]
     fn rectangle_normals_and_area() {
         let d = Domain::rectangle([0.0, 2.0], [0.0, 1.0]).unwrap();
-        assert_eq!(d.outward_normal(0), [0.0, -1.0]);
-        assert_eq!(d.outward_normal(1), [1.0, 0.0]);
+        assert_eq!(d.straight_normal(0), Some([0.0, -1.0]));
+        assert_eq!(d.straight_normal(1), Some([1.0, 0.0]));
         assert!((d.area() - 2.0).abs() < 1e-15);
         assert!(d.as_rectangle().is_some());
+    }
+
+    /// The quarter plate `[0, 4]²` minus the disk of radius 1 at the origin.
+    fn quarter_plate() -> Domain {
+        let c = [0.0, 0.0];
+        Domain::from_curves(
+            vec![
+                Curve::Segment { a: [1.0, 0.0], b: [4.0, 0.0] },
+                Curve::Segment { a: [4.0, 0.0], b: [4.0, 4.0] },
+                Curve::Segment { a: [4.0, 4.0], b: [0.0, 4.0] },
+                Curve::Segment { a: [0.0, 4.0], b: [0.0, 1.0] },
+                Curve::arc_between([0.0, 1.0], [1.0, 0.0], c, false),
+            ],
+            ["bottom", "right", "top", "left", "hole"].iter().map(|s| s.to_string()).collect(),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn arcs_have_exact_area_box_normals_and_inside_test() {
+        let d = quarter_plate();
+        assert!((d.area() - (16.0 - PI / 4.0)).abs() < 1e-13);
+        assert_eq!(d.bounding_box(), ([0.0, 0.0], [4.0, 4.0]));
+        // The hole's outward normal points towards its centre.
+        let n = d.outward_normal_at(4, [0.7, 0.7]);
+        assert!((n[0] + 0.5f64.sqrt()).abs() < 1e-15 && (n[1] + 0.5f64.sqrt()).abs() < 1e-15);
+        assert!((d.edge_parameter(4, [0.0, 1.0])).abs() < 1e-15);
+        assert!((d.edge_parameter(4, [1.0, 1.0]) - 0.5).abs() < 1e-15);
+        assert!(d.contains([2.0, 2.0]) && d.contains([0.8, 0.8]) && d.contains([0.1, 1.0 + 1e-3]));
+        assert!(!d.contains([0.5, 0.5]) && !d.contains([5.0, 1.0]) && !d.contains([-0.1, 2.0]));
+        let disk = Domain::from_curves(
+            vec![Curve::arc_between([1.0, 0.0], [1.0, 0.0], [0.0, 0.0], true)],
+            vec!["rim".into()],
+        )
+        .unwrap();
+        assert!((disk.area() - PI).abs() < 1e-13);
+        assert!(
+            disk.contains([0.0, 0.0]) && disk.contains([0.99, 0.0]) && !disk.contains([0.0, 1.01])
+        );
+        let (lo, hi) = disk.bounding_box();
+        assert!((lo[0] + 1.0).abs() < 1e-15 && (hi[1] - 1.0).abs() < 1e-15);
+        let c = disk.centroid();
+        assert!(c[0].abs() < 1e-12 && c[1].abs() < 1e-12);
+    }
+
+    #[test]
+    fn open_or_clockwise_loops_are_rejected() {
+        let names = || vec!["a".to_string(), "b".to_string()];
+        let open = Domain::from_curves(
+            vec![
+                Curve::Segment { a: [-1.0, 0.0], b: [1.0, 0.0] },
+                Curve::arc_between([1.0, 0.0], [-1.0, 0.1], [0.0, 0.0], true),
+            ],
+            names(),
+        );
+        assert!(matches!(open, Err(GeometryError::Loop { curve: 1, .. })), "{open:?}");
+        let clockwise = Domain::from_curves(
+            vec![
+                Curve::Segment { a: [-1.0, 0.0], b: [1.0, 0.0] },
+                Curve::arc_between([1.0, 0.0], [-1.0, 0.0], [0.0, 0.0], false),
+            ],
+            names(),
+        );
+        assert!(matches!(clockwise, Err(GeometryError::Loop { .. })), "{clockwise:?}");
+        let half_disk = Domain::from_curves(
+            vec![
+                Curve::Segment { a: [1.0, 0.0], b: [-1.0, 0.0] },
+                Curve::arc_between([-1.0, 0.0], [1.0, 0.0], [0.0, 0.0], true),
+            ],
+            names(),
+        )
+        .unwrap();
+        assert!((half_disk.area() - PI / 2.0).abs() < 1e-13);
     }
 
     #[test]

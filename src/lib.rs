@@ -379,7 +379,11 @@ fn solve_contact(
                 Ok::<_, contact::ContactError>((c, None, Vec::new()))
             }
             (contact::ContactTarget::Body { edge }, Some((p2, m2))) => {
-                let normal = p2.domain.outward_normal(*edge);
+                let normal = p2.domain.straight_normal(*edge).ok_or_else(|| {
+                    contact::ContactError::CurvedTarget {
+                        edge: p2.domain.edge_names()[*edge].clone(),
+                    }
+                })?;
                 let mut c =
                     contact::candidates(view, spec.edge, normal, &|_| 0.0, spec.condensation)?;
                 let (op, gaps, paired) = contact::target_operator(m2.contact_view(p2), *edge, &c)?;

@@ -96,7 +96,11 @@ impl Nodes {
 ///
 /// Rectangles get a grid that fits the sides exactly (`round(L/h)` intervals per side);
 /// other convex polygons get equally spaced nodes on each edge and the points of a grid of
-/// spacing `h` that lie at least `h/2` inside every edge.
+/// spacing `h` that lie at least `h/2` inside every edge. Domains with arcs get
+/// [`crate::geometry::Curve::divisions`] equally spaced nodes on every curve (the vertices of
+/// [`Domain::boundary_polygon`]) and the points of a grid of spacing `h` inside the loop and
+/// at least `0.7 h` from it (so that no interior node's cell reaches the boundary); there,
+/// a jittered interior node that would come closer than `0.7 h` keeps its grid position.
 ///
 /// # Errors
 /// [`GeometryError::Spacing`] when `h` is not positive or leaves fewer than two intervals
@@ -123,23 +127,11 @@ pub fn generate(domain: &Domain, h: f64, layout: Layout) -> Result<Nodes, Geomet
     }
     let mut points = match domain.as_rectangle() {
         Some((x, y)) => rectangle_grid(x, y, h),
-        None => polygon_grid(domain, h),
+        None if domain.is_polygon() => polygon_grid(domain, h),
+        None => curved_grid(domain, h),
     };
-    if let Layout::Jittered { amplitude, seed } = layout {
-        let mut rng = SplitMix64::new(seed);
-        let tol = 1e-9 * h;
-        for p in points.iter_mut() {
-            let on_boundary = (0..domain.edge_count()).any(|k| domain.edge_distance(k, *p) > -tol);
-            // Draw for every node so the sequence does not depend on the boundary test.
-            let (dx, dy) = (rng.uniform_symmetric(), rng.uniform_symmetric());
-            if !on_boundary {
-                p[0] += amplitude * h * dx;
-                p[1] += amplitude * h * dy;
-            }
-        }
-    }
     let tol = 1e-9 * h;
-    let edges = points
+    let edges: Vec<EdgeSet> = points
         .iter()
         .map(|p| {
             let mut set = EdgeSet::default();
@@ -152,10 +144,25 @@ pub fn generate(domain: &Domain, h: f64, layout: Layout) -> Result<Nodes, Geomet
             set
         })
         .collect();
+    if let Layout::Jittered { amplitude, seed } = layout {
+        let curved = !domain.is_polygon();
+        let mut rng = SplitMix64::new(seed);
+        for (p, on) in points.iter_mut().zip(&edges) {
+            // Draw for every node so the sequence does not depend on the boundary test.
+            let (dx, dy) = (rng.uniform_symmetric(), rng.uniform_symmetric());
+            let q = [p[0] + amplitude * h * dx, p[1] + amplitude * h * dy];
+            // Near arcs a moved node could come closer to the boundary than the chord
+            // points are to the boundary nodes, and its cell would take a boundary face:
+            // such a move is not made.
+            let keeps_clear = !curved || domain.boundary_distance(q) >= CURVED_CLEARANCE * h;
+            if on.is_empty() && keeps_clear {
+                *p = q;
+            }
+        }
+    }
     let spacing = vec![h; points.len()];
     Ok(Nodes { points, spacing, edges })
 }
-
 fn rectangle_grid(x: [f64; 2], y: [f64; 2], h: f64) -> Vec<Point> {
     let nx = ((x[1] - x[0]) / h).round().max(1.0) as usize;
     let ny = ((y[1] - y[0]) / h).round().max(1.0) as usize;
@@ -188,6 +195,33 @@ fn polygon_grid(domain: &Domain, h: f64) -> Vec<Point> {
         for i in 0..=nx {
             let p = [lo[0] + i as f64 * h, lo[1] + j as f64 * h];
             if (0..domain.edge_count()).all(|k| domain.edge_distance(k, p) <= -0.5 * h) {
+                points.push(p);
+            }
+        }
+    }
+    points
+}
+
+/// Least distance of an interior node from a curved domain's boundary, in spacings.
+const CURVED_CLEARANCE: f64 = 0.7;
+
+fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
+    // The same points as the arcs' vertices in `Domain::boundary_polygon`.
+    let mut points: Vec<Point> = domain
+        .curves()
+        .iter()
+        .flat_map(|c| {
+            let n = c.divisions(h);
+            (0..n).map(move |i| c.point_at(i as f64 / n as f64))
+        })
+        .collect();
+    let (lo, hi) = domain.bounding_box();
+    let nx = ((hi[0] - lo[0]) / h).ceil() as usize;
+    let ny = ((hi[1] - lo[1]) / h).ceil() as usize;
+    for j in 0..=ny {
+        for i in 0..=nx {
+            let p = [lo[0] + i as f64 * h, lo[1] + j as f64 * h];
+            if domain.contains(p) && domain.boundary_distance(p) >= CURVED_CLEARANCE * h {
                 points.push(p);
             }
         }
@@ -245,6 +279,32 @@ mod tests {
         assert_eq!(a.points, b.points);
         let boundary = a.edges.iter().filter(|e| !e.is_empty()).count();
         assert_eq!(boundary, 2 * 9 + 2 * 3);
+    }
+
+    #[test]
+    fn curved_domain_nodes_lie_on_arcs_or_well_inside() {
+        use crate::geometry::Curve;
+        let r = 2.0;
+        let d = Domain::from_curves(
+            vec![Curve::arc_between([r, 0.0], [r, 0.0], [0.0, 0.0], true)],
+            vec!["rim".into()],
+        )
+        .unwrap();
+        let h = 0.1;
+        let n = generate(&d, h, Layout::Jittered { amplitude: 0.3, seed: 3 }).unwrap();
+        let rim = n.edges.iter().filter(|e| e.contains(0)).count();
+        assert_eq!(rim, (2.0 * std::f64::consts::PI * r / h).round() as usize);
+        for (p, e) in n.points.iter().zip(&n.edges) {
+            let dist = r - p[0].hypot(p[1]);
+            if e.is_empty() {
+                assert!(dist >= 0.7 * h - 0.3 * h * 2f64.sqrt() - 1e-12, "{p:?}");
+            } else {
+                assert!(dist.abs() < 1e-12);
+            }
+        }
+        // Roughly one node per h² of area.
+        let ratio = n.len() as f64 * h * h / d.area();
+        assert!((0.9..1.1).contains(&ratio), "{ratio}");
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! checked [`Problem`]. Only a `Problem` reaches the solver.
 
 use crate::contact::{Condensation, ContactSpec, ContactTarget, RigidLine};
-use crate::geometry::{Domain, Point};
+use crate::geometry::{Curve, Domain, Point};
 use crate::material::{Material, PlaneState};
 use crate::mls::{Basis, MlsParams};
 use crate::nodes::Layout;
@@ -282,6 +282,41 @@ pub enum GeometryFile {
         /// Edge names; edge k runs from vertex k to k+1.
         edges: Vec<String>,
     },
+    /// `kind = "curves"`: a closed loop of straight segments and circular arcs around the body
+    /// (counter-clockwise; the body on the left), from `start` through each curve's `to`,
+    /// the last `to` being `start` again. Each curve is one named edge.
+    Curves {
+        /// Start point of the loop.
+        start: [f64; 2],
+        /// The curves in order.
+        curves: Vec<CurveFile>,
+    },
+    /// `kind = "disk"`: the full disk; its one edge is named `rim`.
+    Disk {
+        /// Centre.
+        center: [f64; 2],
+        /// Radius (> 0).
+        radius: f64,
+    },
+}
+
+/// One curve of a `kind = "curves"` geometry: from the end of the previous curve (or the
+/// loop's `start`) to `to`, straight, or along the circle about `center` when it is given.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveFile {
+    /// Edge name (used by `[[boundary]]`, `[contact]`, `[output]`).
+    pub name: String,
+    /// End point.
+    pub to: [f64; 2],
+    /// Centre of a circular arc (absent: a straight segment). `to` must lie on the circle
+    /// through the start point; `to` equal to the start point gives the full circle.
+    #[serde(default)]
+    pub center: Option<[f64; 2]>,
+    /// Direction of an arc: `"ccw"` (default; the body inside the circle) or `"cw"` (the
+    /// body outside it, as around a hole).
+    #[serde(default)]
+    pub turn: Option<String>,
 }
 
 /// `[nodes]`.
@@ -574,6 +609,68 @@ fn validate_body(
             }
             Domain::polygon(vertices.clone(), edges.clone())
         }
+        GeometryFile::Curves { start, curves } => {
+            check_finite("geometry.start", start[0])?;
+            check_finite("geometry.start", start[1])?;
+            let mut from = *start;
+            let mut list = Vec::with_capacity(curves.len());
+            for (i, c) in curves.iter().enumerate() {
+                let field = |f: &str| format!("geometry.curves[{i}].{f}");
+                check_finite(&field("to"), c.to[0])?;
+                check_finite(&field("to"), c.to[1])?;
+                let curve = match c.center {
+                    None => {
+                        if c.turn.is_some() {
+                            return Err(invalid(
+                                &field("turn"),
+                                c.turn.as_deref().unwrap_or_default(),
+                                "only used with `center` (arcs)",
+                            ));
+                        }
+                        Curve::Segment { a: from, b: c.to }
+                    }
+                    Some(center) => {
+                        check_finite(&field("center"), center[0])?;
+                        check_finite(&field("center"), center[1])?;
+                        let ccw = match c.turn.as_deref().unwrap_or("ccw") {
+                            "ccw" => true,
+                            "cw" => false,
+                            other => {
+                                return Err(invalid(
+                                    &field("turn"),
+                                    other,
+                                    "expected \"ccw\" or \"cw\"",
+                                ));
+                            }
+                        };
+                        let r0 = (from[0] - center[0]).hypot(from[1] - center[1]);
+                        let r1 = (c.to[0] - center[0]).hypot(c.to[1] - center[1]);
+                        if r0 <= 0.0 || (r1 - r0).abs() > 1e-9 * r0 {
+                            return Err(invalid(
+                                &field("center"),
+                                format!("{center:?}"),
+                                format!(
+                                    "the start point is at distance {r0} from the centre but `to` is at {r1}: both must lie on the arc's circle"
+                                ),
+                            ));
+                        }
+                        Curve::arc_between(from, c.to, center, ccw)
+                    }
+                };
+                list.push(curve);
+                from = c.to;
+            }
+            Domain::from_curves(list, curves.iter().map(|c| c.name.clone()).collect())
+        }
+        GeometryFile::Disk { center, radius } => {
+            check_finite("geometry.center", center[0])?;
+            check_finite("geometry.center", center[1])?;
+            if !(radius.is_finite() && *radius > 0.0) {
+                return Err(invalid("geometry.radius", radius, "must be a positive number"));
+            }
+            let p = [center[0] + radius, center[1]];
+            Domain::from_curves(vec![Curve::arc_between(p, p, *center, true)], vec!["rim".into()])
+        }
     }
     .map_err(|e| invalid("geometry", "", e.to_string()))?;
 
@@ -791,11 +888,15 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             ));
         }
         // The edges must face each other: body 1 must lie on the side the target normal points to.
-        let nu = second.domain.outward_normal(target);
+        let nu = second.domain.straight_normal(target).ok_or_else(|| {
+            invalid(
+                "contact.target_edge",
+                name,
+                "this edge of the second body is curved; the target must be a straight edge (swap the bodies so the curved edge belongs to the first)",
+            )
+        })?;
         let (a2, _) = second.domain.edge(target);
-        let v = domain.vertices();
-        let centroid = v.iter().fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
-        let centroid = [centroid[0] / v.len() as f64, centroid[1] / v.len() as f64];
+        let centroid = domain.centroid();
         if (centroid[0] - a2[0]) * nu[0] + (centroid[1] - a2[1]) * nu[1] <= 0.0 {
             return Err(invalid(
                 "contact.target_edge",
@@ -833,9 +934,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
     }
     let obstacle = RigidLine { point: obstacle_point, normal: [nx / len, ny / len] };
     // The body must lie on the side the normal points to: its centroid, at least.
-    let v = domain.vertices();
-    let centroid = v.iter().fold([0.0, 0.0], |s, p| [s[0] + p[0], s[1] + p[1]]);
-    let centroid = [centroid[0] / v.len() as f64, centroid[1] / v.len() as f64];
+    let centroid = domain.centroid();
     if obstacle.gap(centroid) <= 0.0 {
         return Err(invalid(
             "contact.obstacle_normal",
@@ -843,8 +942,10 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             "the body's centroid is not on the side the normal points to: the obstacle would cross the body (the normal must point into the body)",
         ));
     }
-    let (a, b) = domain.edge(edge);
-    let worst = obstacle.gap(a).min(obstacle.gap(b));
+    let curve = domain.curve(edge);
+    let worst = (0..=1024)
+        .map(|i| obstacle.gap(curve.point_at(i as f64 / 1024.0)))
+        .fold(f64::INFINITY, f64::min);
     let (lo, hi) = domain.bounding_box();
     let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
     if worst < -0.1 * size {

@@ -15,4 +15,8 @@ mod validation {
     mod condensation;
     // Two elastic bodies: uniform pressure, non-matching layouts, mirror symmetry.
     mod two_bodies;
+    // Plate with a circular hole (Kirsch): curved, non-convex boundary; errors and rates.
+    mod kirsch;
+    // Hertz: elastic cylinder (quarter disk) on a rigid flat; half-width, peak, profile.
+    mod hertz;
 }

@@ -117,6 +117,14 @@ pub enum ContactError {
         /// Node.
         node: usize,
     },
+    /// The second body's contact edge is an arc; only straight target edges are supported.
+    #[error(
+        "edge `{edge}` of the second body is curved; the target of a two-body contact must be a straight edge (put the curved edge on the first body)"
+    )]
+    CurvedTarget {
+        /// Edge name.
+        edge: String,
+    },
     /// MLS failed at a contact point.
     #[error(transparent)]
     Mls(#[from] MlsError),
@@ -267,8 +275,8 @@ pub fn candidates(
         return Err(ContactError::NoCandidates { edge: domain.edge_names()[k].clone() });
     }
     list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let (a, b) = domain.edge(k);
-    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let curve = *domain.curve(k);
+    let len = curve.length();
     let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
     let shapes = match condensation {
         Condensation::Compliance => {
@@ -279,7 +287,7 @@ pub fn candidates(
         }
     };
     let owners: Vec<Vec<(u32, f64)>> = list.iter().map(|&(_, i)| vec![(i as u32, 1.0)]).collect();
-    let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+    let at = |t: f64| curve.point_at(t);
     Ok(Candidates {
         nodes: list.iter().map(|&(_, i)| i as u32).collect(),
         segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
@@ -311,8 +319,11 @@ pub fn target_operator(
     candidates: &Candidates,
 ) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
     let (a, b) = body.domain.edge(edge);
-    let nu = body.domain.outward_normal(edge);
     let name = || body.domain.edge_names()[edge].clone();
+    let nu = body
+        .domain
+        .straight_normal(edge)
+        .ok_or_else(|| ContactError::CurvedTarget { edge: name() })?;
     // Body-2 faces on the edge as parameter intervals.
     let faces: Vec<(f64, f64, u32, &Face)> = body
         .boundary_faces

@@ -260,8 +260,7 @@ fn solution_plots(
         .map(|i| (problem.domain.edge_parameter(k, nodes.points[i]), i))
         .collect();
     on_edge.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (a, b) = problem.domain.edge(k);
-    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let len = problem.domain.curve(k).length();
     let series = |axis: usize, label: &str, colour: usize| plot::Series {
         label: label.into(),
         points: on_edge.iter().map(|&(t, i)| (t * len, solution.displacement[i][axis])).collect(),

@@ -20,7 +20,8 @@ pub enum EdgeLabel {
     Boundary(u32),
 }
 
-/// A convex cell polygon: vertex `k` starts edge `k`, whose far side is `labels[k]`.
+/// A cell polygon (convex unless the domain boundary makes it otherwise): vertex `k` starts
+/// edge `k`, whose far side is `labels[k]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cell {
     /// Vertices, counter-clockwise.
@@ -49,24 +50,30 @@ impl Cell {
 
 /// Builds the clipped Voronoi cell of every node.
 ///
-/// Each cell starts as the domain polygon and is clipped by the bisector half-planes of the
-/// nearby nodes, nearest first, until every node closer than twice the cell's radius has been
-/// used (the security-radius criterion), so the result is exact.
+/// Each cell starts as the domain's polygonal approximation ([`Domain::boundary_polygon`];
+/// for polygons with many vertices, its part inside a box around the node) and is clipped by
+/// the bisector half-planes of the nearby nodes, nearest first, until every node closer than
+/// twice the cell's radius has been used (the security-radius criterion), so the result is
+/// exact. Clipping a non-convex start polygon by half-planes is exact as long as each clipped
+/// piece stays connected, which holds when the domain's features are several spacings wide.
 ///
 /// # Errors
 /// [`CellError::EmptyCell`] when a node's cell vanishes (duplicate or outside nodes).
 pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellError> {
     let h = nodes.spacing.iter().fold(0.0f64, |m, &v| m.max(v));
     let grid = NeighbourGrid::new(&nodes.points, 2.0 * h);
-    let start = Cell {
-        vertices: domain.vertices().to_vec(),
-        labels: (0..domain.edge_count()).map(|k| EdgeLabel::Boundary(k as u32)).collect(),
-    };
+    let (vertices, labels) = domain.boundary_polygon(h);
+    let start = Cell { vertices, labels: labels.into_iter().map(EdgeLabel::Boundary).collect() };
     (0..nodes.len())
         .into_par_iter()
         .map_init(Vec::new, |scratch, i| voronoi_cell(i, nodes, &grid, &start, scratch))
         .collect()
 }
+
+/// Start polygons with more vertices than this are first cut to a box around the node.
+const BOX_CLIP_VERTICES: usize = 32;
+/// Label of the box edges (never a node index; none survives in a finished cell).
+const BOX: u32 = u32::MAX;
 
 fn voronoi_cell(
     i: usize,
@@ -86,6 +93,15 @@ fn voronoi_cell(
             dist2(nodes.points[a], x).total_cmp(&dist2(nodes.points[b], x)).then(a.cmp(&b))
         });
         let mut cell = start.clone();
+        if cell.vertices.len() > BOX_CLIP_VERTICES {
+            // Keep only the part of the boundary polygon inside the square of half-width
+            // `radius` about the node (the security criterion below keeps the final cell
+            // well inside it), so each clip below costs O(local vertices).
+            for e in [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]] {
+                let y = [x[0] + 2.0 * radius * e[0], x[1] + 2.0 * radius * e[1]];
+                clip(&mut cell, x, y, BOX, tol);
+            }
+        }
         for &j in near.iter() {
             let y = nodes.points[j];
             let d2 = dist2(x, y);
@@ -98,7 +114,7 @@ fn voronoi_cell(
             }
         }
         let reach = cell.vertices.iter().map(|v| dist2(*v, x)).fold(0.0f64, f64::max).sqrt();
-        if 2.0 * reach <= radius {
+        if 2.0 * reach <= radius && !cell.labels.contains(&EdgeLabel::Neighbour(BOX)) {
             return Ok(cell);
         }
         radius = 2.0 * reach * (1.0 + 1e-9);
@@ -194,6 +210,58 @@ mod tests {
         assert!((corner.area() - 0.0625 / 4.0).abs() < 1e-14);
         let boundary = corner.labels.iter().filter(|l| matches!(l, EdgeLabel::Boundary(_))).count();
         assert_eq!(boundary, 2);
+    }
+
+    #[test]
+    fn cells_tile_curved_and_non_convex_domains() {
+        use crate::geometry::Curve;
+        let plate = Domain::from_curves(
+            vec![
+                Curve::Segment { a: [1.0, 0.0], b: [4.0, 0.0] },
+                Curve::Segment { a: [4.0, 0.0], b: [4.0, 4.0] },
+                Curve::Segment { a: [4.0, 4.0], b: [0.0, 4.0] },
+                Curve::Segment { a: [0.0, 4.0], b: [0.0, 1.0] },
+                Curve::arc_between([0.0, 1.0], [1.0, 0.0], [0.0, 0.0], false),
+            ],
+            ["bottom", "right", "top", "left", "hole"].iter().map(|s| s.to_string()).collect(),
+        )
+        .unwrap();
+        let disk = Domain::from_curves(
+            vec![Curve::arc_between([2.0, 0.0], [2.0, 0.0], [0.0, 0.0], true)],
+            vec!["rim".into()],
+        )
+        .unwrap();
+        for (d, h) in [(&plate, 0.1), (&plate, 0.05), (&disk, 0.1)] {
+            for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 5 }] {
+                let nodes = generate(d, h, layout).unwrap();
+                let cells = build_cells(d, &nodes).unwrap();
+                let (poly, _) = d.boundary_polygon(h);
+                let poly_area = 0.5
+                    * (0..poly.len())
+                        .map(|k| {
+                            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                            a[0] * b[1] - b[0] * a[1]
+                        })
+                        .sum::<f64>();
+                assert!((total_area(&cells) - poly_area).abs() < 1e-10 * poly_area);
+                // The chords cut O(h²) off a convex arc and add as much inside a hole.
+                let lost = (d.area() - poly_area) / d.area();
+                assert!(lost != 0.0 && lost.abs() < 0.1 * h * h, "{lost}");
+                for (i, c) in cells.iter().enumerate() {
+                    assert!(c.area() > 0.0);
+                    assert!(!c.labels.contains(&EdgeLabel::Neighbour(BOX)));
+                    // Only boundary nodes own boundary faces.
+                    if c.labels.iter().any(|l| matches!(l, EdgeLabel::Boundary(_))) {
+                        assert!(
+                            !nodes.edges[i].is_empty(),
+                            "interior node {i} at {:?} reaches the boundary ({h}, {layout:?}, {} edges)",
+                            nodes.points[i],
+                            d.edge_count()
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]
