@@ -98,9 +98,12 @@ impl Nodes {
 /// other convex polygons get equally spaced nodes on each edge and the points of a grid of
 /// spacing `h` that lie at least `h/2` inside every edge. Domains with arcs get
 /// [`crate::geometry::Curve::divisions`] equally spaced nodes on every curve (the vertices of
-/// [`Domain::boundary_polygon`]) and the points of a grid of spacing `h` inside the loop and
-/// at least `0.7 h` from it (so that no interior node's cell reaches the boundary); there,
-/// a jittered interior node that would come closer than `0.7 h` keeps its grid position.
+/// [`Domain::boundary_polygon`]), one layer of nodes at distance `h` inside every arc along
+/// its boundary nodes' normals (so the first interior row follows the curve; a clipped grid
+/// alone left rows at 0.7–1.7 h and made the contact compliance far from symmetric there),
+/// and the points of a grid of spacing `h` inside the loop, at least `0.7 h` from straight
+/// edges and `1.6 h` from arcs (so that no interior node's cell reaches the boundary);
+/// there, a jittered interior node that would come closer than `0.7 h` keeps its position.
 ///
 /// # Errors
 /// [`GeometryError::Spacing`] when `h` is not positive or leaves fewer than two intervals
@@ -204,6 +207,8 @@ fn polygon_grid(domain: &Domain, h: f64) -> Vec<Point> {
 
 /// Least distance of an interior node from a curved domain's boundary, in spacings.
 const CURVED_CLEARANCE: f64 = 0.7;
+/// Least distance of a grid node from an arc, in spacings (the layer at `h` comes first).
+const ARC_GRID_CLEARANCE: f64 = 1.6;
 
 fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
     // The same points as the arcs' vertices in `Domain::boundary_polygon`.
@@ -215,13 +220,34 @@ fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
             (0..n).map(move |i| c.point_at(i as f64 / n as f64))
         })
         .collect();
+    // One layer of nodes a spacing inside each arc, along the normals of its boundary
+    // nodes, so that the first interior row follows the curve instead of a clipped grid.
+    let clear =
+        |p: Point| domain.contains(p) && domain.boundary_distance(p) >= CURVED_CLEARANCE * h;
+    let curves = domain.curves();
+    for (k, c) in curves.iter().enumerate().filter(|(_, c)| !c.is_straight()) {
+        let n = c.divisions(h);
+        // The end's layer node belongs to the next curve when that is an arc too.
+        let last = if curves[(k + 1) % curves.len()].is_straight() { n } else { n - 1 };
+        for i in 0..=last {
+            let b = c.point_at(i as f64 / n as f64);
+            let nrm = c.outward_normal_at(b);
+            let p = [b[0] - h * nrm[0], b[1] - h * nrm[1]];
+            if clear(p) {
+                points.push(p);
+            }
+        }
+    }
+    let near_arc = |p: Point| {
+        domain.curves().iter().any(|c| !c.is_straight() && c.distance(p) < ARC_GRID_CLEARANCE * h)
+    };
     let (lo, hi) = domain.bounding_box();
     let nx = ((hi[0] - lo[0]) / h).ceil() as usize;
     let ny = ((hi[1] - lo[1]) / h).ceil() as usize;
     for j in 0..=ny {
         for i in 0..=nx {
             let p = [lo[0] + i as f64 * h, lo[1] + j as f64 * h];
-            if domain.contains(p) && domain.boundary_distance(p) >= CURVED_CLEARANCE * h {
+            if clear(p) && !near_arc(p) {
                 points.push(p);
             }
         }

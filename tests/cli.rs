@@ -114,6 +114,70 @@ fn bad_input_gives_a_clear_error_and_exit_code_2() {
     expect_refusals(cases);
 }
 
+/// A half-disk (flat side up) clamped on its flat side.
+const HALF_DISK: &str = r#"
+[geometry]
+kind = "curves"
+start = [1.0, 0.0]
+curves = [
+    { name = "flat", to = [-1.0, 0.0] },
+    { name = "rim", to = [1.0, 0.0], center = [0.0, 0.0] },
+]
+[nodes]
+spacing = 0.1
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "strain"
+[[boundary]]
+edge = "flat"
+displacement = { x = 0.0, y = 0.0 }
+[[boundary]]
+edge = "rim"
+pressure = 1.0
+"#;
+
+#[test]
+fn bad_curved_geometry_gives_a_clear_error_and_exit_code_2() {
+    let (code, stderr) = run_text("half_disk_ok", HALF_DISK);
+    assert_eq!(code, Some(0), "{stderr}");
+    let cases: &[(&str, String, &str)] = &[
+        (
+            "open_loop",
+            HALF_DISK.replace("to = [1.0, 0.0], center", "to = [0.6, -0.8], center"),
+            "but the next curve starts at",
+        ),
+        (
+            "off_circle",
+            HALF_DISK.replace("center = [0.0, 0.0]", "center = [0.1, 0.0]"),
+            "geometry.curves[1].center",
+        ),
+        (
+            "turn_typo",
+            HALF_DISK.replace("center = [0.0, 0.0] }", "center = [0.0, 0.0], turn = \"left\" }"),
+            "geometry.curves[1].turn",
+        ),
+        (
+            "turn_on_segment",
+            HALF_DISK.replace("to = [-1.0, 0.0] }", "to = [-1.0, 0.0], turn = \"cw\" }"),
+            "geometry.curves[0].turn",
+        ),
+        (
+            "clockwise_loop",
+            HALF_DISK.replace("center = [0.0, 0.0] }", "center = [0.0, 0.0], turn = \"cw\" }"),
+            "counter-clockwise",
+        ),
+        (
+            "disk_radius",
+            HALF_DISK
+                .replace("kind = \"curves\"", "kind = \"disk\"\ncenter = [0.0, 0.0]\nradius = -1.0")
+                .replace("start = [1.0, 0.0]\ncurves = [\n    { name = \"flat\", to = [-1.0, 0.0] },\n    { name = \"rim\", to = [1.0, 0.0], center = [0.0, 0.0] },\n]\n", ""),
+            "geometry.radius",
+        ),
+    ];
+    expect_refusals(cases);
+}
+
 /// A small beam on a rigid foundation (the shape of problems/beam_on_foundation.toml).
 const CONTACT: &str = r#"
 [geometry]
