@@ -156,7 +156,7 @@ pub struct Model {
     pub faces: Faces,
     /// Quadrature on the interior faces.
     pub face_quadrature: FaceQuadrature,
-    /// Shape functions at the interior-face quadrature points.
+    /// Shape functions at the interior-face quadrature points (gradients when `β > 0`).
     pub face_shapes: ShapeSet,
     /// Shape functions and gradients at the nodes.
     pub node_shapes: ShapeSet,
@@ -175,6 +175,15 @@ pub struct Model {
 pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
     let mut clock = Clock { progress, timings: Vec::new() };
     let disc = &problem.discretisation;
+    // The same stability limits as validation, for problems built in code (method.md §3.8).
+    if let (Some(why), false) = (disc.stability_warning(), disc.allow_unstable) {
+        return Err(problem::ProblemError::Invalid {
+            field: "discretisation.support_factor".into(),
+            value: disc.mls.support_factor.to_string(),
+            reason: why,
+        }
+        .into());
+    }
     let nodes = clock
         .run("nodes", || nodes::generate(&problem.domain, problem.node_spacing, problem.layout))?;
     let supports = clock.run("supports", || Supports::new(&nodes, disc.mls.support_factor));
@@ -187,8 +196,10 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
     let node_shapes = clock.run("mls_nodes", || {
         mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)
     })?;
+    // Gradients at the face points only for the direct-strain part of the β blend (§3.9).
     let face_shapes = clock.run("mls_faces", || {
-        mls::shape_functions(&face_quadrature.points, &nodes, &supports, &disc.mls, false)
+        let gradients = disc.beta > 0.0;
+        mls::shape_functions(&face_quadrature.points, &nodes, &supports, &disc.mls, gradients)
     })?;
     let d = problem.material.constitutive();
     let system = clock.run("assembly", || {
@@ -205,6 +216,7 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
             boundary: &problem.boundary,
             body_force: problem.body_force.as_ref(),
             load_quadrature_points: disc.load_quadrature_points,
+            beta: disc.beta,
         })
     })?;
     let factorisation = clock.run("factorisation", || Factorisation::new(&system.matrix))?;
