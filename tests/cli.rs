@@ -335,8 +335,27 @@ fn two_blocks_problem_total_force() {
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
 }
 
+/// problems/beam_on_foundation_stabilised.toml (issue 7: α_s = 3, β = 0.5): the summary
+/// records the variant and the run-time `M` checks, and the total contact force is within
+/// 1e-3 of the independent FE reference 32.3476 (observed 32.347257 at h = 0.25).
+#[test]
+fn gh_7_stabilised_beam_problem() {
+    let s = summary_of("beam_on_foundation_stabilised.toml", "beam_stabilised");
+    let disc = &s["problem"]["discretisation"];
+    assert_eq!(disc["beta"], 0.5);
+    assert_eq!(disc["mls"]["support_factor"], 3.0);
+    assert_eq!(disc["mls"]["basis"], "linear");
+    assert_eq!(s["warnings"].as_array().map(Vec::len), Some(0));
+    assert!(s["lcp"]["compliance_min_diagonal"].as_f64().unwrap() > 0.0);
+    assert!(s["lcp"]["compliance_min_symmetric_eigenvalue"].as_f64().unwrap() > 0.0);
+    assert_eq!(s["contact"]["closed_intervals"], 1);
+    let total = s["contact"]["total_force"].as_f64().unwrap();
+    assert!((total - 32.3476).abs() < 1e-3, "total contact force {total}");
+}
+
 /// The same input gives the same bytes, whatever the number of threads (timings aside): the
-/// elastostatic cantilever and the contact beam (parallel blocked condensation).
+/// elastostatic cantilever, the contact beam (parallel blocked condensation) and its
+/// stabilised variant (β > 0 assembly).
 #[test]
 fn outputs_are_deterministic_across_thread_counts() {
     for (problem, extra) in [
@@ -345,6 +364,7 @@ fn outputs_are_deterministic_across_thread_counts() {
             "beam_on_foundation.toml",
             &["contact.csv", "plots/contact_pressure.svg", "plots/contact_deflection.png"][..],
         ),
+        ("beam_on_foundation_stabilised.toml", &["contact.csv"][..]),
     ] {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(problem);
         let mut dirs = Vec::new();
