@@ -187,3 +187,20 @@ fn gh_7_stabilised_beam_agrees_with_the_default_variant() {
     assert!((finest.total_force - FE_CONTACT_FORCE).abs() < 1e-3, "F_c {}", finest.total_force);
     assert!((finest.onset - FE_ONSET).abs() < 0.125, "l_c {}", finest.onset);
 }
+
+/// Issue 7: the stabilised variants on jittered nodes (h = 0.25, amplitude 0.25): KKT,
+/// equilibrium, `M` checks and one contact interval ending at the tip (asserted in
+/// `run_problem`); F_c within 1e-2 and l_c within one spacing of the FE reference. Observed:
+/// β = 0.5, α_s = 3: F_c 32.346695, l_c 19.7500; β = 1, α_s = 2: F_c 32.341922, l_c 19.7923.
+#[test]
+fn gh_7_stabilised_beam_on_jittered_nodes() {
+    let h = 0.25;
+    for (alpha, beta) in [(3.0, 0.5), (2.0, 1.0)] {
+        let mut p = stabilised_beam(h, alpha, beta);
+        p.layout = mlpg_contact::nodes::Layout::Jittered { amplitude: 0.25, seed: 1 };
+        let o = run_problem(h, &p);
+        println!("jittered α_s = {alpha}, β = {beta}: F_c {:.6} l_c {:.4}", o.total_force, o.onset);
+        assert!((o.total_force - FE_CONTACT_FORCE).abs() < 1e-2, "F_c {}", o.total_force);
+        assert!((o.onset - FE_ONSET).abs() < h, "l_c {}", o.onset);
+    }
+}
