@@ -13,6 +13,7 @@
 //! curved boundaries (issue 5) and is not part of this run.
 
 use mlpg_contact::mls::Basis;
+use mlpg_contact::post::plot;
 use mlpg_contact::problem::Problem;
 use std::time::Instant;
 
@@ -58,6 +59,9 @@ struct Row {
     /// (MLS at nodes and faces, assembly, factorisation, condensation, lemke, total) [s].
     times: [f64; 6],
 }
+
+/// One error-against-cost chart: file stem, x label, x of a row, y label, y of a row.
+type ChartSpec = (&'static str, &'static str, fn(&Row) -> f64, &'static str, fn(&Row) -> f64);
 
 fn stage(s: &mlpg_contact::Solution, names: &[&str]) -> f64 {
     s.timings.iter().filter(|t| names.contains(&t.stage)).map(|t| t.seconds).sum()
@@ -133,10 +137,12 @@ fn main() {
         spacings.push(h);
     }
     println!("FE reference: F_c = {FE_FORCE}, l_c = {FE_ONSET}\n");
+    let mut results: Vec<(&str, Vec<Row>)> = Vec::new();
     for (k, v) in VARIANTS.iter().enumerate() {
         if only.is_some_and(|o| o != k + 1) {
             continue;
         }
+        let mut rows = Vec::new();
         println!("**{}**\n", v.name);
         println!(
             "| h | nodes | nnz(K) | nnz/row | F_c | F_c − FE | l_c (gap) | l_c (pressure) | l_c − FE | peak p | ripple | u_y(48,0) | MLS [s] | assembly [s] | LU [s] | condense [s] | Lemke [s] | total [s] |"
@@ -171,7 +177,60 @@ fn main() {
                 r.times[4],
                 r.times[5]
             );
+            rows.push(r);
         }
         println!();
+        results.push((v.name, rows));
     }
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/beta_study");
+    std::fs::create_dir_all(&dir).expect("output directory");
+    let charts: [ChartSpec; 4] = [
+        (
+            "force_vs_dofs",
+            "log10 DOFs",
+            |r| (2.0 * r.nodes as f64).log10(),
+            "log10 |F_c − F_FE|",
+            |r| (r.force - FE_FORCE).abs().log10(),
+        ),
+        (
+            "force_vs_time",
+            "log10 total time [s]",
+            |r| r.times[5].log10(),
+            "log10 |F_c − F_FE|",
+            |r| (r.force - FE_FORCE).abs().log10(),
+        ),
+        (
+            "onset_vs_dofs",
+            "log10 DOFs",
+            |r| (2.0 * r.nodes as f64).log10(),
+            "log10 |l_c − l_FE|",
+            |r| (r.onset_gap - FE_ONSET).abs().log10(),
+        ),
+        (
+            "onset_vs_time",
+            "log10 total time [s]",
+            |r| r.times[5].log10(),
+            "log10 |l_c − l_FE|",
+            |r| (r.onset_gap - FE_ONSET).abs().log10(),
+        ),
+    ];
+    for (stem, x_label, x, y_label, y) in charts {
+        let chart = plot::Chart {
+            title: format!("beam on a rigid foundation: {y_label} against {x_label}"),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: results
+                .iter()
+                .enumerate()
+                .map(|(k, (name, rows))| plot::Series {
+                    label: (*name).into(),
+                    points: rows.iter().map(|r| (x(r), y(r))).filter(|p| p.1.is_finite()).collect(),
+                    style: plot::Style::Line,
+                    colour: k,
+                })
+                .collect(),
+        };
+        plot::write_chart(&dir.join(stem), &chart).expect("plot");
+    }
+    println!("plots: {}", dir.display());
 }
