@@ -122,6 +122,11 @@ impl Default for Discretisation {
 pub const MIXED_LINEAR_MAX_SUPPORT_FACTOR: f64 = 2.25;
 /// Largest support factor accepted for the pure mixed method (`β = 0`) with a quadratic basis.
 pub const MIXED_QUADRATIC_MAX_SUPPORT_FACTOR: f64 = 3.0;
+/// Smallest blend `β` that lifts those limits. The gap s₄/s_max above the rigid modes of a
+/// free body grows roughly in proportion to `β` (9 × 9 nodes, α_s = 3: 5e-5 at β = 0.001,
+/// 3.4e-4 at 0.01, 2.4e-3 at 0.1, 1.9e-2 at 1; tests/validation/free_body.rs), so a tiny `β`
+/// is as unstable as `β = 0`; method.md §3.9 measured `β ≥ 0.1` sufficient for α_s 2–4.
+pub const MIN_STABILISING_BETA: f64 = 0.1;
 
 impl Discretisation {
     /// Why this combination is outside the measured stability limits of the pure mixed method,
@@ -131,9 +136,10 @@ impl Discretisation {
     /// `α_s = 2.25` (linear basis) or `α_s = 3` (quadratic basis) so much that checkerboard
     /// displacement modes become nearly free (method.md §2, §3.8: s₄/s_max ≈ 7e-7 at
     /// `α_s = 3` on a 9 × 9 free body) and the contact compliance loses its positive diagonal
-    /// (§4.1). Any `β > 0` lifts these limits (§3.9; measured: `β ≥ 0.1` suffices).
+    /// (§4.1). A blend `β ≥` [`MIN_STABILISING_BETA`] lifts these limits (§3.9); a smaller
+    /// positive `β` is treated like `β = 0`.
     pub fn stability_warning(&self) -> Option<String> {
-        if self.beta > 0.0 {
+        if self.beta >= MIN_STABILISING_BETA {
             return None;
         }
         let alpha = self.mls.support_factor;
@@ -143,8 +149,10 @@ impl Discretisation {
         };
         (alpha > limit).then(|| {
             format!(
-                "support_factor = {alpha} with the {} basis and beta = 0 (the pure mixed method) is unstable above {limit}: the collocated strains admit nearly free checkerboard modes and contact answers become meaningless (method.md §3.8); use support_factor <= {limit}, or beta = 0.5 (stabilised MFVM, method.md §3.9), or set allow_unstable = true to proceed anyway",
-                self.mls.basis.name()
+                "support_factor = {alpha} with the {} basis and beta = {} ({}) is unstable above {limit}: the collocated strains admit nearly free checkerboard modes and contact answers become meaningless (method.md §3.8); use support_factor <= {limit}, or beta = 0.5 (stabilised MFVM, method.md §3.9; at least {MIN_STABILISING_BETA}), or set allow_unstable = true to proceed anyway",
+                self.mls.basis.name(),
+                self.beta,
+                if self.beta == 0.0 { "the pure mixed method" } else { "too little stabilisation" }
             )
         })
     }

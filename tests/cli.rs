@@ -220,6 +220,11 @@ fn gh_7_unstable_discretisations_are_refused() {
             with("basis = \"quadratic\"\nsupport_factor = 2.0"),
             "holds 4 nodes; the quadratic basis needs at least 7",
         ),
+        (
+            "beta_too_small_for_large_support",
+            with("support_factor = 3.0\nbeta = 0.01"),
+            "beta = 0.01 (too little stabilisation) is unstable above 2.25",
+        ),
         ("beta_negative", with("beta = -0.1"), "discretisation.beta"),
         ("beta_above_one", with("beta = 1.5"), "must be in [0, 1]"),
         ("beta_nan", with("beta = nan"), "discretisation.beta"),
