@@ -100,9 +100,14 @@ impl Inputs {
         let face_quadrature = FaceQuadrature::new(&faces.interior, disc.quadrature_points);
         let node_shapes = mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)
             .expect("node shapes");
-        let face_shapes =
-            mls::shape_functions(&face_quadrature.points, &nodes, &supports, &disc.mls, false)
-                .expect("face shapes");
+        let face_shapes = mls::shape_functions(
+            &face_quadrature.points,
+            &nodes,
+            &supports,
+            &disc.mls,
+            disc.beta > 0.0,
+        )
+        .expect("face shapes");
         Self { problem, nodes, supports, cells, faces, face_quadrature, face_shapes, node_shapes }
     }
 
@@ -120,6 +125,7 @@ impl Inputs {
             boundary: &self.problem.boundary,
             body_force: self.problem.body_force.as_ref(),
             load_quadrature_points: self.problem.discretisation.load_quadrature_points,
+            beta: self.problem.discretisation.beta,
         })
         .expect("assembly")
     }

@@ -17,7 +17,7 @@
 //! | 2 | [`neighbours`] | [`neighbours::Supports`] (MLS supports, cell grid) |
 //! | 3 | [`mls`] | [`mls::ShapeSet`]: `φ`, `∇φ` at nodes and quadrature points |
 //! | 4 | [`weak_form`] | subdomain cells `Ω_s`, faces, face quadrature |
-//! | 5 | [`assembly`] | [`assembly::GlobalSystem`]: `K = −Q D S`, `f`, collocation rows |
+//! | 5 | [`assembly`] | [`assembly::GlobalSystem`]: `K = −Q D [(1 − β) Φ S + β B_q]`, `f`, collocation rows |
 //! | 6 | [`linear_solve`] | [`linear_solve::Factorisation`] (sparse LU) |
 //! | 7 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E` |
 //! | 8 | [`lcp`] | LCP solver (Lemke) |
@@ -34,6 +34,7 @@
 //! | `ε̂_J` | strain collocated at node `J` (`ε̂ = S û`) |
 //! | `Ω_s`, `Ω_I` | subdomain (cell) of node `I` |
 //! | `α_s` | support factor: support radius `r_I = α_s h_I` |
+//! | `β` | stabilisation blend (method.md §3.9): face stress `D[(1 − β) Σ φ_J ε̂_J + β Σ B_K û_K]` |
 //! | `Γ_u, Γ_t, Γ_c` | Dirichlet, traction and contact boundaries |
 //! | `g`, `p` | gap and contact pressure |
 //!
@@ -156,7 +157,7 @@ pub struct Model {
     pub faces: Faces,
     /// Quadrature on the interior faces.
     pub face_quadrature: FaceQuadrature,
-    /// Shape functions at the interior-face quadrature points.
+    /// Shape functions at the interior-face quadrature points (gradients when `β > 0`).
     pub face_shapes: ShapeSet,
     /// Shape functions and gradients at the nodes.
     pub node_shapes: ShapeSet,
@@ -175,6 +176,15 @@ pub struct Model {
 pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
     let mut clock = Clock { progress, timings: Vec::new() };
     let disc = &problem.discretisation;
+    // The same stability limits as validation, for problems built in code (method.md §3.8).
+    if let (Some(why), false) = (disc.stability_warning(), disc.allow_unstable) {
+        return Err(problem::ProblemError::Invalid {
+            field: "discretisation.support_factor".into(),
+            value: disc.mls.support_factor.to_string(),
+            reason: why,
+        }
+        .into());
+    }
     let nodes = clock
         .run("nodes", || nodes::generate(&problem.domain, problem.node_spacing, problem.layout))?;
     let supports = clock.run("supports", || Supports::new(&nodes, disc.mls.support_factor));
@@ -187,8 +197,10 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
     let node_shapes = clock.run("mls_nodes", || {
         mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)
     })?;
+    // Gradients at the face points only for the direct-strain part of the β blend (§3.9).
     let face_shapes = clock.run("mls_faces", || {
-        mls::shape_functions(&face_quadrature.points, &nodes, &supports, &disc.mls, false)
+        let gradients = disc.beta > 0.0;
+        mls::shape_functions(&face_quadrature.points, &nodes, &supports, &disc.mls, gradients)
     })?;
     let d = problem.material.constitutive();
     let system = clock.run("assembly", || {
@@ -205,6 +217,7 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
             boundary: &problem.boundary,
             body_force: problem.body_force.as_ref(),
             load_quadrature_points: disc.load_quadrature_points,
+            beta: disc.beta,
         })
     })?;
     let factorisation = clock.run("factorisation", || Factorisation::new(&system.matrix))?;
@@ -231,7 +244,9 @@ pub struct Solution {
     pub displacement: Vec<[f64; 2]>,
     /// Collocated strains `ε̂_I = (ε_xx, ε_yy, γ_xy)`.
     pub strain: Vec<[f64; 3]>,
-    /// Stresses `σ_I = D ε̂_I = (σ_xx, σ_yy, σ_xy)`.
+    /// Stresses `σ_I = D ε̂_I = (σ_xx, σ_yy, σ_xy)`. `ε̂_I = Σ_K B_K(x_I) û_K` is both the
+    /// collocated strain and the direct MLS strain at the node, so the nodal stress output is
+    /// the same formula for every `β` (the blend only concerns the cell-boundary points).
     pub stress: Vec<[f64; 3]>,
     /// Reactions at constrained DOFs: `(node, axis, R)` with `R = K_int û − f − E P`.
     pub reactions: Vec<(u32, Axis, f64)>,

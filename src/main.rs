@@ -28,6 +28,9 @@ fn run(args: &Args) -> anyhow::Result<()> {
         .with_context(|| format!("in {}", args.problem.display()))?;
     let mut progress = mlpg_contact::post::progress::StageProgress::new(args.quiet);
     let report = mlpg_contact::run(&problem, &args.out, echo, &mut progress)?;
+    for w in report.summary["warnings"].as_array().into_iter().flatten() {
+        eprintln!("warning: {}", w.as_str().unwrap_or_default());
+    }
     if !args.quiet {
         eprintln!("{report}");
     }

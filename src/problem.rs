@@ -96,11 +96,65 @@ pub struct Discretisation {
     pub quadrature_points: usize,
     /// Gauss–Legendre points per segment for applied tractions (default 5, at least 3).
     pub load_quadrature_points: usize,
+    /// Stabilisation blend `β ∈ [0, 1]` (method.md §3.9): the stress at a cell-boundary
+    /// Gauss point `x_q` is `σ_q = D[(1 − β) Σ_J φ_J(x_q) ε̂_J + β Σ_K B_K(x_q) û_K]`.
+    /// `β = 0` (default) is the paper's mixed method; `β = 1` a primal finite-volume scheme
+    /// that never uses the collocated strains `S`.
+    pub beta: f64,
+    /// Accept a combination outside the stability limits of [`Discretisation::stability_warning`]
+    /// (the refusal becomes a warning recorded in `summary.json`).
+    pub allow_unstable: bool,
 }
 
 impl Default for Discretisation {
     fn default() -> Self {
-        Self { mls: MlsParams::default(), quadrature_points: 2, load_quadrature_points: 5 }
+        Self {
+            mls: MlsParams::default(),
+            quadrature_points: 2,
+            load_quadrature_points: 5,
+            beta: 0.0,
+            allow_unstable: false,
+        }
+    }
+}
+
+/// Largest support factor accepted for the pure mixed method (`β = 0`) with a linear basis.
+pub const MIXED_LINEAR_MAX_SUPPORT_FACTOR: f64 = 2.25;
+/// Largest support factor accepted for the pure mixed method (`β = 0`) with a quadratic basis.
+pub const MIXED_QUADRATIC_MAX_SUPPORT_FACTOR: f64 = 3.0;
+/// Smallest blend `β` that lifts those limits. The gap s₄/s_max above the rigid modes of a
+/// free body grows roughly in proportion to `β` (9 × 9 nodes, α_s = 3: 5e-5 at β = 0.001,
+/// 3.4e-4 at 0.01, 2.4e-3 at 0.1, 1.9e-2 at 1; tests/validation/free_body.rs), so a tiny `β`
+/// is as unstable as `β = 0`; method.md §3.9 measured `β ≥ 0.1` sufficient for α_s 2–4.
+pub const MIN_STABILISING_BETA: f64 = 0.1;
+
+impl Discretisation {
+    /// Why this combination is outside the measured stability limits of the pure mixed method,
+    /// or `None` when it is inside them.
+    ///
+    /// With `β = 0` the collocated strains are smoothed by supports larger than about
+    /// `α_s = 2.25` (linear basis) or `α_s = 3` (quadratic basis) so much that checkerboard
+    /// displacement modes become nearly free (method.md §2, §3.8: s₄/s_max ≈ 7e-7 at
+    /// `α_s = 3` on a 9 × 9 free body) and the contact compliance loses its positive diagonal
+    /// (§4.1). A blend `β ≥` [`MIN_STABILISING_BETA`] lifts these limits (§3.9); a smaller
+    /// positive `β` is treated like `β = 0`.
+    pub fn stability_warning(&self) -> Option<String> {
+        if self.beta >= MIN_STABILISING_BETA {
+            return None;
+        }
+        let alpha = self.mls.support_factor;
+        let limit = match self.mls.basis {
+            Basis::Linear => MIXED_LINEAR_MAX_SUPPORT_FACTOR,
+            Basis::Quadratic => MIXED_QUADRATIC_MAX_SUPPORT_FACTOR,
+        };
+        (alpha > limit).then(|| {
+            format!(
+                "support_factor = {alpha} with the {} basis and beta = {} ({}) is unstable above {limit}: the collocated strains admit nearly free checkerboard modes and contact answers become meaningless (method.md §3.8); use support_factor <= {limit}, or beta = 0.5 (stabilised MFVM, method.md §3.9; at least {MIN_STABILISING_BETA}), or set allow_unstable = true to proceed anyway",
+                self.mls.basis.name(),
+                self.beta,
+                if self.beta == 0.0 { "the pure mixed method" } else { "too little stabilisation" }
+            )
+        })
     }
 }
 
@@ -364,6 +418,13 @@ pub struct DiscretisationFile {
     /// Gauss points per segment for applied tractions (default 5; 3–8).
     #[serde(default)]
     pub load_quadrature_points: Option<usize>,
+    /// Stabilisation blend `β ∈ [0, 1]` (default 0, the paper's mixed method; method.md §3.9).
+    #[serde(default)]
+    pub beta: Option<f64>,
+    /// Turn the refusal of an unstable `support_factor`/`basis`/`beta` combination into a
+    /// warning (default false).
+    #[serde(default)]
+    pub allow_unstable: Option<bool>,
 }
 
 /// `[output]`.
@@ -569,11 +630,27 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
             "must be 3–8",
         ));
     }
-    Ok(Discretisation {
+    let beta = d.beta.unwrap_or(0.0);
+    if !(beta.is_finite() && (0.0..=1.0).contains(&beta)) {
+        return Err(invalid(
+            "discretisation.beta",
+            beta,
+            "must be in [0, 1] (0: the paper's mixed method; 1: direct MLS strains at the cell boundaries)",
+        ));
+    }
+    let discretisation = Discretisation {
         mls: MlsParams { basis, support_factor, ..MlsParams::default() },
         quadrature_points,
         load_quadrature_points,
-    })
+        beta,
+        allow_unstable: d.allow_unstable.unwrap_or(false),
+    };
+    if let Some(why) = discretisation.stability_warning() {
+        if !discretisation.allow_unstable {
+            return Err(invalid("discretisation.support_factor", support_factor, why));
+        }
+    }
+    Ok(discretisation)
 }
 
 /// The parts of a problem file that describe one body.

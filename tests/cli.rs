@@ -232,7 +232,10 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
         ),
         (
             "large_support_breaks_contact",
-            CONTACT.replace("[nodes]", "[discretisation]\nsupport_factor = 3.0\n[nodes]"),
+            CONTACT.replace(
+                "[nodes]",
+                "[discretisation]\nsupport_factor = 3.0\nallow_unstable = true\n[nodes]",
+            ),
             "not trustworthy",
         ),
         (
@@ -252,6 +255,73 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
     // The unmodified file solves.
     let (code, stderr) = run_text("contact_ok", CONTACT);
     assert_eq!(code, Some(0), "{stderr}");
+}
+
+/// Issue 7: discretisations outside the measured stability limits (method.md §2, §3.8, §3.9)
+/// are refused at validation with the reason and the way out.
+#[test]
+fn gh_7_unstable_discretisations_are_refused() {
+    let with = |keys: &str| BASE.replace("[nodes]", &format!("[discretisation]\n{keys}\n[nodes]"));
+    let cases: &[(&str, String, &str)] = &[
+        (
+            "mixed_large_support",
+            with("support_factor = 2.5"),
+            "unstable above 2.25: the collocated strains admit nearly free checkerboard modes",
+        ),
+        ("mixed_large_support_says_what_to_use", with("support_factor = 3.0"), "beta = 0.5"),
+        (
+            "mixed_large_support_names_the_override",
+            with("support_factor = 3.0\nbeta = 0.0"),
+            "allow_unstable = true",
+        ),
+        (
+            "quadratic_mixed_large_support",
+            with("basis = \"quadratic\"\nsupport_factor = 3.5"),
+            "quadratic basis and beta = 0 (the pure mixed method) is unstable above 3",
+        ),
+        (
+            "quadratic_too_few_support_nodes",
+            with("basis = \"quadratic\"\nsupport_factor = 2.0"),
+            "holds 4 nodes; the quadratic basis needs at least 7",
+        ),
+        (
+            "beta_too_small_for_large_support",
+            with("support_factor = 3.0\nbeta = 0.01"),
+            "beta = 0.01 (too little stabilisation) is unstable above 2.25",
+        ),
+        ("beta_negative", with("beta = -0.1"), "discretisation.beta"),
+        ("beta_above_one", with("beta = 1.5"), "must be in [0, 1]"),
+        ("beta_nan", with("beta = nan"), "discretisation.beta"),
+        ("allow_unstable_not_bool", with("allow_unstable = 1"), "allow_unstable"),
+    ];
+    expect_refusals(cases);
+    // The override turns the refusal into a warning on stderr and in summary.json.
+    let (code, stderr) = run_text(
+        "mixed_large_support_allowed",
+        &with("support_factor = 2.5\nallow_unstable = true"),
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("warning: discretisation: support_factor = 2.5"), "{stderr}");
+    let summary = scratch("mixed_large_support_allowed").join("out/summary.json");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(summary).unwrap()).unwrap();
+    let warnings = summary["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(warnings[0].as_str().unwrap().contains("unstable above 2.25"));
+    assert_eq!(summary["problem"]["discretisation"]["beta"], 0.0);
+    // The stabilised variant at the same support is accepted without warnings.
+    let (code, stderr) =
+        run_text("stabilised_large_support", &with("support_factor = 3.0\nbeta = 0.5"));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(!stderr.contains("warning"), "{stderr}");
+    let summary = scratch("stabilised_large_support").join("out/summary.json");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(summary).unwrap()).unwrap();
+    assert_eq!(summary["warnings"].as_array().map(Vec::len), Some(0));
+    let disc = &summary["problem"]["discretisation"];
+    assert_eq!(disc["beta"], 0.5);
+    assert_eq!(disc["mls"]["support_factor"], 3.0);
+    assert_eq!(disc["mls"]["basis"], "linear");
 }
 
 #[test]
@@ -334,8 +404,27 @@ fn two_blocks_problem_total_force() {
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
 }
 
+/// problems/beam_on_foundation_stabilised.toml (issue 7: α_s = 3, β = 0.5): the summary
+/// records the variant and the run-time `M` checks, and the total contact force is within
+/// 1e-3 of the independent FE reference 32.3476 (observed 32.347257 at h = 0.25).
+#[test]
+fn gh_7_stabilised_beam_problem() {
+    let s = summary_of("beam_on_foundation_stabilised.toml", "beam_stabilised");
+    let disc = &s["problem"]["discretisation"];
+    assert_eq!(disc["beta"], 0.5);
+    assert_eq!(disc["mls"]["support_factor"], 3.0);
+    assert_eq!(disc["mls"]["basis"], "linear");
+    assert_eq!(s["warnings"].as_array().map(Vec::len), Some(0));
+    assert!(s["lcp"]["compliance_min_diagonal"].as_f64().unwrap() > 0.0);
+    assert!(s["lcp"]["compliance_min_symmetric_eigenvalue"].as_f64().unwrap() > 0.0);
+    assert_eq!(s["contact"]["closed_intervals"], 1);
+    let total = s["contact"]["total_force"].as_f64().unwrap();
+    assert!((total - 32.3476).abs() < 1e-3, "total contact force {total}");
+}
+
 /// The same input gives the same bytes, whatever the number of threads (timings aside): the
-/// elastostatic cantilever and the contact beam (parallel blocked condensation).
+/// elastostatic cantilever, the contact beam (parallel blocked condensation) and its
+/// stabilised variant (β > 0 assembly).
 #[test]
 fn outputs_are_deterministic_across_thread_counts() {
     for (problem, extra) in [
@@ -344,6 +433,7 @@ fn outputs_are_deterministic_across_thread_counts() {
             "beam_on_foundation.toml",
             &["contact.csv", "plots/contact_pressure.svg", "plots/contact_deflection.png"][..],
         ),
+        ("beam_on_foundation_stabilised.toml", &["contact.csv"][..]),
     ] {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(problem);
         let mut dirs = Vec::new();

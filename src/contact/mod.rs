@@ -97,7 +97,7 @@ pub enum ContactError {
     },
     /// The condensed compliance fails the run-time checks (method.md §4.1).
     #[error(
-        "the condensed contact compliance M is not trustworthy: {what} = {value:.3e} (at support factor α_s = {support_factor}); mixed MFVM supports above α_s ≈ 2.25 admit near-free checkerboard modes — use support_factor = 2, or set contact.allow_indefinite = true to proceed anyway"
+        "the condensed contact compliance M is not trustworthy: {what} = {value:.3e} (at support factor α_s = {support_factor}); mixed MFVM supports above α_s ≈ 2.25 admit near-free checkerboard modes — use support_factor = 2 or the stabilised discretisation.beta = 0.5 (method.md §3.9), or set contact.allow_indefinite = true to proceed anyway"
     )]
     IndefiniteCompliance {
         /// Which check failed.

@@ -304,6 +304,7 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "interior_faces": model.faces.interior.len(),
             "boundary_faces": model.faces.boundary.len(),
             "matrix_nonzeros": model.system.matrix.values.len(),
+            "matrix_nonzeros_per_row": model.system.matrix.values.len() as f64 / model.system.matrix.n.max(1) as f64,
         },
         "checks": {
             "relative_residual": solution.relative_residual,
@@ -354,6 +355,15 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "reaction_force": s2.reaction_force,
             "contact_force": s2.contact_force,
         })),
+        "warnings": warnings(problem, solution),
         "timings": timings,
     })
+}
+
+/// Everything the run proceeded past: an unstable discretisation accepted with
+/// `allow_unstable`, a contact compliance accepted with `allow_indefinite`.
+fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
+    let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
+    let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
+    disc.into_iter().chain(contact.map(|w| format!("contact: {w}"))).collect()
 }

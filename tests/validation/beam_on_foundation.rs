@@ -7,7 +7,8 @@
 //! global equilibrium (applied load = contact force + clamp reaction), the shape of the
 //! contact zone (one interval ending at the tip), the run-time checks of `M`, and that the
 //! total contact force and the onset converge under refinement (successive differences
-//! shrink). The converged values are established by `cargo run --release --example
+//! shrink). Issue 7: the same checks for the stabilised blend (method.md §3.9) at `α_s = 3`,
+//! `β = 0.5`, which must agree with the default variant. The converged values are established by `cargo run --release --example
 //! beam_refinement` (README).
 
 use mlpg_contact::problem::Problem;
@@ -37,11 +38,24 @@ struct Outcome {
     total_force: f64,
     onset: f64,
     tip: f64,
+    last_open: f64,
+    first_closed: f64,
+}
+
+/// The beam with the stabilised blend `β` at support factor `α_s` (method.md §3.9).
+fn stabilised_beam(h: f64, support_factor: f64, beta: f64) -> Problem {
+    let mut p = beam(h);
+    p.discretisation.mls.support_factor = support_factor;
+    p.discretisation.beta = beta;
+    p
 }
 
 fn run(h: f64) -> Outcome {
-    let problem = beam(h);
-    let s = mlpg_contact::solve(&problem).unwrap();
+    run_problem(h, &beam(h))
+}
+
+fn run_problem(h: f64, problem: &Problem) -> Outcome {
+    let s = mlpg_contact::solve(problem).unwrap();
     let c = s.contact.as_ref().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.min_z >= -KKT_TOLERANCE, "h = {h}: min z {}", r.min_z);
@@ -79,7 +93,13 @@ fn run(h: f64) -> Outcome {
         c.onset.first_closed.unwrap(),
         c.condensed.skew_ratio
     );
-    Outcome { total_force: c.total_force, onset, tip }
+    Outcome {
+        total_force: c.total_force,
+        onset,
+        tip,
+        last_open: c.onset.last_open.unwrap(),
+        first_closed: c.onset.first_closed.unwrap(),
+    }
 }
 
 #[test]
@@ -123,4 +143,64 @@ fn stiffness_form_is_close_but_not_mls_exact() {
     assert!(mismatch(&default) < 1e-12, "compliance form: {}", mismatch(&default));
     let m = mismatch(&stiff);
     assert!(m > 1e-6 && m < 1e-4, "stiffness form gap mismatch {m:.3e}");
+}
+
+/// Issue 7: the stabilised blend at a support the pure mixed method refuses (`α_s = 3`,
+/// `β = 0.5`) gives a trustworthy contact compliance (positive diagonal, positive definite
+/// symmetric part: asserted in `run_problem`), one contact interval ending at the tip, and the
+/// same `l_c` and total contact force as the default variant within their discretisation errors.
+#[test]
+fn gh_7_stabilised_beam_agrees_with_the_default_variant() {
+    let spacings = [0.5, 0.25, 0.125];
+    let default: Vec<Outcome> = spacings.iter().map(|&h| run(h)).collect();
+    let stabilised: Vec<Outcome> =
+        spacings.iter().map(|&h| run_problem(h, &stabilised_beam(h, 3.0, 0.5))).collect();
+    for (k, h) in spacings.iter().enumerate() {
+        let (a, b) = (&default[k], &stabilised[k]);
+        println!(
+            "h = {h}: F_c {:.6} / {:.6} (diff {:.2e}, FE {:.2e} / {:.2e}); l_c {:.4} / {:.4}; tip {:.6e} / {:.6e}",
+            a.total_force,
+            b.total_force,
+            b.total_force - a.total_force,
+            a.total_force - FE_CONTACT_FORCE,
+            b.total_force - FE_CONTACT_FORCE,
+            a.onset,
+            b.onset,
+            a.tip,
+            b.tip
+        );
+        // F_c: the two variants differ by less than the default variant's own measured
+        // discretisation error (its distance to the FE reference). Observed differences
+        // 2.4e-3 / 1.1e-4 / 8.8e-5 against errors 3.2e-3 / 4.5e-4 / 2.7e-4 at h = 0.5 / 0.25 /
+        // 0.125; the stabilised variant is the closer one to FE at every h.
+        let default_error = (a.total_force - FE_CONTACT_FORCE).abs();
+        let diff = (b.total_force - a.total_force).abs();
+        assert!(diff < default_error, "h = {h}: F_c differs by {diff:.3e} > {default_error:.3e}");
+        // l_c is resolved to one node spacing: the estimates agree within h and the
+        // [last open, first closed] brackets touch or overlap.
+        assert!((b.onset - a.onset).abs() <= *h, "h = {h}: l_c {} vs {}", b.onset, a.onset);
+        let (lo, hi) = (a.last_open.max(b.last_open), a.first_closed.min(b.first_closed));
+        assert!(lo <= hi, "h = {h}: onset brackets [{lo}, {hi}] do not meet");
+    }
+    // At the finest spacing, against the independent FE reference (as for the default).
+    let finest = &stabilised[2];
+    assert!((finest.total_force - FE_CONTACT_FORCE).abs() < 1e-3, "F_c {}", finest.total_force);
+    assert!((finest.onset - FE_ONSET).abs() < 0.125, "l_c {}", finest.onset);
+}
+
+/// Issue 7: the stabilised variants on jittered nodes (h = 0.25, amplitude 0.25): KKT,
+/// equilibrium, `M` checks and one contact interval ending at the tip (asserted in
+/// `run_problem`); F_c within 1e-2 and l_c within one spacing of the FE reference. Observed:
+/// β = 0.5, α_s = 3: F_c 32.346695, l_c 19.7500; β = 1, α_s = 2: F_c 32.341922, l_c 19.7923.
+#[test]
+fn gh_7_stabilised_beam_on_jittered_nodes() {
+    let h = 0.25;
+    for (alpha, beta) in [(3.0, 0.5), (2.0, 1.0)] {
+        let mut p = stabilised_beam(h, alpha, beta);
+        p.layout = mlpg_contact::nodes::Layout::Jittered { amplitude: 0.25, seed: 1 };
+        let o = run_problem(h, &p);
+        println!("jittered α_s = {alpha}, β = {beta}: F_c {:.6} l_c {:.4}", o.total_force, o.onset);
+        assert!((o.total_force - FE_CONTACT_FORCE).abs() < 1e-2, "F_c {}", o.total_force);
+        assert!((o.onset - FE_ONSET).abs() < h, "l_c {}", o.onset);
+    }
 }

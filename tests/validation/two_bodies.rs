@@ -8,6 +8,9 @@
 //!    cells by overlap) must reproduce it to round-off: a contact patch test.
 //! 2. Mirror symmetry: a block and its mirror image about `y = 0`, loaded symmetrically, give
 //!    the same contact forces as the block alone on a rigid line at `y = 0`.
+//!
+//! Issue 7: the uniform-pressure case also for the stabilised blend (method.md §3.9), `β = 1`
+//! at `α_s = 2` and `β = 0.5` at `α_s = 3`, on both bodies.
 
 use super::common::*;
 use mlpg_contact::contact::{ContactSpec, ContactTarget, RigidLine};
@@ -79,6 +82,33 @@ fn identical_blocks_give_uniform_pressure() {
     );
     assert!(worst < 1e-8, "pressure not uniform: {worst:.3e}");
     assert!((total / (2.0 * exact) - 1.0).abs() < 1e-8);
+}
+
+/// Sets `α_s` and `β` on both bodies of a two-body problem.
+fn with_variant(mut problem: Problem, support_factor: f64, beta: f64) -> Problem {
+    for p in std::iter::once(&mut problem.discretisation)
+        .chain(problem.second_body.as_deref_mut().map(|b| &mut b.discretisation))
+    {
+        p.mls.support_factor = support_factor;
+        p.beta = beta;
+    }
+    problem
+}
+
+#[test]
+fn gh_7_stabilised_blocks_give_uniform_pressure() {
+    let exact = YOUNG * PRESS / 2.0;
+    for (alpha, beta) in [(2.0, 1.0), (3.0, 0.5)] {
+        for (h1, h2) in [(0.1, 0.1), (0.1, 0.125)] {
+            let (p, total, skew) = pressures(&with_variant(two_blocks(h1, h2), alpha, beta));
+            let worst = p.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+            println!(
+                "α_s = {alpha}, β = {beta}, h = {h1}/{h2}: max |p/p_exact − 1| = {worst:.3e}, total {total:.6}, skew {skew:.2e}"
+            );
+            assert!(worst < 1e-8, "α_s = {alpha} β = {beta} h = {h1}/{h2}: {worst:.3e}");
+            assert!((total / (2.0 * exact) - 1.0).abs() < 1e-8, "total {total}");
+        }
+    }
 }
 
 #[test]
