@@ -1,0 +1,159 @@
+//! Contact operators of the Q2 discretisation. The shape functions interpolate, so the gap
+//! row of a candidate node picks its nodal displacement (`G_c = ν_cᵀ e_c`) and the contact
+//! force acts on the same DOFs (`E = Gᵀ`): the condensed compliance `M = G K⁻¹ Gᵀ` is
+//! symmetric positive definite.
+
+use super::element;
+use super::mesh::Mesh;
+use crate::assembly::GlobalSystem;
+use crate::contact::{BodyOperator, Candidates, ContactError};
+use crate::geometry::{Domain, Point};
+use crate::mls::ShapeSet;
+use crate::nodes::{Axis, Nodes, dof};
+
+/// The candidates of domain edge `edge`: its nodes whose DOFs along the normal `normal` (into
+/// the body) are free, sorted along the edge, with initial gaps `initial_gap(x)`.
+///
+/// `segment_length` is the node's consistent tributary length: of each element side of length
+/// `l` on the edge, `l/6` goes to each end node and `4l/6` to the middle node (the nodal forces
+/// of a uniform pressure are `p` times these), so `P_c / segment_length_c` is a pressure
+/// comparable with the MFVM's. `segment_ends` are the matching sub-intervals (`l/6` on each
+/// side of an end node, `l/3` on each side of a middle node); they tile the edge.
+///
+/// # Errors
+/// [`ContactError::NoCandidates`] when no node of the edge is free along the normal.
+pub fn candidates(
+    mesh: &Mesh,
+    domain: &Domain,
+    nodes: &Nodes,
+    system: &GlobalSystem,
+    edge: usize,
+    normal: Point,
+    initial_gap: &dyn Fn(Point) -> f64,
+) -> Result<Candidates, ContactError> {
+    let (a, b) = domain.edge(edge);
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let mut tributary = vec![0.0; nodes.len()];
+    let mut extent = vec![[f64::INFINITY, f64::NEG_INFINITY]; nodes.len()];
+    for (ids, l) in mesh.boundary_segments(domain, nodes, edge) {
+        let t: Vec<f64> =
+            ids.iter().map(|&i| domain.edge_parameter(edge, nodes.points[i as usize])).collect();
+        let dt = (t[2] - t[0]) / 6.0;
+        let pieces = [
+            (l / 6.0, t[0], t[0] + dt),
+            (4.0 * l / 6.0, t[0] + dt, t[2] - dt),
+            (l / 6.0, t[2] - dt, t[2]),
+        ];
+        for (&i, (w, lo, hi)) in ids.iter().zip(pieces) {
+            let i = i as usize;
+            tributary[i] += w;
+            extent[i] = [extent[i][0].min(lo), extent[i][1].max(hi)];
+        }
+    }
+    let mut list: Vec<(f64, usize)> = (0..nodes.len())
+        .filter(|&i| tributary[i] > 0.0)
+        .filter(|&i| {
+            Axis::BOTH
+                .iter()
+                .all(|&ax| normal[ax as usize] == 0.0 || !system.is_constrained(dof(i, ax)))
+        })
+        .map(|i| (domain.edge_parameter(edge, nodes.points[i]), i))
+        .collect();
+    if list.is_empty() {
+        return Err(ContactError::NoCandidates { edge: domain.edge_names()[edge].clone() });
+    }
+    list.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let ids: Vec<u32> = list.iter().map(|&(_, i)| i as u32).collect();
+    let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
+    let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+    Ok(Candidates {
+        segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
+        arc_length: list.iter().map(|&(t, _)| t * len).collect(),
+        segment_length: list.iter().map(|&(_, i)| tributary[i]).collect(),
+        initial_gap: points.iter().map(|&p| initial_gap(p)).collect(),
+        normal,
+        operator: BodyOperator {
+            shapes: ShapeSet::nodal(&ids),
+            owners: ids.iter().map(|&i| vec![(i, 1.0)]).collect(),
+            direction: normal,
+        },
+        nodes: ids,
+        points,
+    })
+}
+
+/// The target body of a two-body contact discretised by Q2 elements: each candidate `x_c` of
+/// body 1 is paired with the closest point `y_c` of body 2's straight edge `edge` (outward
+/// normal `ν`, `g0_c = ν·(x_c − y_c)`). The gap row reads `u_2^h(y_c)` through the quadratic
+/// shape functions of the element side holding `y_c`, and the reaction `−ν P_c` is applied
+/// at `y_c` through the same values (`E_2 = G_2ᵀ`, a node-to-segment pairing).
+///
+/// Returns the operator (`d = −ν`), the initial gaps and the paired points.
+///
+/// # Errors
+/// [`ContactError::NoCandidates`] when the edge has no element side,
+/// [`ContactError::TargetConstrained`] when a receiving node's normal DOF is prescribed.
+pub fn target_operator(
+    mesh: &Mesh,
+    domain: &Domain,
+    nodes: &Nodes,
+    system: &GlobalSystem,
+    edge: usize,
+    candidates: &Candidates,
+) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
+    let (a, b) = domain.edge(edge);
+    let nu = domain.outward_normal(edge);
+    let name = || domain.edge_names()[edge].clone();
+    let sides: Vec<([u32; 3], f64, f64)> = mesh
+        .boundary_segments(domain, nodes, edge)
+        .into_iter()
+        .map(|(ids, _)| {
+            let t0 = domain.edge_parameter(edge, nodes.points[ids[0] as usize]);
+            let t1 = domain.edge_parameter(edge, nodes.points[ids[2] as usize]);
+            (ids, t0, t1)
+        })
+        .collect();
+    if sides.is_empty() {
+        return Err(ContactError::NoCandidates { edge: name() });
+    }
+    let mut rows = Vec::with_capacity(candidates.len());
+    let mut gaps = Vec::with_capacity(candidates.len());
+    let mut paired = Vec::with_capacity(candidates.len());
+    for &x in &candidates.points {
+        let t = domain.edge_parameter(edge, x).clamp(0.0, 1.0);
+        let y = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        let (ids, t0, t1) = sides
+            .iter()
+            .min_by(|p, q| side_distance(t, p.1, p.2).total_cmp(&side_distance(t, q.1, q.2)))
+            .copied()
+            .ok_or_else(|| ContactError::NoCandidates { edge: name() })?;
+        let s = (2.0 * (t - t0) / (t1 - t0) - 1.0).clamp(-1.0, 1.0);
+        let n = element::lagrange(s);
+        let mut row: Vec<(u32, f64)> =
+            ids.iter().zip(n).filter(|(_, w)| *w != 0.0).map(|(&i, w)| (i, w)).collect();
+        row.sort_by_key(|&(i, _)| i);
+        for &(i, _) in &row {
+            if Axis::BOTH
+                .iter()
+                .any(|&ax| nu[ax as usize] != 0.0 && system.is_constrained(dof(i as usize, ax)))
+            {
+                return Err(ContactError::TargetConstrained { edge: name(), node: i as usize });
+            }
+        }
+        gaps.push((x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]);
+        paired.push(y);
+        rows.push(row);
+    }
+    let operator = BodyOperator {
+        shapes: ShapeSet::from_rows(&rows),
+        owners: rows,
+        direction: [-nu[0], -nu[1]],
+    };
+    Ok((operator, gaps, paired))
+}
+
+/// Distance of edge parameter `t` from the interval between `t0` and `t1`.
+fn side_distance(t: f64, t0: f64, t1: f64) -> f64 {
+    let (lo, hi) = (t0.min(t1), t0.max(t1));
+    (lo - t).max(t - hi).max(0.0)
+}
