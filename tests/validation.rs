@@ -15,4 +15,10 @@ mod validation {
     mod condensation;
     // Two elastic bodies: uniform pressure, non-matching layouts, mirror symmetry.
     mod two_bodies;
+    // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
+    mod fem_patch_test;
+    // FE oracle: Timoshenko & Goodier cantilever, errors and rates.
+    mod fem_cantilever;
+    // FE oracle on the paper's beam; MFVM vs FE within their discretisation errors.
+    mod fem_beam_on_foundation;
 }

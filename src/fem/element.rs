@@ -53,6 +53,11 @@ pub fn strain(size: [f64; 2], xi: f64, eta: f64, u_e: &[f64; 2 * NODES]) -> [f64
     e
 }
 
+/// The `n`-point Gauss–Legendre rule on `[-1, 1]` (abscissae, weights), `n = 1..=8`.
+pub fn gauss_points(n: usize) -> (&'static [f64], &'static [f64]) {
+    gauss_legendre(n)
+}
+
 /// Element stiffness `K_e = ∫ Bᵀ D B dA` (18 × 18, interleaved local DOFs `2a + axis`) of an
 /// axis-aligned `size[0] × size[1]` rectangle by 3 × 3 Gauss–Legendre quadrature (exact for
 /// the rectangle: the integrand is a polynomial of degree ≤ 4 per direction).
