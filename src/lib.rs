@@ -80,6 +80,7 @@
 #![warn(rustdoc::broken_intra_doc_links)]
 
 pub mod assembly;
+pub mod compare;
 pub mod contact;
 pub mod error;
 pub mod fem;

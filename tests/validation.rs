@@ -21,4 +21,6 @@ mod validation {
     mod fem_cantilever;
     // FE oracle on the paper's beam; MFVM vs FE within their discretisation errors.
     mod fem_beam_on_foundation;
+    // FE oracle, two blocks: exact on matching meshes; node-to-segment error recorded otherwise.
+    mod fem_two_bodies;
 }
