@@ -25,6 +25,10 @@
 //!
 //! A module depends only on earlier stages.
 //!
+//! With `[discretisation] method = "fem"`, stages 1–5 are replaced by [`fem`] (biquadratic
+//! finite elements, an independent check of the MFVM); stages 6–9 are shared. [`compare`]
+//! runs both methods on one problem.
+//!
 //! ## Glossary
 //!
 //! | symbol | meaning |
@@ -234,7 +238,7 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
 /// The solution and its checks.
 #[derive(Debug)]
 pub struct Solution {
-    /// Fictitious nodal parameters `û` (interleaved).
+    /// Fictitious nodal parameters `û` (interleaved; the nodal displacements for FE).
     pub nodal_parameters: Vec<f64>,
     /// `u^h(x_I)` at every node (MLS-evaluated).
     pub displacement: Vec<[f64; 2]>,

@@ -302,6 +302,17 @@ fn two_blocks_problem_total_force() {
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
 }
 
+/// problems/beam_on_foundation_fem.toml (Q2 elements of size 0.25): the total contact force
+/// of the independent Python Q2 FE at the same element size (session 1), 32.34703080972117,
+/// to solver round-off (observed 2e-12 relative).
+#[test]
+fn beam_on_foundation_fem_problem_total_force() {
+    let s = summary_of("beam_on_foundation_fem.toml", "beam_fem");
+    let total = s["contact"]["total_force"].as_f64().unwrap();
+    assert!((total / 32.34703080972117 - 1.0).abs() < 1e-9, "total contact force {total}");
+    assert_eq!(s["problem"]["method"], "fem");
+}
+
 /// `--compare` on a small beam: both methods' outputs, the table and the overlay plots; the
 /// two total contact forces agree to 0.1 % (observed 2e-5 relative at h = 0.25).
 #[test]
