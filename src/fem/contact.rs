@@ -85,8 +85,13 @@ pub fn candidates(
 /// The target body of a two-body contact discretised by Q2 elements: each candidate `x_c` of
 /// body 1 is paired with the closest point `y_c` of body 2's straight edge `edge` (outward
 /// normal `ν`, `g0_c = ν·(x_c − y_c)`). The gap row reads `u_2^h(y_c)` through the quadratic
-/// shape functions of the element side holding `y_c`, and the reaction `−ν P_c` is applied
-/// at `y_c` through the same values (`E_2 = G_2ᵀ`, a node-to-segment pairing).
+/// shape functions of the element side holding `y_c`. The reaction `−ν P_c` is spread as a
+/// uniform pressure over the candidate's tributary segment projected onto the edge:
+/// `E_2[a, c] = ∫_{seg_c} N_a ds / |seg_c|` (exact 3-point Gauss on each overlapping side).
+/// Since `P_c / |seg_c|` is the pressure and the segments tile the edge, a uniform pressure
+/// on body 1 gives body 2 its consistent load, so non-matching meshes pass the contact patch
+/// test (`E_2 ≠ G_2ᵀ`: `M` is slightly non-symmetric there, as for the MFVM). Where no side
+/// overlaps, the reaction acts at `y_c` through the point values.
 ///
 /// Returns the operator (`d = −ν`), the initial gaps and the paired points.
 ///
@@ -116,10 +121,12 @@ pub fn target_operator(
     if sides.is_empty() {
         return Err(ContactError::NoCandidates { edge: name() });
     }
+    let (xs, ws) = crate::weak_form::gauss_legendre(3);
     let mut rows = Vec::with_capacity(candidates.len());
+    let mut owners = Vec::with_capacity(candidates.len());
     let mut gaps = Vec::with_capacity(candidates.len());
     let mut paired = Vec::with_capacity(candidates.len());
-    for &x in &candidates.points {
+    for (c, &x) in candidates.points.iter().enumerate() {
         let t = domain.edge_parameter(edge, x).clamp(0.0, 1.0);
         let y = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
         let (ids, t0, t1) = sides
@@ -128,11 +135,30 @@ pub fn target_operator(
             .copied()
             .ok_or_else(|| ContactError::NoCandidates { edge: name() })?;
         let s = (2.0 * (t - t0) / (t1 - t0) - 1.0).clamp(-1.0, 1.0);
-        let n = element::lagrange(s);
-        let mut row: Vec<(u32, f64)> =
-            ids.iter().zip(n).filter(|(_, w)| *w != 0.0).map(|(&i, w)| (i, w)).collect();
-        row.sort_by_key(|&(i, _)| i);
-        for &(i, _) in &row {
+        let point_row = sorted_row(ids.iter().copied().zip(element::lagrange(s)));
+        let (p, q) = candidates.segment_ends[c];
+        let (u, v) = (domain.edge_parameter(edge, p), domain.edge_parameter(edge, q));
+        let (s0, s1) = (u.min(v), u.max(v));
+        let mut spread: Vec<(u32, f64)> = Vec::new();
+        let mut total = 0.0;
+        for &(ids, t0, t1) in &sides {
+            let (lo, hi) = (s0.max(t0), s1.min(t1));
+            if hi <= lo {
+                continue;
+            }
+            total += hi - lo;
+            for (&r, &w) in xs.iter().zip(ws) {
+                let tq = 0.5 * (lo + hi) + 0.5 * r * (hi - lo);
+                let n = element::lagrange(2.0 * (tq - t0) / (t1 - t0) - 1.0);
+                spread.extend(ids.iter().zip(n).map(|(&i, n)| (i, 0.5 * w * (hi - lo) * n)));
+            }
+        }
+        let owner_row = if total > 0.0 {
+            sorted_row(spread.into_iter().map(|(i, w)| (i, w / total)))
+        } else {
+            point_row.clone()
+        };
+        for &(i, _) in &owner_row {
             if Axis::BOTH
                 .iter()
                 .any(|&ax| nu[ax as usize] != 0.0 && system.is_constrained(dof(i as usize, ax)))
@@ -142,14 +168,27 @@ pub fn target_operator(
         }
         gaps.push((x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]);
         paired.push(y);
-        rows.push(row);
+        rows.push(point_row);
+        owners.push(owner_row);
     }
-    let operator = BodyOperator {
-        shapes: ShapeSet::from_rows(&rows),
-        owners: rows,
-        direction: [-nu[0], -nu[1]],
-    };
+    let operator =
+        BodyOperator { shapes: ShapeSet::from_rows(&rows), owners, direction: [-nu[0], -nu[1]] };
     Ok((operator, gaps, paired))
+}
+
+/// `(node, weight)` pairs merged by node, ascending, zero weights dropped.
+fn sorted_row(pairs: impl Iterator<Item = (u32, f64)>) -> Vec<(u32, f64)> {
+    let mut row: Vec<(u32, f64)> = pairs.collect();
+    row.sort_by_key(|&(i, _)| i);
+    let mut merged: Vec<(u32, f64)> = Vec::with_capacity(row.len());
+    for (i, w) in row {
+        match merged.last_mut() {
+            Some(last) if last.0 == i => last.1 += w,
+            _ => merged.push((i, w)),
+        }
+    }
+    merged.retain(|&(_, w)| w != 0.0);
+    merged
 }
 
 /// Distance of edge parameter `t` from the interval between `t0` and `t1`.
