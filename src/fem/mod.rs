@@ -11,7 +11,7 @@
 //! - Displacement conditions are imposed strongly at the nodes by symmetric elimination
 //!   ([`system::assemble`]); reactions are `K u − f − E P` at the prescribed DOFs.
 //! - Contact: the candidates are the nodes of the contact edge, `G` picks their normal
-//!   displacement and `E = Gᵀ` ([`contact`]), then the same condensation and Lemke as the
+//!   displacement and `E = Gᵀ` ([`candidates`], [`target_operator`]), then the same condensation and Lemke as the
 //!   MFVM. Contact pressure = nodal force / consistent tributary length (`l/6, 4l/6, l/6` of
 //!   each element side).
 //! - Stresses at the nodes are the average over the elements sharing the node of the element
@@ -19,6 +19,39 @@
 //!
 //! The resulting [`crate::Model`] carries the [`Mesh`]; its MFVM-only fields (cells, faces,
 //! face shapes) are empty and its `node_shapes` are the identity (`u^h(x_I) = u_I`).
+//!
+//! # Examples
+//!
+//! ```
+//! let problem = mlpg_contact::problem::Problem::from_toml(r#"
+//!     [geometry]
+//!     kind = "rectangle"
+//!     x = [0.0, 4.0]
+//!     y = [0.0, 1.0]
+//!     [nodes]
+//!     spacing = 0.5
+//!     [discretisation]
+//!     method = "fem"
+//!     [material]
+//!     young = 1000.0
+//!     poisson = 0.0
+//!     plane = "stress"
+//!     [[boundary]]
+//!     edge = "left"
+//!     displacement = { x = 0.0 }
+//!     [[boundary]]
+//!     edge = "bottom"
+//!     displacement = { y = 0.0 }
+//!     [[boundary]]
+//!     edge = "right"
+//!     traction = { x = 1.0 }
+//! "#).unwrap();
+//! let solution = mlpg_contact::solve(&problem).unwrap();
+//! // Uniaxial tension with rollers (ν = 0): u_x(4, y) = σ L / E = 0.004 exactly.
+//! let tip = solution.displacement.iter().map(|u| u[0]).fold(0.0, f64::max);
+//! assert!((tip - 0.004).abs() < 1e-12, "tip = {tip}");
+//! assert_eq!(solution.displacement.len(), 17 * 5); // (2·8 + 1) × (2·2 + 1) Q2 nodes
+//! ```
 
 mod contact;
 pub mod element;
