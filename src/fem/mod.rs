@@ -11,9 +11,9 @@
 //! - Displacement conditions are imposed strongly at the nodes by symmetric elimination
 //!   ([`system::assemble`]); reactions are `K u − f − E P` at the prescribed DOFs.
 //! - Contact: the candidates are the nodes of the contact edge, `G` picks their normal
-//!   displacement and `E = Gᵀ` ([`candidates`], [`target_operator`]), then the same condensation and Lemke as the
-//!   MFVM. Contact pressure = nodal force / consistent tributary length (`l/6, 4l/6, l/6` of
-//!   each element side).
+//!   displacement and `E = Gᵀ` ([`candidates`], [`target_operator`]), then the same
+//!   condensation and Lemke as the MFVM. Contact pressure = nodal force / consistent
+//!   tributary length (`l/6, 4l/6, l/6` of each element side).
 //! - Stresses at the nodes are the average over the elements sharing the node of the element
 //!   stress evaluated there.
 //!
