@@ -1,9 +1,9 @@
 //! The crate error: one variant per pipeline stage, each wrapping that stage's typed error.
 
 use crate::{
-    assembly::AssemblyError, contact::ContactError, geometry::GeometryError, lcp::LcpError,
-    linear_solve::SolveError, mls::MlsError, post::OutputError, problem::ProblemError,
-    weak_form::CellError,
+    assembly::AssemblyError, contact::ContactError, fem::FemError, geometry::GeometryError,
+    lcp::LcpError, linear_solve::SolveError, mls::MlsError, post::OutputError,
+    problem::ProblemError, weak_form::CellError,
 };
 
 /// Any failure of the pipeline, tagged by the stage that raised it.
@@ -24,6 +24,9 @@ pub enum Error {
     /// Assembly of the global system failed (stage 5).
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
+    /// The finite element discretisation failed (stages 1–5 with `method = "fem"`).
+    #[error(transparent)]
+    Fem(#[from] FemError),
     /// Factorisation or solve failed (stage 6).
     #[error(transparent)]
     Solve(#[from] SolveError),

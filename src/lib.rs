@@ -25,6 +25,10 @@
 //!
 //! A module depends only on earlier stages.
 //!
+//! With `[discretisation] method = "fem"`, stages 1–5 are replaced by [`fem`] (biquadratic
+//! finite elements, an independent check of the MFVM); stages 6–9 are shared. [`compare`]
+//! runs both methods on one problem.
+//!
 //! ## Glossary
 //!
 //! | symbol | meaning |
@@ -81,8 +85,10 @@
 #![warn(rustdoc::broken_intra_doc_links)]
 
 pub mod assembly;
+pub mod compare;
 pub mod contact;
 pub mod error;
+pub mod fem;
 pub mod geometry;
 pub mod lcp;
 pub mod linear_solve;
@@ -167,6 +173,9 @@ pub struct Model {
     pub factorisation: Factorisation,
     /// Stage timings so far.
     pub timings: Vec<StageTiming>,
+    /// The finite element mesh when `discretisation.method = "fem"` ([`fem`]); the MFVM-only
+    /// fields above are then empty and `node_shapes` is the identity.
+    pub mesh: Option<fem::Mesh>,
 }
 
 /// Builds the model: nodes, supports, shape functions, cells, assembly and factorisation.
@@ -174,6 +183,9 @@ pub struct Model {
 /// # Errors
 /// Any stage's error, wrapped in [`Error`].
 pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+    if problem.discretisation.method == problem::Method::Fem {
+        return fem::discretise(problem, progress);
+    }
     let mut clock = Clock { progress, timings: Vec::new() };
     let disc = &problem.discretisation;
     // The same stability limits as validation, for problems built in code (method.md §3.8).
@@ -232,13 +244,14 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
         system,
         factorisation,
         timings: clock.timings,
+        mesh: None,
     })
 }
 
 /// The solution and its checks.
 #[derive(Debug)]
 pub struct Solution {
-    /// Fictitious nodal parameters `û` (interleaved).
+    /// Fictitious nodal parameters `û` (interleaved; the nodal displacements for FE).
     pub nodal_parameters: Vec<f64>,
     /// `u^h(x_I)` at every node (MLS-evaluated).
     pub displacement: Vec<[f64; 2]>,
@@ -384,13 +397,24 @@ fn solve_contact(
     let (candidates, target, paired_points) =
         clock.run("contact_candidates", || match (&spec.target, second) {
             (contact::ContactTarget::Rigid(line), _) => {
-                let c = contact::candidates(
-                    view,
-                    spec.edge,
-                    line.normal,
-                    &|x| line.gap(x),
-                    spec.condensation,
-                )?;
+                let c = match &model.mesh {
+                    Some(mesh) => fem::candidates(
+                        mesh,
+                        &problem.domain,
+                        &model.nodes,
+                        &model.system,
+                        spec.edge,
+                        line.normal,
+                        &|x| line.gap(x),
+                    )?,
+                    None => contact::candidates(
+                        view,
+                        spec.edge,
+                        line.normal,
+                        &|x| line.gap(x),
+                        spec.condensation,
+                    )?,
+                };
                 Ok::<_, contact::ContactError>((c, None, Vec::new()))
             }
             (contact::ContactTarget::Body { edge }, Some((p2, m2))) => {
@@ -399,9 +423,34 @@ fn solve_contact(
                         edge: p2.domain.edge_names()[*edge].clone(),
                     }
                 })?;
-                let mut c =
-                    contact::candidates(view, spec.edge, normal, &|_| 0.0, spec.condensation)?;
-                let (op, gaps, paired) = contact::target_operator(m2.contact_view(p2), *edge, &c)?;
+                let (mut c, (op, gaps, paired)) = match (&model.mesh, &m2.mesh) {
+                    (Some(mesh), Some(mesh2)) => {
+                        let c = fem::candidates(
+                            mesh,
+                            &problem.domain,
+                            &model.nodes,
+                            &model.system,
+                            spec.edge,
+                            normal,
+                            &|_| 0.0,
+                        )?;
+                        let t = fem::target_operator(
+                            mesh2, &p2.domain, &m2.nodes, &m2.system, *edge, &c,
+                        )?;
+                        (c, t)
+                    }
+                    _ => {
+                        let c = contact::candidates(
+                            view,
+                            spec.edge,
+                            normal,
+                            &|_| 0.0,
+                            spec.condensation,
+                        )?;
+                        let t = contact::target_operator(m2.contact_view(p2), *edge, &c)?;
+                        (c, t)
+                    }
+                };
                 c.initial_gap = gaps;
                 Ok((c, Some(op), paired))
             }
@@ -511,19 +560,10 @@ fn recover(
     let n = model.nodes.len();
     let displacement: Vec<[f64; 2]> = (0..n).map(|i| ns.interpolate(i, &u_hat)).collect();
     let d = problem.material.constitutive();
-    let strain: Vec<[f64; 3]> = (0..n)
-        .map(|i| {
-            let (gx, gy) = ns.grad(i);
-            let mut e = [0.0; 3];
-            for ((&j, &dx), &dy) in ns.support(i).iter().zip(gx).zip(gy) {
-                let (ux, uy) = (u_hat[2 * j as usize], u_hat[2 * j as usize + 1]);
-                e[0] += dx * ux;
-                e[1] += dy * uy;
-                e[2] += dy * ux + dx * uy;
-            }
-            e
-        })
-        .collect();
+    let strain: Vec<[f64; 3]> = match &model.mesh {
+        Some(mesh) => mesh.nodal_strains(&u_hat),
+        None => mls_strains(ns, &u_hat),
+    };
     let stress = strain.iter().map(|e| material::apply(&d, *e)).collect();
     // E P: contact forces on the right-hand side (zero without contact).
     let mut contact_rhs = vec![0.0; 2 * n];
@@ -579,6 +619,23 @@ fn recover(
         equilibrium_error: imbalance / scale,
         timings: Vec::new(),
     }
+}
+
+/// Collocated strains `ε̂_I = Σ_J B_J(x_I) û_J` at every node from MLS gradients.
+fn mls_strains(ns: &ShapeSet, u_hat: &[f64]) -> Vec<[f64; 3]> {
+    (0..ns.len())
+        .map(|i| {
+            let (gx, gy) = ns.grad(i);
+            let mut e = [0.0; 3];
+            for ((&j, &dx), &dy) in ns.support(i).iter().zip(gx).zip(gy) {
+                let (ux, uy) = (u_hat[2 * j as usize], u_hat[2 * j as usize + 1]);
+                e[0] += dx * ux;
+                e[1] += dy * uy;
+                e[2] += dy * ux + dx * uy;
+            }
+            e
+        })
+        .collect()
 }
 
 /// What a run reports: the summary JSON and the files written.

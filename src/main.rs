@@ -1,4 +1,5 @@
-//! `mlpg-contact <problem.toml> --out <dir>`: solve a problem file and write the outputs.
+//! `mlpg-contact <problem.toml> --out <dir> [--compare]`: solve a problem file (or compare
+//! both methods on it) and write the outputs.
 use anyhow::Context;
 use clap::Parser;
 use mlpg_contact::{post, problem};
@@ -16,6 +17,9 @@ struct Args {
     /// No progress on stderr.
     #[arg(long)]
     quiet: bool,
+    /// Solve with both methods (MFVM and FE) and write a side-by-side table and overlay plots.
+    #[arg(long)]
+    compare: bool,
 }
 
 fn run(args: &Args) -> anyhow::Result<()> {
@@ -27,6 +31,13 @@ fn run(args: &Args) -> anyhow::Result<()> {
     let problem = problem::Problem::try_from(file)
         .with_context(|| format!("in {}", args.problem.display()))?;
     let mut progress = mlpg_contact::post::progress::StageProgress::new(args.quiet);
+    if args.compare {
+        let comparison = mlpg_contact::compare::compare(&problem, &args.out, echo, &mut progress)?;
+        if !args.quiet {
+            eprintln!("{comparison}");
+        }
+        return Ok(());
+    }
     let report = mlpg_contact::run(&problem, &args.out, echo, &mut progress)?;
     for w in report.summary["warnings"].as_array().into_iter().flatten() {
         eprintln!("warning: {}", w.as_str().unwrap_or_default());

@@ -87,9 +87,24 @@ impl EdgeCondition {
     }
 }
 
-/// Discretisation parameters of the mixed MFVM.
+/// Which discretisation solves the problem.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// The meshless mixed MLPG finite volume method (default).
+    #[default]
+    Mfvm,
+    /// Biquadratic (Q2, 9-node) finite elements on a structured mesh of a rectangle
+    /// ([`crate::fem`]); an independent check of the MFVM (issue 5).
+    Fem,
+}
+
+/// Discretisation parameters of the mixed MFVM (and the choice of method).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Discretisation {
+    /// The method (default [`Method::Mfvm`]); the MLS and face-quadrature fields are ignored
+    /// by [`Method::Fem`].
+    pub method: Method,
     /// MLS approximation parameters.
     pub mls: MlsParams,
     /// Gauss–Legendre points per cell-boundary segment for the field traction (default 2).
@@ -109,6 +124,7 @@ pub struct Discretisation {
 impl Default for Discretisation {
     fn default() -> Self {
         Self {
+            method: Method::Mfvm,
             mls: MlsParams::default(),
             quadrature_points: 2,
             load_quadrature_points: 5,
@@ -406,6 +422,9 @@ pub struct MaterialFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiscretisationFile {
+    /// `"mfvm"` (default) or `"fem"` (Q2 finite elements; rectangles with structured nodes).
+    #[serde(default)]
+    pub method: Option<String>,
     /// `"linear"` (default) or `"quadratic"`.
     #[serde(default)]
     pub basis: Option<String>,
@@ -599,6 +618,13 @@ impl TryFrom<ProblemFile> for Problem {
 
 fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, ProblemError> {
     let d = file;
+    let method = match d.method.as_deref().unwrap_or("mfvm") {
+        "mfvm" => Method::Mfvm,
+        "fem" => Method::Fem,
+        other => {
+            return Err(invalid("discretisation.method", other, "expected \"mfvm\" or \"fem\""));
+        }
+    };
     let basis = match d.basis.as_deref().unwrap_or("linear") {
         "linear" => Basis::Linear,
         "quadratic" => Basis::Quadratic,
@@ -639,6 +665,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         ));
     }
     let discretisation = Discretisation {
+        method,
         mls: MlsParams { basis, support_factor, ..MlsParams::default() },
         quadrature_points,
         load_quadrature_points,
@@ -646,7 +673,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         allow_unstable: d.allow_unstable.unwrap_or(false),
     };
     if let Some(why) = discretisation.stability_warning() {
-        if !discretisation.allow_unstable {
+        if !discretisation.allow_unstable && method == Method::Mfvm {
             return Err(invalid("discretisation.support_factor", support_factor, why));
         }
     }
@@ -793,6 +820,23 @@ fn validate_body(
             return Err(invalid("nodes.layout", other, "expected \"structured\" or \"jittered\""));
         }
     };
+
+    if discretisation.method == Method::Fem {
+        if !matches!(file.geometry, GeometryFile::Rectangle { .. }) {
+            return Err(invalid(
+                "geometry.kind",
+                "polygon",
+                "discretisation.method = \"fem\" meshes rectangles only (kind = \"rectangle\")",
+            ));
+        }
+        if layout != Layout::Structured {
+            return Err(invalid(
+                "nodes.layout",
+                file.nodes.layout.as_deref().unwrap_or_default(),
+                "discretisation.method = \"fem\" needs layout = \"structured\" (the element grid)",
+            ));
+        }
+    }
 
     let m = &file.material;
     if !(m.young.is_finite() && m.young > 0.0) {

@@ -110,6 +110,38 @@ fn bad_input_gives_a_clear_error_and_exit_code_2() {
             ),
             "both a displacement and a traction",
         ),
+        (
+            "unknown_method",
+            BASE.replace("[nodes]", "[discretisation]\nmethod = \"fe\"\n[nodes]"),
+            "discretisation.method",
+        ),
+        (
+            "fem_polygon",
+            BASE.replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]").replace(
+                "kind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]",
+                "kind = \"polygon\"\nvertices = [[0.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]]\nedges = [\"bottom\", \"right\", \"top\", \"left\"]",
+            ),
+            "geometry.kind",
+        ),
+        (
+            "fem_jittered",
+            BASE.replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]")
+                .replace("spacing = 0.25", "spacing = 0.25\nlayout = \"jittered\""),
+            "nodes.layout",
+        ),
+        (
+            "fem_no_dirichlet",
+            BASE.replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]")
+                .replace("displacement = { x = 0.0, y = 0.0 }", "traction = { x = 1.0 }"),
+            "no displacement is prescribed",
+        ),
+        (
+            "fem_rotation_free",
+            BASE.replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]")
+                .replace("displacement = { x = 0.0, y = 0.0 }", "displacement = { y = 0.0 }")
+                .replace("[material]", "[[boundary]]\nedge = \"bottom\"\ndisplacement = { x = 0.0 }\n[material]"),
+            "rigid-body",
+        ),
     ];
     expect_refusals(cases);
 }
@@ -420,6 +452,58 @@ fn gh_7_stabilised_beam_problem() {
     assert_eq!(s["contact"]["closed_intervals"], 1);
     let total = s["contact"]["total_force"].as_f64().unwrap();
     assert!((total - 32.3476).abs() < 1e-3, "total contact force {total}");
+}
+
+/// problems/beam_on_foundation_fem.toml (Q2 elements of size 0.25): the total contact force
+/// of the independent Python Q2 FE at the same element size (session 1), 32.34703080972117,
+/// to solver round-off (observed 2e-12 relative).
+#[test]
+fn beam_on_foundation_fem_problem_total_force() {
+    let s = summary_of("beam_on_foundation_fem.toml", "beam_fem");
+    let total = s["contact"]["total_force"].as_f64().unwrap();
+    assert!((total / 32.34703080972117 - 1.0).abs() < 1e-9, "total contact force {total}");
+    assert_eq!(s["problem"]["method"], "fem");
+}
+
+/// `--compare` on a small beam: both methods' outputs, the table and the overlay plots; the
+/// two total contact forces agree to 0.1 % (observed 2e-5 relative at h = 0.25).
+#[test]
+fn compare_mode_writes_both_methods_and_the_table() {
+    let dir = scratch("compare");
+    let file = dir.join("problem.toml");
+    std::fs::write(&file, CONTACT).unwrap();
+    let out_dir = dir.join("out");
+    let out = Command::new(binary())
+        .arg(&file)
+        .arg("--out")
+        .arg(&out_dir)
+        .arg("--compare")
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for f in [
+        "compare.csv",
+        "compare.md",
+        "mfvm/summary.json",
+        "fem/summary.json",
+        "fem/solution.vtu",
+        "fem/contact.csv",
+        "plots/compare_pressure.svg",
+        "plots/compare_pressure.png",
+        "plots/compare_deflection.svg",
+        "plots/compare_deflection.png",
+    ] {
+        assert!(out_dir.join(f).is_file(), "missing {f}");
+    }
+    let csv = std::fs::read_to_string(out_dir.join("compare.csv")).unwrap();
+    let row = csv.lines().find(|l| l.starts_with("total_contact_force,")).unwrap();
+    let v: Vec<f64> = row.split(',').skip(1).take(2).map(|x| x.parse().unwrap()).collect();
+    assert!((v[0] - v[1]).abs() < 1e-3 * v[0], "MFVM {} vs FE {}", v[0], v[1]);
+    let fem: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("fem/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(fem["problem"]["method"], "fem");
 }
 
 /// The same input gives the same bytes, whatever the number of threads (timings aside): the

@@ -19,4 +19,12 @@ mod validation {
     mod kirsch;
     // Hertz: elastic cylinder (quarter disk) on a rigid flat; half-width, peak, profile.
     mod hertz;
+    // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
+    mod fem_patch_test;
+    // FE oracle: Timoshenko & Goodier cantilever, errors and rates.
+    mod fem_cantilever;
+    // FE oracle on the paper's beam; MFVM vs FE within their discretisation errors.
+    mod fem_beam_on_foundation;
+    // FE oracle, two blocks: exact on matching meshes; node-to-segment error recorded otherwise.
+    mod fem_two_bodies;
 }

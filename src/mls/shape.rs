@@ -30,6 +30,20 @@ impl ShapeSet {
             dphi_dy: Vec::new(),
         }
     }
+    /// Rows given explicitly: point `k` has the `(node, φ)` pairs `rows[k]` (nodes ascending;
+    /// no gradients). Used for interpolating finite element shape functions.
+    pub fn from_rows(rows: &[Vec<(u32, f64)>]) -> Self {
+        let mut set = Self { offsets: vec![0], ..Self::default() };
+        for row in rows {
+            debug_assert!(row.windows(2).all(|w| w[0].0 < w[1].0), "nodes must ascend");
+            for &(node, phi) in row {
+                set.nodes.push(node);
+                set.phi.push(phi);
+            }
+            set.offsets.push(set.nodes.len());
+        }
+        set
+    }
     /// Number of evaluation points.
     pub fn len(&self) -> usize {
         self.offsets.len().saturating_sub(1)

@@ -172,7 +172,7 @@ fn contact_outputs(
         y_label: "normal displacement ν·u^h".into(),
         series: vec![
             plot::Series {
-                label: "ν·u^h (MFVM)".into(),
+                label: format!("ν·u^h ({})", method_label(problem)),
                 points: deflection,
                 style: plot::Style::Line,
                 colour: 1,
@@ -217,6 +217,14 @@ fn contact_outputs(
     written.push(stem.with_extension("svg"));
     written.push(stem.with_extension("png"));
     Ok(written)
+}
+
+/// `"MFVM"` or `"FE"`, for labels.
+pub fn method_label(problem: &Problem) -> &'static str {
+    match problem.discretisation.method {
+        crate::problem::Method::Mfvm => "MFVM",
+        crate::problem::Method::Fem => "FE",
+    }
 }
 
 fn save(dir: &Path, name: &str, text: &str) -> Result<PathBuf, OutputError> {
@@ -292,6 +300,7 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
         "input": input,
         "problem": {
             "name": problem.name,
+            "method": problem.discretisation.method,
             "material": problem.material,
             "discretisation": problem.discretisation,
             "layout": problem.layout,
@@ -305,6 +314,7 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "boundary_faces": model.faces.boundary.len(),
             "matrix_nonzeros": model.system.matrix.values.len(),
             "matrix_nonzeros_per_row": model.system.matrix.values.len() as f64 / model.system.matrix.n.max(1) as f64,
+            "elements": model.mesh.as_ref().map(|m| m.elements.len()),
         },
         "checks": {
             "relative_residual": solution.relative_residual,

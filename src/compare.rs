@@ -1,0 +1,274 @@
+//! Both discretisations on one problem (issue 5): `mlpg-contact <problem.toml> --compare`.
+//!
+//! Solves the problem with the MFVM and with the Q2 finite elements ([`crate::fem`]), writes
+//! each method's full outputs to `<out>/mfvm/` and `<out>/fem/`, a side-by-side table
+//! (`compare.csv`, `compare.md`: counts, contact force, onset, deflections, times) and overlay
+//! plots of the contact pressure and of the displacement along the profile edge
+//! (`plots/compare_pressure`, `plots/compare_deflection`, SVG and PNG).
+
+use crate::post::{self, OutputError, plot};
+use crate::problem::{Method, Problem};
+use crate::{Error, Progress, Solution};
+use serde_json::Value;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// One method's run.
+#[derive(Debug)]
+pub struct MethodRun {
+    /// The method.
+    pub method: Method,
+    /// Its `summary.json`.
+    pub summary: Value,
+    /// `(arc length, pressure)` along the contact edge (empty without contact).
+    pub pressure: Vec<(f64, f64)>,
+    /// `(arc length, displacement component)` along the profile edge.
+    pub deflection: Vec<(f64, f64)>,
+    /// Which displacement component `deflection` holds (`"u_x"` or `"u_y"`).
+    pub component: &'static str,
+}
+
+/// One row of the comparison table.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// What is compared.
+    pub quantity: String,
+    /// MFVM value.
+    pub mfvm: Option<f64>,
+    /// FE value.
+    pub fem: Option<f64>,
+}
+
+/// The comparison: both runs, the table and the files written.
+#[derive(Debug)]
+pub struct Comparison {
+    /// MFVM run.
+    pub mfvm: MethodRun,
+    /// FE run.
+    pub fem: MethodRun,
+    /// The table.
+    pub rows: Vec<Row>,
+    /// Files written (both methods' outputs, the tables and the overlay plots).
+    pub files: Vec<PathBuf>,
+}
+
+impl std::fmt::Display for Comparison {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", markdown(&self.rows))?;
+        write!(f, "wrote {} files", self.files.len())
+    }
+}
+
+/// A copy of `problem` (and its second body) discretised by `method`.
+fn with_method(problem: &Problem, method: Method) -> Problem {
+    let mut p = problem.clone();
+    p.discretisation.method = method;
+    if let Some(second) = p.second_body.as_deref_mut() {
+        second.discretisation.method = method;
+    }
+    p
+}
+
+fn run_one(
+    problem: &Problem,
+    dir: &Path,
+    input: &Value,
+    progress: &mut dyn Progress,
+) -> Result<(MethodRun, Vec<PathBuf>), Error> {
+    let model = crate::discretise(problem, progress)?;
+    let second = match &problem.second_body {
+        Some(p2) => Some(crate::discretise(p2, progress)?),
+        None => None,
+    };
+    let (model, second, solution) = crate::solve_model(problem, model, second, progress)?;
+    let mut files = post::write_solution(dir, problem, &model, &solution)?;
+    if let (Some(p2), Some(m2), Some(s2)) =
+        (problem.second_body.as_deref(), second.as_ref(), solution.second_body.as_deref())
+    {
+        files.extend(post::write_solution(&dir.join(&p2.name), p2, m2, s2)?);
+    }
+    let summary = post::summary(input.clone(), problem, &model, &solution);
+    let path = dir.join("summary.json");
+    post::write_text(&path, &serde_json::to_string_pretty(&summary).unwrap_or_default())?;
+    files.push(path);
+    let (deflection, component) = profile(problem, &model.nodes, &solution);
+    let pressure = solution
+        .contact
+        .as_ref()
+        .map(|c| c.candidates.arc_length.iter().copied().zip(c.pressure.iter().copied()).collect())
+        .unwrap_or_default();
+    let run = MethodRun {
+        method: problem.discretisation.method,
+        summary,
+        pressure,
+        deflection,
+        component,
+    };
+    Ok((run, files))
+}
+
+/// The displacement component with the larger range along the profile edge, sorted by arc
+/// length.
+fn profile(
+    problem: &Problem,
+    nodes: &crate::nodes::Nodes,
+    solution: &Solution,
+) -> (Vec<(f64, f64)>, &'static str) {
+    let k = problem.profile_edge;
+    let (a, b) = problem.domain.edge(k);
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let mut on_edge: Vec<(f64, usize)> = (0..nodes.len())
+        .filter(|&i| nodes.edges[i].contains(k))
+        .map(|i| (problem.domain.edge_parameter(k, nodes.points[i]) * len, i))
+        .collect();
+    on_edge.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let size = |axis: usize| {
+        on_edge.iter().map(|&(_, i)| solution.displacement[i][axis].abs()).fold(0.0, f64::max)
+    };
+    let axis = if size(1) >= size(0) { 1 } else { 0 };
+    (
+        on_edge.iter().map(|&(s, i)| (s, solution.displacement[i][axis])).collect(),
+        if axis == 1 { "u_y" } else { "u_x" },
+    )
+}
+
+/// Runs both methods on `problem` and writes everything into `out` (`input` is echoed into
+/// each `summary.json`).
+///
+/// # Errors
+/// Any stage's error of either method (e.g. a problem the FE cannot mesh), or an output error.
+pub fn compare(
+    problem: &Problem,
+    out: &Path,
+    input: Value,
+    progress: &mut dyn Progress,
+) -> Result<Comparison, Error> {
+    let (mfvm, mut files) =
+        run_one(&with_method(problem, Method::Mfvm), &out.join("mfvm"), &input, progress)?;
+    let (fem, more) =
+        run_one(&with_method(problem, Method::Fem), &out.join("fem"), &input, progress)?;
+    files.extend(more);
+    let rows = table(&mfvm, &fem);
+    let mut csv = String::from("quantity,mfvm,fem,difference\n");
+    for r in &rows {
+        let cell = |v: Option<f64>| v.map(format_value).unwrap_or_default();
+        let diff = r.mfvm.zip(r.fem).map(|(a, b)| b - a);
+        let _ = writeln!(csv, "{},{},{},{}", r.quantity, cell(r.mfvm), cell(r.fem), cell(diff));
+    }
+    for (name, text) in [("compare.csv", csv), ("compare.md", markdown(&rows))] {
+        let path = out.join(name);
+        post::write_text(&path, &text)?;
+        files.push(path);
+    }
+    files.extend(overlay_plots(problem, out, &mfvm, &fem)?);
+    Ok(Comparison { mfvm, fem, rows, files })
+}
+
+fn table(mfvm: &MethodRun, fem: &MethodRun) -> Vec<Row> {
+    let get = |run: &MethodRun, path: &[&str]| {
+        let mut v = &run.summary;
+        for key in path {
+            v = &v[*key];
+        }
+        v.as_f64()
+    };
+    let total_time = |run: &MethodRun| {
+        run.summary["timings"].as_object().map(|t| t.values().filter_map(Value::as_f64).sum())
+    };
+    let extreme = |run: &MethodRun| {
+        run.deflection.iter().map(|p| p.1).fold(None, |m: Option<f64>, v| {
+            Some(m.map_or(v, |m| if v.abs() > m.abs() { v } else { m }))
+        })
+    };
+    let mut rows = Vec::new();
+    let mut push = |quantity: &str, f: &dyn Fn(&MethodRun) -> Option<f64>| {
+        rows.push(Row { quantity: quantity.into(), mfvm: f(mfvm), fem: f(fem) });
+    };
+    push("nodes", &|r| get(r, &["counts", "nodes"]));
+    push("dofs", &|r| get(r, &["counts", "dofs"]));
+    push("matrix_nonzeros", &|r| get(r, &["counts", "matrix_nonzeros"]));
+    push("max_displacement", &|r| get(r, &["results", "max_displacement"]));
+    push(&format!("largest_{}_on_profile_edge", mfvm.component), &extreme);
+    if mfvm.summary["contact"].is_object() {
+        push("contact_candidates", &|r| get(r, &["contact", "candidates"]));
+        push("closed_candidates", &|r| get(r, &["contact", "closed"]));
+        push("total_contact_force", &|r| get(r, &["contact", "total_force"]));
+        push("onset_l_c", &|r| get(r, &["contact", "onset_x"]));
+        push("onset_l_c_unclipped", &|r| get(r, &["contact", "onset_x_unclipped"]));
+        push("max_contact_pressure", &|r| r.pressure.iter().map(|p| p.1).reduce(f64::max));
+        push("lemke_pivots", &|r| get(r, &["lcp", "pivots"]));
+    }
+    push("equilibrium_error", &|r| get(r, &["checks", "equilibrium_error"]));
+    push("total_seconds", &total_time);
+    rows
+}
+
+/// Counts as integers, everything else with 9 significant digits.
+fn format_value(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 { format!("{v:.0}") } else { format!("{v:.8e}") }
+}
+
+fn markdown(rows: &[Row]) -> String {
+    let cell = |v: Option<f64>| v.map(format_value).unwrap_or_else(|| "–".into());
+    let mut s = String::from("| quantity | MFVM | FE | FE − MFVM |\n|---|---|---|---|\n");
+    for r in rows {
+        let diff = r.mfvm.zip(r.fem).map(|(a, b)| b - a);
+        let _ =
+            writeln!(s, "| {} | {} | {} | {} |", r.quantity, cell(r.mfvm), cell(r.fem), cell(diff));
+    }
+    s
+}
+
+fn overlay_plots(
+    problem: &Problem,
+    out: &Path,
+    mfvm: &MethodRun,
+    fem: &MethodRun,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let plots = out.join("plots");
+    post::create_dir(&plots)?;
+    let names = problem.domain.edge_names();
+    let series = |label: &str, points: &[(f64, f64)], style, colour| plot::Series {
+        label: label.into(),
+        points: points.to_vec(),
+        style,
+        colour,
+    };
+    let mut charts = Vec::new();
+    let profile = &names[problem.profile_edge];
+    charts.push((
+        "compare_deflection",
+        plot::Chart {
+            title: format!("{}: {} along `{profile}`, MFVM and FE", problem.name, mfvm.component),
+            x_label: format!("distance along `{profile}`"),
+            y_label: mfvm.component.into(),
+            series: vec![
+                series("MFVM", &mfvm.deflection, plot::Style::Line, 1),
+                series("FE (Q2)", &fem.deflection, plot::Style::Dashed, 4),
+            ],
+        },
+    ));
+    if let Some(spec) = &problem.contact {
+        let edge = &names[spec.edge];
+        charts.push((
+            "compare_pressure",
+            plot::Chart {
+                title: format!("{}: contact pressure along `{edge}`, MFVM and FE", problem.name),
+                x_label: format!("distance along `{edge}`"),
+                y_label: "pressure".into(),
+                series: vec![
+                    series("MFVM: P_c / |segment|", &mfvm.pressure, plot::Style::Line, 1),
+                    series("FE: P_c / tributary length", &fem.pressure, plot::Style::Dashed, 4),
+                ],
+            },
+        ));
+    }
+    let mut files = Vec::new();
+    for (name, chart) in charts {
+        let stem = plots.join(name);
+        plot::write_chart(&stem, &chart)?;
+        files.push(stem.with_extension("svg"));
+        files.push(stem.with_extension("png"));
+    }
+    Ok(files)
+}

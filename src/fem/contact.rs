@@ -1,0 +1,199 @@
+//! Contact operators of the Q2 discretisation. The shape functions interpolate, so the gap
+//! row of a candidate node picks its nodal displacement (`G_c = ν_cᵀ e_c`) and the contact
+//! force acts on the same DOFs (`E = Gᵀ`): the condensed compliance `M = G K⁻¹ Gᵀ` is
+//! symmetric positive definite.
+
+use super::element;
+use super::mesh::Mesh;
+use crate::assembly::GlobalSystem;
+use crate::contact::{BodyOperator, Candidates, ContactError};
+use crate::geometry::{Domain, Point};
+use crate::mls::ShapeSet;
+use crate::nodes::{Axis, Nodes, dof};
+
+/// The candidates of domain edge `edge`: its nodes whose DOFs along the normal `normal` (into
+/// the body) are free, sorted along the edge, with initial gaps `initial_gap(x)`.
+///
+/// `segment_length` is the node's consistent tributary length: of each element side of length
+/// `l` on the edge, `l/6` goes to each end node and `4l/6` to the middle node (the nodal forces
+/// of a uniform pressure are `p` times these), so `P_c / segment_length_c` is a pressure
+/// comparable with the MFVM's. `segment_ends` are the matching sub-intervals (`l/6` on each
+/// side of an end node, `l/3` on each side of a middle node); they tile the edge.
+///
+/// # Errors
+/// [`ContactError::NoCandidates`] when no node of the edge is free along the normal.
+pub fn candidates(
+    mesh: &Mesh,
+    domain: &Domain,
+    nodes: &Nodes,
+    system: &GlobalSystem,
+    edge: usize,
+    normal: Point,
+    initial_gap: &dyn Fn(Point) -> f64,
+) -> Result<Candidates, ContactError> {
+    let (a, b) = domain.edge(edge);
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let mut tributary = vec![0.0; nodes.len()];
+    let mut extent = vec![[f64::INFINITY, f64::NEG_INFINITY]; nodes.len()];
+    for (ids, l) in mesh.boundary_segments(domain, nodes, edge) {
+        let t: Vec<f64> =
+            ids.iter().map(|&i| domain.edge_parameter(edge, nodes.points[i as usize])).collect();
+        let dt = (t[2] - t[0]) / 6.0;
+        let pieces = [
+            (l / 6.0, t[0], t[0] + dt),
+            (4.0 * l / 6.0, t[0] + dt, t[2] - dt),
+            (l / 6.0, t[2] - dt, t[2]),
+        ];
+        for (&i, (w, lo, hi)) in ids.iter().zip(pieces) {
+            let i = i as usize;
+            tributary[i] += w;
+            extent[i] = [extent[i][0].min(lo), extent[i][1].max(hi)];
+        }
+    }
+    let mut list: Vec<(f64, usize)> = (0..nodes.len())
+        .filter(|&i| tributary[i] > 0.0)
+        .filter(|&i| {
+            Axis::BOTH
+                .iter()
+                .all(|&ax| normal[ax as usize] == 0.0 || !system.is_constrained(dof(i, ax)))
+        })
+        .map(|i| (domain.edge_parameter(edge, nodes.points[i]), i))
+        .collect();
+    if list.is_empty() {
+        return Err(ContactError::NoCandidates { edge: domain.edge_names()[edge].clone() });
+    }
+    list.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let ids: Vec<u32> = list.iter().map(|&(_, i)| i as u32).collect();
+    let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
+    let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+    Ok(Candidates {
+        segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
+        arc_length: list.iter().map(|&(t, _)| t * len).collect(),
+        segment_length: list.iter().map(|&(_, i)| tributary[i]).collect(),
+        initial_gap: points.iter().map(|&p| initial_gap(p)).collect(),
+        normal,
+        operator: BodyOperator {
+            shapes: ShapeSet::nodal(&ids),
+            owners: ids.iter().map(|&i| vec![(i, 1.0)]).collect(),
+            direction: normal,
+        },
+        nodes: ids,
+        points,
+    })
+}
+
+/// The target body of a two-body contact discretised by Q2 elements: each candidate `x_c` of
+/// body 1 is paired with the closest point `y_c` of body 2's straight edge `edge` (outward
+/// normal `ν`, `g0_c = ν·(x_c − y_c)`). The gap row reads `u_2^h(y_c)` through the quadratic
+/// shape functions of the element side holding `y_c`. The reaction `−ν P_c` is spread as a
+/// uniform pressure over the candidate's tributary segment projected onto the edge:
+/// `E_2[a, c] = ∫_{seg_c} N_a ds / |seg_c|` (exact 3-point Gauss on each overlapping side).
+/// Since `P_c / |seg_c|` is the pressure and the segments tile the edge, a uniform pressure
+/// on body 1 gives body 2 its consistent load, so non-matching meshes pass the contact patch
+/// test (`E_2 ≠ G_2ᵀ`: `M` is slightly non-symmetric there, as for the MFVM). Where no side
+/// overlaps, the reaction acts at `y_c` through the point values.
+///
+/// Returns the operator (`d = −ν`), the initial gaps and the paired points.
+///
+/// # Errors
+/// [`ContactError::NoCandidates`] when the edge has no element side,
+/// [`ContactError::TargetConstrained`] when a receiving node's normal DOF is prescribed.
+pub fn target_operator(
+    mesh: &Mesh,
+    domain: &Domain,
+    nodes: &Nodes,
+    system: &GlobalSystem,
+    edge: usize,
+    candidates: &Candidates,
+) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
+    let (a, b) = domain.edge(edge);
+    let name = || domain.edge_names()[edge].clone();
+    let nu =
+        domain.straight_normal(edge).ok_or_else(|| ContactError::CurvedTarget { edge: name() })?;
+    let sides: Vec<([u32; 3], f64, f64)> = mesh
+        .boundary_segments(domain, nodes, edge)
+        .into_iter()
+        .map(|(ids, _)| {
+            let t0 = domain.edge_parameter(edge, nodes.points[ids[0] as usize]);
+            let t1 = domain.edge_parameter(edge, nodes.points[ids[2] as usize]);
+            (ids, t0, t1)
+        })
+        .collect();
+    if sides.is_empty() {
+        return Err(ContactError::NoCandidates { edge: name() });
+    }
+    let (xs, ws) = crate::weak_form::gauss_legendre(3);
+    let mut rows = Vec::with_capacity(candidates.len());
+    let mut owners = Vec::with_capacity(candidates.len());
+    let mut gaps = Vec::with_capacity(candidates.len());
+    let mut paired = Vec::with_capacity(candidates.len());
+    for (c, &x) in candidates.points.iter().enumerate() {
+        let t = domain.edge_parameter(edge, x).clamp(0.0, 1.0);
+        let y = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        let (ids, t0, t1) = sides
+            .iter()
+            .min_by(|p, q| side_distance(t, p.1, p.2).total_cmp(&side_distance(t, q.1, q.2)))
+            .copied()
+            .ok_or_else(|| ContactError::NoCandidates { edge: name() })?;
+        let s = (2.0 * (t - t0) / (t1 - t0) - 1.0).clamp(-1.0, 1.0);
+        let point_row = sorted_row(ids.iter().copied().zip(element::lagrange(s)));
+        let (p, q) = candidates.segment_ends[c];
+        let (u, v) = (domain.edge_parameter(edge, p), domain.edge_parameter(edge, q));
+        let (s0, s1) = (u.min(v), u.max(v));
+        let mut spread: Vec<(u32, f64)> = Vec::new();
+        let mut total = 0.0;
+        for &(ids, t0, t1) in &sides {
+            let (lo, hi) = (s0.max(t0), s1.min(t1));
+            if hi <= lo {
+                continue;
+            }
+            total += hi - lo;
+            for (&r, &w) in xs.iter().zip(ws) {
+                let tq = 0.5 * (lo + hi) + 0.5 * r * (hi - lo);
+                let n = element::lagrange(2.0 * (tq - t0) / (t1 - t0) - 1.0);
+                spread.extend(ids.iter().zip(n).map(|(&i, n)| (i, 0.5 * w * (hi - lo) * n)));
+            }
+        }
+        let owner_row = if total > 0.0 {
+            sorted_row(spread.into_iter().map(|(i, w)| (i, w / total)))
+        } else {
+            point_row.clone()
+        };
+        for &(i, _) in &owner_row {
+            if Axis::BOTH
+                .iter()
+                .any(|&ax| nu[ax as usize] != 0.0 && system.is_constrained(dof(i as usize, ax)))
+            {
+                return Err(ContactError::TargetConstrained { edge: name(), node: i as usize });
+            }
+        }
+        gaps.push((x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]);
+        paired.push(y);
+        rows.push(point_row);
+        owners.push(owner_row);
+    }
+    let operator =
+        BodyOperator { shapes: ShapeSet::from_rows(&rows), owners, direction: [-nu[0], -nu[1]] };
+    Ok((operator, gaps, paired))
+}
+
+/// `(node, weight)` pairs merged by node, ascending, zero weights dropped.
+fn sorted_row(pairs: impl Iterator<Item = (u32, f64)>) -> Vec<(u32, f64)> {
+    let mut row: Vec<(u32, f64)> = pairs.collect();
+    row.sort_by_key(|&(i, _)| i);
+    let mut merged: Vec<(u32, f64)> = Vec::with_capacity(row.len());
+    for (i, w) in row {
+        match merged.last_mut() {
+            Some(last) if last.0 == i => last.1 += w,
+            _ => merged.push((i, w)),
+        }
+    }
+    merged.retain(|&(_, w)| w != 0.0);
+    merged
+}
+
+/// Distance of edge parameter `t` from the interval between `t0` and `t1`.
+fn side_distance(t: f64, t0: f64, t1: f64) -> f64 {
+    let (lo, hi) = (t0.min(t1), t0.max(t1));
+    (lo - t).max(t - hi).max(0.0)
+}

@@ -1,0 +1,146 @@
+//! An independent finite element discretisation of the same problems (issue 5), selected by
+//! `[discretisation] method = "fem"`: an oracle for the MFVM and a feature (solve one problem
+//! file both ways, `mlpg-contact --compare`).
+//!
+//! - Mesh: `round(L_x/h) × round(L_y/h)` biquadratic (Q2, 9-node Lagrange) elements on the
+//!   rectangle, `h` = `[nodes] spacing`, so the element corners are the MFVM's structured nodes
+//!   and the FE has about four times as many nodes. Rectangles with structured layout only
+//!   (the problem file is refused otherwise, naming the field).
+//! - Stiffness `K = Σ_e ∫ Bᵀ D B dA` by 3 × 3 Gauss (exact on rectangles), symmetric;
+//!   consistent loads `∫ N t̄ ds`, `∫ N b dA` (`load_quadrature_points` per side/direction).
+//! - Displacement conditions are imposed strongly at the nodes by symmetric elimination
+//!   ([`system::assemble`]); reactions are `K u − f − E P` at the prescribed DOFs.
+//! - Contact: the candidates are the nodes of the contact edge, `G` picks their normal
+//!   displacement and `E = Gᵀ` ([`candidates`], [`target_operator`]), then the same
+//!   condensation and Lemke as the MFVM. Contact pressure = nodal force / consistent
+//!   tributary length (`l/6, 4l/6, l/6` of each element side).
+//! - Stresses at the nodes are the average over the elements sharing the node of the element
+//!   stress evaluated there.
+//!
+//! The resulting [`crate::Model`] carries the [`Mesh`]; its MFVM-only fields (cells, faces,
+//! face shapes) are empty and its `node_shapes` are the identity (`u^h(x_I) = u_I`).
+//!
+//! # Examples
+//!
+//! ```
+//! let problem = mlpg_contact::problem::Problem::from_toml(r#"
+//!     [geometry]
+//!     kind = "rectangle"
+//!     x = [0.0, 4.0]
+//!     y = [0.0, 1.0]
+//!     [nodes]
+//!     spacing = 0.5
+//!     [discretisation]
+//!     method = "fem"
+//!     [material]
+//!     young = 1000.0
+//!     poisson = 0.0
+//!     plane = "stress"
+//!     [[boundary]]
+//!     edge = "left"
+//!     displacement = { x = 0.0 }
+//!     [[boundary]]
+//!     edge = "bottom"
+//!     displacement = { y = 0.0 }
+//!     [[boundary]]
+//!     edge = "right"
+//!     traction = { x = 1.0 }
+//! "#).unwrap();
+//! let solution = mlpg_contact::solve(&problem).unwrap();
+//! // Uniaxial tension with rollers (ν = 0): u_x(4, y) = σ L / E = 0.004 exactly.
+//! let tip = solution.displacement.iter().map(|u| u[0]).fold(0.0, f64::max);
+//! assert!((tip - 0.004).abs() < 1e-12, "tip = {tip}");
+//! assert_eq!(solution.displacement.len(), 17 * 5); // (2·8 + 1) × (2·2 + 1) Q2 nodes
+//! ```
+
+mod contact;
+pub mod element;
+mod mesh;
+pub mod system;
+
+pub use contact::{candidates, target_operator};
+pub use mesh::Mesh;
+
+use crate::mls::ShapeSet;
+use crate::neighbours::Supports;
+use crate::problem::Problem;
+use crate::weak_form::{FaceQuadrature, Faces};
+use crate::{Clock, Error, Model, Progress};
+
+/// Failures of the finite element discretisation.
+#[derive(Debug, thiserror::Error)]
+pub enum FemError {
+    /// The domain is not an axis-aligned rectangle.
+    #[error(
+        "the finite element method meshes axis-aligned rectangles only; this domain has {edges} edges, or is rotated or curved"
+    )]
+    NotRectangle {
+        /// Number of domain edges.
+        edges: usize,
+    },
+    /// The node layout is not structured.
+    #[error("the finite element method needs the structured layout (element grid), not {layout}")]
+    NotStructured {
+        /// The layout given.
+        layout: String,
+    },
+    /// No displacement is prescribed.
+    #[error(
+        "no displacement is prescribed on any edge: the body can move rigidly and K is singular (add a displacement condition)"
+    )]
+    NoDirichlet,
+    /// A rigid-body motion is left free.
+    #[error("the displacement conditions do not prevent rigid-body {mode}: K is singular")]
+    RigidBodyMotion {
+        /// Which motion is free.
+        mode: &'static str,
+    },
+}
+
+/// Builds the FE model of `problem` (mesh, assembly, factorisation).
+///
+/// # Errors
+/// [`FemError`] for an unsupported domain or layout or insufficient displacement conditions;
+/// [`crate::linear_solve::SolveError`] from the factorisation.
+pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+    let mut clock = Clock { progress, timings: Vec::new() };
+    let Some((x, y)) = problem.domain.as_rectangle() else {
+        return Err(FemError::NotRectangle { edges: problem.domain.edge_count() }.into());
+    };
+    if problem.layout != crate::nodes::Layout::Structured {
+        return Err(FemError::NotStructured { layout: format!("{:?}", problem.layout) }.into());
+    }
+    let (mesh, nodes) = clock.run("mesh", || {
+        let mesh = Mesh::rectangle(x, y, problem.node_spacing);
+        let nodes = mesh.nodes(&problem.domain);
+        (mesh, nodes)
+    });
+    let d = problem.material.constitutive();
+    let system = clock.run("assembly", || {
+        system::assemble(&system::FemInput {
+            domain: &problem.domain,
+            mesh: &mesh,
+            nodes: &nodes,
+            d: &d,
+            boundary: &problem.boundary,
+            body_force: problem.body_force.as_ref(),
+            load_quadrature_points: problem.discretisation.load_quadrature_points,
+        })
+    })?;
+    let factorisation =
+        clock.run("factorisation", || crate::linear_solve::Factorisation::new(&system.matrix))?;
+    let ids: Vec<u32> = (0..nodes.len() as u32).collect();
+    Ok(Model {
+        supports: Supports::new(&nodes, 1.0),
+        node_shapes: ShapeSet::nodal(&ids),
+        nodes,
+        cells: Vec::new(),
+        faces: Faces { interior: Vec::new(), boundary: Vec::new() },
+        face_quadrature: FaceQuadrature::default(),
+        face_shapes: ShapeSet::default(),
+        system,
+        factorisation,
+        timings: clock.timings,
+        mesh: Some(mesh),
+    })
+}

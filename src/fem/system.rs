@@ -1,0 +1,249 @@
+//! Assembly of the Q2 system: `K = Σ_e K_e` (symmetric), consistent loads, and strong
+//! Dirichlet conditions by symmetric elimination.
+
+use super::FemError;
+use super::element::{self, NODES};
+use super::mesh::Mesh;
+use crate::assembly::{BlockRows, Constraint, GlobalSystem, SystemMatrix};
+use crate::geometry::Domain;
+use crate::material::Constitutive;
+use crate::nodes::{Axis, Nodes, dof};
+use crate::problem::{BodyForce, ComponentCondition, EdgeCondition};
+use crate::weak_form::gauss_legendre;
+use rayon::prelude::*;
+
+/// What the FE assembly needs.
+pub struct FemInput<'a> {
+    /// The rectangle.
+    pub domain: &'a Domain,
+    /// The mesh.
+    pub mesh: &'a Mesh,
+    /// Its nodes (with boundary tags).
+    pub nodes: &'a Nodes,
+    /// Constitutive matrix.
+    pub d: &'a Constitutive,
+    /// Edge conditions (one per domain edge).
+    pub boundary: &'a [EdgeCondition],
+    /// Body force.
+    pub body_force: Option<&'a BodyForce>,
+    /// Gauss points per element side for tractions (and per direction for the body force).
+    pub load_quadrature_points: usize,
+}
+
+/// Assembles the global system in the form the rest of the pipeline expects:
+/// `interior_stiffness` holds the unconstrained `K` (for reactions `K u − f − E P`), `matrix`
+/// the solved one. Each prescribed DOF `c` is eliminated symmetrically: its row and column
+/// are zeroed, the diagonal set to `D_00`, `rhs_c = D_00 ū_c`, and `K_{rc} ū_c` moved to the
+/// right-hand side of every other row `r`, so `matrix` stays symmetric.
+///
+/// # Errors
+/// [`FemError::NoDirichlet`] / [`FemError::RigidBodyMotion`] when the prescribed
+/// displacements leave a rigid-body motion free.
+pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
+    let stiffness = stiffness(input.mesh, input.nodes.len(), input.d);
+    let load = load(input);
+    let constraints = constraints(input);
+    check_restraint(&constraints, input.nodes)?;
+    let scale = input.d[0][0];
+    let n = 2 * input.nodes.len();
+    let mut prescribed = vec![0.0; n];
+    let mut constrained = vec![false; n];
+    for c in &constraints {
+        let r = dof(c.node as usize, c.axis);
+        prescribed[r] = c.value;
+        constrained[r] = true;
+    }
+    let lift = stiffness.mul(&prescribed);
+    let rhs: Vec<f64> = (0..n)
+        .map(|r| if constrained[r] { scale * prescribed[r] } else { load[r] - lift[r] })
+        .collect();
+    let matrix = eliminated_matrix(&stiffness, &constrained, scale);
+    Ok(GlobalSystem {
+        interior_stiffness: stiffness,
+        load,
+        constraints,
+        collocation_scale: scale,
+        matrix,
+        rhs,
+    })
+}
+
+/// One block row: column nodes and their 2 × 2 blocks.
+type BlockRow = (Vec<u32>, Vec<[[f64; 2]; 2]>);
+
+/// `K = Σ_e K_e` in block-row form, row-parallel: every element is a `h_x × h_y` rectangle,
+/// so one `K_e` serves all.
+fn stiffness(mesh: &Mesh, node_count: usize, d: &Constitutive) -> BlockRows {
+    let ke = element::stiffness(mesh.element_size, d);
+    // Elements containing each node, with the node's local index.
+    let mut touching: Vec<Vec<(u32, u8)>> = vec![Vec::new(); node_count];
+    for (k, e) in mesh.elements.iter().enumerate() {
+        for (a, &i) in e.iter().enumerate() {
+            touching[i as usize].push((k as u32, a as u8));
+        }
+    }
+    let rows: Vec<BlockRow> = touching
+        .par_iter()
+        .map(|list| {
+            let mut cols: Vec<u32> =
+                list.iter().flat_map(|&(k, _)| mesh.elements[k as usize]).collect();
+            cols.sort_unstable();
+            cols.dedup();
+            let mut blocks = vec![[[0.0; 2]; 2]; cols.len()];
+            for &(k, a) in list {
+                let a = a as usize;
+                for (b, &j) in mesh.elements[k as usize].iter().enumerate() {
+                    let pos = cols.binary_search(&j).unwrap_or_else(|_| {
+                        unreachable!("column {j} was collected from the same elements")
+                    });
+                    for (r, row) in blocks[pos].iter_mut().enumerate() {
+                        for (c, v) in row.iter_mut().enumerate() {
+                            *v += ke[2 * a + r][2 * b + c];
+                        }
+                    }
+                }
+            }
+            (cols, blocks)
+        })
+        .collect();
+    let mut out = BlockRows { offsets: vec![0], cols: Vec::new(), blocks: Vec::new() };
+    for (cols, blocks) in rows {
+        out.cols.extend(cols);
+        out.blocks.extend(blocks);
+        out.offsets.push(out.cols.len());
+    }
+    out
+}
+
+/// The compressed-column matrix of `K` with constrained rows and columns replaced by
+/// `scale` on the diagonal. `K` is symmetric, so column `(j, b)` is read from block row `j`.
+fn eliminated_matrix(k: &BlockRows, constrained: &[bool], scale: f64) -> SystemMatrix {
+    let n = 2 * k.rows();
+    let mut col_ptr = vec![0usize];
+    let mut row_idx = Vec::with_capacity(k.nnz());
+    let mut values = Vec::with_capacity(k.nnz());
+    for j in 0..k.rows() {
+        for b in Axis::BOTH {
+            let c = dof(j, b);
+            if constrained[c] {
+                row_idx.push(c);
+                values.push(scale);
+            } else {
+                for p in k.offsets[j]..k.offsets[j + 1] {
+                    let i = k.cols[p] as usize;
+                    for a in Axis::BOTH {
+                        let r = dof(i, a);
+                        if !constrained[r] {
+                            row_idx.push(r);
+                            // K[r][c] = K[c][r] = block (j, i)[b][a].
+                            values.push(k.blocks[p][b as usize][a as usize]);
+                        }
+                    }
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+    }
+    SystemMatrix { n, col_ptr, row_idx, values }
+}
+
+/// Consistent nodal loads: `∫ N_a t̄ ds` over the element sides on traction and pressure
+/// edges, `∫ N_a b dA` over the elements.
+fn load(input: &FemInput<'_>) -> Vec<f64> {
+    let (domain, nodes, mesh) = (input.domain, input.nodes, input.mesh);
+    let mut f = vec![0.0; 2 * nodes.len()];
+    let (xs, ws) = gauss_legendre(input.load_quadrature_points);
+    for (k, condition) in input.boundary.iter().enumerate() {
+        let normal =
+            domain.straight_normal(k).expect("FE domains are rectangles (fem::discretise checks)");
+        for (ids, length) in mesh.boundary_segments(domain, nodes, k) {
+            let (p, q) = (nodes.points[ids[0] as usize], nodes.points[ids[2] as usize]);
+            for (&s, &w) in xs.iter().zip(ws) {
+                let x = [
+                    0.5 * (p[0] + q[0]) + 0.5 * s * (q[0] - p[0]),
+                    0.5 * (p[1] + q[1]) + 0.5 * s * (q[1] - p[1]),
+                ];
+                let t_edge = domain.edge_parameter(k, x);
+                let t = match condition {
+                    EdgeCondition::Pressure(field) => {
+                        let v = field.value(x, t_edge);
+                        [-v * normal[0], -v * normal[1]]
+                    }
+                    EdgeCondition::Components(c) => std::array::from_fn(|axis| match &c[axis] {
+                        ComponentCondition::Traction(field) => field.value(x, t_edge),
+                        ComponentCondition::Displacement(_) => 0.0,
+                    }),
+                };
+                let n = element::lagrange(s);
+                for (a, &i) in ids.iter().enumerate() {
+                    for axis in Axis::BOTH {
+                        f[dof(i as usize, axis)] += 0.5 * length * w * n[a] * t[axis as usize];
+                    }
+                }
+            }
+        }
+    }
+    if let Some(b) = input.body_force {
+        let det = 0.25 * mesh.element_size[0] * mesh.element_size[1];
+        for (k, e) in mesh.elements.iter().enumerate() {
+            for (&eta, &wy) in xs.iter().zip(ws) {
+                for (&xi, &wx) in xs.iter().zip(ws) {
+                    let force = b.at(mesh.point(k, xi, eta));
+                    let n = element::shape(xi, eta);
+                    for a in 0..NODES {
+                        for axis in Axis::BOTH {
+                            f[dof(e[a] as usize, axis)] +=
+                                wx * wy * det * n[a] * force[axis as usize];
+                        }
+                    }
+                }
+            }
+        }
+    }
+    f
+}
+
+/// One constraint per (node, axis) on an edge that prescribes that component (the
+/// lowest-numbered such edge wins at corners), sorted by DOF; the nodal value `ū(x_I)`.
+fn constraints(input: &FemInput<'_>) -> Vec<Constraint> {
+    let mut out = Vec::new();
+    for (i, edges) in input.nodes.edges.iter().enumerate() {
+        for axis in Axis::BOTH {
+            let hit = edges
+                .iter()
+                .find_map(|k| input.boundary[k].displacement(axis as usize).map(|f| (k, f)));
+            if let Some((k, field)) = hit {
+                let p = input.nodes.points[i];
+                let t = input.domain.edge_parameter(k, p);
+                out.push(Constraint { node: i as u32, axis, value: field.value(p, t) });
+            }
+        }
+    }
+    out
+}
+
+/// The prescribed DOFs must fix both translations and the rotation: the rows
+/// `(1, 0, −y_I)` (x-constraints) and `(0, 1, x_I)` (y-constraints) must have rank 3.
+fn check_restraint(constraints: &[Constraint], nodes: &Nodes) -> Result<(), FemError> {
+    if constraints.is_empty() {
+        return Err(FemError::NoDirichlet);
+    }
+    for (axis, mode) in [(Axis::X, "translation in x"), (Axis::Y, "translation in y")] {
+        if !constraints.iter().any(|c| c.axis == axis) {
+            return Err(FemError::RigidBodyMotion { mode });
+        }
+    }
+    let spread = |axis: Axis, coord: usize| {
+        let (lo, hi) = constraints
+            .iter()
+            .filter(|c| c.axis == axis)
+            .map(|c| nodes.points[c.node as usize][coord])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        hi - lo
+    };
+    let size = nodes.spacing.first().copied().unwrap_or(1.0);
+    if spread(Axis::X, 1) <= 1e-9 * size && spread(Axis::Y, 0) <= 1e-9 * size {
+        return Err(FemError::RigidBodyMotion { mode: "rotation" });
+    }
+    Ok(())
+}
