@@ -7,20 +7,28 @@
 //! `qr::column_counts_ata`, `lu::supernodal::factorize_supernodal_*`).
 //!
 //! - **Ordering.** With node coordinates ([`Factorisation::with_node_coordinates`], what
-//!   [`crate::discretise`] uses) the columns are ordered by *geometric nested dissection*:
-//!   recursive median bisection of the nodes across the longer side of their bounding box,
-//!   the separator being a strip of width [`separator_width`] around the median, ordered after
-//!   both halves; a node's two DOFs stay together. A partial-pivoting LU takes its fill bound
-//!   from the structure of `KᵀK` (any row may become a pivot row), so the separator must
-//!   split the graph of `KᵀK`, whose reach is twice `K`'s: the strip width is twice the
-//!   largest coordinate distance between coupled nodes, measured on `K` itself (4.5 h at
-//!   α_s = 2 for the current operator, so ~9 h; a sparser operator gets a thinner strip).
-//!   The ordering costs milliseconds where COLAMD on `K` took 36 s at 100k nodes, and its
-//!   factors are ~2× smaller (docs/dev/performance.md, session 2). Without coordinates
-//!   ([`Factorisation::new`]) COLAMD orders the columns.
+//!   [`crate::discretise`] uses) the columns are ordered geometrically, a node's two DOFs
+//!   together, and two candidates are compared by the fill bound below:
+//!   1. *nested dissection*: recursive median bisection of the nodes across the longer side
+//!      of their bounding box, the separator being a strip of width [`separator_width`]
+//!      around the median, ordered after both halves. A partial-pivoting LU takes its fill
+//!      bound from the structure of `KᵀK` (any row may become a pivot row), so the separator
+//!      must split the graph of `KᵀK`, whose reach is twice `K`'s: the strip width is twice
+//!      the largest coordinate distance between coupled nodes, measured on `K` itself (3 h at
+//!      α_s = 2, so 6 h; a sparser operator gets a thinner strip). Boxes thinner than two
+//!      strip widths are ordered along their long side.
+//!   2. a *banded* order of all nodes along the domain's long side.
+//!
+//!   The bound is the flop count of the Cholesky factor of `QᵀKᵀKQ` (faer's column counts,
+//!   ~0.3 s at 100k nodes); the banded order is kept only if its bound is below 0.8 × that
+//!   of nested dissection, which needs less memory at equal flops. With this operator the
+//!   banded order wins on beams, strips and the 48 × 12 cantilever up to ~50k nodes, nested
+//!   dissection beyond (peak 6.5 GB instead of 11.8 GB at 100k). Either costs milliseconds
+//!   where COLAMD on `K` took 36 s at 100k nodes (docs/dev/performance.md, session 2).
+//!   Without coordinates ([`Factorisation::new`]) COLAMD orders the columns.
 //! - **Void entries.** Entries with `|K_ij| ≤ 1e-14 max|K|` (round-off left by cancellation in
-//!   `−Q D S`, about a quarter of them) are dropped from the matrix that is factorised: they
-//!   change `K` by less than the LU's own backward error but cost fill. The diagonal is
+//!   `−Q D S`, ~14 % of them at α_s = 2) are dropped from the matrix that is factorised: they
+//!   change `K` by less than the LU's own backward error but cost work. The diagonal is
 //!   always kept. Residuals are computed against the full `K` ([`mul`]).
 //! - **Parallelism and determinism.** The numeric factorisation runs with `Par::rayon(2)`,
 //!   a *fixed* split into two tasks whatever the size of the rayon pool: the arithmetic (and
