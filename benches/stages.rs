@@ -17,7 +17,7 @@
 //! | `cells` | `weak_form::build_cells` |
 //! | `mls` | `mls::shape_functions` at the nodes, with gradients |
 //! | `assembly` | `assembly::assemble` |
-//! | `factorisation` | `linear_solve::Factorisation::new` (symbolic + numeric LU) |
+//! | `factorisation` | `linear_solve::Factorisation::with_node_coordinates` (nested dissection, symbolic + numeric LU) |
 //! | `solve` | `Factorisation::solve` (one right-hand side) |
 //!
 //! Samples are few and short (`sample_size(10)`, 1 s warm-up, 3 s measurement) so the whole
@@ -33,6 +33,7 @@ use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use mlpg_contact::assembly::{self, AssemblyInput, GlobalSystem, SystemMatrix};
+use mlpg_contact::geometry::Point;
 use mlpg_contact::linear_solve::Factorisation;
 use mlpg_contact::mls::{self, ShapeSet};
 use mlpg_contact::neighbours::Supports;
@@ -143,7 +144,8 @@ impl Fixture {
     fn new(ny: usize) -> Self {
         let inputs = Inputs::new(ny);
         let system = inputs.assemble();
-        let factorisation = Factorisation::new(&system.matrix).expect("LU");
+        let factorisation =
+            Factorisation::with_node_coordinates(&system.matrix, &inputs.nodes.points).expect("LU");
         Self { ny, inputs, system, factorisation }
     }
 
@@ -167,15 +169,17 @@ fn sizes(var: &str, default: &[usize]) -> Vec<usize> {
 fn stages(c: &mut Criterion) {
     let fixtures: Vec<Fixture> =
         sizes("MLPG_BENCH_NY", &DEFAULT_NY).into_iter().map(Fixture::new).collect();
-    // (nodes, K) for the factorisation sweep, reusing the fixtures' matrices where possible.
-    let factor_inputs: Vec<(usize, SystemMatrix)> =
+    // (node positions, K) for the factorisation sweep, reusing the fixtures' matrices where
+    // possible.
+    let factor_inputs: Vec<(Vec<Point>, SystemMatrix)> =
         sizes("MLPG_BENCH_FACTOR_NY", &DEFAULT_FACTOR_NY)
             .into_iter()
             .map(|ny| match fixtures.iter().find(|f| f.ny == ny) {
-                Some(f) => (f.inputs.nodes.len(), f.system.matrix.clone()),
+                Some(f) => (f.inputs.nodes.points.clone(), f.system.matrix.clone()),
                 None => {
                     let inputs = Inputs::new(ny);
-                    (inputs.nodes.len(), inputs.assemble().matrix)
+                    let matrix = inputs.assemble().matrix;
+                    (inputs.nodes.points, matrix)
                 }
             })
             .collect();
@@ -239,10 +243,10 @@ fn stages(c: &mut Criterion) {
     group.finish();
 
     let mut group = c.benchmark_group("factorisation");
-    for (nodes, matrix) in &factor_inputs {
-        group.throughput(Throughput::Elements(*nodes as u64));
-        group.bench_with_input(BenchmarkId::from_parameter(nodes), matrix, |b, matrix| {
-            b.iter(|| Factorisation::new(black_box(matrix)));
+    for (points, matrix) in &factor_inputs {
+        group.throughput(Throughput::Elements(points.len() as u64));
+        group.bench_with_input(BenchmarkId::from_parameter(points.len()), matrix, |b, matrix| {
+            b.iter(|| Factorisation::with_node_coordinates(black_box(matrix), points));
         });
     }
     group.finish();

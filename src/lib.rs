@@ -232,7 +232,9 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
             beta: disc.beta,
         })
     })?;
-    let factorisation = clock.run("factorisation", || Factorisation::new(&system.matrix))?;
+    let factorisation = clock.run("factorisation", || {
+        Factorisation::with_node_coordinates(&system.matrix, &nodes.points)
+    })?;
     Ok(Model {
         nodes,
         supports,

@@ -12,12 +12,16 @@
 
 use super::{BodyOperator, ContactError};
 use crate::linear_solve::{Factorisation, SolveError};
+use crate::nodes::{Axis, dof};
 use faer::Mat;
 use rayon::prelude::*;
 
 /// Right-hand sides per blocked solve. Fixed (not derived from the thread count) so results
-/// are bit-identical whatever the number of threads.
-const BLOCK: usize = 32;
+/// are bit-identical whatever the number of threads (a column's arithmetic does not depend on
+/// its block: `M` was bit-identical for 32, 64, 128 and 256). On the 2 000-candidate strip
+/// (`examples/contact_timing.rs`) 64 and 128 ran in 13–25 s against 25–33 s for 32 (noisy,
+/// shared machine); 64 keeps a block's `n × 64` right-hand sides small for large bodies.
+const BLOCK: usize = 64;
 
 /// One body's share of the condensed problem.
 #[derive(Clone, Debug)]
@@ -55,41 +59,51 @@ pub fn condense(
     rhs: &[f64],
     operator: &BodyOperator,
 ) -> Result<CondensedPart, ContactError> {
+    condense_blocked(factorisation, rhs, operator, BLOCK)
+}
+
+/// [`condense`] with `block` right-hand sides per blocked solve (for tuning; results may
+/// differ from [`condense`]'s in the last bits, but never with the thread count).
+///
+/// # Errors
+/// [`ContactError::Solve`] when a solve is not finite.
+pub fn condense_blocked(
+    factorisation: &Factorisation,
+    rhs: &[f64],
+    operator: &BodyOperator,
+    block: usize,
+) -> Result<CondensedPart, ContactError> {
     let m = operator.len();
     let n = factorisation.size();
+    let block = block.max(1);
     let free_solution = factorisation.solve(rhs)?;
     let free_gap = operator.gap_contribution(&free_solution);
-    let starts: Vec<usize> = (0..m).step_by(BLOCK).collect();
-    // Column blocks of M (column c = G K⁻¹ E e_c).
-    let blocks: Vec<Vec<Vec<f64>>> = starts
+    let starts: Vec<usize> = (0..m).step_by(block).collect();
+    let d = operator.direction;
+    // Column blocks of M (column c = G K⁻¹ E e_c), each `m × width` column-major.
+    let blocks: Vec<Vec<f64>> = starts
         .par_iter()
         .map(|&start| {
-            let width = BLOCK.min(m - start);
+            let width = block.min(m - start);
             let mut x = Mat::<f64>::zeros(n, width);
-            let mut force = vec![0.0; m];
             for j in 0..width {
-                force[start + j] = 1.0;
-                let mut col = vec![0.0; n];
-                operator.add_forces(&force, &mut col);
-                force[start + j] = 0.0;
-                for (r, v) in col.into_iter().enumerate() {
-                    if v != 0.0 {
-                        x[(r, j)] = v;
-                    }
+                // E e_c: the force d on the owners' rows (as `BodyOperator::add_forces`).
+                for &(i, w) in &operator.owners[start + j] {
+                    x[(dof(i as usize, Axis::X), j)] += d[0] * w;
+                    x[(dof(i as usize, Axis::Y), j)] += d[1] * w;
                 }
             }
             factorisation.solve_in_place(x.as_mut());
-            (0..width)
-                .map(|j| {
-                    let col: Vec<f64> = (0..n).map(|r| x[(r, j)]).collect();
-                    operator.gap_contribution(&col)
-                })
-                .collect()
+            let mut out = Vec::with_capacity(m * width);
+            for j in 0..width {
+                out.extend(operator.gap_contribution(x.col_as_slice(j)));
+            }
+            out
         })
         .collect();
     let mut compliance = vec![0.0; m * m];
     for (b, &start) in starts.iter().enumerate() {
-        for (j, col) in blocks[b].iter().enumerate() {
+        for (j, col) in blocks[b].chunks_exact(m).enumerate() {
             for (i, &v) in col.iter().enumerate() {
                 compliance[i * m + start + j] = v;
             }

@@ -13,7 +13,7 @@
 
 mod condense;
 
-pub use condense::{CondensedContact, CondensedPart, condense};
+pub use condense::{CondensedContact, CondensedPart, condense, condense_blocked};
 
 use crate::assembly::GlobalSystem;
 use crate::geometry::{Domain, Point};

@@ -1,0 +1,141 @@
+//! Timing of the contact stages on a long strip with ~2 000 contact candidates (issue 4's
+//! size): a strip `L × 1` (default `L = 100`), clamped on its left edge, under a uniform
+//! downward load `1` on its top edge, above a rigid foundation `0.01` below its bottom edge
+//! (the beam on foundation, stretched). Plane stress, `E = 30 000`, `ν = 0.3`, linear basis,
+//! `α_s = 2`. Run with
+//!
+//! ```text
+//! cargo run --release --example contact_timing [-- h [L [repeats [block,block,...]]]]
+//! ```
+//!
+//! (default `h = 0.05`, `L = 100`: 42 021 nodes and 2 000 candidates; `repeats = 3`; block =
+//! the library's default width). Prints the discretisation stages once, then for each block
+//! width the condensation `M = G K⁻¹ E` `repeats` times (min and max) with a hash of `M`,
+//! the checks of `M`, and Lemke (pivots, seconds). Nothing is asserted.
+
+use std::time::Instant;
+
+use mlpg_contact::contact::{self, ContactTarget};
+use mlpg_contact::lcp::{Lcp, LemkeParams, lemke};
+use mlpg_contact::problem::Problem;
+use mlpg_contact::{Silent, discretise};
+
+fn strip(h: f64, length: f64) -> Problem {
+    let text = format!(
+        r#"
+        name = "strip"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, {length:?}]
+        y = [-0.5, 0.5]
+        [nodes]
+        spacing = {h:?}
+        layout = "structured"
+        [material]
+        young = 30000.0
+        poisson = 0.3
+        plane = "stress"
+        [discretisation]
+        basis = "linear"
+        support_factor = 2.0
+        quadrature_points = 2
+        [[boundary]]
+        edge = "left"
+        displacement = {{ x = 0.0, y = 0.0 }}
+        [[boundary]]
+        edge = "top"
+        traction = {{ y = -1.0 }}
+        [contact]
+        edge = "bottom"
+        obstacle_point = [0.0, -0.51]
+        obstacle_normal = [0.0, 1.0]
+        "#
+    );
+    match Problem::from_toml(&text) {
+        Ok(p) => p,
+        Err(e) => panic!("strip problem is invalid: {e}"),
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let h: f64 = args.first().map_or(Ok(0.05), |s| s.parse())?;
+    let length: f64 = args.get(1).map_or(Ok(100.0), |s| s.parse())?;
+    let repeats: usize = args.get(2).map_or(Ok(3), |s| s.parse())?;
+    let blocks: Vec<Option<usize>> = match args.get(3) {
+        Some(list) => list.split(',').map(|b| b.parse().map(Some)).collect::<Result<_, _>>()?,
+        None => vec![None],
+    };
+    let problem = strip(h, length);
+    println!("strip {length} x 1, h = {h}; {} rayon threads", rayon::current_num_threads());
+    let t0 = Instant::now();
+    let model = discretise(&problem, &mut Silent)?;
+    let stages: Vec<String> =
+        model.timings.iter().map(|t| format!("{} {:.3}", t.stage, t.seconds)).collect();
+    println!(
+        "{} nodes, {} DOFs, nnz(K) {}; discretise {:.3} s ({})",
+        model.nodes.len(),
+        model.system.matrix.n,
+        model.system.matrix.values.len(),
+        t0.elapsed().as_secs_f64(),
+        stages.join(", ")
+    );
+    println!("factorisation: {:?}", model.factorisation.stats());
+    let spec = problem.contact.ok_or("the strip has contact")?;
+    let ContactTarget::Rigid(line) = spec.target else { return Err("rigid obstacle".into()) };
+    let t = Instant::now();
+    let cand = contact::candidates(
+        model.contact_view(&problem),
+        spec.edge,
+        line.normal,
+        &|x| line.gap(x),
+        spec.condensation,
+    )?;
+    println!("{} candidates in {:.3} s", cand.len(), t.elapsed().as_secs_f64());
+    let mut last = None;
+    for block in blocks {
+        let mut times = Vec::new();
+        for _ in 0..repeats.max(1) {
+            let t = Instant::now();
+            let (f, b, op) = (&model.factorisation, &model.system.rhs, &cand.operator);
+            last = Some(match block {
+                Some(w) => contact::condense_blocked(f, b, op, w)?,
+                None => contact::condense(f, b, op)?,
+            });
+            times.push(t.elapsed().as_secs_f64());
+        }
+        let (min, max) =
+            times.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &t| (a.min(t), b.max(t)));
+        let hash = last.as_ref().map_or(0, |p: &contact::CondensedPart| {
+            p.compliance.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
+                (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
+            })
+        });
+        let label = block.map_or("default".to_string(), |w| w.to_string());
+        println!(
+            "condense (G K^-1 E), block {label}: min {min:.3} s, max {max:.3} s over {} runs; \
+             hash of M {hash:016x}",
+            times.len()
+        );
+    }
+    let part = last.ok_or("no condensation")?;
+    let t = Instant::now();
+    let condensed = contact::CondensedContact::combine(&cand.initial_gap, &[part])?;
+    println!(
+        "combine + checks (eigenvalues of the symmetric part): {:.3} s; min eig {:.3e}, skew {:.2e}",
+        t.elapsed().as_secs_f64(),
+        condensed.min_symmetric_eigenvalue,
+        condensed.skew_ratio
+    );
+    let lcp = Lcp::new(cand.len(), condensed.compliance.clone(), condensed.free_gap.clone())?;
+    let t = Instant::now();
+    let result = lemke(&lcp, &LemkeParams::default())?;
+    let active = result.z.iter().filter(|&&z| z > 0.0).count();
+    println!(
+        "lemke: {:.3} s, {} pivots, {active} active, total force {:.6}",
+        t.elapsed().as_secs_f64(),
+        result.pivots,
+        result.z.iter().sum::<f64>()
+    );
+    Ok(())
+}

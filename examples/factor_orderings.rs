@@ -1,0 +1,138 @@
+//! Compares column orderings and knobs of the sparse LU (`linear_solve::FactorOptions`) on the
+//! system of a problem file with its node spacing overridden. Run with
+//!
+//! ```text
+//! cargo run --release --example factor_orderings -- <problem.toml> <spacing> [variant ...]
+//! ```
+//!
+//! A variant is `nd` or `colamd` followed by optional `:key=value` settings: `void=1e-14`
+//! (drop tolerance, `0` keeps every entry), `tasks=2` (numeric split), `leaf=64` (nodes per
+//! nested-dissection leaf), `width=1.0` (separator width scale), `thin=4` (boxes thinner than
+//! this many separator widths are not cut; a comma list builds one ordering per value and
+//! keeps the least fill), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
+//! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
+//! of one solve against the full `K`, the solve time and a hash of the solution (equal hashes
+//! = bit-identical solutions). The last line is the peak resident memory of the process
+//! (`VmHWM`): run one variant per process to measure its memory.
+
+use std::time::Instant;
+
+use mlpg_contact::assembly::{self, AssemblyInput};
+use mlpg_contact::linear_solve::{self, ColumnOrdering, FactorOptions, Factorisation};
+use mlpg_contact::neighbours::Supports;
+use mlpg_contact::problem::Problem;
+use mlpg_contact::{mls, nodes, weak_form};
+
+fn peak_rss_mib() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let [file, spacing, variants @ ..] = args.as_slice() else {
+        return Err("usage: factor_orderings <problem.toml> <spacing> [variant ...]".into());
+    };
+    let mut problem = Problem::from_toml(&std::fs::read_to_string(file)?)?;
+    problem.node_spacing = spacing.parse()?;
+    let t = Instant::now();
+    let disc = &problem.discretisation;
+    let nodes = nodes::generate(&problem.domain, problem.node_spacing, problem.layout)?;
+    let supports = Supports::new(&nodes, disc.mls.support_factor);
+    let cells = weak_form::build_cells(&problem.domain, &nodes)?;
+    let faces = weak_form::collect_faces(&cells);
+    let fq = weak_form::FaceQuadrature::new(&faces.interior, disc.quadrature_points);
+    let ns = mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)?;
+    let fs = mls::shape_functions(&fq.points, &nodes, &supports, &disc.mls, false)?;
+    let system = assembly::assemble(&AssemblyInput {
+        domain: &problem.domain,
+        nodes: &nodes,
+        cells: &cells,
+        interior_faces: &faces.interior,
+        boundary_faces: &faces.boundary,
+        face_quadrature: &fq,
+        face_shapes: &fs,
+        node_shapes: &ns,
+        d: &problem.material.constitutive(),
+        boundary: &problem.boundary,
+        body_force: problem.body_force.as_ref(),
+        load_quadrature_points: disc.load_quadrature_points,
+    })?;
+    let k = &system.matrix;
+    println!(
+        "{}: h = {spacing}, {} nodes, {} DOFs, nnz(K) {}, assembled in {:.2} s; separator width {:?}",
+        problem.name,
+        nodes.len(),
+        k.n,
+        k.values.len(),
+        t.elapsed().as_secs_f64(),
+        linear_solve::separator_width(k, &nodes.points)
+    );
+    let defaults = ["nd".to_string(), "colamd".to_string()];
+    let variants = if variants.is_empty() { &defaults[..] } else { variants };
+    let b = &system.rhs;
+    for v in variants {
+        let mut parts = v.split(':');
+        let kind = parts.next().unwrap_or("nd");
+        let mut opt = FactorOptions::default();
+        let mut analyse_only = false;
+        for kv in parts {
+            let (key, value) = kv.split_once('=').ok_or("settings are key=value")?;
+            match key {
+                "void" => opt.void_tolerance = value.parse()?,
+                "tasks" => opt.tasks = value.parse()?,
+                "leaf" => opt.leaf_nodes = value.parse()?,
+                "width" => opt.separator_scale = value.parse()?,
+                "thin" => {
+                    opt.thin_boxes = value.split(',').map(str::parse).collect::<Result<_, _>>()?;
+                }
+                "analyse" => analyse_only = value == "1",
+                _ => return Err(format!("unknown setting {key}").into()),
+            }
+        }
+        let ordering = match kind {
+            "nd" => ColumnOrdering::NestedDissection(&nodes.points),
+            "colamd" => ColumnOrdering::Colamd,
+            _ => return Err(format!("unknown ordering {kind}").into()),
+        };
+        if analyse_only {
+            let s = Factorisation::analyse(k, ordering, &opt)?;
+            println!(
+                "{v:<28} ordering + analysis {:.3} s; bound nnz {:.1} M, flops {:.2e}",
+                s.ordering_seconds,
+                s.bound_nnz as f64 * 1e-6,
+                s.bound_flops
+            );
+            continue;
+        }
+        let t = Instant::now();
+        let f = Factorisation::with_options(k, ordering, &opt)?;
+        let total = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let x = f.solve(b)?;
+        let solve = t.elapsed().as_secs_f64();
+        let ax = linear_solve::mul(k, &x);
+        let r = ax.iter().zip(b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
+            / b.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let hash = x
+            .iter()
+            .fold(0xcbf2_9ce4_8422_2325u64, |h, v| (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3));
+        let s = f.stats();
+        println!(
+            "{v:<28} total {total:7.3} s (order {:.3}, symbolic {:.3}, numeric {:.3}); nnz {} -> {}; \
+             {} supernodes; bound nnz {:.1} M, flops {:.2e}; solve {solve:.3} s; residual {r:.1e}; \
+             hash {hash:016x}",
+            s.ordering_seconds,
+            s.symbolic_seconds,
+            s.numeric_seconds,
+            s.nnz,
+            s.nnz_factorised,
+            s.supernodes,
+            s.bound_nnz as f64 * 1e-6,
+            s.bound_flops
+        );
+    }
+    println!("peak resident memory (VmHWM) {:.0} MiB", peak_rss_mib().unwrap_or(f64::NAN));
+    Ok(())
+}
