@@ -137,9 +137,7 @@ impl CondensedContact {
         let min_diagonal = (0..m).map(|i| compliance[i * m + i]).fold(f64::INFINITY, f64::min);
         let sym =
             Mat::<f64>::from_fn(m, m, |i, j| 0.5 * (compliance[i * m + j] + compliance[j * m + i]));
-        let eig = sym
-            .self_adjoint_eigenvalues(faer::Side::Lower)
-            .map_err(|e| SolveError::Backend(format!("{e:?}")))?;
+        let eig = symmetric_eigenvalues(sym.as_ref())?;
         let min_symmetric_eigenvalue = eig.iter().copied().fold(f64::INFINITY, f64::min);
         let max_symmetric_eigenvalue = eig.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         let (mut skew, mut symm) = (0.0, 0.0);
@@ -159,4 +157,28 @@ impl CondensedContact {
             skew_ratio: (skew / symm.max(f64::MIN_POSITIVE)).sqrt(),
         })
     }
+}
+
+/// Eigenvalues of a symmetric matrix (lower half read), computed sequentially: faer's
+/// convenience method follows the global parallelism setting and then sums in a
+/// thread-dependent order, which changed the last digits of the reported eigenvalue between
+/// thread counts at ~400 candidates.
+fn symmetric_eigenvalues(a: faer::MatRef<'_, f64>) -> Result<Vec<f64>, ContactError> {
+    use faer::linalg::evd::{ComputeEigenvectors, self_adjoint_evd, self_adjoint_evd_scratch};
+    let n = a.nrows();
+    let par = faer::Par::Seq;
+    let req = self_adjoint_evd_scratch::<f64>(n, ComputeEigenvectors::No, par, Default::default());
+    let mut buf = faer::dyn_stack::MemBuffer::try_new(req)
+        .map_err(|e| SolveError::Backend(format!("{e:?}")))?;
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    self_adjoint_evd(
+        a,
+        s.as_mut(),
+        None,
+        par,
+        faer::dyn_stack::MemStack::new(&mut buf),
+        Default::default(),
+    )
+    .map_err(|e| SolveError::Backend(format!("{e:?}")))?;
+    Ok((0..n).map(|i| s[i]).collect())
 }
