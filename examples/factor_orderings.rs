@@ -44,7 +44,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let faces = weak_form::collect_faces(&cells);
     let fq = weak_form::FaceQuadrature::new(&faces.interior, disc.quadrature_points);
     let ns = mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)?;
-    let fs = mls::shape_functions(&fq.points, &nodes, &supports, &disc.mls, false)?;
+    let fs = mls::shape_functions(&fq.points, &nodes, &supports, &disc.mls, disc.beta > 0.0)?;
     let system = assembly::assemble(&AssemblyInput {
         domain: &problem.domain,
         nodes: &nodes,
@@ -58,6 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         boundary: &problem.boundary,
         body_force: problem.body_force.as_ref(),
         load_quadrature_points: disc.load_quadrature_points,
+        beta: disc.beta,
     })?;
     let k = &system.matrix;
     println!(
