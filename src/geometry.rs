@@ -197,10 +197,7 @@ impl Curve {
     pub fn distance(&self, p: Point) -> f64 {
         let t = self.parameter(p);
         if (0.0..=1.0).contains(&t) {
-            match self {
-                Curve::Segment { .. } => self.signed_distance(p).abs(),
-                Curve::Arc { .. } => self.signed_distance(p).abs(),
-            }
+            self.signed_distance(p).abs()
         } else {
             let (a, b) = (self.start(), self.end());
             (p[0] - a[0]).hypot(p[1] - a[1]).min((p[0] - b[0]).hypot(p[1] - b[1]))
@@ -490,8 +487,8 @@ impl Domain {
 
     /// Centroid of the enclosed area (of a fine polygonal approximation).
     pub fn centroid(&self) -> Point {
-        let (poly, _) = self.boundary_polygon(f64::INFINITY);
-        let fine: Vec<Point> = self
+        // Every loop has at least 3 vertices here: 3 segments, or an arc (256 points).
+        let pts: Vec<Point> = self
             .curves
             .iter()
             .flat_map(|c| {
@@ -499,7 +496,6 @@ impl Domain {
                 (0..n).map(move |i| c.point_at(i as f64 / n as f64))
             })
             .collect();
-        let pts = if fine.len() >= 3 { fine } else { poly };
         let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
         for k in 0..pts.len() {
             let (p, q) = (pts[k], pts[(k + 1) % pts.len()]);
