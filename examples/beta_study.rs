@@ -9,8 +9,8 @@
 //! `cargo run --release --example beta_study [-- --finest 0.0625] [--only 2]` (`--only k`:
 //! just variant `k` of the list, 1-based).
 //!
-//! No parameter is tuned toward any number of the paper; the Hertz case of the issue needs
-//! curved boundaries (issue 5) and is not part of this run.
+//! No parameter is tuned toward any number of the paper; the Hertz case of the issue is
+//! examples/beta_study_hertz.rs.
 
 use mlpg_contact::mls::Basis;
 use mlpg_contact::post::plot;
