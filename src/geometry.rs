@@ -170,9 +170,8 @@ impl Curve {
                 let len = dx.hypot(dy);
                 [dy / len, -dx / len]
             }
-            Curve::Arc { sweep, .. } => {
+            Curve::Arc { center, radius, sweep, .. } => {
                 let q = self.point_at(self.parameter(p).clamp(0.0, 1.0));
-                let Curve::Arc { center, radius, .. } = *self else { unreachable!() };
                 let s = sweep.signum();
                 [s * (q[0] - center[0]) / radius, s * (q[1] - center[1]) / radius]
             }
