@@ -6,6 +6,8 @@
 //! cargo run --release --example scaling [N1 N2 ...]
 //! ```
 //!
+//! `MLPG_SCALING_BETA=1` runs the stabilised operator (`discretisation.beta`, issue 7).
+//!
 //! Node counts may be written `25000`, `25k` or `1.5M` (default: 10k 25k 50k 100k 250k). The
 //! grid has `ny` intervals across the height and `4 ny` along the length, with `ny` chosen so
 //! that `(4 ny + 1)(ny + 1)` is nearest to `N`.
@@ -54,8 +56,12 @@ fn intervals_for(n: usize) -> usize {
 }
 
 /// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height.
+/// `MLPG_SCALING_BETA` (default 0) sets `discretisation.beta`, e.g. 1 for the sparser
+/// stabilised operator of issue 7.
 fn cantilever(ny: usize) -> Problem {
     let spacing = 12.0 / ny as f64;
+    let beta: f64 =
+        std::env::var("MLPG_SCALING_BETA").ok().and_then(|v| v.parse().ok()).unwrap_or(0.0);
     let text = format!(
         r#"
         name = "cantilever"
@@ -74,6 +80,7 @@ fn cantilever(ny: usize) -> Problem {
         basis = "linear"
         support_factor = 2.0
         quadrature_points = 2
+        beta = {beta:?}
         [[boundary]]
         edge = "left"
         displacement = {{ x = 0.0, y = 0.0 }}
@@ -231,7 +238,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let exe = std::env::current_exe()?;
     println!(
-        "cantilever 48 x 12, linear basis, alpha_s = 2, 2-point face quadrature; {} rayon threads",
+        "cantilever 48 x 12, linear basis, alpha_s = 2, 2-point face quadrature, beta = {}; {} rayon threads",
+        std::env::var("MLPG_SCALING_BETA").unwrap_or_else(|_| "0".into()),
         rayon::current_num_threads()
     );
     println!(
