@@ -12,39 +12,15 @@
 //! No parameter is tuned toward any number of the paper; the Hertz case of the issue is
 //! examples/beta_study_hertz.rs.
 
-use mlpg_contact::mls::Basis;
-use mlpg_contact::post::plot;
+mod study;
+
 use mlpg_contact::problem::Problem;
 use std::time::Instant;
+use study::{Args, ChartSpec, VARIANTS, Variant};
 
 /// FE reference (see the module doc).
 const FE_FORCE: f64 = 32.3476;
 const FE_ONSET: f64 = 19.810;
-
-struct Variant {
-    name: &'static str,
-    basis: Basis,
-    support_factor: f64,
-    beta: f64,
-}
-
-const VARIANTS: [Variant; 5] = [
-    Variant {
-        name: "mixed β=0, α_s=2 (paper)",
-        basis: Basis::Linear,
-        support_factor: 2.0,
-        beta: 0.0,
-    },
-    Variant { name: "β=1, α_s=2", basis: Basis::Linear, support_factor: 2.0, beta: 1.0 },
-    Variant { name: "β=1, α_s=3", basis: Basis::Linear, support_factor: 3.0, beta: 1.0 },
-    Variant { name: "β=0.5, α_s=3", basis: Basis::Linear, support_factor: 3.0, beta: 0.5 },
-    Variant {
-        name: "quadratic β=0, α_s=2.5",
-        basis: Basis::Quadratic,
-        support_factor: 2.5,
-        beta: 0.0,
-    },
-];
 
 struct Row {
     h: f64,
@@ -60,19 +36,8 @@ struct Row {
     times: [f64; 6],
 }
 
-/// One error-against-cost chart: file stem, x label, x of a row, y label, y of a row.
-type ChartSpec = (&'static str, &'static str, fn(&Row) -> f64, &'static str, fn(&Row) -> f64);
-
-fn stage(s: &mlpg_contact::Solution, names: &[&str]) -> f64 {
-    s.timings.iter().filter(|t| names.contains(&t.stage)).map(|t| t.seconds).sum()
-}
-
 fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, mlpg_contact::Error> {
-    let mut p = base.clone();
-    p.node_spacing = h;
-    p.discretisation.mls.basis = v.basis;
-    p.discretisation.mls.support_factor = v.support_factor;
-    p.discretisation.beta = v.beta;
+    let p = study::substitute(base, v, h);
     let t0 = Instant::now();
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&p, &mut silent)?;
@@ -87,13 +52,7 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, mlpg_contact::Error> 
         .map(|i| s.displacement[i][1])
         .unwrap_or(f64::NAN);
     let peak = c.pressure.iter().copied().fold(0.0, f64::max);
-    // Node-to-node ripple: largest second difference of the pressure over closed candidates
-    // whose neighbours are closed too, relative to the peak pressure.
-    let ripple = (1..c.pressure.len().saturating_sub(1))
-        .filter(|&k| c.closed[k - 1] && c.closed[k] && c.closed[k + 1])
-        .map(|k| (c.pressure[k] - 0.5 * (c.pressure[k - 1] + c.pressure[k + 1])).abs())
-        .fold(0.0, f64::max)
-        / peak.max(f64::MIN_POSITIVE);
+    let ripple = study::ripple(c, peak);
     Ok(Row {
         h,
         nodes: s.displacement.len(),
@@ -104,42 +63,18 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, mlpg_contact::Error> 
         peak,
         ripple,
         tip,
-        times: [
-            stage(&s, &["mls_nodes", "mls_faces"]),
-            stage(&s, &["assembly"]),
-            stage(&s, &["factorisation"]),
-            stage(&s, &["condensation"]),
-            stage(&s, &["lemke"]),
-            total,
-        ],
+        times: study::stage_times(&s, total),
     })
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let finest = args
-        .iter()
-        .position(|a| a == "--finest")
-        .and_then(|i| args.get(i + 1))
-        .map(|v| v.parse::<f64>().expect("--finest takes a number"))
-        .unwrap_or(0.125);
-    let only = args
-        .iter()
-        .position(|a| a == "--only")
-        .and_then(|i| args.get(i + 1))
-        .map(|v| v.parse::<usize>().expect("--only takes a variant number"));
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/beam_on_foundation.toml");
-    let base = Problem::from_toml(&std::fs::read_to_string(path).expect("problem file"))
-        .expect("valid problem");
-    let mut spacings = vec![1.0];
-    while spacings.last().copied().unwrap_or(0.0) / 2.0 >= finest * 0.999 {
-        let h = spacings[spacings.len() - 1] / 2.0;
-        spacings.push(h);
-    }
+    let args = Args::parse(0.125);
+    let base = study::load("beam_on_foundation.toml");
+    let spacings = study::spacings(1.0, args.finest);
     println!("FE reference: F_c = {FE_FORCE}, l_c = {FE_ONSET}\n");
     let mut results: Vec<(&str, Vec<Row>)> = Vec::new();
     for (k, v) in VARIANTS.iter().enumerate() {
-        if only.is_some_and(|o| o != k + 1) {
+        if !args.runs(k) {
             continue;
         }
         let mut rows = Vec::new();
@@ -182,9 +117,7 @@ fn main() {
         println!();
         results.push((v.name, rows));
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/beta_study");
-    std::fs::create_dir_all(&dir).expect("output directory");
-    let charts: [ChartSpec; 4] = [
+    let charts: [ChartSpec<Row>; 4] = [
         (
             "force_vs_dofs",
             "log10 DOFs",
@@ -214,23 +147,5 @@ fn main() {
             |r| (r.onset_gap - FE_ONSET).abs().log10(),
         ),
     ];
-    for (stem, x_label, x, y_label, y) in charts {
-        let chart = plot::Chart {
-            title: format!("beam on a rigid foundation: {y_label} against {x_label}"),
-            x_label: x_label.into(),
-            y_label: y_label.into(),
-            series: results
-                .iter()
-                .enumerate()
-                .map(|(k, (name, rows))| plot::Series {
-                    label: (*name).into(),
-                    points: rows.iter().map(|r| (x(r), y(r))).filter(|p| p.1.is_finite()).collect(),
-                    style: plot::Style::Line,
-                    colour: k,
-                })
-                .collect(),
-        };
-        plot::write_chart(&dir.join(stem), &chart).expect("plot");
-    }
-    println!("plots: {}", dir.display());
+    study::write_charts("beta_study", "beam on a rigid foundation", &results, &charts);
 }

@@ -19,37 +19,13 @@
 //! The problem is loaded from the problem file, not from test code; nothing is tuned toward
 //! any number of the paper.
 
-use mlpg_contact::mls::Basis;
-use mlpg_contact::post::plot;
+mod study;
+
 use mlpg_contact::problem::Problem;
 use std::time::Instant;
+use study::{Args, ChartSpec, VARIANTS, Variant};
 
 const RADIUS: f64 = 1.0;
-
-struct Variant {
-    name: &'static str,
-    basis: Basis,
-    support_factor: f64,
-    beta: f64,
-}
-
-const VARIANTS: [Variant; 5] = [
-    Variant {
-        name: "mixed β=0, α_s=2 (paper)",
-        basis: Basis::Linear,
-        support_factor: 2.0,
-        beta: 0.0,
-    },
-    Variant { name: "β=1, α_s=2", basis: Basis::Linear, support_factor: 2.0, beta: 1.0 },
-    Variant { name: "β=1, α_s=3", basis: Basis::Linear, support_factor: 3.0, beta: 1.0 },
-    Variant { name: "β=0.5, α_s=3", basis: Basis::Linear, support_factor: 3.0, beta: 0.5 },
-    Variant {
-        name: "quadratic β=0, α_s=2.5",
-        basis: Basis::Quadratic,
-        support_factor: 2.5,
-        beta: 0.0,
-    },
-];
 
 struct Row {
     nodes: usize,
@@ -72,19 +48,8 @@ struct Row {
     times: [f64; 6],
 }
 
-/// One error-against-cost chart: file stem, x label, x of a row, y label, y of a row.
-type ChartSpec = (&'static str, &'static str, fn(&Row) -> f64, &'static str, fn(&Row) -> f64);
-
-fn stage(s: &mlpg_contact::Solution, names: &[&str]) -> f64 {
-    s.timings.iter().filter(|t| names.contains(&t.stage)).map(|t| t.seconds).sum()
-}
-
 fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, String> {
-    let mut p = base.clone();
-    p.node_spacing = h;
-    p.discretisation.mls.basis = v.basis;
-    p.discretisation.mls.support_factor = v.support_factor;
-    p.discretisation.beta = v.beta;
+    let p = study::substitute(base, v, h);
     let t0 = Instant::now();
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&p, &mut silent).map_err(|e| e.to_string())?;
@@ -123,13 +88,7 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, String> {
         })
         .fold(0.0, f64::max);
     let peak = c.pressure.iter().copied().fold(0.0, f64::max);
-    // Node-to-node ripple as in the beam study: largest second difference of the pressure over
-    // closed candidates whose neighbours are closed too, relative to the peak pressure.
-    let ripple = (1..c.pressure.len().saturating_sub(1))
-        .filter(|&k| c.closed[k - 1] && c.closed[k] && c.closed[k + 1])
-        .map(|k| (c.pressure[k] - 0.5 * (c.pressure[k - 1] + c.pressure[k + 1])).abs())
-        .fold(0.0, f64::max)
-        / peak.max(f64::MIN_POSITIVE);
+    let ripple = study::ripple(c, peak);
     Ok(Row {
         nodes: s.displacement.len(),
         nonzeros,
@@ -142,41 +101,17 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, String> {
         closed: c.closed.iter().filter(|&&b| b).count(),
         intervals: c.onset.closed_intervals,
         m_min_eig: c.condensed.min_symmetric_eigenvalue,
-        times: [
-            stage(&s, &["mls_nodes", "mls_faces"]),
-            stage(&s, &["assembly"]),
-            stage(&s, &["factorisation"]),
-            stage(&s, &["condensation"]),
-            stage(&s, &["lemke"]),
-            total,
-        ],
+        times: study::stage_times(&s, total),
     })
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let finest = args
-        .iter()
-        .position(|a| a == "--finest")
-        .and_then(|i| args.get(i + 1))
-        .map(|v| v.parse::<f64>().expect("--finest takes a number"))
-        .unwrap_or(0.005);
-    let only = args
-        .iter()
-        .position(|a| a == "--only")
-        .and_then(|i| args.get(i + 1))
-        .map(|v| v.parse::<usize>().expect("--only takes a variant number"));
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/hertz_cylinder.toml");
-    let base = Problem::from_toml(&std::fs::read_to_string(path).expect("problem file"))
-        .expect("valid problem");
-    let mut spacings = vec![0.04];
-    while spacings.last().copied().unwrap_or(0.0) / 2.0 >= finest * 0.999 {
-        let h = spacings[spacings.len() - 1] / 2.0;
-        spacings.push(h);
-    }
+    let args = Args::parse(0.005);
+    let base = study::load("hertz_cylinder.toml");
+    let spacings = study::spacings(0.04, args.finest);
     let mut results: Vec<(&str, Vec<Row>)> = Vec::new();
     for (k, v) in VARIANTS.iter().enumerate() {
-        if only.is_some_and(|o| o != k + 1) {
+        if !args.runs(k) {
             continue;
         }
         let mut rows = Vec::new();
@@ -224,9 +159,7 @@ fn main() {
         println!();
         results.push((v.name, rows));
     }
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/beta_study_hertz");
-    std::fs::create_dir_all(&dir).expect("output directory");
-    let charts: [ChartSpec; 4] = [
+    let charts: [ChartSpec<Row>; 4] = [
         (
             "half_width_vs_dofs",
             "log10 DOFs",
@@ -256,23 +189,5 @@ fn main() {
             |r| r.profile.log10(),
         ),
     ];
-    for (stem, x_label, x, y_label, y) in charts {
-        let chart = plot::Chart {
-            title: format!("Hertz cylinder: {y_label} against {x_label}"),
-            x_label: x_label.into(),
-            y_label: y_label.into(),
-            series: results
-                .iter()
-                .enumerate()
-                .map(|(k, (name, rows))| plot::Series {
-                    label: (*name).into(),
-                    points: rows.iter().map(|r| (x(r), y(r))).filter(|p| p.1.is_finite()).collect(),
-                    style: plot::Style::Line,
-                    colour: k,
-                })
-                .collect(),
-        };
-        plot::write_chart(&dir.join(stem), &chart).expect("plot");
-    }
-    println!("plots: {}", dir.display());
+    study::write_charts("beta_study_hertz", "Hertz cylinder", &results, &charts);
 }
