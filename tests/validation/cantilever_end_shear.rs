@@ -16,17 +16,17 @@ use mlpg_contact::geometry::{Domain, Point};
 use mlpg_contact::nodes::Layout;
 use std::sync::Arc;
 
-const LENGTH: f64 = 48.0;
-const DEPTH: f64 = 12.0;
-const YOUNG: f64 = 3.0e7;
-const POISSON: f64 = 0.3;
-const LOAD: f64 = 1000.0;
+pub(super) const LENGTH: f64 = 48.0;
+pub(super) const DEPTH: f64 = 12.0;
+pub(super) const YOUNG: f64 = 3.0e7;
+pub(super) const POISSON: f64 = 0.3;
+pub(super) const LOAD: f64 = 1000.0;
 
 fn inertia() -> f64 {
     DEPTH.powi(3) / 12.0
 }
 
-fn exact_displacement(p: Point) -> [f64; 2] {
+pub(super) fn exact_displacement(p: Point) -> [f64; 2] {
     let [x, y] = p;
     let (l, d, nu) = (LENGTH, DEPTH, POISSON);
     let c = LOAD / (6.0 * YOUNG * inertia());
@@ -38,7 +38,7 @@ fn exact_displacement(p: Point) -> [f64; 2] {
     ]
 }
 
-fn exact_stress(p: Point) -> [f64; 3] {
+pub(super) fn exact_stress(p: Point) -> [f64; 3] {
     let [x, y] = p;
     let i = inertia();
     [-LOAD * (LENGTH - x) * y / i, 0.0, LOAD * (DEPTH * DEPTH / 4.0 - y * y) / (2.0 * i)]

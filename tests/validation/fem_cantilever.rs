@@ -10,38 +10,15 @@
 
 use super::common::*;
 use mlpg_contact::fem::element::gauss_points;
-use mlpg_contact::geometry::{Domain, Point};
+use mlpg_contact::geometry::Domain;
 use mlpg_contact::nodes::Layout;
 use mlpg_contact::problem::Method;
 use std::sync::Arc;
 
-const LENGTH: f64 = 48.0;
-const DEPTH: f64 = 12.0;
-const YOUNG: f64 = 3.0e7;
-const POISSON: f64 = 0.3;
-const LOAD: f64 = 1000.0;
-
-fn inertia() -> f64 {
-    DEPTH.powi(3) / 12.0
-}
-
-fn exact_displacement(p: Point) -> [f64; 2] {
-    let [x, y] = p;
-    let (l, d, nu) = (LENGTH, DEPTH, POISSON);
-    let c = LOAD / (6.0 * YOUNG * inertia());
-    [
-        -c * y * ((6.0 * l - 3.0 * x) * x + (2.0 + nu) * (y * y - d * d / 4.0)),
-        c * (3.0 * nu * y * y * (l - x)
-            + (4.0 + 5.0 * nu) * d * d * x / 4.0
-            + (3.0 * l - x) * x * x),
-    ]
-}
-
-fn exact_stress(p: Point) -> [f64; 3] {
-    let [x, y] = p;
-    let i = inertia();
-    [-LOAD * (LENGTH - x) * y / i, 0.0, LOAD * (DEPTH * DEPTH / 4.0 - y * y) / (2.0 * i)]
-}
+// The closed form and its data are the MFVM cantilever's.
+use super::cantilever_end_shear::{
+    DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress,
+};
 
 /// `σ·D⁻¹σ` (plane stress).
 fn energy_density(s: [f64; 3]) -> f64 {
