@@ -99,9 +99,45 @@ pub enum Method {
     Fem,
 }
 
+/// A named set of discretisation parameters (`discretisation = "paper"` or
+/// `discretisation = "stabilised"` in a problem file, or `preset = …` inside the
+/// `[discretisation]` table, whose other keys then override the preset's values).
+///
+/// Chosen from the issue-7 study (docs/dev/beta_study.md, "Presets"): on the beam on a rigid
+/// foundation and the Hertz cylinder, [`Preset::Stabilised`] reaches the issues' accuracy
+/// targets (contact onset within 0.05 and total force within 0.1 % on the beam; Hertz `a`
+/// within 1 % and `p₀` within 0.5 %) in a fraction of the paper's time, with half its matrix
+/// nonzeros; the paper's method is more accurate in the total contact force at equal spacing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Preset {
+    /// The paper's mixed MFVM: linear basis, `α_s = 2`, `β = 0`, 2 Gauss points per segment
+    /// (the defaults).
+    Paper,
+    /// The stabilised MFVM with direct MLS strains at the cell boundaries: linear basis,
+    /// `α_s = 2`, `β = 1`, 2 Gauss points per segment (method.md §3.9).
+    Stabilised,
+}
+
+impl Preset {
+    /// All presets with their problem-file names.
+    pub const ALL: [(&'static str, Preset); 2] =
+        [("paper", Preset::Paper), ("stabilised", Preset::Stabilised)];
+
+    /// The preset's `(basis, support_factor, beta, quadrature_points)`.
+    pub fn values(self) -> (Basis, f64, f64, usize) {
+        match self {
+            Preset::Paper => (Basis::Linear, 2.0, 0.0, 2),
+            Preset::Stabilised => (Basis::Linear, 2.0, 1.0, 2),
+        }
+    }
+}
+
 /// Discretisation parameters of the mixed MFVM (and the choice of method).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Discretisation {
+    /// The preset the values started from, if the problem file named one.
+    pub preset: Option<Preset>,
     /// The method (default [`Method::Mfvm`]); the MLS and face-quadrature fields are ignored
     /// by [`Method::Fem`].
     pub method: Method,
@@ -124,6 +160,7 @@ pub struct Discretisation {
 impl Default for Discretisation {
     fn default() -> Self {
         Self {
+            preset: None,
             method: Method::Mfvm,
             mls: MlsParams::default(),
             quadrature_points: 2,
@@ -270,8 +307,8 @@ pub struct ProblemFile {
     /// `geometry`, `nodes`, `material`, `boundary` and `body_force`.
     #[serde(default)]
     pub body: Vec<BodyFile>,
-    /// Discretisation (all optional).
-    #[serde(default)]
+    /// Discretisation (all optional): a `[discretisation]` table or a preset name.
+    #[serde(default, deserialize_with = "table_or_preset")]
     pub discretisation: DiscretisationFile,
     /// Boundary conditions per edge; edges not listed are traction-free.
     #[serde(default)]
@@ -418,10 +455,13 @@ pub struct MaterialFile {
     pub plane: String,
 }
 
-/// `[discretisation]`.
+/// `[discretisation]`, or a preset name alone (`discretisation = "stabilised"`).
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiscretisationFile {
+    /// `"paper"` or `"stabilised"` ([`Preset`]); the other keys override its values.
+    #[serde(default)]
+    pub preset: Option<String>,
     /// `"mfvm"` (default) or `"fem"` (Q2 finite elements; rectangles with structured nodes).
     #[serde(default)]
     pub method: Option<String>,
@@ -618,6 +658,21 @@ impl TryFrom<ProblemFile> for Problem {
 
 fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, ProblemError> {
     let d = file;
+    let preset = match d.preset.as_deref() {
+        None => None,
+        Some(name) => match Preset::ALL.iter().find(|(n, _)| *n == name) {
+            Some(&(_, p)) => Some(p),
+            None => {
+                return Err(invalid(
+                    "discretisation.preset",
+                    name,
+                    "expected \"paper\" or \"stabilised\"",
+                ));
+            }
+        },
+    };
+    let (preset_basis, preset_support, preset_beta, preset_quadrature) =
+        preset.unwrap_or(Preset::Paper).values();
     let method = match d.method.as_deref().unwrap_or("mfvm") {
         "mfvm" => Method::Mfvm,
         "fem" => Method::Fem,
@@ -625,10 +680,11 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
             return Err(invalid("discretisation.method", other, "expected \"mfvm\" or \"fem\""));
         }
     };
-    let basis = match d.basis.as_deref().unwrap_or("linear") {
-        "linear" => Basis::Linear,
-        "quadratic" => Basis::Quadratic,
-        other => {
+    let basis = match d.basis.as_deref() {
+        None => preset_basis,
+        Some("linear") => Basis::Linear,
+        Some("quadratic") => Basis::Quadratic,
+        Some(other) => {
             return Err(invalid(
                 "discretisation.basis",
                 other,
@@ -636,7 +692,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
             ));
         }
     };
-    let support_factor = d.support_factor.unwrap_or(2.0);
+    let support_factor = d.support_factor.unwrap_or(preset_support);
     if !(support_factor.is_finite() && (1.0..=6.0).contains(&support_factor)) {
         return Err(invalid(
             "discretisation.support_factor",
@@ -644,7 +700,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
             "must be in [1, 6]; supports smaller than one spacing cannot hold enough nodes (recommended 2 for the linear basis)",
         ));
     }
-    let quadrature_points = d.quadrature_points.unwrap_or(2);
+    let quadrature_points = d.quadrature_points.unwrap_or(preset_quadrature);
     if !(1..=8).contains(&quadrature_points) {
         return Err(invalid("discretisation.quadrature_points", quadrature_points, "must be 1–8"));
     }
@@ -656,7 +712,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
             "must be 3–8",
         ));
     }
-    let beta = d.beta.unwrap_or(0.0);
+    let beta = d.beta.unwrap_or(preset_beta);
     if !(beta.is_finite() && (0.0..=1.0).contains(&beta)) {
         return Err(invalid(
             "discretisation.beta",
@@ -665,6 +721,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         ));
     }
     let discretisation = Discretisation {
+        preset,
         method,
         mls: MlsParams { basis, support_factor, ..MlsParams::default() },
         quadrature_points,
@@ -678,6 +735,28 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         }
     }
     Ok(discretisation)
+}
+
+/// Reads `discretisation` as a table ([`DiscretisationFile`], unknown keys refused with their
+/// name) or as a preset name alone (`discretisation = "stabilised"`).
+fn table_or_preset<'de, D>(deserializer: D) -> Result<DiscretisationFile, D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    struct TableOrPreset;
+    impl<'de> serde::de::Visitor<'de> for TableOrPreset {
+        type Value = DiscretisationFile;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a [discretisation] table or a preset name (\"paper\", \"stabilised\")")
+        }
+        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<Self::Value, E> {
+            Ok(DiscretisationFile { preset: Some(name.to_owned()), ..Default::default() })
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+            DiscretisationFile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+        }
+    }
+    deserializer.deserialize_any(TableOrPreset)
 }
 
 /// The parts of a problem file that describe one body.
@@ -1095,5 +1174,54 @@ impl Problem {
     /// [`ProblemError`] naming the offending field and value.
     pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
         Problem::try_from(ProblemFile::from_toml(text)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BODY: &str = r#"
+name = "preset"
+[geometry]
+kind = "rectangle"
+x = [0.0, 4.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.25
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+"#;
+
+    fn discretisation(head: &str, table: &str) -> Discretisation {
+        Problem::from_toml(&format!("{head}\n{BODY}\n{table}")).unwrap().discretisation
+    }
+
+    #[test]
+    fn presets_equal_their_explicit_values() {
+        let default = discretisation("", "");
+        let paper = discretisation("discretisation = \"paper\"", "");
+        assert_eq!(paper.preset, Some(Preset::Paper));
+        assert_eq!(Discretisation { preset: None, ..paper }, default);
+        let stabilised = discretisation("discretisation = \"stabilised\"", "");
+        let explicit = discretisation(
+            "",
+            "[discretisation]\nbasis = \"linear\"\nsupport_factor = 2.0\nbeta = 1.0\nquadrature_points = 2",
+        );
+        assert_eq!(stabilised.preset, Some(Preset::Stabilised));
+        assert_eq!(Discretisation { preset: None, ..stabilised }, explicit);
+        assert_eq!(stabilised.beta, 1.0);
+    }
+
+    #[test]
+    fn table_keys_override_the_preset() {
+        let d = discretisation(
+            "",
+            "[discretisation]\npreset = \"stabilised\"\nsupport_factor = 3.0\nquadrature_points = 3",
+        );
+        assert_eq!(d.preset, Some(Preset::Stabilised));
+        assert_eq!((d.beta, d.mls.support_factor, d.quadrature_points), (1.0, 3.0, 3));
     }
 }
