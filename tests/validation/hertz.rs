@@ -13,7 +13,8 @@
 //! Measured from the contact forces: `p² = p₀²(1 − x²/a²)` is linear in `x²`, so a
 //! least-squares line through `(x_c², p_c²)` over the closed candidates (pressure = force /
 //! owned arc segment) gives `p₀` and `a`; its errors against Hertz and the profile error
-//! `max |p_c − p(x_c)| / p₀` are checked at three spacings, with the LCP's complementarity
+//! `max |p_c − p(x_c)| / p₀` (over all closed candidates, and over those with `|x_c| ≤ 0.8 a`,
+//! away from the square-root edge) are checked at three spacings, with the LCP's complementarity
 //! and the global equilibrium (contact force = reaction on the loaded diameter).
 
 use super::common::*;
@@ -74,6 +75,8 @@ struct Outcome {
     peak: f64,
     /// `max |p_c − p(x_c)| / p₀` over the closed candidates.
     profile: f64,
+    /// The same over the closed candidates with `|x_c| ≤ 0.8 a`.
+    profile_interior: f64,
     a_over_r: f64,
     /// Resultant per unit length of the whole cylinder.
     load: f64,
@@ -132,7 +135,18 @@ fn measure(label: &str, s: &mlpg_contact::Solution, e_star: f64) -> Outcome {
             (c.pressure[i] - exact).abs() / p0
         })
         .fold(0.0, f64::max);
+    // The same error away from the contact edge, |x| ≤ 0.8 a: at the edge the pressure has a
+    // square-root profile that a candidate one spacing from it samples with an O(√h) error,
+    // which moreover depends on where the last closed candidate falls relative to the edge.
+    let profile_interior = (0..c.closed.len())
+        .filter(|&i| c.closed[i] && c.candidates.points[i][0].abs() <= 0.8 * a)
+        .map(|i| {
+            let x = c.candidates.points[i][0];
+            (c.pressure[i] - p0 * (1.0 - (x / a).powi(2)).sqrt()).abs() / p0
+        })
+        .fold(0.0, f64::max);
     let out = Outcome {
+        profile_interior,
         half_width: a_fit / a - 1.0,
         peak: p0_fit / p0 - 1.0,
         profile,
@@ -141,11 +155,12 @@ fn measure(label: &str, s: &mlpg_contact::Solution, e_star: f64) -> Outcome {
         half_width_fit: a_fit,
     };
     println!(
-        "hertz: {label:<22} P = {load:.5e}  a/R = {:.4}  a_fit/a − 1 = {:+.3e}  p0_fit/p0 − 1 = {:+.3e}  profile {:.3e}  closed {}",
+        "hertz: {label:<22} P = {load:.5e}  a/R = {:.4}  a_fit/a − 1 = {:+.3e}  p0_fit/p0 − 1 = {:+.3e}  profile {:.3e}  interior profile {:.3e}  closed {}",
         out.a_over_r,
         out.half_width,
         out.peak,
         out.profile,
+        out.profile_interior,
         pts.len()
     );
     out
@@ -156,12 +171,12 @@ fn study(name: &str, layout: Layout, h: &[f64]) -> Vec<Outcome> {
     let rows: Vec<Vec<f64>> = h
         .iter()
         .zip(&out)
-        .map(|(&hi, o)| vec![hi, o.a_over_r, o.half_width, o.peak, o.profile])
+        .map(|(&hi, o)| vec![hi, o.a_over_r, o.half_width, o.peak, o.profile, o.profile_interior])
         .collect();
     write_table(
         "hertz",
         &format!("{name}.csv"),
-        "h,a_over_R,half_width_error,peak_error,profile_error",
+        "h,a_over_R,half_width_error,peak_error,profile_error,interior_profile_error",
         &rows,
     );
     out
@@ -243,10 +258,16 @@ fn cylinder_on_block(h: f64) -> Problem {
     upper
 }
 
-// Observed (h = 0.02 / 0.01 on the cylinder, 1.25 h on the block; a/R = 0.146):
-// a_fit/a − 1 = −1.45e-2 / +1.2e-3; p0_fit/p0 − 1 = +3.6e-3 / +2.9e-3; profile error
-// 0.025 / 0.061 (the maximum sits at the contact edge, where the non-matching layouts put
-// the last closed candidate at a varying distance from the edge; not asserted to fall).
+// Observed (h = 0.02 / 0.01 / 0.005 on the cylinder, 1.25 h on the block; a/R = 0.146):
+// a_fit/a − 1 = −1.45e-2 / +1.2e-3 / −9.0e-3; p0_fit/p0 − 1 = +3.6e-3 / +2.9e-3 / +5.5e-3;
+// profile error away from the edge (|x| ≤ 0.8 a) 0.0195 / 0.0135 / 0.0094, falling at a rate
+// of about 0.5 per halving; over all closed candidates 0.025 / 0.061 / 0.058: that maximum
+// sits at the last closed candidate, where the pressure's square-root edge is sampled one
+// spacing from the edge and the non-matching layouts put that candidate at a varying
+// distance from it (at h = 0.005: −5.8 % there, ≤ 1.8 % everywhere else), so it is bounded
+// but not asserted to fall. The a and p₀ errors at a/R ≈ 0.15 are at the level of the
+// half-space idealisation of the Hertz formulas (their corrections are O((a/R)²) ≈ 2 %): only
+// the coarsest-to-finest fall of |a error| is asserted.
 // With the clipped grid alone (no node layer inside the arc) M + Mᵀ was indefinite here at
 // h = 0.01 (smallest eigenvalue −1.1 against diagonal entries ~10).
 #[test]
@@ -254,7 +275,7 @@ fn hertz_two_elastic_bodies() {
     let e_one = YOUNG / (1.0 - POISSON * POISSON);
     let e_star = 1.0 / (2.0 / e_one);
     let mut out = Vec::new();
-    for h in [0.02, 0.01] {
+    for h in [0.02, 0.01, 0.005] {
         let s = mlpg_contact::solve(&cylinder_on_block(h)).unwrap();
         let s2 = s.second_body.as_ref().unwrap();
         assert!(s2.equilibrium_error < 1e-8, "block equilibrium {}", s2.equilibrium_error);
@@ -267,5 +288,8 @@ fn hertz_two_elastic_bodies() {
         assert!(o.peak.abs() < 0.01, "peak error {}", o.peak);
         assert!(o.profile < 0.08, "profile error {}", o.profile);
     }
-    assert!(out[1].half_width.abs() < out[0].half_width.abs());
+    assert!(out[2].half_width.abs() < out[0].half_width.abs());
+    let interior: Vec<f64> = out.iter().map(|o| o.profile_interior).collect();
+    assert!(interior.windows(2).all(|w| w[1] < w[0]), "interior profile errors {interior:?}");
+    assert!(interior[2] < 0.012, "finest interior profile error {}", interior[2]);
 }
