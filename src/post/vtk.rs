@@ -14,80 +14,51 @@ pub fn solution_vtu(problem: &Problem, model: &Model, solution: &Solution) -> St
     if let Some(mesh) = &model.mesh {
         return fem_vtu(problem, model, mesh, solution);
     }
+    // One polygon (VTK_POLYGON) per subdomain cell, its own copy of the vertices; the node's
+    // values as cell data.
     let cells = &model.cells;
-    let n_points: usize = cells.iter().map(|c| c.vertices.len()).sum();
-    let mut s = String::new();
-    let _ = writeln!(s, "<?xml version=\"1.0\"?>");
-    let _ = writeln!(
-        s,
-        "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">"
-    );
-    let _ = writeln!(s, "<UnstructuredGrid>");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{n_points}\" NumberOfCells=\"{}\">", cells.len());
-    let _ = writeln!(
-        s,
-        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
-    );
-    for c in cells {
-        for v in &c.vertices {
-            let _ = writeln!(s, "{} {} 0", num(v[0]), num(v[1]));
-        }
-    }
-    let _ = writeln!(s, "</DataArray>\n</Points>\n<Cells>");
-    let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
+    let points: Vec<[f64; 2]> = cells.iter().flat_map(|c| c.vertices.iter().copied()).collect();
     let mut next = 0usize;
-    for c in cells {
-        let ids: Vec<String> = (next..next + c.vertices.len()).map(|k| k.to_string()).collect();
-        next += c.vertices.len();
-        let _ = writeln!(s, "{}", ids.join(" "));
-    }
-    let _ =
-        writeln!(s, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
-    let mut end = 0usize;
-    for c in cells {
-        end += c.vertices.len();
-        let _ = writeln!(s, "{end}");
-    }
-    let _ = writeln!(s, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
-    for _ in cells {
-        let _ = writeln!(s, "7");
-    }
-    let _ = writeln!(s, "</DataArray>\n</Cells>\n<CellData Vectors=\"displacement\">");
-    let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"node\" format=\"ascii\">");
-    for i in 0..cells.len() {
-        let _ = writeln!(s, "{i}");
-    }
-    let _ = writeln!(
-        s,
-        "</DataArray>\n<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">"
-    );
-    for u in &solution.displacement {
-        let _ = writeln!(s, "{} {} 0", num(u[0]), num(u[1]));
-    }
-    let _ = writeln!(
-        s,
-        "</DataArray>\n<DataArray type=\"Float64\" Name=\"stress_xx_yy_xy\" NumberOfComponents=\"3\" format=\"ascii\">"
-    );
-    for t in &solution.stress {
-        let _ = writeln!(s, "{} {} {}", num(t[0]), num(t[1]), num(t[2]));
-    }
-    let _ = writeln!(
-        s,
-        "</DataArray>\n<DataArray type=\"Float64\" Name=\"von_mises\" format=\"ascii\">"
-    );
-    for t in &solution.stress {
-        let _ = writeln!(s, "{}", num(problem.material.von_mises(*t)));
-    }
-    let _ = writeln!(s, "</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>");
-    s
+    let connectivity: Vec<Vec<usize>> = cells
+        .iter()
+        .map(|c| {
+            next += c.vertices.len();
+            (next - c.vertices.len()..next).collect()
+        })
+        .collect();
+    unstructured_grid(problem, solution, &points, &connectivity, 7, Location::Cell)
 }
 
 /// The FE solution: points = nodes, cells = four sub-quads per element (VTK_QUAD).
 fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -> String {
     // Local corner quadruples of the four sub-quads (counter-clockwise).
     const SUB: [[usize; 4]; 4] = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-    let points = &model.nodes.points;
-    let n_cells = 4 * mesh.elements.len();
+    let connectivity: Vec<Vec<usize>> = mesh
+        .elements
+        .iter()
+        .flat_map(|e| SUB.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()))
+        .collect();
+    unstructured_grid(problem, solution, &model.nodes.points, &connectivity, 9, Location::Point)
+}
+
+/// Where the solution's values sit: on the cells (MFVM: one cell per node, with the node's
+/// index as an extra array) or on the points (FE).
+#[derive(Clone, Copy, PartialEq)]
+enum Location {
+    Cell,
+    Point,
+}
+
+/// The VTU text of an unstructured grid of `points` and `cells` (all of VTK type `vtk_type`)
+/// carrying the displacement, stress and von Mises stress of `solution` at `location`.
+fn unstructured_grid(
+    problem: &Problem,
+    solution: &Solution,
+    points: &[[f64; 2]],
+    cells: &[Vec<usize>],
+    vtk_type: u8,
+    location: Location,
+) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(
@@ -95,7 +66,12 @@ fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -
         "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">"
     );
     let _ = writeln!(s, "<UnstructuredGrid>");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">", points.len());
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        points.len(),
+        cells.len()
+    );
     let _ = writeln!(
         s,
         "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
@@ -105,21 +81,33 @@ fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -
     }
     let _ = writeln!(s, "</DataArray>\n</Points>\n<Cells>");
     let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
-    for e in &mesh.elements {
-        for q in SUB {
-            let _ = writeln!(s, "{} {} {} {}", e[q[0]], e[q[1]], e[q[2]], e[q[3]]);
-        }
+    for c in cells {
+        let ids: Vec<String> = c.iter().map(|k| k.to_string()).collect();
+        let _ = writeln!(s, "{}", ids.join(" "));
     }
     let _ =
         writeln!(s, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
-    for k in 1..=n_cells {
-        let _ = writeln!(s, "{}", 4 * k);
+    let mut end = 0usize;
+    for c in cells {
+        end += c.len();
+        let _ = writeln!(s, "{end}");
     }
     let _ = writeln!(s, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
-    for _ in 0..n_cells {
-        let _ = writeln!(s, "9");
+    for _ in cells {
+        let _ = writeln!(s, "{vtk_type}");
     }
-    let _ = writeln!(s, "</DataArray>\n</Cells>\n<PointData Vectors=\"displacement\">");
+    let tag = match location {
+        Location::Cell => "CellData",
+        Location::Point => "PointData",
+    };
+    let _ = writeln!(s, "</DataArray>\n</Cells>\n<{tag} Vectors=\"displacement\">");
+    if location == Location::Cell {
+        let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"node\" format=\"ascii\">");
+        for i in 0..cells.len() {
+            let _ = writeln!(s, "{i}");
+        }
+        let _ = writeln!(s, "</DataArray>");
+    }
     let _ = writeln!(
         s,
         "<DataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\" format=\"ascii\">"
@@ -141,6 +129,6 @@ fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -
     for t in &solution.stress {
         let _ = writeln!(s, "{}", num(problem.material.von_mises(*t)));
     }
-    let _ = writeln!(s, "</DataArray>\n</PointData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>");
+    let _ = writeln!(s, "</DataArray>\n</{tag}>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>");
     s
 }
