@@ -962,7 +962,7 @@ fn write_figures(
             .collect();
         support_panels.push(Panel {
             title: format!(
-                "{tag} basis (cantilever h = {}, beam h = {}; grey: refusal limit, FE uncertainty in F_c)",
+                "{tag} basis (cantilever h = {}, beam h = {})",
                 plan.cantilever[ic], plan.beam[ib]
             ),
             x_label: "support factor α_s".into(),
@@ -971,13 +971,13 @@ fn write_figures(
             curves,
             marker: Some(limit),
             floor: Some(reference.force_uncertainty),
-            legend: Some(SeriesLabelPosition::LowerRight),
+            legend: Some(SeriesLabelPosition::UpperLeft),
         });
     }
     let support = dir.join("param_study_support.svg");
     draw_figure(
         &support,
-        "Errors at the finest spacings against the support factor (β = 0; ×: beam contact not intact, at the top: no answer)",
+        "Errors at the finest spacings against the support factor (β = 0; ×: beam contact not intact, at the top: no answer; grey: refusal limit, FE uncertainty in F_c)",
         2,
         &support_panels,
         (1500, 560),
