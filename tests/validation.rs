@@ -3,6 +3,8 @@ mod validation {
     mod common;
     // Linear field reproduced to round-off, structured and jittered nodes.
     mod patch_test;
+    // Timoshenko & Goodier cantilever: the closed form (also used by examples/param_study.rs).
+    mod end_shear_exact;
     // Timoshenko & Goodier cantilever: errors and rates, structured and jittered.
     mod cantilever_end_shear;
     // Free body: exactly three rigid modes at α_s = 2; checkerboard modes at α_s = 3.

@@ -1,10 +1,5 @@
-//! Cantilever under a parabolic end shear, plane stress [TG70, §21]; the closed form as
-//! written by Augarde & Deeks (2008) for a beam clamped at `x = 0` and loaded at `x = L`:
-//!
-//! `u_x = −P y / (6EI) [(6L − 3x) x + (2 + ν)(y² − D²/4)]`,
-//! `u_y =  P / (6EI) [3ν y² (L − x) + (4 + 5ν) D² x / 4 + (3L − x) x²]`,
-//! `σ_xx = −P (L − x) y / I`, `σ_yy = 0`, `τ_xy = P (D²/4 − y²) / (2I)`, `I = D³/12`.
-//! (Checked symbolically: equilibrium, traction-free top and bottom, resultant shear `P`.)
+//! Cantilever under a parabolic end shear, plane stress [TG70, §21]; the closed form (Augarde
+//! & Deeks 2008) is in `end_shear_exact.rs`.
 //!
 //! Boundary conditions: the exact displacement on `x = 0`, the exact traction on `x = L`,
 //! traction-free top and bottom. Checks, on structured and jittered nodes at 3–4 spacings:
@@ -12,37 +7,11 @@
 //! quadrature over the cells), an absolute bound at the finest spacing and the observed rate.
 
 use super::common::*;
-use mlpg_contact::geometry::{Domain, Point};
+use mlpg_contact::geometry::Domain;
 use mlpg_contact::nodes::Layout;
 use std::sync::Arc;
 
-pub(super) const LENGTH: f64 = 48.0;
-pub(super) const DEPTH: f64 = 12.0;
-pub(super) const YOUNG: f64 = 3.0e7;
-pub(super) const POISSON: f64 = 0.3;
-pub(super) const LOAD: f64 = 1000.0;
-
-fn inertia() -> f64 {
-    DEPTH.powi(3) / 12.0
-}
-
-pub(super) fn exact_displacement(p: Point) -> [f64; 2] {
-    let [x, y] = p;
-    let (l, d, nu) = (LENGTH, DEPTH, POISSON);
-    let c = LOAD / (6.0 * YOUNG * inertia());
-    [
-        -c * y * ((6.0 * l - 3.0 * x) * x + (2.0 + nu) * (y * y - d * d / 4.0)),
-        c * (3.0 * nu * y * y * (l - x)
-            + (4.0 + 5.0 * nu) * d * d * x / 4.0
-            + (3.0 * l - x) * x * x),
-    ]
-}
-
-pub(super) fn exact_stress(p: Point) -> [f64; 3] {
-    let [x, y] = p;
-    let i = inertia();
-    [-LOAD * (LENGTH - x) * y / i, 0.0, LOAD * (DEPTH * DEPTH / 4.0 - y * y) / (2.0 * i)]
-}
+use super::end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
 
 struct Errors {
     displacement: f64,

@@ -16,9 +16,7 @@ use mlpg_contact::problem::Method;
 use std::sync::Arc;
 
 // The closed form and its data are the MFVM cantilever's.
-use super::cantilever_end_shear::{
-    DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress,
-};
+use super::end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
 
 /// `σ·D⁻¹σ` (plane stress).
 fn energy_density(s: [f64; 3]) -> f64 {
