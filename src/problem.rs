@@ -174,7 +174,10 @@ impl Default for Discretisation {
 /// Largest support factor accepted for the pure mixed method (`β = 0`) with a linear basis.
 pub const MIXED_LINEAR_MAX_SUPPORT_FACTOR: f64 = 2.25;
 /// Largest support factor accepted for the pure mixed method (`β = 0`) with a quadratic basis.
-pub const MIXED_QUADRATIC_MAX_SUPPORT_FACTOR: f64 = 3.0;
+/// Issue 7 proposed 3; the parameter study (docs/param_study.md) measured `α_s = 3` failing the
+/// run-time `M` checks on the paper's beam at h = 1 and 0.125 (84 contact intervals) and its
+/// cantilever energy error growing from h = 0.5 to 0.25, while 2.5 was intact everywhere.
+pub const MIXED_QUADRATIC_MAX_SUPPORT_FACTOR: f64 = 2.5;
 /// Smallest blend `β` that lifts those limits. The gap s₄/s_max above the rigid modes of a
 /// free body grows roughly in proportion to `β` (9 × 9 nodes, α_s = 3: 5e-5 at β = 0.001,
 /// 3.4e-4 at 0.01, 2.4e-3 at 0.1, 1.9e-2 at 1; tests/validation/free_body.rs), so a tiny `β`
@@ -186,7 +189,7 @@ impl Discretisation {
     /// or `None` when it is inside them.
     ///
     /// With `β = 0` the collocated strains are smoothed by supports larger than about
-    /// `α_s = 2.25` (linear basis) or `α_s = 3` (quadratic basis) so much that checkerboard
+    /// `α_s = 2.25` (linear basis) or `α_s = 2.5` (quadratic basis) so much that checkerboard
     /// displacement modes become nearly free (method.md §2, §3.8: s₄/s_max ≈ 7e-7 at
     /// `α_s = 3` on a 9 × 9 free body) and the contact compliance loses its positive diagonal
     /// (§4.1). A blend `β ≥` [`MIN_STABILISING_BETA`] lifts these limits (§3.9); a smaller

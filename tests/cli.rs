@@ -309,7 +309,7 @@ fn gh_7_unstable_discretisations_are_refused() {
         (
             "quadratic_mixed_large_support",
             with("basis = \"quadratic\"\nsupport_factor = 3.5"),
-            "quadratic basis and beta = 0 (the pure mixed method) is unstable above 3",
+            "quadratic basis and beta = 0 (the pure mixed method) is unstable above 2.5",
         ),
         (
             "quadratic_too_few_support_nodes",
