@@ -6,7 +6,7 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Basis {
-    /// `p = (1, ξ, η)` (default; [AHR04] shows a low order suffices for the mixed method).
+    /// `p = (1, ξ, η)` (default; \[AHR04\] shows a low order suffices for the mixed method).
     Linear,
     /// `p = (1, ξ, η, ξ², ξη, η²)`.
     Quadratic,

@@ -93,7 +93,7 @@ impl ShapeSet {
 
 /// MLS shape functions at `points` from the node cloud `nodes` with supports `supports`.
 ///
-/// `φ(x) = pᵀ(x) A⁻¹(x) B(x)`, `A = Σ_I w_I p_I p_Iᵀ`, `B = [w_I p_I]` [LS81]; paper
+/// `φ(x) = pᵀ(x) A⁻¹(x) B(x)`, `A = Σ_I w_I p_I p_Iᵀ`, `B = [w_I p_I]` \[LS81\]; paper
 /// eqs. (3)–(4). The basis is evaluated in coordinates shifted to the evaluation point and
 /// scaled by the largest support radius there, so cond(`A`) does not grow as the spacing
 /// shrinks. Gradients use `γ = A⁻¹p`, `γ_,k = A⁻¹(p_,k − A_,k γ)`,

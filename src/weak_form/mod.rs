@@ -1,5 +1,5 @@
 //! Stage 4: the local weak form of the mixed MLPG finite volume method over subdomains `Ω_s`
-//! (paper eqs. (8)–(12); [AHR04]).
+//! (paper eqs. (8)–(12); \[AHR04\]).
 //!
 //! With a Heaviside test function on the cell `Ω_I` of node `I`, the local balance is
 //! `∫_{∂Ω_I} t dΓ + ∫_{Ω_I} b dΩ = 0` (eq. 9). Its boundary splits into *faces*: interior faces
