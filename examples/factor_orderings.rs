@@ -9,7 +9,7 @@
 //! (drop tolerance, `0` keeps every entry), `tasks=2` (numeric split), `leaf=64` (nodes per
 //! nested-dissection leaf), `width=1.0` (separator width scale), `thin=4` (boxes thinner than
 //! this many separator widths are not cut; a comma list builds one ordering per value and
-//! keeps the least fill), `method=static` (the static-pivoting LU with the structure of
+//! keeps the least fill), `method=static|partial|auto` (`static`: the static-pivoting LU with the structure of
 //! `K + Kᵀ`; its bound is then that of the Cholesky factor of `P(K + Kᵀ)Pᵀ`), `pivot=1.5e-8`
 //! (its pivot tolerance), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
 //! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
@@ -101,6 +101,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     opt.method = match value {
                         "static" => FactorMethod::StaticPivoting,
                         "partial" => FactorMethod::PartialPivoting,
+                        "auto" => FactorMethod::Auto,
                         _ => return Err(format!("unknown method {value}").into()),
                     }
                 }

@@ -76,8 +76,14 @@ pub enum SolveError {
 /// Which LU [`Factorisation`] computes.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub enum FactorMethod {
-    /// faer's supernodal LU with partial pivoting (static structure of `KᵀK`).
+    /// [`Self::StaticPivoting`] for systems of at least [`STATIC_PIVOTING_MIN_DOFS`] unknowns
+    /// with a geometric ordering, [`Self::PartialPivoting`] otherwise. Measured (session 3,
+    /// docs/dev/performance.md): the static-pivoting LU factorises 1.5–2× faster in half the
+    /// memory, but its solves (with the residual check) are slower, which costs more than
+    /// it saves in the contact condensation of the beam and the 84k-DOF strip.
     #[default]
+    Auto,
+    /// faer's supernodal LU with partial pivoting (static structure of `KᵀK`).
     PartialPivoting,
     /// Multifrontal LU with the static structure of `K + Kᵀ`, pivoting only inside each
     /// supernode's diagonal block (tiny pivots perturbed), and iterative refinement against
@@ -89,7 +95,7 @@ pub enum FactorMethod {
 /// Tuning knobs of [`Factorisation::with_options`]; [`Default`] is what the solver uses.
 #[derive(Clone, Debug)]
 pub struct FactorOptions {
-    /// The factorisation. Default [`FactorMethod::PartialPivoting`].
+    /// The factorisation. Default [`FactorMethod::Auto`].
     pub method: FactorMethod,
     /// [`FactorMethod::StaticPivoting`]: pivots of magnitude below this (in the equilibrated
     /// matrix, whose largest entry per row and column is ~1) are replaced by ±this value.
@@ -114,13 +120,16 @@ pub struct FactorOptions {
     pub thin_boxes: Vec<f64>,
 }
 
+/// [`FactorMethod::Auto`] uses static pivoting from this many unknowns on.
+pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
+
 /// A later ordering candidate must bound the flops below this fraction of the kept one's.
 const PREFER_FIRST: f64 = 0.8;
 
 impl Default for FactorOptions {
     fn default() -> Self {
         Self {
-            method: FactorMethod::PartialPivoting,
+            method: FactorMethod::Auto,
             pivot_tolerance: f64::EPSILON.sqrt(),
             void_tolerance: 1e-14,
             tasks: 2,
@@ -173,8 +182,8 @@ pub struct FactorStats {
     pub columns_solved: usize,
     /// Refinement corrections applied so far, summed over columns.
     pub refinement_steps: usize,
-    /// Largest componentwise backward error `max_i |K x − b|_i / (|K||x| + |b|)_i` of a
-    /// returned solution so far (columns above [`ACCEPTED_BACKWARD_ERROR`] are returned as
+    /// Largest normwise backward error `‖K x − b‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞)` of a returned
+    /// solution so far (columns above [`ACCEPTED_BACKWARD_ERROR`] are returned as
     /// NaN).
     pub worst_backward_error: f64,
 }
@@ -448,11 +457,17 @@ impl Plan {
         let a = SparseColMatRef::new(sym, &pruned.values);
         let t = std::time::Instant::now();
         let at = a.transpose().to_col_major().map_err(backend)?;
+        let use_static = !matches!(ordering, ColumnOrdering::Colamd)
+            && match options.method {
+                FactorMethod::StaticPivoting => true,
+                FactorMethod::PartialPivoting => false,
+                FactorMethod::Auto => n >= STATIC_PIVOTING_MIN_DOFS,
+            };
         let candidates: Vec<Vec<usize>> = match ordering {
             ColumnOrdering::NestedDissection(points) if 2 * points.len() == n => {
                 // The static structure of the static-pivoting LU is that of `K + Kᵀ`, whose
                 // reach is half that of `KᵀK`.
-                let own = if options.method == FactorMethod::StaticPivoting { 0.5 } else { 1.0 };
+                let own = if use_static { 0.5 } else { 1.0 };
                 let w = separator_width(&pruned, points).map(|w| w * own * options.separator_scale);
                 options
                     .thin_boxes
@@ -466,8 +481,7 @@ impl Plan {
         // The first candidate, unless a later one bounds the flops clearly lower (the first,
         // nested dissection proper, needs less memory at equal flops: 6.5 vs 11.8 GB at 100k
         // nodes in session 2).
-        let is_static = options.method == FactorMethod::StaticPivoting
-            && !matches!(ordering, ColumnOrdering::Colamd);
+        let is_static = use_static;
         stats.method =
             if is_static { FactorMethod::StaticPivoting } else { FactorMethod::PartialPivoting };
         if is_static {
