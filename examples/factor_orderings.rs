@@ -9,16 +9,21 @@
 //! (drop tolerance, `0` keeps every entry), `tasks=2` (numeric split), `leaf=64` (nodes per
 //! nested-dissection leaf), `width=1.0` (separator width scale), `thin=4` (boxes thinner than
 //! this many separator widths are not cut; a comma list builds one ordering per value and
-//! keeps the least fill), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
+//! keeps the least fill), `method=static|partial|auto` (`static`: the static-pivoting LU with the structure of
+//! `K + Kᵀ`; its bound is then that of the Cholesky factor of `P(K + Kᵀ)Pᵀ`), `pivot=1.5e-8`
+//! (its pivot tolerance), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
 //! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
 //! of one solve against the full `K`, the solve time and a hash of the solution (equal hashes
 //! = bit-identical solutions). The last line is the peak resident memory of the process
-//! (`VmHWM`): run one variant per process to measure its memory.
+//! (`VmHWM`): run one variant per process to measure its memory. `MLPG_BETA=1` overrides the
+//! problem's `discretisation.beta`.
 
 use std::time::Instant;
 
 use mlpg_contact::assembly::{self, AssemblyInput};
-use mlpg_contact::linear_solve::{self, ColumnOrdering, FactorOptions, Factorisation};
+use mlpg_contact::linear_solve::{
+    self, ColumnOrdering, FactorMethod, FactorOptions, Factorisation,
+};
 use mlpg_contact::neighbours::Supports;
 use mlpg_contact::problem::Problem;
 use mlpg_contact::{mls, nodes, weak_form};
@@ -36,6 +41,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let mut problem = Problem::from_toml(&std::fs::read_to_string(file)?)?;
     problem.node_spacing = spacing.parse()?;
+    if let Some(beta) = std::env::var("MLPG_BETA").ok().and_then(|v| v.parse().ok()) {
+        problem.discretisation.beta = beta;
+    }
     let t = Instant::now();
     let disc = &problem.discretisation;
     let nodes = nodes::generate(&problem.domain, problem.node_spacing, problem.layout)?;
@@ -89,6 +97,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     opt.thin_boxes = value.split(',').map(str::parse).collect::<Result<_, _>>()?;
                 }
                 "analyse" => analyse_only = value == "1",
+                "method" => {
+                    opt.method = match value {
+                        "static" => FactorMethod::StaticPivoting,
+                        "partial" => FactorMethod::PartialPivoting,
+                        "auto" => FactorMethod::Auto,
+                        _ => return Err(format!("unknown method {value}").into()),
+                    }
+                }
+                "pivot" => opt.pivot_tolerance = value.parse()?,
                 _ => return Err(format!("unknown setting {key}").into()),
             }
         }
@@ -116,14 +133,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let ax = linear_solve::mul(k, &x);
         let r = ax.iter().zip(b).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt()
             / b.iter().map(|v| v * v).sum::<f64>().sqrt();
+        // Componentwise backward error max_i |r_i| / (|K||x| + |b|)_i.
+        let mut den: Vec<f64> = b.iter().map(|v| v.abs()).collect();
+        for (c, &xc) in x.iter().enumerate() {
+            for q in k.col_ptr[c]..k.col_ptr[c + 1] {
+                den[k.row_idx[q]] += k.values[q].abs() * xc.abs();
+            }
+        }
+        let berr = ax
+            .iter()
+            .zip(b)
+            .zip(&den)
+            .map(|((a, b), d)| if a == b { 0.0 } else { (a - b).abs() / d })
+            .fold(0.0f64, f64::max);
         let hash = x
             .iter()
             .fold(0xcbf2_9ce4_8422_2325u64, |h, v| (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3));
         let s = f.stats();
         println!(
             "{v:<28} total {total:7.3} s (order {:.3}, symbolic {:.3}, numeric {:.3}); nnz {} -> {}; \
-             {} supernodes; bound nnz {:.1} M, flops {:.2e}; solve {solve:.3} s; residual {r:.1e}; \
-             hash {hash:016x}",
+             {} supernodes; bound nnz {:.1} M, flops {:.2e}; solve {solve:.3} s; residual {r:.1e}, backward error {berr:.1e}; \
+             hash {hash:016x}; factor nnz {:.1} M, {} perturbed pivots, {} refinement steps, \
+             worst refined backward error {:.1e}",
             s.ordering_seconds,
             s.symbolic_seconds,
             s.numeric_seconds,
@@ -131,7 +162,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.nnz_factorised,
             s.supernodes,
             s.bound_nnz as f64 * 1e-6,
-            s.bound_flops
+            s.bound_flops,
+            s.factor_nnz as f64 * 1e-6,
+            s.perturbed_pivots,
+            s.refinement_steps,
+            s.worst_backward_error
         );
     }
     println!("peak resident memory (VmHWM) {:.0} MiB", peak_rss_mib().unwrap_or(f64::NAN));

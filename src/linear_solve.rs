@@ -41,6 +41,10 @@
 //! singular one gives a non-finite solution, reported as [`SolveError::Singular`] by
 //! [`Factorisation::solve`]. Nothing here panics on a singular matrix.
 
+mod symmetric;
+
+pub use symmetric::{ACCEPTED_BACKWARD_ERROR, MAX_REFINEMENT_STEPS};
+
 use crate::assembly::SystemMatrix;
 use crate::geometry::Point;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
@@ -69,9 +73,34 @@ pub enum SolveError {
     Backend(String),
 }
 
+/// Which LU [`Factorisation`] computes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum FactorMethod {
+    /// [`Self::StaticPivoting`] for systems of at least [`STATIC_PIVOTING_MIN_DOFS`] unknowns
+    /// with a geometric ordering, [`Self::PartialPivoting`] otherwise. Measured (session 3,
+    /// docs/dev/performance.md): the static-pivoting LU factorises 1.5–2× faster in half the
+    /// memory, but its solves (with the residual check) are slower, which costs more than
+    /// it saves in the contact condensation of the beam and the 84k-DOF strip.
+    #[default]
+    Auto,
+    /// faer's supernodal LU with partial pivoting (static structure of `KᵀK`).
+    PartialPivoting,
+    /// Multifrontal LU with the static structure of `K + Kᵀ`, pivoting only inside each
+    /// supernode's diagonal block (tiny pivots perturbed), and iterative refinement against
+    /// `K` in every solve (`symmetric.rs`). Needs a nested-dissection ordering or a
+    /// permutation; with [`ColumnOrdering::Colamd`] the partial-pivoting LU is used.
+    StaticPivoting,
+}
+
 /// Tuning knobs of [`Factorisation::with_options`]; [`Default`] is what the solver uses.
 #[derive(Clone, Debug)]
 pub struct FactorOptions {
+    /// The factorisation. Default [`FactorMethod::Auto`].
+    pub method: FactorMethod,
+    /// [`FactorMethod::StaticPivoting`]: pivots of magnitude below this (in the equilibrated
+    /// matrix, whose largest entry per row and column is ~1) are replaced by ±this value.
+    /// Default `√ε ≈ 1.5e-8`.
+    pub pivot_tolerance: f64,
     /// Entries with `|K_ij| ≤ void_tolerance · max|K|` are left out of the factorised matrix
     /// (`0` keeps every entry). Default `1e-14`.
     pub void_tolerance: f64,
@@ -91,12 +120,17 @@ pub struct FactorOptions {
     pub thin_boxes: Vec<f64>,
 }
 
+/// [`FactorMethod::Auto`] uses static pivoting from this many unknowns on.
+pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
+
 /// A later ordering candidate must bound the flops below this fraction of the kept one's.
 const PREFER_FIRST: f64 = 0.8;
 
 impl Default for FactorOptions {
     fn default() -> Self {
         Self {
+            method: FactorMethod::Auto,
+            pivot_tolerance: f64::EPSILON.sqrt(),
             void_tolerance: 1e-14,
             tasks: 2,
             leaf_nodes: 64,
@@ -138,17 +172,39 @@ pub struct FactorStats {
     pub symbolic_seconds: f64,
     /// Seconds of the numeric factorisation.
     pub numeric_seconds: f64,
+    /// The factorisation used.
+    pub method: FactorMethod,
+    /// Nonzeros stored in `L` and `U` ([`FactorMethod::StaticPivoting`] only; 0 otherwise).
+    pub factor_nnz: usize,
+    /// Pivots replaced by `±pivot_tolerance` ([`FactorMethod::StaticPivoting`]).
+    pub perturbed_pivots: usize,
+    /// Right-hand-side columns solved so far ([`FactorMethod::StaticPivoting`]).
+    pub columns_solved: usize,
+    /// Refinement corrections applied so far, summed over columns.
+    pub refinement_steps: usize,
+    /// Largest normwise backward error `‖K x − b‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞)` of a returned
+    /// solution so far (columns above [`ACCEPTED_BACKWARD_ERROR`] are returned as
+    /// NaN).
+    pub worst_backward_error: f64,
 }
 
 /// A sparse LU factorisation `P K Q = L U` of the system matrix.
 pub struct Factorisation {
-    lu: SupernodalLu<usize, f64>,
-    row_perm: Vec<usize>,
-    row_perm_inv: Vec<usize>,
-    col_perm: Vec<usize>,
-    col_perm_inv: Vec<usize>,
+    inner: Inner,
     n: usize,
     stats: FactorStats,
+}
+
+/// The factors of either method.
+enum Inner {
+    Partial {
+        lu: SupernodalLu<usize, f64>,
+        row_perm: Vec<usize>,
+        row_perm_inv: Vec<usize>,
+        col_perm: Vec<usize>,
+        col_perm_inv: Vec<usize>,
+    },
+    Static(symmetric::StaticLu),
 }
 
 impl std::fmt::Debug for Factorisation {
@@ -369,12 +425,20 @@ impl Analysis {
     }
 }
 
+/// The chosen ordering of either method.
+enum Ordered {
+    /// Column order and bounding counts for the partial-pivoting LU.
+    Columns(Analysis),
+    /// Symmetric order for the static-pivoting LU.
+    Symmetric(Vec<usize>),
+}
+
 /// Everything before the symbolic factorisation: the pruned matrix, its transpose and the
 /// chosen ordering.
 struct Plan {
     pruned: SystemMatrix,
     at: SparseColMat<usize, f64>,
-    analysis: Analysis,
+    ordered: Ordered,
     stats: FactorStats,
 }
 
@@ -393,9 +457,18 @@ impl Plan {
         let a = SparseColMatRef::new(sym, &pruned.values);
         let t = std::time::Instant::now();
         let at = a.transpose().to_col_major().map_err(backend)?;
+        let use_static = !matches!(ordering, ColumnOrdering::Colamd)
+            && match options.method {
+                FactorMethod::StaticPivoting => true,
+                FactorMethod::PartialPivoting => false,
+                FactorMethod::Auto => n >= STATIC_PIVOTING_MIN_DOFS,
+            };
         let candidates: Vec<Vec<usize>> = match ordering {
             ColumnOrdering::NestedDissection(points) if 2 * points.len() == n => {
-                let w = separator_width(&pruned, points).map(|w| w * options.separator_scale);
+                // The static structure of the static-pivoting LU is that of `K + Kᵀ`, whose
+                // reach is half that of `KᵀK`.
+                let own = if use_static { 0.5 } else { 1.0 };
+                let w = separator_width(&pruned, points).map(|w| w * own * options.separator_scale);
                 options
                     .thin_boxes
                     .iter()
@@ -408,6 +481,24 @@ impl Plan {
         // The first candidate, unless a later one bounds the flops clearly lower (the first,
         // nested dissection proper, needs less memory at equal flops: 6.5 vs 11.8 GB at 100k
         // nodes in session 2).
+        let is_static = use_static;
+        stats.method =
+            if is_static { FactorMethod::StaticPivoting } else { FactorMethod::PartialPivoting };
+        if is_static {
+            // Fill of the Cholesky factor of `P(K + Kᵀ)Pᵀ`.
+            let mut best: Option<(Vec<usize>, usize, f64)> = None;
+            for perm in candidates {
+                let (nnz, flops) = symmetric::symmetric_fill(&pruned, &perm)?;
+                if best.as_ref().is_none_or(|b| flops < PREFER_FIRST * b.2) {
+                    best = Some((perm, nnz, flops));
+                }
+            }
+            let Some((perm, nnz, flops)) = best else { return Err(backend("no column ordering")) };
+            stats.ordering_seconds = t.elapsed().as_secs_f64();
+            stats.bound_nnz = nnz;
+            stats.bound_flops = flops;
+            return Ok(Self { pruned, at, ordered: Ordered::Symmetric(perm), stats });
+        }
         let mut best: Option<Analysis> = None;
         for perm in candidates {
             let analysis = Analysis::new(sym, at.symbolic(), perm)?;
@@ -419,7 +510,7 @@ impl Plan {
         stats.ordering_seconds = t.elapsed().as_secs_f64();
         stats.bound_nnz = analysis.col_counts.iter().sum();
         stats.bound_flops = analysis.flops;
-        Ok(Self { pruned, at, analysis, stats })
+        Ok(Self { pruned, at, ordered: Ordered::Columns(analysis), stats })
     }
 }
 
@@ -469,7 +560,26 @@ impl Factorisation {
     ) -> Result<Self, SolveError> {
         let n = matrix.n;
         let plan = Plan::new(matrix, ordering, options)?;
-        let Plan { pruned, at, analysis, mut stats } = plan;
+        let Plan { pruned, at, ordered, mut stats } = plan;
+        let analysis = match ordered {
+            Ordered::Columns(analysis) => analysis,
+            Ordered::Symmetric(perm) => {
+                drop(at);
+                let (lu, symbolic_seconds, numeric_seconds) = symmetric::StaticLu::new(
+                    matrix,
+                    &pruned,
+                    &perm,
+                    options.pivot_tolerance,
+                    options.tasks > 1,
+                )?;
+                stats.symbolic_seconds = symbolic_seconds;
+                stats.numeric_seconds = numeric_seconds;
+                stats.supernodes = lu.supernodes();
+                stats.factor_nnz = lu.factor_nnz;
+                stats.perturbed_pivots = lu.perturbed;
+                return Ok(Self { inner: Inner::Static(lu), n, stats });
+            }
+        };
         let sym =
             SymbolicSparseColMatRef::new_checked(n, n, &pruned.col_ptr, None, &pruned.row_idx);
         let a = SparseColMatRef::new(sym, &pruned.values);
@@ -502,7 +612,8 @@ impl Factorisation {
         let (lu, row_perm, row_perm_inv) = Self::numeric(a, at.as_ref(), perm_ref, &symbolic, par)?;
         stats.numeric_seconds = t.elapsed().as_secs_f64();
         stats.supernodes = lu.n_supernodes();
-        Ok(Self { lu, row_perm, row_perm_inv, col_perm, col_perm_inv, n, stats })
+        let inner = Inner::Partial { lu, row_perm, row_perm_inv, col_perm, col_perm_inv };
+        Ok(Self { inner, n, stats })
     }
 
     /// The ordering and the fill bound a factorisation with these settings would use, without
@@ -558,24 +669,42 @@ impl Factorisation {
         self.n
     }
 
-    /// Sizes and stage times of this factorisation.
+    /// Sizes and stage times of this factorisation, and (static pivoting) the refinement
+    /// record of the solves so far.
     pub fn stats(&self) -> FactorStats {
-        self.stats
+        let mut stats = self.stats;
+        if let Inner::Static(lu) = &self.inner {
+            let (steps, columns, worst) = lu.refinement();
+            stats.refinement_steps = steps;
+            stats.columns_solved = columns;
+            stats.worst_backward_error = worst;
+        }
+        stats
     }
 
     /// Solves `K X = B` in place for the columns of `rhs` (`n × k`), sequentially.
+    ///
+    /// With [`FactorMethod::StaticPivoting`] every column is refined against `K`; a column
+    /// whose backward error stays above [`ACCEPTED_BACKWARD_ERROR`] is returned as NaN
+    /// (reported by [`Self::solve`] and by the contact condensation as an error).
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
-        let par = Par::Seq;
-        let req = supernodal::solve_in_place_scratch::<usize, f64>(self.n, rhs.ncols(), par);
-        let mut buf = MemBuffer::new(req);
-        self.lu.solve_in_place_with_conj(
-            PermRef::new_checked(&self.row_perm, &self.row_perm_inv, self.n),
-            PermRef::new_checked(&self.col_perm, &self.col_perm_inv, self.n),
-            Conj::No,
-            rhs,
-            par,
-            MemStack::new(&mut buf),
-        );
+        match &self.inner {
+            Inner::Partial { lu, row_perm, row_perm_inv, col_perm, col_perm_inv } => {
+                let par = Par::Seq;
+                let req =
+                    supernodal::solve_in_place_scratch::<usize, f64>(self.n, rhs.ncols(), par);
+                let mut buf = MemBuffer::new(req);
+                lu.solve_in_place_with_conj(
+                    PermRef::new_checked(row_perm, row_perm_inv, self.n),
+                    PermRef::new_checked(col_perm, col_perm_inv, self.n),
+                    Conj::No,
+                    rhs,
+                    par,
+                    MemStack::new(&mut buf),
+                );
+            }
+            Inner::Static(lu) => lu.solve_in_place(rhs),
+        }
     }
 
     /// Solves `K x = b`.
@@ -586,7 +715,14 @@ impl Factorisation {
         let mut x = b.to_vec();
         self.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, self.n, 1));
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-            return Err(SolveError::Singular { detail: format!("non-finite solution at DOF {i}") });
+            let detail = match self.inner {
+                Inner::Static(_) => format!(
+                    "iterative refinement did not reach a backward error of \
+                     {ACCEPTED_BACKWARD_ERROR:e} (static pivoting)"
+                ),
+                Inner::Partial { .. } => format!("non-finite solution at DOF {i}"),
+            };
+            return Err(SolveError::Singular { detail });
         }
         Ok(x)
     }
@@ -606,6 +742,7 @@ pub fn mul(matrix: &SystemMatrix, x: &[f64]) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use faer::Mat;
 
     /// A 2-D Laplacian-like matrix on a `k × k` grid with two DOFs per node (non-symmetric
     /// off-diagonal scaling, a few void entries).
@@ -684,6 +821,76 @@ mod tests {
         }
     }
 
+    fn static_options() -> FactorOptions {
+        FactorOptions { method: FactorMethod::StaticPivoting, ..Default::default() }
+    }
+
+    fn hash(x: &[f64]) -> u64 {
+        x.iter()
+            .fold(0xcbf2_9ce4_8422_2325u64, |h, v| (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3))
+    }
+
+    #[test]
+    fn static_pivoting_solves_to_round_off_independently_of_tasks() {
+        let (m, points) = grid(40);
+        let b: Vec<f64> = (0..m.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let mut hashes = Vec::new();
+        for tasks in [1, 2] {
+            let options = FactorOptions { tasks, ..static_options() };
+            let f = Factorisation::with_options(
+                &m,
+                ColumnOrdering::NestedDissection(&points),
+                &options,
+            )
+            .unwrap();
+            assert_eq!(f.stats().method, FactorMethod::StaticPivoting);
+            assert!(f.stats().factor_nnz > 0);
+            let x = f.solve(&b).unwrap();
+            let r = residual(&m, &x, &b);
+            assert!(r < 1e-14, "tasks {tasks}: residual {r:e}");
+            assert!(f.stats().worst_backward_error <= 1e-14);
+            hashes.push(hash(&x));
+            // Several right-hand sides at once.
+            let mut block =
+                Mat::<f64>::from_fn(
+                    m.n,
+                    3,
+                    |i, j| if j == 1 { b[i] } else { (i % (j + 2)) as f64 },
+                );
+            f.solve_in_place(block.as_mut());
+            let r = residual(&m, block.col_as_slice(1), &b);
+            assert!(r < 1e-14, "tasks {tasks}, block: residual {r:e}");
+        }
+        assert_eq!(hashes[0], hashes[1]);
+    }
+
+    #[test]
+    fn static_pivoting_pivots_inside_node_blocks() {
+        // Swap the roles of a node's two DOFs: each diagonal entry becomes tiny while the
+        // node's off-diagonal couplings are strong, so the diagonal block must pivot.
+        let (mut m, points) = grid(20);
+        for c in 0..m.n {
+            for k in m.col_ptr[c]..m.col_ptr[c + 1] {
+                let r = m.row_idx[k];
+                if r == c {
+                    m.values[k] = 1e-3;
+                } else if r / 2 == c / 2 {
+                    m.values[k] = 4.5;
+                }
+            }
+        }
+        let b: Vec<f64> = (0..m.n).map(|i| (i % 7) as f64 - 3.0).collect();
+        let f = Factorisation::with_options(
+            &m,
+            ColumnOrdering::NestedDissection(&points),
+            &static_options(),
+        )
+        .unwrap();
+        let x = f.solve(&b).unwrap();
+        let r = residual(&m, &x, &b);
+        assert!(r < 1e-13, "residual {r:e}");
+    }
+
     #[test]
     fn singular_matrices_give_errors_not_panics() {
         // Structurally singular: an empty column and row.
@@ -712,5 +919,12 @@ mod tests {
                 Factorisation::with_ordering(&m, ordering).and_then(|f| f.solve(&vec![1.0; m.n]));
             assert!(matches!(out, Err(SolveError::Singular { .. })), "{ordering:?}: {out:?}");
         }
+        let out = Factorisation::with_options(
+            &m,
+            ColumnOrdering::NestedDissection(&points),
+            &static_options(),
+        )
+        .and_then(|f| f.solve(&vec![1.0; m.n]));
+        assert!(matches!(out, Err(SolveError::Singular { .. })), "static pivoting: {out:?}");
     }
 }
