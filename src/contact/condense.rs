@@ -10,6 +10,7 @@
 //! form). The paper's stiffness form (eqs. 22–27) coincides with it only when nodal values
 //! interpolate, which MLS values do not.
 
+use super::spectrum::{EigenvalueMethod, symmetric_extremes};
 use super::{BodyOperator, ContactError};
 use crate::linear_solve::{Factorisation, SolveError};
 use crate::nodes::{Axis, dof};
@@ -41,10 +42,14 @@ pub struct CondensedContact {
     pub free_gap: Vec<f64>,
     /// Smallest diagonal entry of `M`.
     pub min_diagonal: f64,
-    /// Smallest eigenvalue of `(M + Mᵀ)/2`.
+    /// Smallest eigenvalue of `(M + Mᵀ)/2`: a Lanczos estimate with the Cholesky factor when
+    /// the symmetric part is positive definite (relative accuracy 10⁻¹⁰ plus rounding of order
+    /// `m ε λ_max`, see [`super::spectrum`]), else the exact value from all eigenvalues.
     pub min_symmetric_eigenvalue: f64,
-    /// Largest eigenvalue of `(M + Mᵀ)/2`.
+    /// Largest eigenvalue of `(M + Mᵀ)/2` (Lanczos estimate or exact, as the smallest).
     pub max_symmetric_eigenvalue: f64,
+    /// How the two eigenvalues were computed.
+    pub eigenvalue_method: EigenvalueMethod,
     /// `‖M − Mᵀ‖_F / ‖M + Mᵀ‖_F`.
     pub skew_ratio: f64,
 }
@@ -120,8 +125,12 @@ pub fn condense_blocked(
 impl CondensedContact {
     /// `M = Σ M_k`, `q = g0 + Σ G_k K_k⁻¹ f_k`, and the checks of `M`.
     ///
+    /// The symmetric part's positive definiteness is decided by a dense Cholesky factorisation
+    /// and its extreme eigenvalues estimated by Lanczos ([`super::spectrum`]); all eigenvalues
+    /// are computed only when it is not positive definite or nearly singular.
+    ///
     /// # Errors
-    /// [`ContactError::Solve`] when the symmetric eigenvalue problem fails.
+    /// [`ContactError::Solve`] when a dense eigenvalue problem fails.
     pub fn combine(initial_gap: &[f64], parts: &[CondensedPart]) -> Result<Self, ContactError> {
         let m = initial_gap.len();
         let mut compliance = vec![0.0; m * m];
@@ -135,50 +144,32 @@ impl CondensedContact {
             }
         }
         let min_diagonal = (0..m).map(|i| compliance[i * m + i]).fold(f64::INFINITY, f64::min);
-        let sym =
-            Mat::<f64>::from_fn(m, m, |i, j| 0.5 * (compliance[i * m + j] + compliance[j * m + i]));
-        let eig = symmetric_eigenvalues(sym.as_ref())?;
-        let min_symmetric_eigenvalue = eig.iter().copied().fold(f64::INFINITY, f64::min);
-        let max_symmetric_eigenvalue = eig.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        // (M + Mᵀ)/2 and the norms of M ± Mᵀ in one pass over square tiles (cache-friendly
+        // for both M and Mᵀ).
+        let mut sym = Mat::<f64>::zeros(m, m);
         let (mut skew, mut symm) = (0.0, 0.0);
-        for i in 0..m {
-            for j in 0..m {
-                let (a, b) = (compliance[i * m + j], compliance[j * m + i]);
-                skew += (a - b) * (a - b);
-                symm += (a + b) * (a + b);
+        const TILE: usize = 64;
+        for j0 in (0..m).step_by(TILE) {
+            for i0 in (0..m).step_by(TILE) {
+                for j in j0..(j0 + TILE).min(m) {
+                    for i in i0..(i0 + TILE).min(m) {
+                        let (a, b) = (compliance[i * m + j], compliance[j * m + i]);
+                        sym[(i, j)] = 0.5 * (a + b);
+                        skew += (a - b) * (a - b);
+                        symm += (a + b) * (a + b);
+                    }
+                }
             }
         }
+        let extremes = symmetric_extremes(sym.as_ref())?;
         Ok(Self {
             compliance,
             free_gap,
             min_diagonal,
-            min_symmetric_eigenvalue,
-            max_symmetric_eigenvalue,
+            min_symmetric_eigenvalue: extremes.min,
+            max_symmetric_eigenvalue: extremes.max,
+            eigenvalue_method: extremes.method,
             skew_ratio: (skew / symm.max(f64::MIN_POSITIVE)).sqrt(),
         })
     }
-}
-
-/// Eigenvalues of a symmetric matrix (lower half read), computed sequentially: faer's
-/// convenience method follows the global parallelism setting and then sums in a
-/// thread-dependent order, which changed the last digits of the reported eigenvalue between
-/// thread counts at ~400 candidates.
-fn symmetric_eigenvalues(a: faer::MatRef<'_, f64>) -> Result<Vec<f64>, ContactError> {
-    use faer::linalg::evd::{ComputeEigenvectors, self_adjoint_evd, self_adjoint_evd_scratch};
-    let n = a.nrows();
-    let par = faer::Par::Seq;
-    let req = self_adjoint_evd_scratch::<f64>(n, ComputeEigenvectors::No, par, Default::default());
-    let mut buf = faer::dyn_stack::MemBuffer::try_new(req)
-        .map_err(|e| SolveError::Backend(format!("{e:?}")))?;
-    let mut s = faer::diag::Diag::<f64>::zeros(n);
-    self_adjoint_evd(
-        a,
-        s.as_mut(),
-        None,
-        par,
-        faer::dyn_stack::MemStack::new(&mut buf),
-        Default::default(),
-    )
-    .map_err(|e| SolveError::Backend(format!("{e:?}")))?;
-    Ok((0..n).map(|i| s[i]).collect())
 }

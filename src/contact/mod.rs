@@ -12,8 +12,10 @@
 //! `E ≠ Gᵀ` for MLS, so the textbook symmetric forms do not apply.
 
 mod condense;
+pub mod spectrum;
 
 pub use condense::{CondensedContact, CondensedPart, condense, condense_blocked};
+pub use spectrum::EigenvalueMethod;
 
 use crate::assembly::GlobalSystem;
 use crate::geometry::{Domain, Point};

@@ -338,6 +338,7 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "compliance_min_diagonal": c.condensed.min_diagonal,
             "compliance_min_symmetric_eigenvalue": c.condensed.min_symmetric_eigenvalue,
             "compliance_max_symmetric_eigenvalue": c.condensed.max_symmetric_eigenvalue,
+            "compliance_eigenvalue_method": c.condensed.eigenvalue_method,
             "compliance_skew_ratio": c.condensed.skew_ratio,
         })),
         "contact": solution.contact.as_ref().map(|c| json!({
