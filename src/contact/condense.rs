@@ -54,7 +54,7 @@ pub struct CondensedContact {
     pub skew_ratio: f64,
 }
 
-/// One body's `M_k` and `G_k K_k⁻¹ f_k` with one factorisation: `K⁻¹E` in blocks of [`BLOCK`]
+/// One body's `M_k` and `G_k K_k⁻¹ f_k` with one factorisation: `K⁻¹E` in blocks of `BLOCK`
 /// right-hand sides (in parallel over blocks), each block reduced to its `G` rows at once.
 ///
 /// # Errors
