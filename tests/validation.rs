@@ -29,4 +29,6 @@ mod validation {
     mod fem_beam_on_foundation;
     // FE oracle, two blocks: exact on matching meshes; node-to-segment error recorded otherwise.
     mod fem_two_bodies;
+    // The static-pivoting LU (default from 100k unknowns) against faer's LU on small MFVM matrices.
+    mod static_pivoting;
 }
