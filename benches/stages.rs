@@ -3,7 +3,9 @@
 //! The problem is the cantilever of `problems/cantilever.toml` (48 × 12, plane stress, linear
 //! basis, `α_s = 2`, 2-point face quadrature) on structured grids of `4 ny × ny` intervals:
 //! `ny = 25, 50, 100` give 2 626, 10 251 and 40 501 nodes. Override with a comma-separated list
-//! of `ny` in `MLPG_BENCH_NY` (e.g. `MLPG_BENCH_NY=25,50`).
+//! of `ny` in `MLPG_BENCH_NY` (e.g. `MLPG_BENCH_NY=25,50`; `ny = 250` gives 251 001 nodes).
+//! `MLPG_BENCH_BETA` sets `discretisation.beta` (default 0, the paper's method; 1 for the
+//! sparser stabilised operator).
 //!
 //! The sparse LU costs ~25 s at 40 k nodes, and criterion needs at least 11 runs per size,
 //! so the `factorisation` group has its own, smaller sweep: `ny = 25, 50, 70` (2 626, 10 251
@@ -47,9 +49,12 @@ const DEFAULT_NY: [usize; 3] = [25, 50, 100];
 /// Default grid heights of the `factorisation` group.
 const DEFAULT_FACTOR_NY: [usize; 3] = [25, 50, 70];
 
-/// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height.
+/// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height and
+/// `beta` from `MLPG_BENCH_BETA`.
 fn cantilever(ny: usize) -> Problem {
     let spacing = 12.0 / ny as f64;
+    let beta: f64 =
+        std::env::var("MLPG_BENCH_BETA").ok().and_then(|v| v.parse().ok()).unwrap_or(0.0);
     let text = format!(
         r#"
         [geometry]
@@ -66,6 +71,7 @@ fn cantilever(ny: usize) -> Problem {
         basis = "linear"
         support_factor = 2.0
         quadrature_points = 2
+        beta = {beta:?}
         [[boundary]]
         edge = "left"
         displacement = {{ x = 0.0, y = 0.0 }}
