@@ -82,12 +82,13 @@ fn load_average() -> String {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1));
-    let finest: f64 = value("--finest").map(|v| v.parse().expect("--finest h")).unwrap_or(0.0625);
-    let fe_h: f64 =
-        value("--fe-reference").map(|v| v.parse().expect("--fe-reference h")).unwrap_or(0.125);
-    let only: Option<usize> = value("--only").map(|v| v.parse().expect("--only k"));
+    let args = study::Args::parse(0.0625);
+    let finest = args.finest;
+    let fe_h: f64 = std::env::args()
+        .skip_while(|a| a != "--fe-reference")
+        .nth(1)
+        .map(|v| v.parse().expect("--fe-reference takes a spacing"))
+        .unwrap_or(0.125);
     let base = study::load("beam_on_foundation.toml");
     println!("load average at start: {}", load_average());
     let wall = Instant::now();
@@ -114,7 +115,7 @@ fn main() {
     names.push("FE Q2 (element size h)");
     let mut summary = Vec::new();
     for (k, name) in names.iter().enumerate() {
-        if only.is_some_and(|o| o != k + 1) {
+        if !args.runs(k) {
             continue;
         }
         let fe = k == VARIANTS.len();

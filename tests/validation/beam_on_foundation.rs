@@ -13,6 +13,8 @@
 
 use mlpg_contact::problem::Problem;
 
+use super::common::shipped_problem;
+
 /// Independent reference: a Q2 (9-node) finite element solution of the same 2-D problem
 /// (plane stress, full 3×3 Gauss, node-to-rigid-line contact, exact complementarity by an
 /// active-set iteration), h = 1 … 0.0625 (593k DOFs), written in Python as a throwaway check
@@ -27,11 +29,7 @@ const KKT_TOLERANCE: f64 = 1e-9;
 const EQUILIBRIUM_TOLERANCE: f64 = 1e-8;
 
 fn beam(h: f64) -> Problem {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/beam_on_foundation.toml");
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut p = Problem::from_toml(&text).unwrap();
-    p.node_spacing = h;
-    p
+    shipped_problem("beam_on_foundation.toml", h)
 }
 
 struct Outcome {

@@ -9,6 +9,14 @@ use std::sync::Arc;
 /// A vector field given as a function of position.
 pub type VectorField = Arc<dyn Fn(Point) -> [f64; 2] + Send + Sync>;
 
+/// `problems/<file>` (a shipped problem file) with the node spacing `h` substituted.
+pub fn shipped_problem(file: &str, h: f64) -> Problem {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file);
+    let mut p = Problem::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
+    p.node_spacing = h;
+    p
+}
+
 /// A problem on `domain` with default discretisation and no boundary conditions (free).
 pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) -> Problem {
     let edges = domain.edge_count();

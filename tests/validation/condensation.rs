@@ -2,14 +2,12 @@
 //! blocked sparse solves, equal a dense computation (dense LU of `K`, explicit `G` and `E`)
 //! on a small beam-on-foundation problem. Tolerance: round-off amplified by cond(K) ~ 1e6.
 
+use super::common::shipped_problem;
 use mlpg_contact::contact::{self};
-use mlpg_contact::problem::Problem;
 
 #[test]
 fn condensed_compliance_equals_dense_computation() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/beam_on_foundation.toml");
-    let mut problem = Problem::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
-    problem.node_spacing = 1.0;
+    let problem = shipped_problem("beam_on_foundation.toml", 1.0);
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
     let spec = problem.contact.unwrap();

@@ -12,6 +12,8 @@
 
 use mlpg_contact::problem::{Method, Problem};
 
+use super::common::shipped_problem;
+
 /// Python Q2 FE (`results_full.jsonl`, session 1) at element size h: (h, ΣP, l_c unclipped,
 /// u_y(48, 0)).
 const PYTHON_FE: [(f64, f64, f64, f64); 2] = [
@@ -27,10 +29,7 @@ const KKT_TOLERANCE: f64 = 1e-9;
 const EQUILIBRIUM_TOLERANCE: f64 = 1e-8;
 
 fn beam(h: f64, method: Method) -> Problem {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/beam_on_foundation.toml");
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut p = Problem::from_toml(&text).unwrap();
-    p.node_spacing = h;
+    let mut p = shipped_problem("beam_on_foundation.toml", h);
     p.discretisation.method = method;
     p
 }

@@ -9,12 +9,7 @@ use mlpg_contact::linear_solve::{ColumnOrdering, FactorMethod, FactorOptions, Fa
 use mlpg_contact::nodes::Layout;
 use mlpg_contact::problem::Problem;
 
-fn problem(file: &str, h: f64) -> Problem {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file);
-    let mut p = Problem::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
-    p.node_spacing = h;
-    p
-}
+use super::common::shipped_problem;
 
 fn agree(label: &str, p: &Problem) {
     let model = mlpg_contact::discretise(p, &mut mlpg_contact::Silent).unwrap();
@@ -43,10 +38,10 @@ fn agree(label: &str, p: &Problem) {
 
 #[test]
 fn static_pivoting_matches_partial_pivoting_on_mfvm_matrices() {
-    agree("beam h = 0.5", &problem("beam_on_foundation.toml", 0.5));
-    agree("beam h = 0.5, stabilised", &problem("beam_on_foundation_stabilised.toml", 0.5));
-    let mut jittered = problem("cantilever.toml", 1.0);
+    agree("beam h = 0.5", &shipped_problem("beam_on_foundation.toml", 0.5));
+    agree("beam h = 0.5, stabilised", &shipped_problem("beam_on_foundation_stabilised.toml", 0.5));
+    let mut jittered = shipped_problem("cantilever.toml", 1.0);
     jittered.layout = Layout::Jittered { amplitude: 0.25, seed: 3 };
     agree("cantilever h = 1, jittered", &jittered);
-    agree("Hertz cylinder h = 0.04", &problem("hertz_cylinder.toml", 0.04));
+    agree("Hertz cylinder h = 0.04", &shipped_problem("hertz_cylinder.toml", 0.04));
 }
