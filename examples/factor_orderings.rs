@@ -11,7 +11,7 @@
 //! this many separator widths are not cut; a comma list builds one ordering per value and
 //! keeps the least fill), `method=static|partial|auto` (`static`: the static-pivoting LU with the structure of
 //! `K + Kᵀ`; its bound is then that of the Cholesky factor of `P(K + Kᵀ)Pᵀ`), `pivot=1.5e-8`
-//! (its pivot tolerance), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
+//! (its pivot tolerance), `precision=double|mixed|auto` (its factors' precision), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
 //! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
 //! of one solve against the full `K`, the solve time and a hash of the solution (equal hashes
 //! = bit-identical solutions). The last line is the peak resident memory of the process
@@ -22,7 +22,7 @@ use std::time::Instant;
 
 use mlpg_contact::assembly::{self, AssemblyInput};
 use mlpg_contact::linear_solve::{
-    self, ColumnOrdering, FactorMethod, FactorOptions, Factorisation,
+    self, ColumnOrdering, FactorMethod, FactorOptions, FactorPrecision, Factorisation,
 };
 use mlpg_contact::neighbours::Supports;
 use mlpg_contact::problem::Problem;
@@ -106,6 +106,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     }
                 }
                 "pivot" => opt.pivot_tolerance = value.parse()?,
+                "precision" => {
+                    opt.precision = match value {
+                        "double" => FactorPrecision::Double,
+                        "mixed" => FactorPrecision::Mixed,
+                        "auto" => FactorPrecision::Auto,
+                        _ => return Err(format!("unknown precision {value}").into()),
+                    }
+                }
                 _ => return Err(format!("unknown setting {key}").into()),
             }
         }
@@ -153,8 +161,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!(
             "{v:<28} total {total:7.3} s (order {:.3}, symbolic {:.3}, numeric {:.3}); nnz {} -> {}; \
              {} supernodes; bound nnz {:.1} M, flops {:.2e}; solve {solve:.3} s; residual {r:.1e}, backward error {berr:.1e}; \
-             hash {hash:016x}; factor nnz {:.1} M, {} perturbed pivots, {} refinement steps, \
-             worst refined backward error {:.1e}",
+             hash {hash:016x}; factor nnz {:.1} M ({:?}), {} perturbed pivots, {} refinement steps, \
+             {} columns re-solved in double, worst refined backward error {:.1e}",
             s.ordering_seconds,
             s.symbolic_seconds,
             s.numeric_seconds,
@@ -164,8 +172,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.bound_nnz as f64 * 1e-6,
             s.bound_flops,
             s.factor_nnz as f64 * 1e-6,
+            s.precision,
             s.perturbed_pivots,
             s.refinement_steps,
+            s.columns_in_double,
             s.worst_backward_error
         );
     }

@@ -92,6 +92,23 @@ pub enum FactorMethod {
     StaticPivoting,
 }
 
+/// Precision of the stored factors of [`FactorMethod::StaticPivoting`] (the partial-pivoting
+/// LU is always double precision).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub enum FactorPrecision {
+    /// [`Self::Mixed`] for the static-pivoting LU of at least [`MIXED_PRECISION_MIN_DOFS`]
+    /// unknowns, [`Self::Double`] otherwise.
+    #[default]
+    Auto,
+    /// Factors in `f64`.
+    Double,
+    /// Factors in `f32` (half the memory, about twice the dense throughput) and iterative
+    /// refinement with `f64` residuals against `K` to the same backward error as
+    /// [`Self::Double`]; a column that does not get there is solved again with `f64`
+    /// factors, computed on first need.
+    Mixed,
+}
+
 /// Tuning knobs of [`Factorisation::with_options`]; [`Default`] is what the solver uses.
 #[derive(Clone, Debug)]
 pub struct FactorOptions {
@@ -99,8 +116,10 @@ pub struct FactorOptions {
     pub method: FactorMethod,
     /// [`FactorMethod::StaticPivoting`]: pivots of magnitude below this (in the equilibrated
     /// matrix, whose largest entry per row and column is ~1) are replaced by ±this value.
-    /// Default `√ε ≈ 1.5e-8`.
+    /// Default `√ε ≈ 1.5e-8` (at least `√ε_f32 ≈ 3.5e-4` for single-precision factors).
     pub pivot_tolerance: f64,
+    /// Precision of the static-pivoting factors. Default [`FactorPrecision::Auto`].
+    pub precision: FactorPrecision,
     /// Entries with `|K_ij| ≤ void_tolerance · max|K|` are left out of the factorised matrix
     /// (`0` keeps every entry). Default `1e-14`.
     pub void_tolerance: f64,
@@ -123,6 +142,9 @@ pub struct FactorOptions {
 /// [`FactorMethod::Auto`] uses static pivoting from this many unknowns on.
 pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
 
+/// [`FactorPrecision::Auto`] uses single-precision factors from this many unknowns on.
+pub const MIXED_PRECISION_MIN_DOFS: usize = 100_000;
+
 /// A later ordering candidate must bound the flops below this fraction of the kept one's.
 const PREFER_FIRST: f64 = 0.8;
 
@@ -131,6 +153,7 @@ impl Default for FactorOptions {
         Self {
             method: FactorMethod::Auto,
             pivot_tolerance: f64::EPSILON.sqrt(),
+            precision: FactorPrecision::Auto,
             void_tolerance: 1e-14,
             tasks: 2,
             leaf_nodes: 64,
@@ -184,8 +207,14 @@ pub struct FactorStats {
     pub refinement_steps: usize,
     /// Largest normwise backward error `‖K x − b‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞)` of a returned
     /// solution so far (columns above [`ACCEPTED_BACKWARD_ERROR`] are returned as
-    /// NaN).
+    /// NaN and count as infinity here).
     pub worst_backward_error: f64,
+    /// Precision of the stored factors ([`FactorPrecision::Double`] or
+    /// [`FactorPrecision::Mixed`]).
+    pub precision: FactorPrecision,
+    /// Columns that single-precision refinement could not finish and that were solved again
+    /// with double-precision factors ([`FactorPrecision::Mixed`]).
+    pub columns_in_double: usize,
 }
 
 /// A sparse LU factorisation `P K Q = L U` of the system matrix.
@@ -565,18 +594,32 @@ impl Factorisation {
             Ordered::Columns(analysis) => analysis,
             Ordered::Symmetric(perm) => {
                 drop(at);
-                let (lu, symbolic_seconds, numeric_seconds) = symmetric::StaticLu::new(
-                    matrix,
-                    &pruned,
-                    &perm,
-                    options.pivot_tolerance,
-                    options.tasks > 1,
-                )?;
+                let single = match options.precision {
+                    FactorPrecision::Auto => n >= MIXED_PRECISION_MIN_DOFS,
+                    FactorPrecision::Double => false,
+                    FactorPrecision::Mixed => true,
+                };
+                let settings = symmetric::Settings {
+                    pivot_tolerance: options.pivot_tolerance,
+                    void_tolerance: options.void_tolerance,
+                    parallel: options.tasks > 1,
+                    precision: if single {
+                        symmetric::Precision::Single
+                    } else {
+                        symmetric::Precision::Double
+                    },
+                };
+                let (lu, symbolic_seconds, numeric_seconds) =
+                    symmetric::StaticLu::new(matrix, &pruned, &perm, &settings)?;
                 stats.symbolic_seconds = symbolic_seconds;
                 stats.numeric_seconds = numeric_seconds;
                 stats.supernodes = lu.supernodes();
                 stats.factor_nnz = lu.factor_nnz;
                 stats.perturbed_pivots = lu.perturbed;
+                stats.precision = match lu.precision() {
+                    symmetric::Precision::Single => FactorPrecision::Mixed,
+                    symmetric::Precision::Double => FactorPrecision::Double,
+                };
                 return Ok(Self { inner: Inner::Static(lu), n, stats });
             }
         };
@@ -674,9 +717,10 @@ impl Factorisation {
     pub fn stats(&self) -> FactorStats {
         let mut stats = self.stats;
         if let Inner::Static(lu) = &self.inner {
-            let (steps, columns, worst) = lu.refinement();
+            let (steps, columns, in_double, worst) = lu.refinement();
             stats.refinement_steps = steps;
             stats.columns_solved = columns;
+            stats.columns_in_double = in_double;
             stats.worst_backward_error = worst;
         }
         stats
@@ -862,6 +906,49 @@ mod tests {
             assert!(r < 1e-14, "tasks {tasks}, block: residual {r:e}");
         }
         assert_eq!(hashes[0], hashes[1]);
+    }
+
+    #[test]
+    fn mixed_precision_refines_to_double_accuracy_and_falls_back_when_it_cannot() {
+        let mixed = FactorOptions { precision: FactorPrecision::Mixed, ..static_options() };
+        // Well conditioned: single-precision factors (solution errors ~1e-7 unrefined) are
+        // refined to the double-precision target.
+        let (m, points) = grid(40);
+        let b: Vec<f64> = (0..m.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let f = Factorisation::with_options(&m, ColumnOrdering::NestedDissection(&points), &mixed)
+            .unwrap();
+        let x = f.solve(&b).unwrap();
+        let r = residual(&m, &x, &b);
+        let s = f.stats();
+        assert_eq!(s.precision, FactorPrecision::Mixed);
+        assert!(r < 1e-14, "residual {r:e}");
+        assert!(s.refinement_steps > 0, "single-precision factors need refinement");
+        assert_eq!(s.columns_in_double, 0);
+        assert!(s.worst_backward_error <= 1e-14);
+        // Ill conditioned: the 1-D Laplacian of order 20 000 has κ ≈ 4n²/π² ≈ 1.6e8 >
+        // 1/ε_f32, so refinement with single-precision factors cannot converge; the column
+        // is solved again with double-precision factors.
+        let n = 20_000;
+        let mut lap = SystemMatrix { n, col_ptr: vec![0], row_idx: Vec::new(), values: Vec::new() };
+        for c in 0..n {
+            for (r, v) in [(c.wrapping_sub(1), -1.0), (c, 2.0), (c + 1, -1.0)] {
+                if r < n {
+                    lap.row_idx.push(r);
+                    lap.values.push(v);
+                }
+            }
+            lap.col_ptr.push(lap.row_idx.len());
+        }
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let order: Vec<usize> = (0..n).collect();
+        let f =
+            Factorisation::with_options(&lap, ColumnOrdering::Permutation(&order), &mixed).unwrap();
+        let x = f.solve(&b).unwrap();
+        let s = f.stats();
+        assert_eq!(s.columns_in_double, 1);
+        assert!(s.worst_backward_error <= 1e-14, "{:e}", s.worst_backward_error);
+        let r = residual(&lap, &x, &b);
+        assert!(r < 1e-12, "residual {r:e}");
     }
 
     #[test]

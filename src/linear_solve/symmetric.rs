@@ -61,6 +61,46 @@ const PARALLEL_SUBTREE_FLOPS: f64 = 2e7;
 /// Dense products with more flops than this use `Par::rayon(2)` (fixed, not the pool size).
 const PARALLEL_DENSE_FLOPS: f64 = 2e7;
 
+/// Scalar type of the stored factors: `f64`, or `f32` for mixed-precision refinement
+/// (the residuals and the solution stay in `f64`).
+pub(super) trait Scalar: faer::traits::RealField + Copy + Send + Sync + 'static {
+    fn of(v: f64) -> Self;
+    fn get(self) -> f64;
+    /// Runs `f` on this thread's reusable front buffer of this type.
+    fn with_front<R>(f: impl FnOnce(&std::cell::RefCell<Vec<Self>>) -> R) -> R;
+}
+
+thread_local! {
+    /// Reused front storage (fresh `m × m` allocations cost a page fault per page).
+    static FRONT64: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+    static FRONT32: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+impl Scalar for f64 {
+    fn of(v: f64) -> Self {
+        v
+    }
+    fn get(self) -> f64 {
+        self
+    }
+    fn with_front<R>(f: impl FnOnce(&std::cell::RefCell<Vec<Self>>) -> R) -> R {
+        FRONT64.with(f)
+    }
+}
+
+impl Scalar for f32 {
+    #[allow(clippy::cast_possible_truncation)]
+    fn of(v: f64) -> Self {
+        v as f32
+    }
+    fn get(self) -> f64 {
+        f64::from(self)
+    }
+    fn with_front<R>(f: impl FnOnce(&std::cell::RefCell<Vec<Self>>) -> R) -> R {
+        FRONT32.with(f)
+    }
+}
+
 /// Upper-triangular pattern of `P(A + Aᵀ)Pᵀ` (diagonal included), columns sorted.
 fn symmetric_pattern(a: &SystemMatrix, perm_inv: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let n = a.n;
@@ -175,12 +215,12 @@ struct Supernode {
 
 /// The numeric factor of one supernode (`ns` columns, `p` pattern rows, `m = ns + p`).
 #[derive(Debug)]
-struct NodeFactor {
+struct NodeFactor<T> {
     /// `m × ns` column-major: `L11` (unit, strictly lower) and `U11` (upper) in the top
     /// `ns` rows, `L21` below.
-    lu: Vec<f64>,
+    lu: Vec<T>,
     /// `ns × p` column-major: `U12`.
-    u12: Vec<f64>,
+    u12: Vec<T>,
     /// Row `j` of the diagonal block was swapped with row `swaps[j] ≥ j` at step `j`.
     swaps: Vec<usize>,
 }
@@ -216,6 +256,29 @@ impl RowMatrix {
         Self { row_ptr, col_idx, values }
     }
 
+    /// `K` by columns again (the transpose of this row storage).
+    fn transposed(&self, n: usize) -> SystemMatrix {
+        let mut col_ptr = vec![0usize; n + 1];
+        for &c in &self.col_idx {
+            col_ptr[c + 1] += 1;
+        }
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let mut fill = col_ptr.clone();
+        let mut row_idx = vec![0usize; self.col_idx.len()];
+        let mut values = vec![0.0f64; self.col_idx.len()];
+        for r in 0..n {
+            for k in self.row_ptr[r]..self.row_ptr[r + 1] {
+                let c = self.col_idx[k];
+                row_idx[fill[c]] = r;
+                values[fill[c]] = self.values[k];
+                fill[c] += 1;
+            }
+        }
+        SystemMatrix { n, col_ptr, row_idx, values }
+    }
+
     /// `‖K‖∞`, the largest absolute row sum.
     fn norm(&self) -> f64 {
         self.row_ptr
@@ -223,6 +286,12 @@ impl RowMatrix {
             .map(|w| self.values[w[0]..w[1]].iter().map(|v| v.abs()).sum::<f64>())
             .fold(0.0f64, f64::max)
     }
+}
+
+/// The stored factors, in the precision they were computed in.
+enum Factors {
+    Double(Vec<NodeFactor<f64>>),
+    Single(Vec<NodeFactor<f32>>),
 }
 
 /// A multifrontal LU with symmetric structure and static pivoting.
@@ -233,11 +302,20 @@ pub(super) struct StaticLu {
     row_scale: Vec<f64>,
     col_scale: Vec<f64>,
     nodes: Vec<Supernode>,
-    factors: Vec<NodeFactor>,
+    /// `first[s]`: the first supernode of the subtree rooted at `s` (postorder).
+    first: Vec<usize>,
+    factors: Factors,
+    /// Double-precision factors computed on demand when single-precision refinement fails
+    /// for some column (same structure, scaling and order).
+    double: OnceLock<Result<Vec<NodeFactor<f64>>, SolveError>>,
     /// The full, unscaled `K` for refinement, by rows.
     rows: RowMatrix,
     /// `‖K‖∞`.
     norm: f64,
+    /// Settings needed to recompute the factors in double precision.
+    void_tolerance: f64,
+    pivot_tolerance: f64,
+    parallel: bool,
     /// Pivots replaced by `±tolerance`.
     pub perturbed: usize,
     /// Nonzeros stored in `L` and `U` (diagonal once).
@@ -246,6 +324,8 @@ pub(super) struct StaticLu {
     refinement_steps: AtomicUsize,
     /// Columns solved so far.
     columns_solved: AtomicUsize,
+    /// Columns re-solved with the double-precision factors.
+    columns_in_double: AtomicUsize,
     /// Largest final backward error so far (`f64` bits; non-negative floats order as bits).
     worst_backward_error: AtomicU64,
 }
@@ -320,7 +400,13 @@ fn par_for(flops: f64) -> Par {
 /// Factors the first `ns` columns of the `m × m` front `f` in place: `S F11 = L11 U11` with
 /// row swaps `S` inside the diagonal block, `L21`, `U12`, and the Schur complement
 /// `F22 − L21 U12` in the trailing block. Returns the number of perturbed pivots.
-fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize]) -> usize {
+fn factor_front<T: Scalar>(
+    f: &mut [T],
+    m: usize,
+    ns: usize,
+    tol: f64,
+    swaps: &mut [usize],
+) -> usize {
     let mut perturbed = 0;
     let mut j0 = 0;
     while j0 < ns {
@@ -329,10 +415,10 @@ fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize
             // Pivot search restricted to the diagonal block's rows.
             let col = &f[j * m..j * m + ns];
             let mut imax = j;
-            let mut max = col[j].abs();
+            let mut max = col[j].get().abs();
             for (i, v) in col.iter().enumerate().skip(j + 1) {
-                if v.abs() > max {
-                    max = v.abs();
+                if v.get().abs() > max {
+                    max = v.get().abs();
                     imax = i;
                 }
             }
@@ -342,13 +428,13 @@ fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize
                     f.swap(c * m + j, c * m + imax);
                 }
             }
-            let mut pivot = f[j * m + j];
+            let mut pivot = f[j * m + j].get();
             if pivot.abs() < tol || !pivot.is_finite() {
                 pivot = if pivot < 0.0 { -tol } else { tol };
-                f[j * m + j] = pivot;
+                f[j * m + j] = T::of(pivot);
                 perturbed += 1;
             }
-            let inv = pivot.recip();
+            let inv = T::of(pivot.recip());
             for v in &mut f[j * m + j + 1..j * m + m] {
                 *v *= inv;
             }
@@ -357,7 +443,7 @@ fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize
             for c in j + 1..j1 {
                 let colc = &mut right[(c - j - 1) * m..(c - j) * m];
                 let u = colc[j];
-                if u != 0.0 {
+                if u.get() != 0.0 {
                     for (x, l) in colc[j + 1..].iter_mut().zip(lj) {
                         *x -= u * l;
                     }
@@ -385,7 +471,7 @@ fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize
                     Accum::Add,
                     l_below,
                     u_rows.subcols(0, ns - j1),
-                    -1.0,
+                    T::of(-1.0),
                     par_for(flops),
                 );
                 if ns < m {
@@ -395,7 +481,7 @@ fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize
                         Accum::Add,
                         panel.submatrix(j1, 0, ns - j1, w),
                         u_rows.subcols(ns - j1, m - ns),
-                        -1.0,
+                        T::of(-1.0),
                         par_for(flops),
                     );
                 }
@@ -411,40 +497,36 @@ fn factor_front(f: &mut [f64], m: usize, ns: usize, tol: f64, swaps: &mut [usize
         let mut r = MatMut::from_column_major_slice_mut(right, m, m - ns);
         let (u12, f22) = r.rb_mut().split_at_row_mut(ns);
         let flops = ((m - ns) * (m - ns) * ns) as f64;
-        matmul(f22, Accum::Add, l.subrows(ns, m - ns), u12.rb(), -1.0, par_for(flops));
+        matmul(f22, Accum::Add, l.subrows(ns, m - ns), u12.rb(), T::of(-1.0), par_for(flops));
     }
     perturbed
 }
 
-thread_local! {
-    /// Reused front storage (fresh `m × m` allocations cost a page fault per page).
-    static FRONT: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
-}
-
 /// Context shared by the front computations.
-struct Numeric<'a> {
+struct Numeric<'a, T> {
     nodes: &'a [Supernode],
     a: &'a Permuted,
     tol: f64,
-    factors: Vec<OnceLock<NodeFactor>>,
+    factors: Vec<OnceLock<NodeFactor<T>>>,
     perturbed: AtomicUsize,
 }
 
-impl Numeric<'_> {
+impl<T: Scalar> Numeric<'_, T> {
     /// Assembles, factors and stores supernode `s` from its children's contribution blocks
     /// (in the order of `nodes[s].children`); returns its own contribution block.
-    fn front(&self, s: usize, child_blocks: Vec<Vec<f64>>) -> Result<Vec<f64>, SolveError> {
+    fn front(&self, s: usize, child_blocks: Vec<Vec<T>>) -> Result<Vec<T>, SolveError> {
         let node = &self.nodes[s];
         let ns = node.end - node.start;
         let p = node.pattern.len();
         let m = ns + p;
+        let zero = T::of(0.0);
         // A per-thread front buffer, taken out of its slot for the duration (a nested
         // rayon task on this thread then finds the slot empty and allocates its own).
-        let mut buf = FRONT.with(|slot| std::mem::take(&mut *slot.borrow_mut()));
+        let mut buf = T::with_front(|slot| std::mem::take(&mut *slot.borrow_mut()));
         if buf.len() < m * m {
-            buf = vec![0.0f64; m * m];
+            buf = vec![zero; m * m];
         } else {
-            buf[..m * m].fill(0.0);
+            buf[..m * m].fill(zero);
         }
         let f = &mut buf[..m * m];
         let missing = || backend(format!("entry outside the symbolic structure of supernode {s}"));
@@ -453,13 +535,13 @@ impl Numeric<'_> {
             for &(i, v) in &self.a.cols[j] {
                 if i >= node.start {
                     let li = local(node, i).ok_or_else(missing)?;
-                    f[lj * m + li] += v;
+                    f[lj * m + li] += T::of(v);
                 }
             }
             for &(c, v) in &self.a.rows[j] {
                 if c >= node.end {
                     let lc = local(node, c).ok_or_else(missing)?;
-                    f[lc * m + lj] += v;
+                    f[lc * m + lj] += T::of(v);
                 }
             }
         }
@@ -501,7 +583,7 @@ impl Numeric<'_> {
             u12.extend_from_slice(&f[c * m..c * m + ns]);
             cb.extend_from_slice(&f[c * m + ns..(c + 1) * m]);
         }
-        FRONT.with(|slot| {
+        T::with_front(|slot| {
             let mut slot = slot.borrow_mut();
             if slot.len() < buf.len() {
                 *slot = buf;
@@ -514,8 +596,8 @@ impl Numeric<'_> {
     }
 
     /// Factorises the subtree rooted at `s` with one task (postorder, explicit stack).
-    fn subtree_sequential(&self, s: usize, first: usize) -> Result<Vec<f64>, SolveError> {
-        let mut stack: Vec<Vec<f64>> = Vec::new();
+    fn subtree_sequential(&self, s: usize, first: usize) -> Result<Vec<T>, SolveError> {
+        let mut stack: Vec<Vec<T>> = Vec::new();
         for t in first..=s {
             let nc = self.nodes[t].children.len();
             if stack.len() < nc {
@@ -531,7 +613,7 @@ impl Numeric<'_> {
     }
 
     /// Factorises the subtree rooted at `s`, independent subtrees in parallel.
-    fn subtree(&self, s: usize, first: &[usize], parallel: bool) -> Result<Vec<f64>, SolveError> {
+    fn subtree(&self, s: usize, first: &[usize], parallel: bool) -> Result<Vec<T>, SolveError> {
         let big = |t: usize| parallel && self.nodes[t].subtree_flops > PARALLEL_SUBTREE_FLOPS;
         if !big(s) {
             return self.subtree_sequential(s, first[s]);
@@ -544,7 +626,7 @@ impl Numeric<'_> {
             chain.push(t);
         }
         let bottom = chain.pop().unwrap_or(s);
-        let blocks: Vec<Vec<f64>> = self.nodes[bottom]
+        let blocks: Vec<Vec<T>> = self.nodes[bottom]
             .children
             .par_iter()
             .map(|&c| self.subtree(c, first, parallel))
@@ -557,6 +639,56 @@ impl Numeric<'_> {
     }
 }
 
+/// The numeric factorisation of `a` (scaled and permuted) over the supernodes `nodes` in
+/// precision `T`: the factors and the number of perturbed pivots.
+fn factorise<T: Scalar>(
+    nodes: &[Supernode],
+    first: &[usize],
+    a: &Permuted,
+    tol: f64,
+    parallel: bool,
+) -> Result<(Vec<NodeFactor<T>>, usize), SolveError> {
+    let ns = nodes.len();
+    let numeric = Numeric::<T> {
+        nodes,
+        a,
+        tol,
+        factors: (0..ns).map(|_| OnceLock::new()).collect(),
+        perturbed: AtomicUsize::new(0),
+    };
+    let roots: Vec<usize> = (0..ns).filter(|&s| nodes[s].pattern.is_empty()).collect();
+    let blocks: Vec<Vec<T>> =
+        roots.par_iter().map(|&r| numeric.subtree(r, first, parallel)).collect::<Result<_, _>>()?;
+    if blocks.iter().any(|b| !b.is_empty()) {
+        return Err(backend("a root supernode has a contribution block"));
+    }
+    let perturbed = numeric.perturbed.load(Ordering::Relaxed);
+    let factors = numeric
+        .factors
+        .into_iter()
+        .map(|f| f.into_inner().ok_or_else(|| backend("a supernode was not factorised")))
+        .collect::<Result<_, _>>()?;
+    Ok((factors, perturbed))
+}
+
+/// Precision of the static-pivoting factors (see [`super::FactorPrecision`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Precision {
+    Double,
+    Single,
+}
+
+/// Settings of [`StaticLu::new`].
+pub(super) struct Settings {
+    /// Pivot tolerance of the double-precision factors; single precision uses at least
+    /// `√ε_f32`.
+    pub pivot_tolerance: f64,
+    /// Void tolerance the pruned matrix was made with (to rebuild it for the fallback).
+    pub void_tolerance: f64,
+    pub parallel: bool,
+    pub precision: Precision,
+}
+
 impl StaticLu {
     /// Analyses and factorises `pruned` (the matrix to factorise) in the order `perm`
     /// (`perm[k]` = DOF eliminated `k`-th); `full` is kept for refinement.
@@ -564,8 +696,7 @@ impl StaticLu {
         full: &SystemMatrix,
         pruned: &SystemMatrix,
         perm: &[usize],
-        tol: f64,
-        parallel: bool,
+        settings: &Settings,
     ) -> Result<(Self, f64, f64), SolveError> {
         let n = pruned.n;
         let t = std::time::Instant::now();
@@ -636,27 +767,18 @@ impl StaticLu {
         let full_rows = RowMatrix::new(full);
         let (row_scale, col_scale) = equilibrate(pruned);
         let permuted = Permuted::new(pruned, &perm_inv, &row_scale, &col_scale);
-        let numeric = Numeric {
-            nodes: &nodes,
-            a: &permuted,
-            tol,
-            factors: (0..ns).map(|_| OnceLock::new()).collect(),
-            perturbed: AtomicUsize::new(0),
+        let (tol, parallel) = (settings.pivot_tolerance, settings.parallel);
+        let (factors, perturbed) = match settings.precision {
+            Precision::Double => {
+                let (f, p) = factorise::<f64>(&nodes, &first, &permuted, tol, parallel)?;
+                (Factors::Double(f), p)
+            }
+            Precision::Single => {
+                let tol = tol.max(f64::from(f32::EPSILON).sqrt());
+                let (f, p) = factorise::<f32>(&nodes, &first, &permuted, tol, parallel)?;
+                (Factors::Single(f), p)
+            }
         };
-        let roots: Vec<usize> = (0..ns).filter(|&s| nodes[s].pattern.is_empty()).collect();
-        let blocks: Vec<Vec<f64>> = roots
-            .par_iter()
-            .map(|&r| numeric.subtree(r, &first, parallel))
-            .collect::<Result<_, _>>()?;
-        if blocks.iter().any(|b| !b.is_empty()) {
-            return Err(backend("a root supernode has a contribution block"));
-        }
-        let perturbed = numeric.perturbed.load(Ordering::Relaxed);
-        let factors: Vec<NodeFactor> = numeric
-            .factors
-            .into_iter()
-            .map(|f| f.into_inner().ok_or_else(|| backend("a supernode was not factorised")))
-            .collect::<Result<_, _>>()?;
         drop(permuted);
         let factor_nnz = nodes
             .iter()
@@ -672,13 +794,19 @@ impl StaticLu {
             row_scale,
             col_scale,
             nodes,
+            first,
             factors,
+            double: OnceLock::new(),
             norm: full_rows.norm(),
             rows: full_rows,
+            void_tolerance: settings.void_tolerance,
+            pivot_tolerance: settings.pivot_tolerance,
+            parallel: settings.parallel,
             perturbed,
             factor_nnz,
             refinement_steps: AtomicUsize::new(0),
             columns_solved: AtomicUsize::new(0),
+            columns_in_double: AtomicUsize::new(0),
             worst_backward_error: AtomicU64::new(0),
         };
         Ok((lu, symbolic_seconds, numeric_seconds))
@@ -689,28 +817,54 @@ impl StaticLu {
         self.nodes.len()
     }
 
-    /// `(refinement corrections, columns solved, largest final backward error)` so far.
-    pub(super) fn refinement(&self) -> (usize, usize, f64) {
+    /// Precision of the stored factors.
+    pub(super) fn precision(&self) -> Precision {
+        match self.factors {
+            Factors::Double(_) => Precision::Double,
+            Factors::Single(_) => Precision::Single,
+        }
+    }
+
+    /// `(refinement corrections, columns solved, columns re-solved in double precision,
+    /// largest final backward error)` so far.
+    pub(super) fn refinement(&self) -> (usize, usize, usize, f64) {
         (
             self.refinement_steps.load(Ordering::Relaxed),
             self.columns_solved.load(Ordering::Relaxed),
+            self.columns_in_double.load(Ordering::Relaxed),
             f64::from_bits(self.worst_backward_error.load(Ordering::Relaxed)),
         )
     }
 
-    /// Solves `K X = B` with the factors only (no refinement); `x` holds `B` on entry.
-    fn solve_factors(&self, mut x: MatMut<'_, f64>) {
+    /// The double-precision factors of the same matrix, structure, scaling and order,
+    /// recomputed from the kept `K` (for columns that single-precision refinement could not
+    /// bring to the accepted backward error).
+    fn double_factors(&self) -> Result<Vec<NodeFactor<f64>>, SolveError> {
+        let full = self.rows.transposed(self.n);
+        let pruned = super::without_void_entries(&full, self.void_tolerance);
+        drop(full);
+        let perm_inv = super::inverse(&self.perm);
+        let permuted = Permuted::new(&pruned, &perm_inv, &self.row_scale, &self.col_scale);
+        drop(pruned);
+        let (tol, parallel) = (self.pivot_tolerance, self.parallel);
+        factorise::<f64>(&self.nodes, &self.first, &permuted, tol, parallel).map(|(f, _)| f)
+    }
+
+    /// Solves `K X = B` with the factors `factors` only (no refinement); `x` holds `B` on
+    /// entry.
+    fn substitute<T: Scalar>(&self, factors: &[NodeFactor<T>], mut x: MatMut<'_, f64>) {
         let (n, k) = (self.n, x.ncols());
+        let zero = T::of(0.0);
         // w = P D_r b
-        let mut w = Mat::<f64>::zeros(n, k);
+        let mut w = Mat::<T>::zeros(n, k);
         for j in 0..k {
             let (wj, xj) = (w.col_as_slice_mut(j), x.rb().col(j));
             for (i, &p) in self.perm.iter().enumerate() {
-                wj[i] = xj[p] * self.row_scale[p];
+                wj[i] = T::of(xj[p] * self.row_scale[p]);
             }
         }
-        let mut tmp = Mat::<f64>::zeros(0, 0);
-        for (node, fac) in self.nodes.iter().zip(&self.factors) {
+        let mut tmp = Mat::<T>::zeros(0, 0);
+        for (node, fac) in self.nodes.iter().zip(factors) {
             let (ns, p) = (node.end - node.start, node.pattern.len());
             let m = ns + p;
             let mut xs = w.as_mut().subrows_mut(node.start, ns);
@@ -726,8 +880,15 @@ impl StaticLu {
             let lu = MatRef::from_column_major_slice(&fac.lu, m, ns);
             solve_unit_lower_triangular_in_place(lu.subrows(0, ns), xs.rb_mut(), Par::Seq);
             if p > 0 {
-                tmp.resize_with(p, k, |_, _| 0.0);
-                matmul(tmp.as_mut(), Accum::Replace, lu.subrows(ns, p), xs.rb(), 1.0, Par::Seq);
+                tmp.resize_with(p, k, |_, _| zero);
+                matmul(
+                    tmp.as_mut(),
+                    Accum::Replace,
+                    lu.subrows(ns, p),
+                    xs.rb(),
+                    T::of(1.0),
+                    Par::Seq,
+                );
                 for c in 0..k {
                     let (wc, tc) = (w.col_as_slice_mut(c), tmp.col_as_slice(c));
                     for (&g, &t) in node.pattern.iter().zip(tc) {
@@ -736,11 +897,11 @@ impl StaticLu {
                 }
             }
         }
-        for (node, fac) in self.nodes.iter().zip(&self.factors).rev() {
+        for (node, fac) in self.nodes.iter().zip(factors).rev() {
             let (ns, p) = (node.end - node.start, node.pattern.len());
             let m = ns + p;
             if p > 0 {
-                tmp.resize_with(p, k, |_, _| 0.0);
+                tmp.resize_with(p, k, |_, _| zero);
                 for c in 0..k {
                     let (wc, tc) = (w.col_as_slice(c), tmp.col_as_slice_mut(c));
                     for (t, &g) in tc.iter_mut().zip(&node.pattern) {
@@ -751,7 +912,7 @@ impl StaticLu {
             let mut xs = w.as_mut().subrows_mut(node.start, ns);
             if p > 0 {
                 let u12 = MatRef::from_column_major_slice(&fac.u12, ns, p);
-                matmul(xs.rb_mut(), Accum::Add, u12, tmp.as_ref(), -1.0, Par::Seq);
+                matmul(xs.rb_mut(), Accum::Add, u12, tmp.as_ref(), T::of(-1.0), Par::Seq);
             }
             let lu = MatRef::from_column_major_slice(&fac.lu, m, ns);
             solve_upper_triangular_in_place(lu.subrows(0, ns), xs, Par::Seq);
@@ -761,7 +922,7 @@ impl StaticLu {
             let wj = w.col_as_slice(j);
             let mut xj = x.rb_mut().col_mut(j);
             for (i, &p) in self.perm.iter().enumerate() {
-                xj[p] = wj[i] * self.col_scale[p];
+                xj[p] = wj[i].get() * self.col_scale[p];
             }
         }
     }
@@ -818,24 +979,27 @@ impl StaticLu {
         (res, berr)
     }
 
-    /// Solves `K X = B` in place with iterative refinement (see the module documentation);
-    /// rejected columns are set to NaN.
-    pub(super) fn solve_in_place(&self, mut rhs: MatMut<'_, f64>) {
-        let k = rhs.ncols();
-        if k == 0 {
-            return;
-        }
-        let b = rhs.rb().to_owned();
-        self.solve_factors(rhs.rb_mut());
-        let mut active: Vec<usize> = (0..k).collect();
+    /// Iterative refinement of the columns `cols` of `x` (`x ≈ K⁻¹ b` on entry) with the
+    /// factors `factors`. Returns the columns whose backward error stayed above
+    /// [`ACCEPTED_BACKWARD_ERROR`] and the largest backward error of the others.
+    fn refine<T: Scalar>(
+        &self,
+        factors: &[NodeFactor<T>],
+        b: MatRef<'_, f64>,
+        mut x: MatMut<'_, f64>,
+        cols: Vec<usize>,
+    ) -> (Vec<usize>, f64) {
+        let k = x.ncols();
+        let mut active = cols;
         let mut last = vec![f64::INFINITY; k];
         let mut steps = 0;
         let mut worst = 0.0f64;
+        let mut rejected = Vec::new();
         for step in 0..=MAX_REFINEMENT_STEPS {
             if active.is_empty() {
                 break;
             }
-            let (r, berr) = self.residuals(b.as_ref(), rhs.rb(), &active);
+            let (r, berr) = self.residuals(b, x.rb(), &active);
             let ka = active.len();
             let mut keep = Vec::with_capacity(active.len());
             let mut keep_cols = Vec::with_capacity(active.len());
@@ -846,13 +1010,10 @@ impl StaticLu {
                 if go {
                     keep.push(c);
                     keep_cols.push(j);
+                } else if e.is_nan() || e > ACCEPTED_BACKWARD_ERROR {
+                    rejected.push(c);
                 } else {
-                    if e.is_nan() || e > ACCEPTED_BACKWARD_ERROR {
-                        rhs.rb_mut().col_mut(c).fill(f64::NAN);
-                    }
-                    if e.is_nan() || e > worst {
-                        worst = e;
-                    }
+                    worst = worst.max(e);
                 }
             }
             if keep.is_empty() {
@@ -866,9 +1027,9 @@ impl StaticLu {
                 }
             }
             drop(r);
-            self.solve_factors(d.as_mut());
+            self.substitute(factors, d.as_mut());
             for (t, &c) in keep.iter().enumerate() {
-                let mut xc = rhs.rb_mut().col_mut(c);
+                let mut xc = x.rb_mut().col_mut(c);
                 for (i, &v) in d.col_as_slice(t).iter().enumerate() {
                     xc[i] += v;
                 }
@@ -877,8 +1038,56 @@ impl StaticLu {
             active = keep;
         }
         self.refinement_steps.fetch_add(steps, Ordering::Relaxed);
+        rejected.sort_unstable();
+        (rejected, worst)
+    }
+
+    /// Solves `K X = B` in place with iterative refinement (see the module documentation);
+    /// with single-precision factors, columns that do not reach the accepted backward error
+    /// are solved again with double-precision factors; rejected columns are set to NaN.
+    pub(super) fn solve_in_place(&self, mut rhs: MatMut<'_, f64>) {
+        let k = rhs.ncols();
+        if k == 0 {
+            return;
+        }
+        let b = rhs.rb().to_owned();
+        let all: Vec<usize> = (0..k).collect();
+        let (mut rejected, mut worst) = match &self.factors {
+            Factors::Double(f) => {
+                self.substitute(f, rhs.rb_mut());
+                self.refine(f, b.as_ref(), rhs.rb_mut(), all)
+            }
+            Factors::Single(f) => {
+                self.substitute(f, rhs.rb_mut());
+                self.refine(f, b.as_ref(), rhs.rb_mut(), all)
+            }
+        };
+        if !rejected.is_empty()
+            && matches!(self.factors, Factors::Single(_))
+            && let Ok(f) = self.double.get_or_init(|| self.double_factors())
+        {
+            self.columns_in_double.fetch_add(rejected.len(), Ordering::Relaxed);
+            let mut sub = Mat::<f64>::zeros(self.n, rejected.len());
+            for (t, &c) in rejected.iter().enumerate() {
+                sub.col_as_slice_mut(t).copy_from_slice(b.col_as_slice(c));
+            }
+            let sb = sub.clone();
+            self.substitute(f, sub.as_mut());
+            let (again, w) =
+                self.refine(f, sb.as_ref(), sub.as_mut(), (0..rejected.len()).collect());
+            worst = worst.max(w);
+            for (t, &c) in rejected.iter().enumerate() {
+                rhs.rb_mut().col_mut(c).copy_from(sub.col(t));
+            }
+            rejected = again.iter().map(|&t| rejected[t]).collect();
+        }
+        for &c in &rejected {
+            rhs.rb_mut().col_mut(c).fill(f64::NAN);
+        }
+        if !rejected.is_empty() {
+            worst = f64::INFINITY;
+        }
         self.columns_solved.fetch_add(k, Ordering::Relaxed);
-        let worst = if worst.is_nan() { f64::INFINITY } else { worst };
         self.worst_backward_error.fetch_max(worst.to_bits(), Ordering::Relaxed);
     }
 }
