@@ -101,6 +101,12 @@ impl Scalar for f32 {
     }
 }
 
+/// Supernode relaxation (faer's default): merge two supernodes of at most `.0` columns
+/// together when their fraction of explicit zeros stays below `.1`.
+const DOF_RELAX: &[(usize, f64)] = &[(4, 1.0), (16, 0.8), (48, 0.1), (usize::MAX, 0.05)];
+/// The same thresholds counted in nodes of two DOFs, for the analysis of the node graph.
+const NODE_RELAX: &[(usize, f64)] = &[(2, 1.0), (8, 0.8), (24, 0.1), (usize::MAX, 0.05)];
+
 /// Upper-triangular pattern of `P(A + Aᵀ)Pᵀ` (diagonal included), columns sorted.
 fn symmetric_pattern(a: &SystemMatrix, perm_inv: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let n = a.n;
@@ -145,6 +151,119 @@ fn symmetric_pattern(a: &SystemMatrix, perm_inv: &[usize]) -> (Vec<usize>, Vec<u
         col_ptr.push(row_idx.len());
     }
     (col_ptr, row_idx)
+}
+
+/// The node order of a DOF order that keeps each node's DOFs `2i`, `2i + 1` adjacent and
+/// in that order (as nested dissection does); `None` otherwise.
+fn node_order(perm: &[usize]) -> Option<Vec<usize>> {
+    if perm.len() % 2 != 0 {
+        return None;
+    }
+    perm.chunks(2).map(|p| (p[0] % 2 == 0 && p[1] == p[0] + 1).then_some(p[0] / 2)).collect()
+}
+
+/// The node graph of `A + Aᵀ` for a matrix with two DOFs per node (`2i`, `2i + 1`): nodes
+/// `i`, `j` are adjacent when any DOF of `i` couples with any DOF of `j`. Its expansion to
+/// DOFs (each node a dense 2 × 2 block) contains the DOF pattern of `A + Aᵀ`, with about a
+/// quarter of the entries to analyse; built once and reused for every candidate order.
+pub(super) struct NodeGraph {
+    /// Adjacency of node `i` (itself included): `adj[ptr[i]..ptr[i + 1]]`.
+    ptr: Vec<usize>,
+    adj: Vec<usize>,
+}
+
+impl NodeGraph {
+    /// `None` when `a.n` is odd.
+    pub(super) fn new(a: &SystemMatrix) -> Option<Self> {
+        if a.n % 2 != 0 {
+            return None;
+        }
+        let nn = a.n / 2;
+        // Node graph of A, deduplicated per node column with a marker.
+        let mut mark = vec![usize::MAX; nn];
+        let mut g_ptr = Vec::with_capacity(nn + 1);
+        let mut g_adj = Vec::with_capacity(a.row_idx.len() / 3);
+        g_ptr.push(0);
+        for j in 0..nn {
+            mark[j] = j;
+            g_adj.push(j);
+            for c in [2 * j, 2 * j + 1] {
+                for &r in &a.row_idx[a.col_ptr[c]..a.col_ptr[c + 1]] {
+                    let i = r / 2;
+                    if mark[i] != j {
+                        mark[i] = j;
+                        g_adj.push(i);
+                    }
+                }
+            }
+            g_ptr.push(g_adj.len());
+        }
+        // Transpose it, then merge both per node.
+        let mut t_ptr = vec![0usize; nn + 1];
+        for &i in &g_adj {
+            t_ptr[i + 1] += 1;
+        }
+        for i in 0..nn {
+            t_ptr[i + 1] += t_ptr[i];
+        }
+        let mut fill = t_ptr.clone();
+        let mut t_adj = vec![0usize; g_adj.len()];
+        for j in 0..nn {
+            for &i in &g_adj[g_ptr[j]..g_ptr[j + 1]] {
+                t_adj[fill[i]] = j;
+                fill[i] += 1;
+            }
+        }
+        drop(fill);
+        mark.fill(usize::MAX);
+        let mut ptr = Vec::with_capacity(nn + 1);
+        let mut adj = Vec::with_capacity(g_adj.len() + g_adj.len() / 4);
+        ptr.push(0);
+        for i in 0..nn {
+            for &k in g_adj[g_ptr[i]..g_ptr[i + 1]].iter().chain(&t_adj[t_ptr[i]..t_ptr[i + 1]]) {
+                if mark[k] != i {
+                    mark[k] = i;
+                    adj.push(k);
+                }
+            }
+            ptr.push(adj.len());
+        }
+        Some(Self { ptr, adj })
+    }
+
+    /// Upper-triangular pattern (diagonal included, columns sorted) of the graph permuted
+    /// by `node_inv` (`node_inv[i]` = position of node `i`).
+    fn pattern(&self, node_inv: &[usize]) -> (Vec<usize>, Vec<usize>) {
+        let nn = self.ptr.len() - 1;
+        let mut col_ptr = vec![0usize; nn + 1];
+        for i in 0..nn {
+            let p = node_inv[i];
+            for &k in &self.adj[self.ptr[i]..self.ptr[i + 1]] {
+                if node_inv[k] <= p {
+                    col_ptr[p + 1] += 1;
+                }
+            }
+        }
+        for j in 0..nn {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        let mut fill = col_ptr.clone();
+        let mut row_idx = vec![0usize; col_ptr[nn]];
+        for i in 0..nn {
+            let p = node_inv[i];
+            for &k in &self.adj[self.ptr[i]..self.ptr[i + 1]] {
+                let q = node_inv[k];
+                if q <= p {
+                    row_idx[fill[p]] = q;
+                    fill[p] += 1;
+                }
+            }
+        }
+        for j in 0..nn {
+            row_idx[col_ptr[j]..col_ptr[j + 1]].sort_unstable();
+        }
+        (col_ptr, row_idx)
+    }
 }
 
 /// Elimination tree (`None` for roots) and column counts of the Cholesky factor of the
@@ -193,11 +312,81 @@ fn postorder(parent: &[isize]) -> Vec<usize> {
 }
 
 /// `(nnz, Σ c_j²)` of the Cholesky factor of `P(A + Aᵀ)Pᵀ` for the order `perm`.
-pub(super) fn symmetric_fill(a: &SystemMatrix, perm: &[usize]) -> Result<(usize, f64), SolveError> {
+///
+/// With an order that keeps node DOFs together the count is that of the node graph expanded
+/// to DOFs (a node column of `c` nodes gives DOF columns of `2c` and `2c − 1` entries), a
+/// bound on the DOF-level count that is cheaper to compute.
+pub(super) fn symmetric_fill(
+    a: &SystemMatrix,
+    graph: Option<&NodeGraph>,
+    perm: &[usize],
+) -> Result<(usize, f64), SolveError> {
+    if let (Some(graph), Some(node_perm)) = (graph, node_order(perm)) {
+        let inv = super::inverse(&node_perm);
+        let (col_ptr, row_idx) = graph.pattern(&inv);
+        let (_, counts) = etree_and_counts(node_perm.len(), &col_ptr, &row_idx)?;
+        let nnz = counts.iter().map(|&c| 4 * c - 1).sum();
+        let flops = counts
+            .iter()
+            .map(|&c| {
+                let c = c as f64;
+                4.0 * c * c + (2.0 * c - 1.0) * (2.0 * c - 1.0)
+            })
+            .sum();
+        return Ok((nnz, flops));
+    }
     let inv = super::inverse(perm);
     let (col_ptr, row_idx) = symmetric_pattern(a, &inv);
     let (_, counts) = etree_and_counts(a.n, &col_ptr, &row_idx)?;
     Ok((counts.iter().sum(), counts.iter().map(|&c| (c as f64) * (c as f64)).sum()))
+}
+
+/// Symbolic analysis of a graph of order `n` given by `pattern(perm_inv)` (upper triangle
+/// of the permuted symmetric pattern) in the order `perm`: the postordered order and its
+/// relaxed supernodes `(start, end, sorted pattern)`.
+#[allow(clippy::type_complexity)]
+fn supernodes(
+    n: usize,
+    perm: &[usize],
+    relax: &[(usize, f64)],
+    pattern: impl Fn(&[usize]) -> (Vec<usize>, Vec<usize>),
+) -> Result<(Vec<usize>, Vec<(usize, usize, Vec<usize>)>), SolveError> {
+    // Postorder the elimination tree so that supernodes are contiguous.
+    let inv = super::inverse(perm);
+    let (col_ptr, row_idx) = pattern(&inv);
+    let (etree, _) = etree_and_counts(n, &col_ptr, &row_idx)?;
+    let post = postorder(&etree);
+    let perm: Vec<usize> = post.iter().map(|&k| perm[k]).collect();
+    let perm_inv = super::inverse(&perm);
+    let (col_ptr, row_idx) = pattern(&perm_inv);
+    let (mut etree, mut counts) = (vec![0isize; n], vec![0usize; n]);
+    let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+    let mut buf = buffer(
+        simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(n, 0)
+            .or(supernodal::factorize_supernodal_symbolic_cholesky_scratch::<usize>(n)),
+    )?;
+    let tree = simplicial::prefactorize_symbolic_cholesky(
+        &mut etree,
+        &mut counts,
+        a,
+        MemStack::new(&mut buf),
+    );
+    let symbolic = supernodal::factorize_supernodal_symbolic_cholesky(
+        a,
+        tree,
+        &counts,
+        MemStack::new(&mut buf),
+        SymbolicSupernodalParams { relax: Some(relax) },
+    )
+    .map_err(backend)?;
+    let nodes = (0..symbolic.n_supernodes())
+        .map(|s| {
+            let mut pattern = symbolic.supernode(s).pattern().to_vec();
+            pattern.sort_unstable();
+            (symbolic.supernode(s).start(), symbolic.supernode_end()[s], pattern)
+        })
+        .collect();
+    Ok((perm, nodes))
 }
 
 /// One supernode's structure: columns `start..end` and the rows below them.
@@ -691,60 +880,47 @@ pub(super) struct Settings {
 
 impl StaticLu {
     /// Analyses and factorises `pruned` (the matrix to factorise) in the order `perm`
-    /// (`perm[k]` = DOF eliminated `k`-th); `full` is kept for refinement.
+    /// (`perm[k]` = DOF eliminated `k`-th); `full` is kept for refinement. With `graph`
+    /// (the node graph of `pruned`) and an order that keeps node DOFs together, the
+    /// analysis runs on the node graph.
     pub(super) fn new(
         full: &SystemMatrix,
         pruned: &SystemMatrix,
+        graph: Option<&NodeGraph>,
         perm: &[usize],
         settings: &Settings,
     ) -> Result<(Self, f64, f64), SolveError> {
         let n = pruned.n;
         let t = std::time::Instant::now();
-        // Postorder the elimination tree so that supernodes are contiguous.
-        let inv = super::inverse(perm);
-        let (col_ptr, row_idx) = symmetric_pattern(pruned, &inv);
-        let (etree, _) = etree_and_counts(n, &col_ptr, &row_idx)?;
-        let post = postorder(&etree);
-        let perm: Vec<usize> = post.iter().map(|&k| perm[k]).collect();
-        let perm_inv = super::inverse(&perm);
-        let (col_ptr, row_idx) = symmetric_pattern(pruned, &perm_inv);
-        let (mut etree, mut counts) = (vec![0isize; n], vec![0usize; n]);
-        let a = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let symbolic = {
-            let mut buf = buffer(
-                simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(n, 0)
-                    .or(supernodal::factorize_supernodal_symbolic_cholesky_scratch::<usize>(n)),
-            )?;
-            let tree = simplicial::prefactorize_symbolic_cholesky(
-                &mut etree,
-                &mut counts,
-                a,
-                MemStack::new(&mut buf),
-            );
-            supernodal::factorize_supernodal_symbolic_cholesky(
-                a,
-                tree,
-                &counts,
-                MemStack::new(&mut buf),
-                SymbolicSupernodalParams::default(),
-            )
-            .map_err(backend)?
+        // The node graph when the order keeps node DOFs together (a quarter of the entries),
+        // expanded to DOFs; the DOF graph otherwise.
+        let (perm, raw) = match (graph, node_order(perm)) {
+            (Some(graph), Some(node_perm)) => {
+                let (node_perm, raw) =
+                    supernodes(n / 2, &node_perm, NODE_RELAX, |inv| graph.pattern(inv))?;
+                let perm = node_perm.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect();
+                let raw = raw
+                    .into_iter()
+                    .map(|(start, end, pattern)| {
+                        let pattern = pattern.iter().flat_map(|&g| [2 * g, 2 * g + 1]).collect();
+                        (2 * start, 2 * end, pattern)
+                    })
+                    .collect();
+                (perm, raw)
+            }
+            _ => supernodes(n, perm, DOF_RELAX, |inv| symmetric_pattern(pruned, inv))?,
         };
-        drop((col_ptr, row_idx));
-        let ns = symbolic.n_supernodes();
+        let perm_inv = super::inverse(&perm);
+        let ns = raw.len();
         let mut col_to_node = vec![0usize; n];
-        let mut nodes: Vec<Supernode> = (0..ns)
-            .map(|s| {
-                let sn = symbolic.supernode(s);
-                let start = sn.start();
-                let end = symbolic.supernode_end()[s];
+        let mut nodes: Vec<Supernode> = raw
+            .into_iter()
+            .enumerate()
+            .map(|(s, (start, end, pattern))| {
                 col_to_node[start..end].fill(s);
-                let mut pattern = sn.pattern().to_vec();
-                pattern.sort_unstable();
                 Supernode { start, end, pattern, children: Vec::new(), subtree_flops: 0.0 }
             })
             .collect();
-        drop(symbolic);
         let mut first = (0..ns).collect::<Vec<usize>>();
         for s in 0..ns {
             let (w, p) = ((nodes[s].end - nodes[s].start) as f64, nodes[s].pattern.len() as f64);
