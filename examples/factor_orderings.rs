@@ -11,7 +11,7 @@
 //! this many separator widths are not cut; a comma list builds one ordering per value and
 //! keeps the least fill), `method=static|partial|auto` (`static`: the static-pivoting LU with the structure of
 //! `K + Kᵀ`; its bound is then that of the Cholesky factor of `P(K + Kᵀ)Pᵀ`), `pivot=1.5e-8`
-//! (its pivot tolerance), `precision=double|mixed|auto` (its factors' precision), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
+//! (its pivot tolerance), `precision=double|mixed` (its factors' precision), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
 //! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
 //! of one solve against the full `K`, the solve time and a hash of the solution (equal hashes
 //! = bit-identical solutions). The last line is the peak resident memory of the process
@@ -110,7 +110,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     opt.precision = match value {
                         "double" => FactorPrecision::Double,
                         "mixed" => FactorPrecision::Mixed,
-                        "auto" => FactorPrecision::Auto,
                         _ => return Err(format!("unknown precision {value}").into()),
                     }
                 }

@@ -96,16 +96,16 @@ pub enum FactorMethod {
 /// LU is always double precision).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub enum FactorPrecision {
-    /// [`Self::Mixed`] for the static-pivoting LU of at least [`MIXED_PRECISION_MIN_DOFS`]
-    /// unknowns, [`Self::Double`] otherwise.
+    /// Factors in `f64` (the default).
     #[default]
-    Auto,
-    /// Factors in `f64`.
     Double,
     /// Factors in `f32` (half the memory, about twice the dense throughput) and iterative
     /// refinement with `f64` residuals against `K` to the same backward error as
     /// [`Self::Double`]; a column that does not get there is solved again with `f64`
-    /// factors, computed on first need.
+    /// factors, computed on first need. Not the default: on the cantilever (β = 0) it
+    /// factorises 1.4× faster at 100k nodes but needs 8 refinement steps per solve, and at
+    /// 250k nodes (κ · ε_f32 ≳ 1) refinement stalls and the `f64` factors must be computed
+    /// as well (docs/dev/performance.md, session 4).
     Mixed,
 }
 
@@ -118,7 +118,7 @@ pub struct FactorOptions {
     /// matrix, whose largest entry per row and column is ~1) are replaced by ±this value.
     /// Default `√ε ≈ 1.5e-8` (at least `√ε_f32 ≈ 3.5e-4` for single-precision factors).
     pub pivot_tolerance: f64,
-    /// Precision of the static-pivoting factors. Default [`FactorPrecision::Auto`].
+    /// Precision of the static-pivoting factors. Default [`FactorPrecision::Double`].
     pub precision: FactorPrecision,
     /// Entries with `|K_ij| ≤ void_tolerance · max|K|` are left out of the factorised matrix
     /// (`0` keeps every entry). Default `1e-14`.
@@ -142,9 +142,6 @@ pub struct FactorOptions {
 /// [`FactorMethod::Auto`] uses static pivoting from this many unknowns on.
 pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
 
-/// [`FactorPrecision::Auto`] uses single-precision factors from this many unknowns on.
-pub const MIXED_PRECISION_MIN_DOFS: usize = 100_000;
-
 /// A later ordering candidate must bound the flops below this fraction of the kept one's.
 const PREFER_FIRST: f64 = 0.8;
 
@@ -153,7 +150,7 @@ impl Default for FactorOptions {
         Self {
             method: FactorMethod::Auto,
             pivot_tolerance: f64::EPSILON.sqrt(),
-            precision: FactorPrecision::Auto,
+            precision: FactorPrecision::Double,
             void_tolerance: 1e-14,
             tasks: 2,
             leaf_nodes: 64,
@@ -595,11 +592,7 @@ impl Factorisation {
         let analysis = match ordered {
             Ordered::Columns(analysis) => analysis,
             Ordered::Symmetric(perm, graph) => {
-                let single = match options.precision {
-                    FactorPrecision::Auto => n >= MIXED_PRECISION_MIN_DOFS,
-                    FactorPrecision::Double => false,
-                    FactorPrecision::Mixed => true,
-                };
+                let single = options.precision == FactorPrecision::Mixed;
                 let settings = symmetric::Settings {
                     pivot_tolerance: options.pivot_tolerance,
                     void_tolerance: options.void_tolerance,
@@ -611,7 +604,7 @@ impl Factorisation {
                     },
                 };
                 let (lu, symbolic_seconds, numeric_seconds) =
-                    symmetric::StaticLu::new(matrix, &pruned, graph.as_ref(), &perm, &settings)?;
+                    symmetric::StaticLu::new(matrix, &pruned, graph, &perm, &settings)?;
                 stats.symbolic_seconds = symbolic_seconds;
                 stats.numeric_seconds = numeric_seconds;
                 stats.supernodes = lu.supernodes();
@@ -657,6 +650,7 @@ impl Factorisation {
         let (lu, row_perm, row_perm_inv) = Self::numeric(a, at.as_ref(), perm_ref, &symbolic, par)?;
         stats.numeric_seconds = t.elapsed().as_secs_f64();
         stats.supernodes = lu.n_supernodes();
+        stats.precision = FactorPrecision::Double;
         let inner = Inner::Partial { lu, row_perm, row_perm_inv, col_perm, col_perm_inv };
         Ok(Self { inner, n, stats })
     }

@@ -56,9 +56,6 @@ pub const ACCEPTED_BACKWARD_ERROR: f64 = 1e-12;
 const TARGET_BACKWARD_ERROR: f64 = 1e-14;
 /// Panel width of the dense diagonal-block LU.
 const PANEL: usize = 32;
-/// Contribution blocks of at least this many values are pooled for reuse (smaller ones come
-/// from the allocator's free lists without page faults).
-const POOLED_LEN: usize = 1 << 15;
 /// Subtrees with fewer estimated flops than this are factorised by one task.
 const PARALLEL_SUBTREE_FLOPS: f64 = 2e7;
 /// Dense products with more flops than this use `Par::rayon(2)` (fixed, not the pool size).
@@ -693,31 +690,9 @@ struct Numeric<'a, T> {
     tol: f64,
     factors: Vec<OnceLock<NodeFactor<T>>>,
     perturbed: AtomicUsize,
-    /// Contribution-block buffers returned by the parents that consumed them, for reuse
-    /// (a fresh large allocation costs a page fault per 4 KiB page, ~15 % of the numeric
-    /// time at 100k nodes).
-    pool: std::sync::Mutex<Vec<Vec<T>>>,
 }
 
 impl<T: Scalar> Numeric<'_, T> {
-    /// An empty buffer with room for `len` values: the smallest pooled one that fits, else
-    /// a new one.
-    fn take(&self, len: usize) -> Vec<T> {
-        let mut pool = self.pool.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        let best = (0..pool.len())
-            .filter(|&i| pool[i].capacity() >= len)
-            .min_by_key(|&i| pool[i].capacity());
-        let mut v = best.map_or_else(|| Vec::with_capacity(len), |i| pool.swap_remove(i));
-        v.clear();
-        v
-    }
-
-    /// Returns consumed contribution blocks to the pool.
-    fn give_back(&self, blocks: Vec<Vec<T>>) {
-        let mut pool = self.pool.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-        pool.extend(blocks.into_iter().filter(|b| b.capacity() >= POOLED_LEN));
-    }
-
     /// Assembles, factors and stores supernode `s` from its children's contribution blocks
     /// (in the order of `nodes[s].children`); returns its own contribution block.
     fn front(&self, s: usize, child_blocks: Vec<Vec<T>>) -> Result<Vec<T>, SolveError> {
@@ -796,8 +771,8 @@ impl<T: Scalar> Numeric<'_, T> {
         }
         let lu = f[..m * ns].to_vec();
         let mut u12 = Vec::with_capacity(ns * p);
-        self.give_back(child_blocks);
-        let mut cb = self.take(p * p);
+        drop(child_blocks);
+        let mut cb = Vec::with_capacity(p * p);
         for c in ns..m {
             u12.extend_from_slice(&f[c * m..c * m + ns]);
             cb.extend_from_slice(&f[c * m + ns..(c + 1) * m]);
@@ -874,7 +849,6 @@ fn factorise<T: Scalar>(
         tol,
         factors: (0..ns).map(|_| OnceLock::new()).collect(),
         perturbed: AtomicUsize::new(0),
-        pool: std::sync::Mutex::new(Vec::new()),
     };
     let roots: Vec<usize> = (0..ns).filter(|&s| nodes[s].pattern.is_empty()).collect();
     let blocks: Vec<Vec<T>> =
@@ -917,7 +891,7 @@ impl StaticLu {
     pub(super) fn new(
         full: &SystemMatrix,
         pruned: &SystemMatrix,
-        graph: Option<&NodeGraph>,
+        graph: Option<NodeGraph>,
         perm: &[usize],
         settings: &Settings,
     ) -> Result<(Self, f64, f64), SolveError> {
@@ -925,7 +899,7 @@ impl StaticLu {
         let t = std::time::Instant::now();
         // The node graph when the order keeps node DOFs together (a quarter of the entries),
         // expanded to DOFs; the DOF graph otherwise.
-        let (perm, raw) = match (graph, node_order(perm)) {
+        let (perm, raw) = match (graph.as_ref(), node_order(perm)) {
             (Some(graph), Some(node_perm)) => {
                 let (node_perm, raw) =
                     supernodes(n / 2, &node_perm, NODE_RELAX, |inv| graph.pattern(inv))?;
@@ -941,6 +915,7 @@ impl StaticLu {
             }
             _ => supernodes(n, perm, DOF_RELAX, |inv| symmetric_pattern(pruned, inv))?,
         };
+        drop(graph);
         let perm_inv = super::inverse(&perm);
         let ns = raw.len();
         let mut col_to_node = vec![0usize; n];

@@ -7,6 +7,7 @@ pub mod plot;
 pub mod progress;
 mod vtk;
 
+use crate::linear_solve;
 use crate::nodes::Axis;
 use crate::problem::Problem;
 use crate::{ContactSolution, Model, Solution};
@@ -295,6 +296,20 @@ fn solution_plots(
 pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Solution) -> Value {
     let timings: serde_json::Map<String, Value> =
         solution.timings.iter().map(|t| (t.stage.to_string(), json!(t.seconds))).collect();
+    let f = model.factorisation.stats();
+    let linear_solve = json!({
+        "method": f.method,
+        "precision": f.precision,
+        "supernodes": f.supernodes,
+        "factor_nonzeros": f.factor_nnz,
+        "perturbed_pivots": f.perturbed_pivots,
+        "columns_solved": f.columns_solved,
+        "refinement_steps": f.refinement_steps,
+        "columns_in_double": f.columns_in_double,
+        // Measured by the static-pivoting LU's refinement only.
+        "worst_backward_error": (f.method == linear_solve::FactorMethod::StaticPivoting)
+            .then_some(f.worst_backward_error),
+    });
     json!({
         "program": { "name": env!("CARGO_PKG_NAME"), "version": env!("CARGO_PKG_VERSION") },
         "input": input,
@@ -316,6 +331,7 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "matrix_nonzeros_per_row": model.system.matrix.values.len() as f64 / model.system.matrix.n.max(1) as f64,
             "elements": model.mesh.as_ref().map(|m| m.elements.len()),
         },
+        "linear_solve": linear_solve,
         "checks": {
             "relative_residual": solution.relative_residual,
             "equilibrium_error": solution.equilibrium_error,
