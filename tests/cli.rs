@@ -411,6 +411,13 @@ fn cantilever_problem_tip_deflection() {
     let beam = p * l * l * l / (3.0 * e * i) + p * l / (5.0 / 6.0 * g * d);
     assert!((tip / beam - 1.0).abs() < 0.03, "tip {tip:.6e} vs beam theory {beam:.6e}");
     assert!(s["checks"]["equilibrium_error"].as_f64().unwrap() < 1e-9);
+    // Small systems use faer's partial-pivoting LU in double precision; the refinement
+    // record exists only for the static-pivoting LU.
+    let ls = &s["linear_solve"];
+    assert_eq!(ls["method"], "PartialPivoting");
+    assert_eq!(ls["precision"], "Double");
+    assert!(ls["supernodes"].as_u64().unwrap() > 0);
+    assert!(ls["refinement_steps"].is_null());
 }
 
 /// Every shipped problem file runs (the README's main command among them).

@@ -297,18 +297,18 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
     let timings: serde_json::Map<String, Value> =
         solution.timings.iter().map(|t| (t.stage.to_string(), json!(t.seconds))).collect();
     let f = model.factorisation.stats();
+    // The factor size and the refinement record exist for the static-pivoting LU only.
+    let is_static = f.method == linear_solve::FactorMethod::StaticPivoting;
     let linear_solve = json!({
         "method": f.method,
         "precision": f.precision,
         "supernodes": f.supernodes,
-        "factor_nonzeros": f.factor_nnz,
-        "perturbed_pivots": f.perturbed_pivots,
-        "columns_solved": f.columns_solved,
-        "refinement_steps": f.refinement_steps,
-        "columns_in_double": f.columns_in_double,
-        // Measured by the static-pivoting LU's refinement only.
-        "worst_backward_error": (f.method == linear_solve::FactorMethod::StaticPivoting)
-            .then_some(f.worst_backward_error),
+        "factor_nonzeros": is_static.then_some(f.factor_nnz),
+        "perturbed_pivots": is_static.then_some(f.perturbed_pivots),
+        "columns_solved": is_static.then_some(f.columns_solved),
+        "refinement_steps": is_static.then_some(f.refinement_steps),
+        "columns_in_double": is_static.then_some(f.columns_in_double),
+        "worst_backward_error": is_static.then_some(f.worst_backward_error),
     });
     json!({
         "program": { "name": env!("CARGO_PKG_NAME"), "version": env!("CARGO_PKG_VERSION") },
