@@ -11,7 +11,10 @@
 //!   its fill is clearly lower; the orders are compared by the flops of the Cholesky factor
 //!   of `P(K + Kᵀ)Pᵀ` (faer's column counts), the static structure used here.
 //! - **Symbolic.** faer's supernodal Cholesky analysis of `P(Â + Âᵀ)Pᵀ` (postordered
-//!   elimination tree, relaxed supernodes). `L` and `Uᵀ` have this structure.
+//!   elimination tree, relaxed supernodes). `L` and `Uᵀ` have this structure. When the order
+//!   keeps each node's two DOFs together (nested dissection does), the analysis runs on the
+//!   node graph ([`NodeGraph`], a quarter of the entries) and is expanded to DOFs, each node
+//!   a dense 2 × 2 block: 0.75 s instead of 3.7 s for ordering and analysis at 100k nodes.
 //! - **Numeric.** Multifrontal: each supernode assembles its front (its entries of `Â` and
 //!   its children's contribution blocks), factors its diagonal block with partial pivoting
 //!   *restricted to that block* (a pivot below `pivot_tolerance` is replaced by
@@ -20,6 +23,11 @@
 //!   and matrix products. Independent subtrees of the assembly tree run in parallel
 //!   (rayon); the arithmetic of every front is the same whatever the pool size, so results
 //!   are bit-identical across thread counts.
+//! - **Precision.** The factors are `f64` by default; [`super::FactorPrecision::Mixed`]
+//!   stores them in `f32` (half the memory, ~1.5× faster numeric factorisation) and relies
+//!   on the refinement below, with `f64` residuals, to reach the same backward error;
+//!   columns whose refinement stalls are solved again with `f64` factors computed on first
+//!   need.
 //! - **Solve.** Forward and backward supernodal substitution for a block of right-hand
 //!   sides, then iterative refinement against the *full* `K` (not the pruned, scaled copy):
 //!   per column, until the normwise backward error (relative residual)
