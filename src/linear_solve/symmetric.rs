@@ -432,50 +432,44 @@ struct RowMatrix {
     values: Vec<f64>,
 }
 
+/// The other orientation of compressed storage with `n` lines (`ptr`, `idx`, `values`):
+/// columns from rows or rows from columns, indices ascending within each line.
+fn transpose(
+    n: usize,
+    ptr: &[usize],
+    idx: &[usize],
+    values: &[f64],
+) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    let mut t_ptr = vec![0usize; n + 1];
+    for &i in idx {
+        t_ptr[i + 1] += 1;
+    }
+    for i in 0..n {
+        t_ptr[i + 1] += t_ptr[i];
+    }
+    let mut fill = t_ptr.clone();
+    let mut t_idx = vec![0usize; idx.len()];
+    let mut t_values = vec![0.0f64; idx.len()];
+    for line in 0..n {
+        for k in ptr[line]..ptr[line + 1] {
+            let i = idx[k];
+            t_idx[fill[i]] = line;
+            t_values[fill[i]] = values[k];
+            fill[i] += 1;
+        }
+    }
+    (t_ptr, t_idx, t_values)
+}
+
 impl RowMatrix {
     fn new(a: &SystemMatrix) -> Self {
-        let n = a.n;
-        let mut row_ptr = vec![0usize; n + 1];
-        for &r in &a.row_idx {
-            row_ptr[r + 1] += 1;
-        }
-        for i in 0..n {
-            row_ptr[i + 1] += row_ptr[i];
-        }
-        let mut fill = row_ptr.clone();
-        let mut col_idx = vec![0usize; a.row_idx.len()];
-        let mut values = vec![0.0f64; a.row_idx.len()];
-        for c in 0..n {
-            for k in a.col_ptr[c]..a.col_ptr[c + 1] {
-                let r = a.row_idx[k];
-                col_idx[fill[r]] = c;
-                values[fill[r]] = a.values[k];
-                fill[r] += 1;
-            }
-        }
+        let (row_ptr, col_idx, values) = transpose(a.n, &a.col_ptr, &a.row_idx, &a.values);
         Self { row_ptr, col_idx, values }
     }
 
-    /// `K` by columns again (the transpose of this row storage).
+    /// `K` by columns again.
     fn transposed(&self, n: usize) -> SystemMatrix {
-        let mut col_ptr = vec![0usize; n + 1];
-        for &c in &self.col_idx {
-            col_ptr[c + 1] += 1;
-        }
-        for j in 0..n {
-            col_ptr[j + 1] += col_ptr[j];
-        }
-        let mut fill = col_ptr.clone();
-        let mut row_idx = vec![0usize; self.col_idx.len()];
-        let mut values = vec![0.0f64; self.col_idx.len()];
-        for r in 0..n {
-            for k in self.row_ptr[r]..self.row_ptr[r + 1] {
-                let c = self.col_idx[k];
-                row_idx[fill[c]] = r;
-                values[fill[c]] = self.values[k];
-                fill[c] += 1;
-            }
-        }
+        let (col_ptr, row_idx, values) = transpose(n, &self.row_ptr, &self.col_idx, &self.values);
         SystemMatrix { n, col_ptr, row_idx, values }
     }
 
