@@ -592,28 +592,20 @@ impl Factorisation {
         let analysis = match ordered {
             Ordered::Columns(analysis) => analysis,
             Ordered::Symmetric(perm, graph) => {
-                let single = options.precision == FactorPrecision::Mixed;
                 let settings = symmetric::Settings {
                     pivot_tolerance: options.pivot_tolerance,
                     void_tolerance: options.void_tolerance,
                     parallel: options.tasks > 1,
-                    precision: if single {
-                        symmetric::Precision::Single
-                    } else {
-                        symmetric::Precision::Double
-                    },
+                    precision: options.precision,
                 };
                 let (lu, symbolic_seconds, numeric_seconds) =
-                    symmetric::StaticLu::new(matrix, &pruned, graph, &perm, &settings)?;
+                    symmetric::StaticLu::new(matrix, &pruned, graph, &perm, settings)?;
                 stats.symbolic_seconds = symbolic_seconds;
                 stats.numeric_seconds = numeric_seconds;
                 stats.supernodes = lu.supernodes();
                 stats.factor_nnz = lu.factor_nnz;
                 stats.perturbed_pivots = lu.perturbed;
-                stats.precision = match lu.precision() {
-                    symmetric::Precision::Single => FactorPrecision::Mixed,
-                    symmetric::Precision::Double => FactorPrecision::Double,
-                };
+                stats.precision = lu.precision();
                 return Ok(Self { inner: Inner::Static(lu), n, stats });
             }
         };

@@ -51,7 +51,7 @@ use faer::sparse::linalg::cholesky::{simplicial, supernodal};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
-use super::{SolveError, backend, buffer};
+use super::{FactorPrecision, SolveError, backend, buffer};
 use crate::assembly::SystemMatrix;
 
 /// Refinement stops after this many corrections.
@@ -506,10 +506,7 @@ pub(super) struct StaticLu {
     rows: RowMatrix,
     /// `‖K‖∞`.
     norm: f64,
-    /// Settings needed to recompute the factors in double precision.
-    void_tolerance: f64,
-    pivot_tolerance: f64,
-    parallel: bool,
+    settings: Settings,
     /// Pivots replaced by `±tolerance`.
     pub perturbed: usize,
     /// Nonzeros stored in `L` and `U` (diagonal once).
@@ -867,14 +864,7 @@ fn factorise<T: Scalar>(
     Ok((factors, perturbed))
 }
 
-/// Precision of the static-pivoting factors (see [`super::FactorPrecision`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Precision {
-    Double,
-    Single,
-}
-
-/// Settings of [`StaticLu::new`].
+/// Settings of [`StaticLu::new`] (kept to recompute the factors in double precision).
 pub(super) struct Settings {
     /// Pivot tolerance of the double-precision factors; single precision uses at least
     /// `√ε_f32`.
@@ -882,7 +872,7 @@ pub(super) struct Settings {
     /// Void tolerance the pruned matrix was made with (to rebuild it for the fallback).
     pub void_tolerance: f64,
     pub parallel: bool,
-    pub precision: Precision,
+    pub precision: FactorPrecision,
 }
 
 impl StaticLu {
@@ -895,7 +885,7 @@ impl StaticLu {
         pruned: &SystemMatrix,
         graph: Option<NodeGraph>,
         perm: &[usize],
-        settings: &Settings,
+        settings: Settings,
     ) -> Result<(Self, f64, f64), SolveError> {
         let n = pruned.n;
         let t = std::time::Instant::now();
@@ -953,11 +943,11 @@ impl StaticLu {
         let permuted = Permuted::new(pruned, &perm_inv, &row_scale, &col_scale);
         let (tol, parallel) = (settings.pivot_tolerance, settings.parallel);
         let (factors, perturbed) = match settings.precision {
-            Precision::Double => {
+            FactorPrecision::Double => {
                 let (f, p) = factorise::<f64>(&nodes, &first, &permuted, tol, parallel)?;
                 (Factors::Double(f), p)
             }
-            Precision::Single => {
+            FactorPrecision::Mixed => {
                 let tol = tol.max(f64::from(f32::EPSILON).sqrt());
                 let (f, p) = factorise::<f32>(&nodes, &first, &permuted, tol, parallel)?;
                 (Factors::Single(f), p)
@@ -983,9 +973,7 @@ impl StaticLu {
             double: OnceLock::new(),
             norm: full_rows.norm(),
             rows: full_rows,
-            void_tolerance: settings.void_tolerance,
-            pivot_tolerance: settings.pivot_tolerance,
-            parallel: settings.parallel,
+            settings,
             perturbed,
             factor_nnz,
             refinement_steps: AtomicUsize::new(0),
@@ -1002,10 +990,10 @@ impl StaticLu {
     }
 
     /// Precision of the stored factors.
-    pub(super) fn precision(&self) -> Precision {
+    pub(super) fn precision(&self) -> FactorPrecision {
         match self.factors {
-            Factors::Double(_) => Precision::Double,
-            Factors::Single(_) => Precision::Single,
+            Factors::Double(_) => FactorPrecision::Double,
+            Factors::Single(_) => FactorPrecision::Mixed,
         }
     }
 
@@ -1025,12 +1013,12 @@ impl StaticLu {
     /// bring to the accepted backward error).
     fn double_factors(&self) -> Result<Vec<NodeFactor<f64>>, SolveError> {
         let full = self.rows.transposed(self.n);
-        let pruned = super::without_void_entries(&full, self.void_tolerance);
+        let pruned = super::without_void_entries(&full, self.settings.void_tolerance);
         drop(full);
         let perm_inv = super::inverse(&self.perm);
         let permuted = Permuted::new(&pruned, &perm_inv, &self.row_scale, &self.col_scale);
         drop(pruned);
-        let (tol, parallel) = (self.pivot_tolerance, self.parallel);
+        let (tol, parallel) = (self.settings.pivot_tolerance, self.settings.parallel);
         factorise::<f64>(&self.nodes, &self.first, &permuted, tol, parallel).map(|(f, _)| f)
     }
 
@@ -1163,18 +1151,19 @@ impl StaticLu {
         (res, berr)
     }
 
-    /// Iterative refinement of the columns `cols` of `x` (`x ≈ K⁻¹ b` on entry) with the
-    /// factors `factors`. Returns the columns whose backward error stayed above
-    /// [`ACCEPTED_BACKWARD_ERROR`] and the largest backward error of the others.
-    fn refine<T: Scalar>(
+    /// Solves `K X = B` with the factors `factors` followed by iterative refinement of every
+    /// column (`x` holds `B` on entry, `b` is a copy of it). Returns the columns whose
+    /// backward error stayed above [`ACCEPTED_BACKWARD_ERROR`] and the largest backward
+    /// error of the others.
+    fn solve_refined<T: Scalar>(
         &self,
         factors: &[NodeFactor<T>],
         b: MatRef<'_, f64>,
         mut x: MatMut<'_, f64>,
-        cols: Vec<usize>,
     ) -> (Vec<usize>, f64) {
+        self.substitute(factors, x.rb_mut());
         let k = x.ncols();
-        let mut active = cols;
+        let mut active: Vec<usize> = (0..k).collect();
         let mut last = vec![f64::INFINITY; k];
         let mut steps = 0;
         let mut worst = 0.0f64;
@@ -1235,30 +1224,18 @@ impl StaticLu {
             return;
         }
         let b = rhs.rb().to_owned();
-        let all: Vec<usize> = (0..k).collect();
         let (mut rejected, mut worst) = match &self.factors {
-            Factors::Double(f) => {
-                self.substitute(f, rhs.rb_mut());
-                self.refine(f, b.as_ref(), rhs.rb_mut(), all)
-            }
-            Factors::Single(f) => {
-                self.substitute(f, rhs.rb_mut());
-                self.refine(f, b.as_ref(), rhs.rb_mut(), all)
-            }
+            Factors::Double(f) => self.solve_refined(f, b.as_ref(), rhs.rb_mut()),
+            Factors::Single(f) => self.solve_refined(f, b.as_ref(), rhs.rb_mut()),
         };
         if !rejected.is_empty()
             && matches!(self.factors, Factors::Single(_))
             && let Ok(f) = self.double.get_or_init(|| self.double_factors())
         {
             self.columns_in_double.fetch_add(rejected.len(), Ordering::Relaxed);
-            let mut sub = Mat::<f64>::zeros(self.n, rejected.len());
-            for (t, &c) in rejected.iter().enumerate() {
-                sub.col_as_slice_mut(t).copy_from_slice(b.col_as_slice(c));
-            }
-            let sb = sub.clone();
-            self.substitute(f, sub.as_mut());
-            let (again, w) =
-                self.refine(f, sb.as_ref(), sub.as_mut(), (0..rejected.len()).collect());
+            let sb = Mat::<f64>::from_fn(self.n, rejected.len(), |i, t| b[(i, rejected[t])]);
+            let mut sub = sb.clone();
+            let (again, w) = self.solve_refined(f, sb.as_ref(), sub.as_mut());
             worst = worst.max(w);
             for (t, &c) in rejected.iter().enumerate() {
                 rhs.rb_mut().col_mut(c).copy_from(sub.col(t));
