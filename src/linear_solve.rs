@@ -599,7 +599,7 @@ impl Factorisation {
                     precision: options.precision,
                 };
                 let (lu, symbolic_seconds, numeric_seconds) =
-                    symmetric::StaticLu::new(matrix, &pruned, graph, &perm, settings)?;
+                    symmetric::StaticLu::new(matrix, pruned, graph, &perm, settings)?;
                 stats.symbolic_seconds = symbolic_seconds;
                 stats.numeric_seconds = numeric_seconds;
                 stats.supernodes = lu.supernodes();
