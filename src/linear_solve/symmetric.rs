@@ -62,8 +62,11 @@ pub const ACCEPTED_BACKWARD_ERROR: f64 = 1e-12;
 /// cantilever, beam and strip the unrefined solutions are at ~1e-17 already: refinement
 /// only acts when static pivoting lost accuracy (perturbed pivots, growth).
 const TARGET_BACKWARD_ERROR: f64 = 1e-14;
-/// Panel width of the dense diagonal-block LU.
-const PANEL: usize = 32;
+/// Width of the unblocked panels at the leaves of the recursive front LU. A dense
+/// 2512 × 2512 front with 1506 pivots (the largest at 250k nodes, β = 1) factorises at
+/// 27–28 GFlop/s with 16, 22–25 with 32 or 64, 22 with 4 or 8 (two cores; the previous
+/// right-looking LU with panels of 32: 17).
+const PANEL: usize = 16;
 /// Subtrees with fewer estimated flops than this are factorised by one task.
 const PARALLEL_SUBTREE_FLOPS: f64 = 2e7;
 /// Dense products with more flops than this use `Par::rayon(2)` (fixed, not the pool size).
@@ -640,6 +643,11 @@ fn par_for(flops: f64) -> Par {
 /// Factors the first `ns` columns of the `m × m` front `f` in place: `S F11 = L11 U11` with
 /// row swaps `S` inside the diagonal block, `L21`, `U12`, and the Schur complement
 /// `F22 − L21 U12` in the trailing block. Returns the number of perturbed pivots.
+///
+/// The tall `m × ns` block is factorised recursively (halves of its columns, unblocked
+/// panels of at most [`PANEL`] columns at the leaves), so most of its flops are large
+/// matrix products; then `U12 = L11⁻¹ S F12` is one triangular solve and the Schur
+/// complement one product.
 fn factor_front<T: Scalar>(
     f: &mut [T],
     m: usize,
@@ -647,97 +655,111 @@ fn factor_front<T: Scalar>(
     tol: f64,
     swaps: &mut [usize],
 ) -> usize {
-    let mut perturbed = 0;
-    let mut j0 = 0;
-    while j0 < ns {
-        let j1 = (j0 + PANEL).min(ns);
-        for j in j0..j1 {
-            // Pivot search restricted to the diagonal block's rows.
-            let col = &f[j * m..j * m + ns];
-            let mut imax = j;
-            let mut max = col[j].get().abs();
-            for (i, v) in col.iter().enumerate().skip(j + 1) {
-                if v.get().abs() > max {
-                    max = v.get().abs();
-                    imax = i;
-                }
-            }
-            swaps[j] = imax;
-            if imax != j {
-                for c in 0..m {
-                    f.swap(c * m + j, c * m + imax);
-                }
-            }
-            let mut pivot = f[j * m + j].get();
-            if pivot.abs() < tol || !pivot.is_finite() {
-                pivot = if pivot < 0.0 { -tol } else { tol };
-                f[j * m + j] = T::of(pivot);
-                perturbed += 1;
-            }
-            let inv = T::of(pivot.recip());
-            for v in &mut f[j * m + j + 1..j * m + m] {
-                *v *= inv;
-            }
-            let (left, right) = f.split_at_mut((j + 1) * m);
-            let lj = &left[j * m + j + 1..j * m + m];
-            for c in j + 1..j1 {
-                let colc = &mut right[(c - j - 1) * m..(c - j) * m];
-                let u = colc[j];
-                if u.get() != 0.0 {
-                    for (x, l) in colc[j + 1..].iter_mut().zip(lj) {
-                        *x -= u * l;
-                    }
-                }
-            }
-        }
-        let w = j1 - j0;
-        if j1 < m {
-            // Rows j0..j1 of U to the right of the panel.
-            let (left, right) = f.split_at_mut(j1 * m);
-            let panel = MatRef::from_column_major_slice(&left[j0 * m..], m, w);
-            let mut rest = MatMut::from_column_major_slice_mut(right, m, m - j1);
-            let l11 = panel.submatrix(j0, 0, w, w);
-            let par = par_for((w * w * (m - j1)) as f64);
-            solve_unit_lower_triangular_in_place(l11, rest.rb_mut().subrows_mut(j0, w), par);
-            // Trailing update of the rest of the supernode's columns (all rows below the
-            // panel) and of the diagonal-block rows of the pattern columns.
-            if j1 < ns {
-                let (u_rows, mut below) = rest.rb_mut().split_at_row_mut(j1);
-                let u_rows = u_rows.rb().subrows(j0, w);
-                let l_below = panel.subrows(j1, m - j1);
-                let flops = ((m - j1) * w * (ns - j1)) as f64;
-                matmul(
-                    below.rb_mut().subcols_mut(0, ns - j1),
-                    Accum::Add,
-                    l_below,
-                    u_rows.subcols(0, ns - j1),
-                    T::of(-1.0),
-                    par_for(flops),
-                );
-                if ns < m {
-                    let flops = ((ns - j1) * w * (m - ns)) as f64;
-                    matmul(
-                        below.rb_mut().submatrix_mut(0, ns - j1, ns - j1, m - ns),
-                        Accum::Add,
-                        panel.submatrix(j1, 0, ns - j1, w),
-                        u_rows.subcols(ns - j1, m - ns),
-                        T::of(-1.0),
-                        par_for(flops),
-                    );
-                }
-            }
-        }
-        j0 = j1;
-    }
+    let perturbed = factor_columns(f, m, ns, 0..ns, tol, swaps);
     if ns < m {
-        // L21 is already final (the panel steps divided and updated all rows); the Schur
-        // complement F22 −= L21 U12 in one rank-ns product.
         let (left, right) = f.split_at_mut(ns * m);
         let l = MatRef::from_column_major_slice(left, m, ns);
         let mut r = MatMut::from_column_major_slice_mut(right, m, m - ns);
-        let (u12, f22) = r.rb_mut().split_at_row_mut(ns);
+        let (mut u12, f22) = r.rb_mut().split_at_row_mut(ns);
+        let flops = (ns * ns * (m - ns)) as f64;
+        solve_unit_lower_triangular_in_place(l.subrows(0, ns), u12.rb_mut(), par_for(flops));
         let flops = ((m - ns) * (m - ns) * ns) as f64;
         matmul(f22, Accum::Add, l.subrows(ns, m - ns), u12.rb(), T::of(-1.0), par_for(flops));
+    }
+    perturbed
+}
+
+/// LU with row pivoting restricted to rows `< ns` of the columns `cols` of the front (rows
+/// above `cols.start` are already final: `U`), recursively; row swaps are applied to whole
+/// rows of the front and recorded in `swaps`. Returns the number of perturbed pivots.
+fn factor_columns<T: Scalar>(
+    f: &mut [T],
+    m: usize,
+    ns: usize,
+    cols: std::ops::Range<usize>,
+    tol: f64,
+    swaps: &mut [usize],
+) -> usize {
+    let (j0, j1) = (cols.start, cols.end);
+    if j1 - j0 <= PANEL {
+        return factor_panel(f, m, ns, j0, j1, tol, swaps);
+    }
+    // Split at a multiple of the panel width.
+    let mid = j0 + ((j1 - j0) / 2).div_ceil(PANEL) * PANEL;
+    let mut perturbed = factor_columns(f, m, ns, j0..mid, tol, swaps);
+    {
+        // Right half: its rows j0..mid of U, then the update of the rows below.
+        let (left, right) = f.split_at_mut(mid * m);
+        let l = MatRef::from_column_major_slice(&left[j0 * m..], m, mid - j0);
+        let mut r = MatMut::from_column_major_slice_mut(&mut right[..(j1 - mid) * m], m, j1 - mid);
+        let (top, mut below) = r.rb_mut().split_at_row_mut(mid);
+        let mut u = top.subrows_mut(j0, mid - j0);
+        let w = mid - j0;
+        let flops = (w * w * (j1 - mid)) as f64;
+        solve_unit_lower_triangular_in_place(l.subrows(j0, w), u.rb_mut(), par_for(flops));
+        let flops = ((m - mid) * w * (j1 - mid)) as f64;
+        matmul(
+            below.rb_mut(),
+            Accum::Add,
+            l.subrows(mid, m - mid),
+            u.rb(),
+            T::of(-1.0),
+            par_for(flops),
+        );
+    }
+    perturbed += factor_columns(f, m, ns, mid..j1, tol, swaps);
+    perturbed
+}
+
+/// Unblocked LU of the columns `j0..j1` (rank-1 updates inside the panel only).
+fn factor_panel<T: Scalar>(
+    f: &mut [T],
+    m: usize,
+    ns: usize,
+    j0: usize,
+    j1: usize,
+    tol: f64,
+    swaps: &mut [usize],
+) -> usize {
+    let mut perturbed = 0;
+    for j in j0..j1 {
+        // Pivot search restricted to the diagonal block's rows.
+        let col = &f[j * m..j * m + ns];
+        let mut imax = j;
+        let mut max = col[j].get().abs();
+        for (i, v) in col.iter().enumerate().skip(j + 1) {
+            if v.get().abs() > max {
+                max = v.get().abs();
+                imax = i;
+            }
+        }
+        swaps[j] = imax;
+        if imax != j {
+            for c in 0..m {
+                f.swap(c * m + j, c * m + imax);
+            }
+        }
+        let mut pivot = f[j * m + j].get();
+        if pivot.abs() < tol || !pivot.is_finite() {
+            pivot = if pivot < 0.0 { -tol } else { tol };
+            f[j * m + j] = T::of(pivot);
+            perturbed += 1;
+        }
+        let inv = T::of(pivot.recip());
+        for v in &mut f[j * m + j + 1..j * m + m] {
+            *v *= inv;
+        }
+        let (left, right) = f.split_at_mut((j + 1) * m);
+        let lj = &left[j * m + j + 1..j * m + m];
+        for c in j + 1..j1 {
+            let colc = &mut right[(c - j - 1) * m..(c - j) * m];
+            let u = colc[j];
+            if u.get() != 0.0 {
+                for (x, l) in colc[j + 1..].iter_mut().zip(lj) {
+                    *x -= u * l;
+                }
+            }
+        }
     }
     perturbed
 }
@@ -1330,38 +1352,45 @@ mod tests {
 
     #[test]
     fn front_factorisation_matches_a_dense_solve() {
-        // 5 × 5 front, 3 supernode columns; check S F11 = L11 U11 and the Schur complement.
-        let m = 5;
-        let ns = 3;
-        let a: Vec<f64> = (0..m * m)
-            .map(|k| ((k * 37 % 11) as f64 - 5.0) + if k % 6 == 0 { 9.0 } else { 0.0 })
-            .collect();
-        let mut f = a.clone();
-        let mut swaps = vec![0; ns];
-        let perturbed = factor_front(&mut f, m, ns, 1e-12, &mut swaps);
-        assert_eq!(perturbed, 0);
-        // Rebuild S A from the factors: rows 0..ns of columns 0..m, and rows ns..m.
-        let at = |f: &[f64], i: usize, j: usize| f[j * m + i];
-        let mut sa = a.clone();
-        for (j, &s) in swaps.iter().enumerate() {
-            for c in 0..m {
-                sa.swap(c * m + j, c * m + s);
+        // Check S F11 = L11 U11, L21, U12 and the Schur complement against the input: a 5 × 5
+        // front with 3 supernode columns (one unblocked panel), and fronts wide enough for
+        // the recursive column split (several panels, with and without pattern rows).
+        for (m, ns) in [(5, 3), (150, 100), (97, 97), (70, 40)] {
+            let a: Vec<f64> = (0..m * m)
+                .map(|k| ((k * 37 % 11) as f64 - 5.0) + if k % (m + 1) == 0 { 9.0 } else { 0.0 })
+                .collect();
+            let mut f = a.clone();
+            let mut swaps = vec![0; ns];
+            let perturbed = factor_front(&mut f, m, ns, 1e-12, &mut swaps);
+            assert_eq!(perturbed, 0);
+            // Rebuild S A from the factors: rows 0..ns of columns 0..m, and rows ns..m.
+            let at = |f: &[f64], i: usize, j: usize| f[j * m + i];
+            let mut sa = a.clone();
+            for (j, &s) in swaps.iter().enumerate() {
+                for c in 0..m {
+                    sa.swap(c * m + j, c * m + s);
+                }
             }
-        }
-        for i in 0..m {
-            for j in 0..m {
-                let mut v = 0.0;
-                for q in 0..ns.min(i + 1).min(if j < ns { j + 1 } else { ns }) {
-                    let l = if i == q { 1.0 } else { at(&f, i, q) };
-                    v += l * at(&f, q, j);
+            for i in 0..m {
+                for j in 0..m {
+                    let (mut v, mut size) = (0.0, 0.0);
+                    for q in 0..ns.min(i + 1).min(if j < ns { j + 1 } else { ns }) {
+                        let l = if i == q { 1.0 } else { at(&f, i, q) };
+                        v += l * at(&f, q, j);
+                        size += (l * at(&f, q, j)).abs();
+                    }
+                    if i >= ns && j >= ns {
+                        v += at(&f, i, j); // Schur complement
+                        size += at(&f, i, j).abs();
+                    }
+                    // Rounding of a sum of `size` magnitude.
+                    let err = (v - at(&sa, i, j)).abs();
+                    assert!(
+                        err <= 1e-14 * (size + 1.0) * m as f64,
+                        "m = {m}, ({i}, {j}): {v} vs {}",
+                        at(&sa, i, j)
+                    );
                 }
-                if i >= ns && j >= ns {
-                    v += at(&f, i, j); // Schur complement
-                }
-                if i < ns && j < ns && i > j {
-                    // only L entries, covered by the product
-                }
-                assert!((v - at(&sa, i, j)).abs() < 1e-12, "({i}, {j}): {v} vs {}", at(&sa, i, j));
             }
         }
     }
