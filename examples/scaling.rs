@@ -6,7 +6,8 @@
 //! cargo run --release --example scaling [N1 N2 ...]
 //! ```
 //!
-//! `MLPG_SCALING_BETA=1` runs the stabilised operator (`discretisation.beta`, issue 7).
+//! `MLPG_SCALING_BETA=1` runs the stabilised operator (`discretisation.beta`, issue 7);
+//! `MLPG_SCALING_SUPPORT=1.5` sets `discretisation.support_factor` (default 2).
 //!
 //! Node counts may be written `25000`, `25k` or `1.5M` (default: 10k 25k 50k 100k 250k). The
 //! grid has `ny` intervals across the height and `4 ny` along the length, with `ny` chosen so
@@ -60,8 +61,10 @@ fn intervals_for(n: usize) -> usize {
 /// stabilised operator of issue 7.
 fn cantilever(ny: usize) -> Problem {
     let spacing = 12.0 / ny as f64;
-    let beta: f64 =
-        std::env::var("MLPG_SCALING_BETA").ok().and_then(|v| v.parse().ok()).unwrap_or(0.0);
+    let env = |key: &str, default: f64| {
+        std::env::var(key).ok().and_then(|v| v.parse::<f64>().ok()).unwrap_or(default)
+    };
+    let (beta, support) = (env("MLPG_SCALING_BETA", 0.0), env("MLPG_SCALING_SUPPORT", 2.0));
     let text = format!(
         r#"
         name = "cantilever"
@@ -78,7 +81,7 @@ fn cantilever(ny: usize) -> Problem {
         plane = "stress"
         [discretisation]
         basis = "linear"
-        support_factor = 2.0
+        support_factor = {support:?}
         quadrature_points = 2
         beta = {beta:?}
         [[boundary]]
@@ -238,7 +241,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let exe = std::env::current_exe()?;
     println!(
-        "cantilever 48 x 12, linear basis, alpha_s = 2, 2-point face quadrature, beta = {}; {} rayon threads",
+        "cantilever 48 x 12, linear basis, alpha_s = {}, 2-point face quadrature, beta = {}; {} rayon threads",
+        std::env::var("MLPG_SCALING_SUPPORT").unwrap_or_else(|_| "2".into()),
         std::env::var("MLPG_SCALING_BETA").unwrap_or_else(|_| "0".into()),
         rayon::current_num_threads()
     );
