@@ -19,8 +19,9 @@
 //!   its children's contribution blocks), factors its diagonal block with partial pivoting
 //!   *restricted to that block* (a pivot below `pivot_tolerance` is replaced by
 //!   `±pivot_tolerance` and counted), computes its rows of `U` and columns of `L`, and passes
-//!   the Schur complement to its parent. Dense work goes through faer's triangular solves
-//!   and matrix products. Independent subtrees of the assembly tree run in parallel
+//!   the Schur complement to its parent. The front's columns are factorised recursively
+//!   (halves, narrow unblocked panels at the leaves), so nearly all dense work goes through
+//!   faer's triangular solves and large matrix products. Independent subtrees of the assembly tree run in parallel
 //!   (rayon); the arithmetic of every front is the same whatever the pool size, so results
 //!   are bit-identical across thread counts.
 //! - **Precision.** The factors are `f64` by default; [`super::FactorPrecision::Mixed`]
