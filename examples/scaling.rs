@@ -61,10 +61,7 @@ fn intervals_for(n: usize) -> usize {
 /// stabilised operator of issue 7.
 fn cantilever(ny: usize) -> Problem {
     let spacing = 12.0 / ny as f64;
-    let env = |key: &str, default: f64| {
-        std::env::var(key).ok().and_then(|v| v.parse::<f64>().ok()).unwrap_or(default)
-    };
-    let (beta, support) = (env("MLPG_SCALING_BETA", 0.0), env("MLPG_SCALING_SUPPORT", 2.0));
+    let (beta, support) = (setting("MLPG_SCALING_BETA", 0.0), setting("MLPG_SCALING_SUPPORT", 2.0));
     let text = format!(
         r#"
         name = "cantilever"
@@ -96,6 +93,11 @@ fn cantilever(ny: usize) -> Problem {
         Ok(p) => p,
         Err(e) => panic!("cantilever with ny = {ny} is invalid: {e}"),
     }
+}
+
+/// The number in environment variable `key`, or `default` when it is unset or not a number.
+fn setting(key: &str, default: f64) -> f64 {
+    std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
 /// Peak resident set size (`VmHWM`) of this process in MiB, if the kernel reports it.
@@ -242,8 +244,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let exe = std::env::current_exe()?;
     println!(
         "cantilever 48 x 12, linear basis, alpha_s = {}, 2-point face quadrature, beta = {}; {} rayon threads",
-        std::env::var("MLPG_SCALING_SUPPORT").unwrap_or_else(|_| "2".into()),
-        std::env::var("MLPG_SCALING_BETA").unwrap_or_else(|_| "0".into()),
+        setting("MLPG_SCALING_SUPPORT", 2.0),
+        setting("MLPG_SCALING_BETA", 0.0),
         rayon::current_num_threads()
     );
     println!(
