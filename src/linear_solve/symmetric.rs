@@ -21,9 +21,9 @@
 //!   `±pivot_tolerance` and counted), computes its rows of `U` and columns of `L`, and passes
 //!   the Schur complement to its parent. The front's columns are factorised recursively
 //!   (halves, narrow unblocked panels at the leaves), so nearly all dense work goes through
-//!   faer's triangular solves and large matrix products. Independent subtrees of the assembly tree run in parallel
-//!   (rayon); the arithmetic of every front is the same whatever the pool size, so results
-//!   are bit-identical across thread counts.
+//!   faer's triangular solves and large matrix products. Independent subtrees of the
+//!   assembly tree run in parallel (rayon); the arithmetic of every front is the same
+//!   whatever the pool size, so results are bit-identical across thread counts.
 //! - **Precision.** The factors are `f64` by default; [`super::FactorPrecision::Mixed`]
 //!   stores them in `f32` (half the memory, ~1.5× faster numeric factorisation) and relies
 //!   on the refinement below, with `f64` residuals, to reach the same backward error;
@@ -213,23 +213,8 @@ impl NodeGraph {
             }
             g_ptr.push(g_adj.len());
         }
-        // Transpose it, then merge both per node.
-        let mut t_ptr = vec![0usize; nn + 1];
-        for &i in &g_adj {
-            t_ptr[i + 1] += 1;
-        }
-        for i in 0..nn {
-            t_ptr[i + 1] += t_ptr[i];
-        }
-        let mut fill = t_ptr.clone();
-        let mut t_adj = vec![0usize; g_adj.len()];
-        for j in 0..nn {
-            for &i in &g_adj[g_ptr[j]..g_ptr[j + 1]] {
-                t_adj[fill[i]] = j;
-                fill[i] += 1;
-            }
-        }
-        drop(fill);
+        // Transpose it (structure only), then merge both per node.
+        let (t_ptr, t_adj, _) = transpose(nn, &g_ptr, &g_adj, &vec![(); g_adj.len()]);
         mark.fill(usize::MAX);
         let mut ptr = Vec::with_capacity(nn + 1);
         let mut adj = Vec::with_capacity(g_adj.len() + g_adj.len() / 4);
@@ -437,13 +422,14 @@ struct RowMatrix {
 }
 
 /// The other orientation of compressed storage with `n` lines (`ptr`, `idx`, `values`):
-/// columns from rows or rows from columns, indices ascending within each line.
-fn transpose(
+/// columns from rows or rows from columns, indices ascending within each line (`V = ()`
+/// for a structure alone).
+fn transpose<V: Copy + Default>(
     n: usize,
     ptr: &[usize],
     idx: &[usize],
-    values: &[f64],
-) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
+    values: &[V],
+) -> (Vec<usize>, Vec<usize>, Vec<V>) {
     let mut t_ptr = vec![0usize; n + 1];
     for &i in idx {
         t_ptr[i + 1] += 1;
@@ -453,7 +439,7 @@ fn transpose(
     }
     let mut fill = t_ptr.clone();
     let mut t_idx = vec![0usize; idx.len()];
-    let mut t_values = vec![0.0f64; idx.len()];
+    let mut t_values = vec![V::default(); idx.len()];
     for line in 0..n {
         for k in ptr[line]..ptr[line + 1] {
             let i = idx[k];
