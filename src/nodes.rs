@@ -4,8 +4,9 @@
 //! jittered, so every boundary segment of a subdomain cell belongs to a node on that edge
 //! (stage 4 relies on this for Dirichlet edges).
 
+pub use crate::problem::Layout;
+
 use crate::geometry::{Domain, GeometryError, Point};
-use serde::Serialize;
 
 /// Coordinate axis of a displacement component.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,22 +49,6 @@ impl EdgeSet {
     pub fn iter(self) -> impl Iterator<Item = usize> {
         (0..64).filter(move |&k| self.contains(k))
     }
-}
-
-/// How nodes are laid out in the domain.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-#[serde(tag = "kind", rename_all = "snake_case")]
-pub enum Layout {
-    /// A regular grid (rectangles: exact fit of the spacing to the sides).
-    Structured,
-    /// The regular grid with interior nodes moved by a seeded uniform random offset of at most
-    /// `amplitude · h` in each coordinate (`0 < amplitude ≤ 0.4`).
-    Jittered {
-        /// Maximum offset as a fraction of the spacing.
-        amplitude: f64,
-        /// Seed of the deterministic generator.
-        seed: u64,
-    },
 }
 
 /// The node cloud: positions, local spacing and boundary tags.

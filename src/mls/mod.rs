@@ -8,29 +8,11 @@ mod basis;
 mod shape;
 mod weight;
 
-pub use basis::Basis;
+pub use crate::problem::{Basis, MlsParams};
 pub use shape::{ShapeSet, shape_functions};
 pub use weight::quartic_spline;
 
 use crate::geometry::Point;
-use serde::Serialize;
-
-/// Parameters of the MLS approximation.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct MlsParams {
-    /// Polynomial basis (linear by default).
-    pub basis: Basis,
-    /// Support factor `α_s`: node `I` has support radius `r_I = α_s h_I` (default 2).
-    pub support_factor: f64,
-    /// Smallest accepted reciprocal 1-norm condition number of a moment matrix (default 1e-10).
-    pub min_rcond: f64,
-}
-
-impl Default for MlsParams {
-    fn default() -> Self {
-        Self { basis: Basis::Linear, support_factor: 2.0, min_rcond: 1e-10 }
-    }
-}
 
 /// Failures of the MLS approximation at an evaluation point.
 #[derive(Debug, thiserror::Error)]

@@ -1,0 +1,66 @@
+//! What a contact edge touches: the contact specification of a problem (validated in
+//! [`super::validate`], used by the contact stage [`crate::contact`]).
+
+use crate::geometry::Point;
+use serde::Serialize;
+
+/// A rigid straight obstacle: the line through `point` with unit normal `normal` pointing into
+/// the body. The initial gap of a point `x` is `(x − point)·normal` (negative = penetration, i.e.
+/// a prescribed indentation).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RigidLine {
+    /// A point of the line.
+    pub point: Point,
+    /// Unit normal, pointing into the body.
+    pub normal: Point,
+}
+
+impl RigidLine {
+    /// Signed distance of `x` from the line along the normal.
+    pub fn gap(&self, x: Point) -> f64 {
+        (x[0] - self.point[0]) * self.normal[0] + (x[1] - self.point[1]) * self.normal[1]
+    }
+}
+
+/// What the contact edge touches.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactTarget {
+    /// A rigid straight obstacle.
+    Rigid(RigidLine),
+    /// A straight edge of the second elastic body (`Problem::second_body`).
+    Body {
+        /// The second body's edge.
+        edge: usize,
+    },
+}
+
+/// Contact of one edge of the body with a rigid line or with a second elastic body.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ContactSpec {
+    /// Domain edge of the (first) body that may touch the target; it carries the candidates.
+    pub edge: usize,
+    /// The obstacle or the second body's edge.
+    pub target: ContactTarget,
+    /// A candidate is reported closed when its gap is at most this (absolute; default
+    /// `1e-5 · max |g0| + 1e-12 · max |q|`, see method.md §6).
+    pub gap_tolerance: Option<f64>,
+    /// Accept a condensed compliance `M` that fails the run-time checks (with a warning).
+    pub allow_indefinite: bool,
+    /// Which condensation (default: the compliance form, exact for MLS).
+    pub condensation: Condensation,
+}
+
+/// How the problem is condensed onto the contact unknowns.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Condensation {
+    /// `M = G K⁻¹ E` with MLS-evaluated gaps (method.md §4.2; default).
+    #[default]
+    Compliance,
+    /// The paper's literal stiffness form (eqs. 22–27): the Schur complement on the nodal
+    /// parameters of the candidates, `K_p = K_cc − K_ci K_ii⁻¹ K_ic`, i.e. `M = K_p⁻¹`, which
+    /// reads fictitious nodal values as displacements. Offered for comparison only: its gaps
+    /// are not the MLS gaps (the summary reports the mismatch).
+    Stiffness,
+}

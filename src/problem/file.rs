@@ -1,0 +1,287 @@
+//! The raw problem file: TOML deserialised as written ([`ProblemFile`] and its tables), before
+//! any range check. [`super::Problem::try_from`] validates it.
+
+use super::ProblemError;
+use serde::{Deserialize, Serialize};
+
+/// The problem file as written (TOML). See `problems/*.toml` for annotated examples.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProblemFile {
+    /// Name used in outputs.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Body force `[b_x, b_y]` per unit volume.
+    #[serde(default)]
+    pub body_force: Option<[f64; 2]>,
+    /// The domain (single body).
+    #[serde(default)]
+    pub geometry: Option<GeometryFile>,
+    /// Node layout (single body).
+    #[serde(default)]
+    pub nodes: Option<NodesFile>,
+    /// Material (single body).
+    #[serde(default)]
+    pub material: Option<MaterialFile>,
+    /// Two elastic bodies in contact: exactly two `[[body]]` tables instead of the single-body
+    /// `geometry`, `nodes`, `material`, `boundary` and `body_force`.
+    #[serde(default)]
+    pub body: Vec<BodyFile>,
+    /// Discretisation (all optional): a `[discretisation]` table or a preset name.
+    #[serde(default, deserialize_with = "table_or_preset")]
+    pub discretisation: DiscretisationFile,
+    /// Boundary conditions per edge; edges not listed are traction-free.
+    #[serde(default)]
+    pub boundary: Vec<BoundaryFile>,
+    /// Output options.
+    #[serde(default)]
+    pub output: OutputFile,
+    /// Frictionless contact with a rigid straight obstacle.
+    #[serde(default)]
+    pub contact: Option<ContactFile>,
+}
+
+/// `[contact]`: one edge of the body against a rigid straight line (`obstacle_point`,
+/// `obstacle_normal`), or, with two `[[body]]` tables, against an edge of the second body
+/// (`target_edge`).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactFile {
+    /// The edge that may touch the obstacle.
+    pub edge: String,
+    /// A point of the rigid obstacle line.
+    #[serde(default)]
+    pub obstacle_point: Option<[f64; 2]>,
+    /// Normal of the obstacle line, pointing into the body (normalised on reading).
+    #[serde(default)]
+    pub obstacle_normal: Option<[f64; 2]>,
+    /// Two bodies: the edge of the second body that `edge` (of the first) touches.
+    #[serde(default)]
+    pub target_edge: Option<String>,
+    /// Absolute gap below which a candidate counts as closed (default 1e-5 · max |g0|).
+    #[serde(default)]
+    pub gap_tolerance: Option<f64>,
+    /// Proceed (with a warning) when the condensed compliance fails its checks.
+    #[serde(default)]
+    pub allow_indefinite: Option<bool>,
+    /// `"compliance"` (default, exact for MLS) or `"stiffness"` (the paper's literal form on
+    /// nodal parameters, for comparison).
+    #[serde(default)]
+    pub condensation: Option<String>,
+}
+
+/// One `[[body]]` table of a two-body problem.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyFile {
+    /// Name (outputs of the second body go to `<out>/<name>/`).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Body force `[b_x, b_y]` per unit volume.
+    #[serde(default)]
+    pub body_force: Option<[f64; 2]>,
+    /// The domain.
+    pub geometry: GeometryFile,
+    /// Node layout.
+    pub nodes: NodesFile,
+    /// Material.
+    pub material: MaterialFile,
+    /// Boundary conditions per edge; edges not listed are traction-free.
+    #[serde(default)]
+    pub boundary: Vec<BoundaryFile>,
+}
+
+/// `[geometry]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+pub enum GeometryFile {
+    /// `kind = "rectangle"`, `x = [x0, x1]`, `y = [y0, y1]`; edges `bottom, right, top, left`.
+    Rectangle {
+        /// `[x0, x1]`.
+        x: [f64; 2],
+        /// `[y0, y1]`.
+        y: [f64; 2],
+    },
+    /// `kind = "polygon"`: convex, counter-clockwise `vertices` and one name per edge.
+    Polygon {
+        /// Vertices `[[x, y], …]`.
+        vertices: Vec<[f64; 2]>,
+        /// Edge names; edge k runs from vertex k to k+1.
+        edges: Vec<String>,
+    },
+    /// `kind = "curves"`: a closed loop of straight segments and circular arcs around the body
+    /// (counter-clockwise; the body on the left), from `start` through each curve's `to`,
+    /// the last `to` being `start` again. Each curve is one named edge.
+    Curves {
+        /// Start point of the loop.
+        start: [f64; 2],
+        /// The curves in order.
+        curves: Vec<CurveFile>,
+    },
+    /// `kind = "disk"`: the full disk; its one edge is named `rim`.
+    Disk {
+        /// Centre.
+        center: [f64; 2],
+        /// Radius (> 0).
+        radius: f64,
+    },
+}
+
+/// One curve of a `kind = "curves"` geometry: from the end of the previous curve (or the
+/// loop's `start`) to `to`, straight, or along the circle about `center` when it is given.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveFile {
+    /// Edge name (used by `[[boundary]]`, `[contact]`, `[output]`).
+    pub name: String,
+    /// End point.
+    pub to: [f64; 2],
+    /// Centre of a circular arc (absent: a straight segment). `to` must lie on the circle
+    /// through the start point; `to` equal to the start point gives the full circle.
+    #[serde(default)]
+    pub center: Option<[f64; 2]>,
+    /// Direction of an arc: `"ccw"` (default; the body inside the circle) or `"cw"` (the
+    /// body outside it, as around a hole).
+    #[serde(default)]
+    pub turn: Option<String>,
+}
+
+/// `[nodes]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodesFile {
+    /// Nominal spacing `h` (> 0).
+    pub spacing: f64,
+    /// `"structured"` (default) or `"jittered"`.
+    #[serde(default)]
+    pub layout: Option<String>,
+    /// Jitter amplitude as a fraction of `h` (jittered only; default 0.25, range (0, 0.4]).
+    #[serde(default)]
+    pub jitter: Option<f64>,
+    /// Seed of the jitter (default 1).
+    #[serde(default)]
+    pub seed: Option<u64>,
+}
+
+/// `[material]`.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialFile {
+    /// Young's modulus `E` (> 0).
+    pub young: f64,
+    /// Poisson's ratio `ν`, `0 ≤ ν < 0.5`.
+    pub poisson: f64,
+    /// `"stress"` or `"strain"`.
+    pub plane: String,
+}
+
+/// `[discretisation]`, or a preset name alone (`discretisation = "stabilised"`).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscretisationFile {
+    /// `"paper"` or `"stabilised"` ([`Preset`]); the other keys override its values.
+    #[serde(default)]
+    pub preset: Option<String>,
+    /// `"mfvm"` (default) or `"fem"` (Q2 finite elements; rectangles with structured nodes).
+    #[serde(default)]
+    pub method: Option<String>,
+    /// `"linear"` (default) or `"quadratic"`.
+    #[serde(default)]
+    pub basis: Option<String>,
+    /// `α_s` (default 2; range [1, 6]).
+    #[serde(default)]
+    pub support_factor: Option<f64>,
+    /// Gauss points per segment for the field traction (default 2; 1–8).
+    #[serde(default)]
+    pub quadrature_points: Option<usize>,
+    /// Gauss points per segment for applied tractions (default 5; 3–8).
+    #[serde(default)]
+    pub load_quadrature_points: Option<usize>,
+    /// Stabilisation blend `β ∈ [0, 1]` (default 0, the paper's mixed method; method.md §3.9).
+    #[serde(default)]
+    pub beta: Option<f64>,
+    /// Turn the refusal of an unstable `support_factor`/`basis`/`beta` combination into a
+    /// warning (default false).
+    #[serde(default)]
+    pub allow_unstable: Option<bool>,
+}
+
+/// `[output]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputFile {
+    /// Edge whose displacement profile is plotted (default: the first edge).
+    #[serde(default)]
+    pub profile_edge: Option<String>,
+}
+
+/// One `[[boundary]]` entry.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundaryFile {
+    /// Edge name.
+    pub edge: String,
+    /// Prescribed displacement components, e.g. `{ x = 0.0, y = 0.0 }`.
+    #[serde(default)]
+    pub displacement: Option<ComponentsFile>,
+    /// Prescribed traction components, e.g. `{ y = -1.0 }` or `{ y = [-1.0, -2.0] }`.
+    #[serde(default)]
+    pub traction: Option<ComponentsFile>,
+    /// Normal pressure (positive pushes into the body), constant or `[start, end]`.
+    #[serde(default)]
+    pub pressure: Option<ValueFile>,
+}
+
+/// `{ x = …, y = … }`, each optional.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ComponentsFile {
+    /// x component.
+    #[serde(default)]
+    pub x: Option<ValueFile>,
+    /// y component.
+    #[serde(default)]
+    pub y: Option<ValueFile>,
+}
+
+/// A constant or a `[start, end]` pair varying linearly along the edge.
+#[derive(Clone, Copy, Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum ValueFile {
+    /// Constant.
+    Constant(f64),
+    /// Linear from the edge's first vertex to its second.
+    Linear([f64; 2]),
+}
+
+impl ProblemFile {
+    /// Parses TOML text.
+    ///
+    /// # Errors
+    /// [`ProblemError::Parse`] with the TOML error (line, column, unknown or missing key).
+    pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
+        toml::from_str(text).map_err(|e| ProblemError::Parse(e.to_string()))
+    }
+}
+
+/// Reads `discretisation` as a table ([`DiscretisationFile`], unknown keys refused with their
+/// name) or as a preset name alone (`discretisation = "stabilised"`).
+fn table_or_preset<'de, D>(deserializer: D) -> Result<DiscretisationFile, D::Error>
+where
+    D: serde::Deserializer<'de>,
+{
+    struct TableOrPreset;
+    impl<'de> serde::de::Visitor<'de> for TableOrPreset {
+        type Value = DiscretisationFile;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a [discretisation] table or a preset name (\"paper\", \"stabilised\")")
+        }
+        fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<Self::Value, E> {
+            Ok(DiscretisationFile { preset: Some(name.to_owned()), ..Default::default() })
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+            DiscretisationFile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+        }
+    }
+    deserializer.deserialize_any(TableOrPreset)
+}

@@ -1,0 +1,230 @@
+//! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
+//! checked [`Problem`]. Only a `Problem` reaches the solver.
+//!
+//! - [`file`]: the raw form, as written ([`ProblemFile`]);
+//! - [`validate`] (private): `ProblemFile` → `Problem`, every range checked once;
+//! - [`discretisation`]: method, MLS parameters, node layout, presets and stability limits;
+//! - [`contact`]: the contact specification (rigid line or second body).
+
+pub mod contact;
+pub mod discretisation;
+pub mod file;
+mod validate;
+
+pub use contact::{Condensation, ContactSpec, ContactTarget, RigidLine};
+pub use discretisation::{
+    Basis, Discretisation, Layout, MIN_STABILISING_BETA, MIXED_LINEAR_MAX_SUPPORT_FACTOR,
+    MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Preset,
+};
+pub use file::*;
+
+use crate::geometry::{Domain, Point};
+use crate::material::Material;
+use std::sync::Arc;
+
+/// A scalar field along an edge: constant, linear in the edge parameter, or any function of
+/// position (library use only).
+#[derive(Clone)]
+pub enum Field {
+    /// The same value everywhere.
+    Constant(f64),
+    /// `start` at the edge's first vertex to `end` at its second, linearly.
+    Linear {
+        /// Value at the first vertex.
+        start: f64,
+        /// Value at the second vertex.
+        end: f64,
+    },
+    /// Any function of position.
+    Function(Arc<dyn Fn(Point) -> f64 + Send + Sync>),
+}
+
+impl std::fmt::Debug for Field {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Field::Constant(v) => write!(f, "Constant({v})"),
+            Field::Linear { start, end } => write!(f, "Linear({start} -> {end})"),
+            Field::Function(_) => write!(f, "Function(..)"),
+        }
+    }
+}
+
+impl Field {
+    /// Value at point `p` with edge parameter `t ∈ [0, 1]`.
+    pub fn value(&self, p: Point, t: f64) -> f64 {
+        match self {
+            Field::Constant(v) => *v,
+            Field::Linear { start, end } => start + t * (end - start),
+            Field::Function(f) => f(p),
+        }
+    }
+    /// Whether the field is identically zero (a constant 0).
+    pub fn is_zero(&self) -> bool {
+        matches!(self, Field::Constant(v) if *v == 0.0)
+    }
+}
+
+/// What is prescribed for one displacement component on an edge.
+#[derive(Clone, Debug)]
+pub enum ComponentCondition {
+    /// Traction component `t̄_i` (force per length).
+    Traction(Field),
+    /// Displacement component `ū_i`, imposed by collocation of `u^h` at the edge's nodes.
+    Displacement(Field),
+}
+
+/// The boundary condition on one domain edge.
+#[derive(Clone, Debug)]
+pub enum EdgeCondition {
+    /// Per component (`[x, y]`): traction or displacement.
+    Components([ComponentCondition; 2]),
+    /// Normal pressure `p`, `t̄ = −p n` (positive pushes into the body).
+    Pressure(Field),
+}
+
+impl EdgeCondition {
+    /// Traction-free.
+    pub fn free() -> Self {
+        let zero = || ComponentCondition::Traction(Field::Constant(0.0));
+        EdgeCondition::Components([zero(), zero()])
+    }
+    /// Displacement prescribed for component `axis`, if any.
+    pub fn displacement(&self, axis: usize) -> Option<&Field> {
+        match self {
+            EdgeCondition::Components(c) => match &c[axis] {
+                ComponentCondition::Displacement(f) => Some(f),
+                ComponentCondition::Traction(_) => None,
+            },
+            EdgeCondition::Pressure(_) => None,
+        }
+    }
+}
+
+/// A validated problem: everything the solver needs, with all ranges checked.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    /// A short name (for outputs).
+    pub name: String,
+    /// The domain.
+    pub domain: Domain,
+    /// Nominal node spacing `h`.
+    pub node_spacing: f64,
+    /// Node layout.
+    pub layout: Layout,
+    /// Material.
+    pub material: Material,
+    /// Discretisation parameters.
+    pub discretisation: Discretisation,
+    /// One condition per domain edge (in edge order).
+    pub boundary: Vec<EdgeCondition>,
+    /// Body force `b` per unit volume, as a function of position.
+    pub body_force: Option<BodyForce>,
+    /// Edge whose displacement profile is plotted (default: edge 0).
+    pub profile_edge: usize,
+    /// Frictionless contact, if any.
+    pub contact: Option<ContactSpec>,
+    /// The second elastic body of a two-body contact (its own `contact` is `None`).
+    pub second_body: Option<Box<Problem>>,
+}
+
+/// Body force per unit volume `b(x)`.
+#[derive(Clone)]
+pub struct BodyForce(pub Arc<dyn Fn(Point) -> [f64; 2] + Send + Sync>);
+
+impl std::fmt::Debug for BodyForce {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "BodyForce(..)")
+    }
+}
+
+impl BodyForce {
+    /// A constant body force.
+    pub fn constant(b: [f64; 2]) -> Self {
+        Self(Arc::new(move |_| b))
+    }
+    /// `b(p)`.
+    pub fn at(&self, p: Point) -> [f64; 2] {
+        (self.0)(p)
+    }
+}
+
+/// A problem file that failed to parse or validate. Messages name the field and the value.
+#[derive(Debug, thiserror::Error)]
+pub enum ProblemError {
+    /// TOML syntax error, unknown key, missing field or wrong type.
+    #[error("cannot parse problem file: {0}")]
+    Parse(String),
+    /// A value out of its allowed range.
+    #[error("invalid value for `{field}`: {value} ({reason})")]
+    Invalid {
+        /// Dotted path of the field.
+        field: String,
+        /// The offending value, as written.
+        value: String,
+        /// What is allowed.
+        reason: String,
+    },
+}
+
+fn invalid(field: &str, value: impl std::fmt::Display, reason: impl Into<String>) -> ProblemError {
+    ProblemError::Invalid { field: field.into(), value: value.to_string(), reason: reason.into() }
+}
+
+impl Problem {
+    /// Parses and validates TOML text.
+    ///
+    /// # Errors
+    /// [`ProblemError`] naming the offending field and value.
+    pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
+        Problem::try_from(ProblemFile::from_toml(text)?)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const BODY: &str = r#"
+name = "preset"
+[geometry]
+kind = "rectangle"
+x = [0.0, 4.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.25
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+"#;
+
+    fn discretisation(head: &str, table: &str) -> Discretisation {
+        Problem::from_toml(&format!("{head}\n{BODY}\n{table}")).unwrap().discretisation
+    }
+
+    #[test]
+    fn presets_equal_their_explicit_values() {
+        let default = discretisation("", "");
+        let paper = discretisation("discretisation = \"paper\"", "");
+        assert_eq!(paper.preset, Some(Preset::Paper));
+        assert_eq!(Discretisation { preset: None, ..paper }, default);
+        let stabilised = discretisation("discretisation = \"stabilised\"", "");
+        let explicit = discretisation(
+            "",
+            "[discretisation]\nbasis = \"linear\"\nsupport_factor = 2.0\nbeta = 1.0\nquadrature_points = 2",
+        );
+        assert_eq!(stabilised.preset, Some(Preset::Stabilised));
+        assert_eq!(Discretisation { preset: None, ..stabilised }, explicit);
+        assert_eq!(stabilised.beta, 1.0);
+    }
+
+    #[test]
+    fn table_keys_override_the_preset() {
+        let d = discretisation(
+            "",
+            "[discretisation]\npreset = \"stabilised\"\nsupport_factor = 3.0\nquadrature_points = 3",
+        );
+        assert_eq!(d.preset, Some(Preset::Stabilised));
+        assert_eq!((d.beta, d.mls.support_factor, d.quadrature_points), (1.0, 3.0, 3));
+    }
+}
