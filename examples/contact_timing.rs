@@ -85,8 +85,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let spec = problem.contact.ok_or("the strip has contact")?;
     let ContactTarget::Rigid(line) = spec.target else { return Err("rigid obstacle".into()) };
     let t = Instant::now();
-    let cand = contact::candidates(
-        model.contact_view(&problem),
+    let cand = contact::candidates_on(
+        &problem,
+        &model,
         spec.edge,
         line.normal,
         &|x| line.gap(x),

@@ -221,7 +221,7 @@ fn cantilever(base: &Problem, v: &Variant, h: f64) -> Result<CantileverRow, Stri
     let seconds = t0.elapsed().as_secs_f64();
     let (mut du, mut uu, mut de, mut ee, mut max_err, mut max_u) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
     for (i, &x) in model.nodes.points.iter().enumerate() {
-        let area = model.cells[i].area();
+        let area = model.mfvm().expect("an MFVM model").cells[i].area();
         let (ue, u) = (exact_displacement(x), s.displacement[i]);
         let e = (u[0] - ue[0]).hypot(u[1] - ue[1]);
         du += area * e * e;

@@ -30,7 +30,7 @@ fn run(args: &Args) -> anyhow::Result<()> {
     let echo = serde_json::to_value(&file)?;
     let problem = problem::Problem::try_from(file)
         .with_context(|| format!("in {}", args.problem.display()))?;
-    let mut progress = mlpg_contact::post::progress::StageProgress::new(args.quiet);
+    let mut progress = mlpg_contact::progress::StageProgress::new(args.quiet);
     if args.compare {
         let comparison = mlpg_contact::compare::compare(&problem, &args.out, echo, &mut progress)?;
         if !args.quiet {

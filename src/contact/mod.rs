@@ -12,6 +12,7 @@
 //! `E ≠ Gᵀ` for MLS, so the textbook symmetric forms do not apply.
 
 mod condense;
+pub mod fem;
 pub mod spectrum;
 
 pub use crate::problem::{Condensation, ContactSpec, ContactTarget, RigidLine};
@@ -21,8 +22,10 @@ pub use spectrum::EigenvalueMethod;
 use crate::assembly::GlobalSystem;
 use crate::geometry::{Domain, Point};
 use crate::mls::{self, MlsError, MlsParams, ShapeSet};
+use crate::model::{Mfvm, Model, Scheme};
 use crate::neighbours::Supports;
 use crate::nodes::{Axis, Nodes, dof};
+use crate::problem::Problem;
 use crate::weak_form::{EdgeLabel, Face};
 use serde::Serialize;
 
@@ -67,12 +70,96 @@ pub enum ContactError {
         /// Edge name.
         edge: String,
     },
+    /// A two-body contact was solved without the second body's model.
+    #[error("the contact targets a second body, but no model of it was given")]
+    MissingTarget,
     /// MLS failed at a contact point.
     #[error(transparent)]
     Mls(#[from] MlsError),
     /// Factorisation solve failed during condensation.
     #[error(transparent)]
     Solve(#[from] crate::linear_solve::SolveError),
+}
+
+/// The candidates on `edge` of a discretised body, whichever discretisation built it: the
+/// MFVM's owned boundary segments with MLS gap rows ([`candidates`]), or the FE edge nodes
+/// ([`fem::candidates`]). `problem` is the problem `model` was built from.
+///
+/// # Errors
+/// As [`candidates`] and [`fem::candidates`].
+pub fn candidates_on(
+    problem: &Problem,
+    model: &Model,
+    edge: usize,
+    normal: Point,
+    initial_gap: &dyn Fn(Point) -> f64,
+    condensation: Condensation,
+) -> Result<Candidates, ContactError> {
+    match &model.scheme {
+        Scheme::Mfvm(m) => {
+            candidates(BodyView::new(problem, model, m), edge, normal, initial_gap, condensation)
+        }
+        Scheme::Fem(f) => fem::candidates(
+            &f.mesh,
+            &problem.domain,
+            &model.nodes,
+            &model.system,
+            edge,
+            normal,
+            initial_gap,
+        ),
+    }
+}
+
+/// The second body's operator, initial gaps and paired points for `candidates` against its
+/// edge `edge`, whichever discretisation built it ([`target_operator`],
+/// [`fem::target_operator`]).
+///
+/// # Errors
+/// As [`target_operator`] and [`fem::target_operator`].
+pub fn target_operator_on(
+    problem: &Problem,
+    model: &Model,
+    edge: usize,
+    candidates: &Candidates,
+) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
+    match &model.scheme {
+        Scheme::Mfvm(m) => target_operator(BodyView::new(problem, model, m), edge, candidates),
+        Scheme::Fem(f) => fem::target_operator(
+            &f.mesh,
+            &problem.domain,
+            &model.nodes,
+            &model.system,
+            edge,
+            candidates,
+        ),
+    }
+}
+
+/// The run-time checks of the condensed compliance before an LCP answer is trusted
+/// (docs/method.md §4.1): a positive diagonal and a positive definite symmetric part
+/// (`λ_min((M + Mᵀ)/2) > 10⁻¹² λ_max`). `support_factor` is quoted in the error.
+///
+/// # Errors
+/// [`ContactError::IndefiniteCompliance`] naming the failed check and its value.
+pub fn check_compliance(
+    condensed: &CondensedContact,
+    support_factor: f64,
+) -> Result<(), ContactError> {
+    let scale = condensed.max_symmetric_eigenvalue.abs().max(f64::MIN_POSITIVE);
+    let failed = if condensed.min_diagonal <= 0.0 {
+        Some(("smallest diagonal entry of M", condensed.min_diagonal))
+    } else if condensed.min_symmetric_eigenvalue <= 1e-12 * scale {
+        Some(("smallest eigenvalue of (M + Mᵀ)/2", condensed.min_symmetric_eigenvalue))
+    } else {
+        None
+    };
+    match failed {
+        Some((what, value)) => {
+            Err(ContactError::IndefiniteCompliance { what, value, support_factor })
+        }
+        None => Ok(()),
+    }
 }
 
 /// How one body enters the contact constraint: its displacement at the contact points adds
@@ -170,6 +257,21 @@ pub struct BodyView<'a> {
     pub boundary_faces: &'a [Face],
     /// Assembled system (for the constrained rows).
     pub system: &'a GlobalSystem,
+}
+
+impl<'a> BodyView<'a> {
+    /// The view of an MFVM model whose MFVM data is `m` (`problem` is the one it was built
+    /// from).
+    pub fn new(problem: &'a Problem, model: &'a Model, m: &'a Mfvm) -> Self {
+        Self {
+            domain: &problem.domain,
+            nodes: &model.nodes,
+            supports: &m.supports,
+            mls: &problem.discretisation.mls,
+            boundary_faces: &m.faces.boundary,
+            system: &model.system,
+        }
+    }
 }
 
 /// Collects the candidates of `edge`: the nodes on that edge whose cells own a boundary

@@ -11,14 +11,14 @@
 //! - Displacement conditions are imposed strongly at the nodes by symmetric elimination
 //!   ([`system::assemble`]); reactions are `K u − f − E P` at the prescribed DOFs.
 //! - Contact: the candidates are the nodes of the contact edge, `G` picks their normal
-//!   displacement and `E = Gᵀ` ([`candidates`], [`target_operator`]), then the same
-//!   condensation and Lemke as the MFVM. Contact pressure = nodal force / consistent
+//!   displacement and `E = Gᵀ` ([`crate::contact::fem`]), then the same condensation and
+//!   Lemke as the MFVM. Contact pressure = nodal force / consistent
 //!   tributary length (`l/6, 4l/6, l/6` of each element side).
 //! - Stresses at the nodes are the average over the elements sharing the node of the element
 //!   stress evaluated there.
 //!
-//! The resulting [`crate::Model`] carries the [`Mesh`]; its MFVM-only fields (cells, faces,
-//! face shapes) are empty and its `node_shapes` are the identity (`u^h(x_I) = u_I`).
+//! The resulting [`crate::model::Model`] carries the [`Mesh`] ([`crate::model::Scheme::Fem`])
+//! and the identity as its `node_shapes` (`u^h(x_I) = u_I`).
 //!
 //! # Examples
 //!
@@ -53,19 +53,14 @@
 //! assert_eq!(solution.displacement.len(), 17 * 5); // (2·8 + 1) × (2·2 + 1) Q2 nodes
 //! ```
 
-mod contact;
 pub mod element;
 mod mesh;
 pub mod system;
 
-pub use contact::{candidates, target_operator};
 pub use mesh::Mesh;
 
-use crate::mls::ShapeSet;
-use crate::neighbours::Supports;
+use crate::nodes::{Layout, Nodes};
 use crate::problem::Problem;
-use crate::weak_form::{FaceQuadrature, Faces};
-use crate::{Clock, Error, Model, Progress};
 
 /// Failures of the finite element discretisation.
 #[derive(Debug, thiserror::Error)]
@@ -97,50 +92,18 @@ pub enum FemError {
     },
 }
 
-/// Builds the FE model of `problem` (mesh, assembly, factorisation).
+/// The mesh of `problem`'s rectangle at element size `nodes.spacing`, and its nodes.
 ///
 /// # Errors
-/// [`FemError`] for an unsupported domain or layout or insufficient displacement conditions;
-/// [`crate::linear_solve::SolveError`] from the factorisation.
-pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
-    let mut clock = Clock { progress, timings: Vec::new() };
+/// [`FemError::NotRectangle`] or [`FemError::NotStructured`] for a problem the FE cannot mesh.
+pub fn mesh(problem: &Problem) -> Result<(Mesh, Nodes), FemError> {
     let Some((x, y)) = problem.domain.as_rectangle() else {
-        return Err(FemError::NotRectangle { edges: problem.domain.edge_count() }.into());
+        return Err(FemError::NotRectangle { edges: problem.domain.edge_count() });
     };
-    if problem.layout != crate::nodes::Layout::Structured {
-        return Err(FemError::NotStructured { layout: format!("{:?}", problem.layout) }.into());
+    if problem.layout != Layout::Structured {
+        return Err(FemError::NotStructured { layout: format!("{:?}", problem.layout) });
     }
-    let (mesh, nodes) = clock.run("mesh", || {
-        let mesh = Mesh::rectangle(x, y, problem.node_spacing);
-        let nodes = mesh.nodes(&problem.domain);
-        (mesh, nodes)
-    });
-    let d = problem.material.constitutive();
-    let system = clock.run("assembly", || {
-        system::assemble(&system::FemInput {
-            domain: &problem.domain,
-            mesh: &mesh,
-            nodes: &nodes,
-            d: &d,
-            boundary: &problem.boundary,
-            body_force: problem.body_force.as_ref(),
-            load_quadrature_points: problem.discretisation.load_quadrature_points,
-        })
-    })?;
-    let factorisation =
-        clock.run("factorisation", || crate::linear_solve::Factorisation::new(&system.matrix))?;
-    let ids: Vec<u32> = (0..nodes.len() as u32).collect();
-    Ok(Model {
-        supports: Supports::new(&nodes, 1.0),
-        node_shapes: ShapeSet::nodal(&ids),
-        nodes,
-        cells: Vec::new(),
-        faces: Faces { interior: Vec::new(), boundary: Vec::new() },
-        face_quadrature: FaceQuadrature::default(),
-        face_shapes: ShapeSet::default(),
-        system,
-        factorisation,
-        timings: clock.timings,
-        mesh: Some(mesh),
-    })
+    let mesh = Mesh::rectangle(x, y, problem.node_spacing);
+    let nodes = mesh.nodes(&problem.domain);
+    Ok((mesh, nodes))
 }

@@ -4,13 +4,13 @@
 //! field of `summary.json`.
 
 pub mod plot;
-pub mod progress;
 mod vtk;
 
 use crate::linear_solve;
+use crate::model::Model;
 use crate::nodes::Axis;
 use crate::problem::Problem;
-use crate::{ContactSolution, Model, Solution};
+use crate::solution::{ContactSolution, Solution};
 use serde_json::{Value, json};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -325,11 +325,11 @@ pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Soluti
             "nodes": model.nodes.len(),
             "dofs": model.nodes.dof_count(),
             "constrained_dofs": model.system.constraints.len(),
-            "interior_faces": model.faces.interior.len(),
-            "boundary_faces": model.faces.boundary.len(),
+            "interior_faces": model.mfvm().map_or(0, |m| m.faces.interior.len()),
+            "boundary_faces": model.mfvm().map_or(0, |m| m.faces.boundary.len()),
             "matrix_nonzeros": model.system.matrix.values.len(),
             "matrix_nonzeros_per_row": model.system.matrix.values.len() as f64 / model.system.matrix.n.max(1) as f64,
-            "elements": model.mesh.as_ref().map(|m| m.elements.len()),
+            "elements": model.mesh().map(|m| m.elements.len()),
         },
         "linear_solve": linear_solve,
         "checks": {

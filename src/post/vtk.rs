@@ -5,18 +5,19 @@
 
 use super::num;
 use crate::fem::Mesh;
+use crate::model::{Model, Scheme};
 use crate::problem::Problem;
-use crate::{Model, Solution};
+use crate::solution::Solution;
 use std::fmt::Write as _;
 
 /// The VTU text of a solution.
 pub fn solution_vtu(problem: &Problem, model: &Model, solution: &Solution) -> String {
-    if let Some(mesh) = &model.mesh {
-        return fem_vtu(problem, model, mesh, solution);
-    }
+    let cells = match &model.scheme {
+        Scheme::Fem(fem) => return fem_vtu(problem, model, &fem.mesh, solution),
+        Scheme::Mfvm(mfvm) => &mfvm.cells,
+    };
     // One polygon (VTK_POLYGON) per subdomain cell, its own copy of the vertices; the node's
     // values as cell data.
-    let cells = &model.cells;
     let points: Vec<[f64; 2]> = cells.iter().flat_map(|c| c.vertices.iter().copied()).collect();
     let mut next = 0usize;
     let connectivity: Vec<Vec<usize>> = cells

@@ -1,5 +1,5 @@
 //! What a contact edge touches: the contact specification of a problem (validated in
-//! [`super::validate`], used by the contact stage [`crate::contact`]).
+//! `Problem::try_from`, used by the contact stage [`crate::contact`]).
 
 use crate::geometry::Point;
 use serde::Serialize;

@@ -179,7 +179,7 @@ pub struct MaterialFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DiscretisationFile {
-    /// `"paper"` or `"stabilised"` ([`Preset`]); the other keys override its values.
+    /// `"paper"` or `"stabilised"` ([`super::Preset`]); the other keys override its values.
     #[serde(default)]
     pub preset: Option<String>,
     /// `"mfvm"` (default) or `"fem"` (Q2 finite elements; rectangles with structured nodes).

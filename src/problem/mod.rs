@@ -1,8 +1,8 @@
 //! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
 //! checked [`Problem`]. Only a `Problem` reaches the solver.
 //!
-//! - [`file`]: the raw form, as written ([`ProblemFile`]);
-//! - [`validate`] (private): `ProblemFile` → `Problem`, every range checked once;
+//! - [`mod@file`]: the raw form, as written ([`ProblemFile`]);
+//! - `validate` (private): `ProblemFile` → `Problem`, every range checked once;
 //! - [`discretisation`]: method, MLS parameters, node layout, presets and stability limits;
 //! - [`contact`]: the contact specification (rigid line or second body).
 

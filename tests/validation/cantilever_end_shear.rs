@@ -65,7 +65,7 @@ fn run(h: f64, layout: Layout, variant: Variant) -> Errors {
         let ds = [s.stress[i][0] - se[0], s.stress[i][1] - se[1], s.stress[i][2] - se[2]];
         let de = compliance(ds);
         let ee = compliance(se);
-        let area = model.cells[i].area();
+        let area = model.mfvm().expect("an MFVM model").cells[i].area();
         e_num += area * (ds[0] * de[0] + ds[1] * de[1] + ds[2] * de[2]);
         e_den += area * (se[0] * ee[0] + se[1] * ee[1] + se[2] * ee[2]);
     }

@@ -12,9 +12,9 @@ fn condensed_compliance_equals_dense_computation() {
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
     let spec = problem.contact.unwrap();
     let contact::ContactTarget::Rigid(line) = spec.target else { panic!("rigid obstacle") };
-    let view = model.contact_view(&problem);
+    let gap = |x| line.gap(x);
     let cand =
-        contact::candidates(view, spec.edge, line.normal, &|x| line.gap(x), spec.condensation)
+        contact::candidates_on(&problem, &model, spec.edge, line.normal, &gap, spec.condensation)
             .unwrap();
     let part = contact::condense(&model.factorisation, &model.system.rhs, &cand.operator).unwrap();
     let condensed = contact::CondensedContact::combine(&cand.initial_gap, &[part]).unwrap();

@@ -56,7 +56,7 @@ fn run(h: f64) -> Errors {
             (u[0] - e[0]).hypot(u[1] - e[1])
         })
         .fold(0.0, f64::max);
-    let mesh = model.mesh.as_ref().unwrap();
+    let mesh = model.mesh().expect("an FE model");
     let d = problem.material.constitutive();
     let det = 0.25 * mesh.element_size[0] * mesh.element_size[1];
     let (mut num, mut den) = (0.0, 0.0);

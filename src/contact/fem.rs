@@ -3,10 +3,10 @@
 //! force acts on the same DOFs (`E = Gᵀ`): the condensed compliance `M = G K⁻¹ Gᵀ` is
 //! symmetric positive definite.
 
-use super::element;
-use super::mesh::Mesh;
+use super::{BodyOperator, Candidates, ContactError};
 use crate::assembly::GlobalSystem;
-use crate::contact::{BodyOperator, Candidates, ContactError};
+use crate::fem::Mesh;
+use crate::fem::element;
 use crate::geometry::{Domain, Point};
 use crate::mls::ShapeSet;
 use crate::nodes::{Axis, Nodes, dof};

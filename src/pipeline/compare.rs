@@ -6,9 +6,11 @@
 //! plots of the contact pressure and of the displacement along the profile edge
 //! (`plots/compare_pressure`, `plots/compare_deflection`, SVG and PNG).
 
+use crate::error::Error;
 use crate::post::{self, OutputError, plot};
 use crate::problem::{Method, Problem};
-use crate::{Error, Progress, Solution};
+use crate::progress::Progress;
+use crate::solution::Solution;
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

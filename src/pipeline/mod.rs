@@ -1,0 +1,347 @@
+//! Stage 13: orchestration — the pipeline as functions that read like the algorithm:
+//! [`discretise`] (stages 2–8, MFVM or FE), [`solve_model`] (solve, or condense, run the LCP
+//! and solve again; then recover), [`solve`] (both in one call) and [`run`] (solve and write
+//! every output, the command-line program's job). [`compare`] runs both discretisations on
+//! one problem.
+
+pub mod compare;
+
+use crate::assembly::{self, AssemblyInput};
+use crate::contact::{self, ContactTarget};
+use crate::error::Error;
+use crate::fem;
+use crate::lcp;
+use crate::linear_solve::Factorisation;
+use crate::mls;
+use crate::model::{self, Model, Scheme};
+use crate::neighbours::Supports;
+use crate::nodes;
+use crate::post;
+use crate::problem::{ContactSpec, Method, Problem};
+use crate::progress::{Clock, Progress, Silent};
+use crate::solution::{self, ContactSolution, Solution};
+use crate::weak_form::{self, FaceQuadrature};
+
+/// Builds the model of `problem`: nodes, supports, shape functions, cells, assembly and
+/// factorisation for the MFVM; mesh, assembly and factorisation for the finite elements.
+///
+/// # Errors
+/// Any stage's error, wrapped in [`Error`].
+pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+    match problem.discretisation.method {
+        Method::Mfvm => discretise_mfvm(problem, progress),
+        Method::Fem => discretise_fem(problem, progress),
+    }
+}
+
+fn discretise_mfvm(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+    let mut clock = Clock::new(progress, Vec::new());
+    let disc = &problem.discretisation;
+    let nodes = clock
+        .run("nodes", || nodes::generate(&problem.domain, problem.node_spacing, problem.layout))?;
+    let supports = clock.run("supports", || Supports::new(&nodes, disc.mls.support_factor));
+    let cells = clock.run("cells", || weak_form::build_cells(&problem.domain, &nodes))?;
+    let (faces, face_quadrature) = clock.run("faces", || {
+        let faces = weak_form::collect_faces(&cells);
+        let q = FaceQuadrature::new(&faces.interior, disc.quadrature_points);
+        (faces, q)
+    });
+    let node_shapes = clock.run("mls_nodes", || {
+        mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)
+    })?;
+    let face_shapes = clock.run("mls_faces", || {
+        mls::shape_functions(
+            &face_quadrature.points,
+            &nodes,
+            &supports,
+            &disc.mls,
+            assembly::needs_face_gradients(disc.beta),
+        )
+    })?;
+    let d = problem.material.constitutive();
+    let system = clock.run("assembly", || {
+        assembly::assemble(&AssemblyInput {
+            domain: &problem.domain,
+            nodes: &nodes,
+            cells: &cells,
+            interior_faces: &faces.interior,
+            boundary_faces: &faces.boundary,
+            face_quadrature: &face_quadrature,
+            face_shapes: &face_shapes,
+            node_shapes: &node_shapes,
+            d: &d,
+            boundary: &problem.boundary,
+            body_force: problem.body_force.as_ref(),
+            load_quadrature_points: disc.load_quadrature_points,
+            beta: disc.beta,
+        })
+    })?;
+    let factorisation = clock.run("factorisation", || {
+        Factorisation::with_node_coordinates(&system.matrix, &nodes.points)
+    })?;
+    Ok(Model {
+        nodes,
+        node_shapes,
+        system,
+        factorisation,
+        scheme: Scheme::Mfvm(Box::new(model::Mfvm {
+            supports,
+            cells,
+            faces,
+            face_quadrature,
+            face_shapes,
+        })),
+        timings: clock.timings,
+    })
+}
+
+fn discretise_fem(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+    let mut clock = Clock::new(progress, Vec::new());
+    let (mesh, nodes) = clock.run("mesh", || fem::mesh(problem))?;
+    let d = problem.material.constitutive();
+    let system = clock.run("assembly", || {
+        fem::system::assemble(&fem::system::FemInput {
+            domain: &problem.domain,
+            mesh: &mesh,
+            nodes: &nodes,
+            d: &d,
+            boundary: &problem.boundary,
+            body_force: problem.body_force.as_ref(),
+            load_quadrature_points: problem.discretisation.load_quadrature_points,
+        })
+    })?;
+    let factorisation = clock.run("factorisation", || Factorisation::new(&system.matrix))?;
+    let ids: Vec<u32> = (0..nodes.len() as u32).collect();
+    Ok(Model {
+        node_shapes: mls::ShapeSet::nodal(&ids),
+        nodes,
+        system,
+        factorisation,
+        scheme: Scheme::Fem(model::Fem { mesh }),
+        timings: clock.timings,
+    })
+}
+
+/// The models of `problem` and of its second body, if it has one.
+fn discretise_all(
+    problem: &Problem,
+    progress: &mut dyn Progress,
+) -> Result<(Model, Option<Model>), Error> {
+    let model = discretise(problem, progress)?;
+    let second = match &problem.second_body {
+        Some(p2) => Some(discretise(p2, progress)?),
+        None => None,
+    };
+    Ok((model, second))
+}
+
+/// Solves `problem` end to end (stages 1–11; both bodies of a two-body contact).
+///
+/// # Errors
+/// Any stage's error, wrapped in [`Error`].
+pub fn solve(problem: &Problem) -> Result<Solution, Error> {
+    let mut silent = Silent;
+    let (model, second) = discretise_all(problem, &mut silent)?;
+    solve_model(problem, model, second, &mut silent).map(|(_, _, s)| s)
+}
+
+/// Solves a discretised model (with contact when the problem has it; `second` is the model of
+/// `problem.second_body` for a two-body contact) and recovers displacements, stresses,
+/// reactions and contact forces.
+///
+/// # Errors
+/// [`Error::Solve`] when `K` is numerically singular; [`Error::Contact`] and [`Error::Lcp`]
+/// when the contact problem cannot be solved or its compliance fails the run-time checks;
+/// [`Error::Problem`] when `second` is given without `problem.second_body`, or the other way
+/// round.
+pub fn solve_model(
+    problem: &Problem,
+    mut model: Model,
+    second: Option<Model>,
+    progress: &mut dyn Progress,
+) -> Result<(Model, Option<Model>, Solution), Error> {
+    if second.is_some() != problem.second_body.is_some() {
+        return Err(crate::problem::ProblemError::Invalid {
+            field: "body".into(),
+            value: format!("{} models", 1 + usize::from(second.is_some())),
+            reason: "solve_model needs the second body's model exactly when the problem has one"
+                .into(),
+        }
+        .into());
+    }
+    let mut clock = Clock::new(progress, std::mem::take(&mut model.timings));
+    let Some(spec) = &problem.contact else {
+        let u_hat = clock.run("solve", || model.factorisation.solve(&model.system.rhs))?;
+        let mut solution =
+            clock.run("recovery", || solution::recover(problem, &model, u_hat, None));
+        solution.timings = clock.timings.clone();
+        model.timings = clock.timings;
+        return Ok((model, None, solution));
+    };
+    let pair = problem.second_body.as_deref().zip(second.as_ref());
+    let (u1, u2, contact) = solve_contact(problem, spec, &model, pair, &mut clock)?;
+    let mut solution = clock.run("recovery", || {
+        let forces = &contact.lcp.z;
+        let mut s =
+            solution::recover(problem, &model, u1, Some((&contact.candidates.operator, forces)));
+        if let (Some((p2, m2)), Some(u2), Some(target)) = (pair, u2, &contact.target) {
+            s.second_body = Some(Box::new(solution::recover(p2, m2, u2, Some((target, forces)))));
+        }
+        s
+    });
+    solution.contact = Some(contact);
+    solution.timings = clock.timings.clone();
+    model.timings = clock.timings;
+    Ok((model, second, solution))
+}
+
+type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
+
+/// Candidates, condensation `M = G K⁻¹ E`, the checks of `M`, Lemke, and the solves with the
+/// contact forces (docs/method.md §4–§5).
+fn solve_contact(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    second: Option<(&Problem, &Model)>,
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let (candidates, target, paired_points) =
+        clock.run("contact_candidates", || match (&spec.target, second) {
+            (ContactTarget::Rigid(line), _) => {
+                let c = contact::candidates_on(
+                    problem,
+                    model,
+                    spec.edge,
+                    line.normal,
+                    &|x| line.gap(x),
+                    spec.condensation,
+                )?;
+                Ok((c, None, Vec::new()))
+            }
+            (ContactTarget::Body { edge }, Some((p2, m2))) => {
+                let normal = p2.domain.straight_normal(*edge).ok_or_else(|| {
+                    contact::ContactError::CurvedTarget {
+                        edge: p2.domain.edge_names()[*edge].clone(),
+                    }
+                })?;
+                let mut c = contact::candidates_on(
+                    problem,
+                    model,
+                    spec.edge,
+                    normal,
+                    &|_| 0.0,
+                    spec.condensation,
+                )?;
+                let (op, gaps, paired) = contact::target_operator_on(p2, m2, *edge, &c)?;
+                c.initial_gap = gaps;
+                Ok((c, Some(op), paired))
+            }
+            (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
+        })?;
+    let condensed = clock.run("condensation", || {
+        let mut parts =
+            vec![contact::condense(&model.factorisation, &model.system.rhs, &candidates.operator)?];
+        if let (Some(op), Some((_, m2))) = (&target, second) {
+            parts.push(contact::condense(&m2.factorisation, &m2.system.rhs, op)?);
+        }
+        contact::CondensedContact::combine(&candidates.initial_gap, &parts)
+    })?;
+    let mut warning = None;
+    if let Err(err) =
+        contact::check_compliance(&condensed, problem.discretisation.mls.support_factor)
+    {
+        if !spec.allow_indefinite {
+            return Err(err.into());
+        }
+        warning = Some(err.to_string());
+    }
+    let m = candidates.len();
+    let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
+    let result = clock.run("lemke", || lcp::lemke(&lcp_problem, &lcp::LemkeParams::default()))?;
+    let mut rhs = model.system.rhs.clone();
+    candidates.operator.add_forces(&result.z, &mut rhs);
+    let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
+    // The MLS gap g0 + ν·u^h(x_c) (also for the stiffness form, whose LCP reads nodal
+    // parameters instead; `max_gap_mismatch` in the summary shows the difference).
+    let nu = candidates.normal;
+    let mut gap: Vec<f64> = candidates
+        .initial_gap
+        .iter()
+        .zip(&candidates.nodes)
+        .map(|(g0, &i)| {
+            let u = model.node_shapes.interpolate(i as usize, &u1);
+            g0 + nu[0] * u[0] + nu[1] * u[1]
+        })
+        .collect();
+    let u2 = match (&target, second) {
+        (Some(op), Some((_, m2))) => {
+            let mut rhs2 = m2.system.rhs.clone();
+            op.add_forces(&result.z, &mut rhs2);
+            let u2 = clock.run("solve", || m2.factorisation.solve(&rhs2))?;
+            for (g, d) in gap.iter_mut().zip(op.gap_contribution(&u2)) {
+                *g += d;
+            }
+            Some(u2)
+        }
+        _ => None,
+    };
+    let contact = ContactSolution::new(
+        spec,
+        candidates,
+        target,
+        paired_points,
+        condensed,
+        result,
+        gap,
+        warning,
+    );
+    Ok((u1, u2, contact))
+}
+
+/// What a run reports: the summary JSON and the files written.
+#[derive(Debug)]
+pub struct RunReport {
+    /// Contents of `summary.json`.
+    pub summary: serde_json::Value,
+    /// Files written.
+    pub files: Vec<std::path::PathBuf>,
+}
+
+impl std::fmt::Display for RunReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let s = &self.summary;
+        writeln!(
+            f,
+            "{} nodes, {} DOFs; residual {:.2e}, equilibrium error {:.2e}",
+            s["counts"]["nodes"],
+            s["counts"]["dofs"],
+            s["checks"]["relative_residual"].as_f64().unwrap_or(f64::NAN),
+            s["checks"]["equilibrium_error"].as_f64().unwrap_or(f64::NAN)
+        )?;
+        write!(f, "wrote {} files", self.files.len() + 1)
+    }
+}
+
+/// Solves `problem` and writes every output into `out` (the CLI's job; `summary.json` is
+/// returned for the caller to write, `input` is echoed into it).
+///
+/// # Errors
+/// Any stage's error.
+pub fn run(
+    problem: &Problem,
+    out: &std::path::Path,
+    input: serde_json::Value,
+    progress: &mut dyn Progress,
+) -> Result<RunReport, Error> {
+    let (model, second) = discretise_all(problem, progress)?;
+    let (model, second, solution) = solve_model(problem, model, second, progress)?;
+    let mut files = post::write_solution(out, problem, &model, &solution)?;
+    if let (Some(p2), Some(m2), Some(s2)) =
+        (problem.second_body.as_deref(), second.as_ref(), solution.second_body.as_deref())
+    {
+        files.extend(post::write_solution(&out.join(&p2.name), p2, m2, s2)?);
+    }
+    let summary = post::summary(input, problem, &model, &solution);
+    Ok(RunReport { summary, files })
+}

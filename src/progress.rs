@@ -1,0 +1,93 @@
+//! Stage timing and progress: the [`Progress`] events every long stage reports, the
+//! [`Clock`] that times a stage and records a [`StageTiming`], and [`StageProgress`], the
+//! terminal reporter the command-line program uses.
+//!
+//! Progress never decides a run: a reporter that cannot print drops the message.
+
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+/// Wall time of one pipeline stage.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct StageTiming {
+    /// Stage name.
+    pub stage: &'static str,
+    /// Seconds.
+    pub seconds: f64,
+}
+
+/// Receives stage start/finish events (the CLI shows them as progress).
+pub trait Progress {
+    /// A stage begins.
+    fn start(&mut self, _stage: &'static str) {}
+    /// A stage ended after `seconds`.
+    fn finish(&mut self, _stage: &'static str, _seconds: f64) {}
+}
+
+/// A [`Progress`] that ignores everything.
+pub struct Silent;
+impl Progress for Silent {}
+
+/// Times stages, reports them to a [`Progress`] and keeps their [`StageTiming`]s.
+pub struct Clock<'a> {
+    progress: &'a mut dyn Progress,
+    /// The stages timed so far, in order.
+    pub timings: Vec<StageTiming>,
+}
+
+impl<'a> Clock<'a> {
+    /// A clock that continues `timings` (empty for a new run).
+    pub fn new(progress: &'a mut dyn Progress, timings: Vec<StageTiming>) -> Self {
+        Self { progress, timings }
+    }
+
+    /// Runs `f` as the stage `stage`.
+    pub fn run<T>(&mut self, stage: &'static str, f: impl FnOnce() -> T) -> T {
+        self.progress.start(stage);
+        let t0 = Instant::now();
+        let out = f();
+        let seconds = t0.elapsed().as_secs_f64();
+        self.progress.finish(stage, seconds);
+        self.timings.push(StageTiming { stage, seconds });
+        out
+    }
+}
+
+/// Shows each pipeline stage on stderr as it runs: a spinner on a terminal, one line per
+/// finished stage otherwise.
+pub struct StageProgress {
+    quiet: bool,
+    bar: Option<ProgressBar>,
+}
+
+impl StageProgress {
+    /// A reporter; `quiet` silences it.
+    pub fn new(quiet: bool) -> Self {
+        Self { quiet, bar: None }
+    }
+}
+
+impl Progress for StageProgress {
+    fn start(&mut self, stage: &'static str) {
+        if self.quiet || !std::io::stderr().is_terminal() {
+            return;
+        }
+        let bar = ProgressBar::new_spinner();
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {msg} [{elapsed_precise}]") {
+            bar.set_style(style);
+        }
+        bar.set_message(stage);
+        bar.enable_steady_tick(Duration::from_millis(120));
+        self.bar = Some(bar);
+    }
+
+    fn finish(&mut self, stage: &'static str, seconds: f64) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+        if !self.quiet {
+            eprintln!("  {stage:<14} {seconds:>9.3} s");
+        }
+    }
+}

@@ -1,0 +1,191 @@
+//! Stage 11: recovery — from the nodal parameters `û` (and the contact forces) to what is
+//! reported: the displacement `u^h` and the stresses at the nodes, the reactions, the contact
+//! table (gaps, pressures, closed set, onset) and the global checks (residual, equilibrium).
+
+use crate::contact::{self, BodyOperator};
+use crate::geometry;
+use crate::lcp;
+use crate::linear_solve;
+use crate::material;
+use crate::model::Model;
+use crate::nodes::{Axis, dof};
+use crate::problem::{ContactSpec, Problem};
+use crate::progress::StageTiming;
+
+/// The solution and its checks.
+#[derive(Debug)]
+pub struct Solution {
+    /// Fictitious nodal parameters `û` (interleaved; the nodal displacements for FE).
+    pub nodal_parameters: Vec<f64>,
+    /// `u^h(x_I)` at every node (MLS-evaluated).
+    pub displacement: Vec<[f64; 2]>,
+    /// Collocated strains `ε̂_I = (ε_xx, ε_yy, γ_xy)`.
+    pub strain: Vec<[f64; 3]>,
+    /// Stresses `σ_I = D ε̂_I = (σ_xx, σ_yy, σ_xy)`. `ε̂_I = Σ_K B_K(x_I) û_K` is both the
+    /// collocated strain and the direct MLS strain at the node, so the nodal stress output is
+    /// the same formula for every `β` (the blend only concerns the cell-boundary points).
+    pub stress: Vec<[f64; 3]>,
+    /// Reactions at constrained DOFs: `(node, axis, R)` with `R = K_int û − f − E P`.
+    pub reactions: Vec<(u32, Axis, f64)>,
+    /// Total applied load `Σ f` (tractions and body force).
+    pub applied_force: [f64; 2],
+    /// Total reaction `Σ R`.
+    pub reaction_force: [f64; 2],
+    /// Total contact force on the body `Σ ν P_c` (zero without contact).
+    pub contact_force: [f64; 2],
+    /// The contact solution, when the problem has contact.
+    pub contact: Option<ContactSolution>,
+    /// The second body's solution (two-body contact).
+    pub second_body: Option<Box<Solution>>,
+    /// `‖K û − f‖ / ‖f‖` of the solved system.
+    pub relative_residual: f64,
+    /// `|Σ f + Σ R + Σ ν P| / max(|Σ f|, Σ |R|, Σ P)`: global force balance.
+    pub equilibrium_error: f64,
+    /// Stage timings.
+    pub timings: Vec<StageTiming>,
+}
+
+/// The solution of the contact problem on the candidates.
+#[derive(Debug)]
+pub struct ContactSolution {
+    /// Candidates (positions, arc length, owned segment, initial gap).
+    pub candidates: contact::Candidates,
+    /// Two bodies: the second body's operator (`d = −ν`, paired points' shapes and owners).
+    pub target: Option<contact::BodyOperator>,
+    /// Two bodies: the closest point of the second body paired with each candidate.
+    pub paired_points: Vec<geometry::Point>,
+    /// The condensed problem (`M`, `q`) and its run-time checks.
+    pub condensed: contact::CondensedContact,
+    /// Lemke's result: `z` = contact forces `P`, `w` = gaps.
+    pub lcp: lcp::LcpSolution,
+    /// MLS gaps from the final displacements: `g0 + ν·u_1^h(x_c) (− ν·u_2^h(y_c))`.
+    pub gap: Vec<f64>,
+    /// Contact pressure `P_c / |segment_c|`.
+    pub pressure: Vec<f64>,
+    /// Whether each candidate is closed (gap at most the tolerance).
+    pub closed: Vec<bool>,
+    /// The gap tolerance used.
+    pub gap_tolerance: f64,
+    /// Contact onset estimates.
+    pub onset: contact::ContactOnset,
+    /// `Σ P_c`.
+    pub total_force: f64,
+    /// A warning when the compliance checks failed but were overridden.
+    pub warning: Option<String>,
+}
+
+impl ContactSolution {
+    /// Assembles the contact solution from the LCP result: `gap` holds the MLS gaps from the
+    /// final displacements; the closed set, the pressures, the onset estimates and the total
+    /// force follow (the gap tolerance from `spec`, or its default, docs/method.md §6).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        spec: &ContactSpec,
+        candidates: contact::Candidates,
+        target: Option<BodyOperator>,
+        paired_points: Vec<geometry::Point>,
+        condensed: contact::CondensedContact,
+        lcp: lcp::LcpSolution,
+        gap: Vec<f64>,
+        warning: Option<String>,
+    ) -> Self {
+        // Default: 1e-5 of the largest initial gap (docs/method.md §6), plus 1e-12 of the
+        // largest contact-free gap so that bodies touching at the start (g0 = 0) still have a
+        // scale.
+        let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+        let gap_tolerance = spec.gap_tolerance.unwrap_or_else(|| {
+            (1e-5 * max_abs(&candidates.initial_gap) + 1e-12 * max_abs(&condensed.free_gap))
+                .max(f64::MIN_POSITIVE)
+        });
+        let closed: Vec<bool> = lcp.w.iter().map(|&w| w <= gap_tolerance).collect();
+        let pressure: Vec<f64> =
+            lcp.z.iter().zip(&candidates.segment_length).map(|(p, l)| p / l).collect();
+        let onset = contact::onset(&candidates.arc_length, &lcp.w, &pressure, &closed);
+        let total_force = lcp.z.iter().sum();
+        Self {
+            candidates,
+            target,
+            paired_points,
+            condensed,
+            lcp,
+            gap,
+            pressure,
+            closed,
+            gap_tolerance,
+            onset,
+            total_force,
+            warning,
+        }
+    }
+}
+
+/// Recovers the solution of one body from its nodal parameters `u_hat`; `contact` is the
+/// body's contact operator and the contact forces, when it has contact.
+pub fn recover(
+    problem: &Problem,
+    model: &Model,
+    u_hat: Vec<f64>,
+    contact: Option<(&BodyOperator, &[f64])>,
+) -> Solution {
+    let system = &model.system;
+    let ns = &model.node_shapes;
+    let n = model.nodes.len();
+    let displacement: Vec<[f64; 2]> = (0..n).map(|i| ns.interpolate(i, &u_hat)).collect();
+    let d = problem.material.constitutive();
+    let strain = model.nodal_strains(&u_hat);
+    let stress = strain.iter().map(|e| material::apply(&d, *e)).collect();
+    // E P: contact forces on the right-hand side (zero without contact).
+    let mut contact_rhs = vec![0.0; 2 * n];
+    let mut contact_force = [0.0; 2];
+    let mut contact_abs = 0.0;
+    if let Some((op, forces)) = contact {
+        op.add_forces(forces, &mut contact_rhs);
+        contact_force = op.resultant(forces);
+        contact_abs = forces.iter().map(|p| p.abs()).sum();
+    }
+    let reactions: Vec<(u32, Axis, f64)> = system
+        .constraints
+        .iter()
+        .map(|c| {
+            let i = c.node as usize;
+            let r = system.interior_stiffness.row_dot(i, c.axis, &u_hat)
+                - system.load[dof(i, c.axis)]
+                - contact_rhs[dof(i, c.axis)];
+            (c.node, c.axis, r)
+        })
+        .collect();
+    let mut applied = [0.0; 2];
+    for i in 0..n {
+        applied[0] += system.load[2 * i];
+        applied[1] += system.load[2 * i + 1];
+    }
+    let mut reaction = [0.0; 2];
+    let mut reaction_abs = 0.0;
+    for &(_, axis, r) in &reactions {
+        reaction[axis as usize] += r;
+        reaction_abs += r.abs();
+    }
+    let imbalance = (applied[0] + reaction[0] + contact_force[0])
+        .hypot(applied[1] + reaction[1] + contact_force[1]);
+    let scale =
+        applied[0].hypot(applied[1]).max(reaction_abs).max(contact_abs).max(f64::MIN_POSITIVE);
+    let ku = linear_solve::mul(&system.matrix, &u_hat);
+    let rhs: Vec<f64> = system.rhs.iter().zip(&contact_rhs).map(|(a, b)| a + b).collect();
+    let res: f64 = ku.iter().zip(&rhs).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+    let rhs_norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+    Solution {
+        nodal_parameters: u_hat,
+        displacement,
+        strain,
+        stress,
+        reactions,
+        applied_force: applied,
+        reaction_force: reaction,
+        contact_force,
+        contact: None,
+        second_body: None,
+        relative_residual: res / rhs_norm,
+        equilibrium_error: imbalance / scale,
+        timings: Vec::new(),
+    }
+}
