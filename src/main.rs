@@ -2,7 +2,7 @@
 //! both methods on it) and write the outputs.
 use anyhow::Context;
 use clap::Parser;
-use mlpg_contact::{post, problem};
+use mlpg_contact::problem;
 use std::{path::PathBuf, process::ExitCode};
 
 /// Meshless mixed MLPG finite volume solver for 2-D elastostatics and frictionless contact.
@@ -39,16 +39,12 @@ fn run(args: &Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let report = mlpg_contact::run(&problem, &args.out, echo, &mut progress)?;
-    for w in report.summary["warnings"].as_array().into_iter().flatten() {
-        eprintln!("warning: {}", w.as_str().unwrap_or_default());
+    for w in &report.summary.warnings {
+        eprintln!("warning: {w}");
     }
     if !args.quiet {
         eprintln!("{report}");
     }
-    post::write_text(
-        &args.out.join("summary.json"),
-        &serde_json::to_string_pretty(&report.summary)?,
-    )?;
     Ok(())
 }
 

@@ -7,6 +7,7 @@
 //! (`plots/compare_pressure`, `plots/compare_deflection`, SVG and PNG).
 
 use crate::error::Error;
+use crate::post::summary::{ContactSummary, Summary};
 use crate::post::{self, OutputError, plot};
 use crate::problem::{Method, Problem};
 use crate::progress::Progress;
@@ -21,7 +22,7 @@ pub struct MethodRun {
     /// The method.
     pub method: Method,
     /// Its `summary.json`.
-    pub summary: Value,
+    pub summary: Summary,
     /// `(arc length, pressure)` along the contact edge (empty without contact).
     pub pressure: Vec<(f64, f64)>,
     /// `(arc length, displacement component)` along the profile edge.
@@ -77,22 +78,7 @@ fn run_one(
     input: &Value,
     progress: &mut dyn Progress,
 ) -> Result<(MethodRun, Vec<PathBuf>), Error> {
-    let model = crate::discretise(problem, progress)?;
-    let second = match &problem.second_body {
-        Some(p2) => Some(crate::discretise(p2, progress)?),
-        None => None,
-    };
-    let (model, second, solution) = crate::solve_model(problem, model, second, progress)?;
-    let mut files = post::write_solution(dir, problem, &model, &solution)?;
-    if let (Some(p2), Some(m2), Some(s2)) =
-        (problem.second_body.as_deref(), second.as_ref(), solution.second_body.as_deref())
-    {
-        files.extend(post::write_solution(&dir.join(&p2.name), p2, m2, s2)?);
-    }
-    let summary = post::summary(input.clone(), problem, &model, &solution);
-    let path = dir.join("summary.json");
-    post::write_text(&path, &serde_json::to_string_pretty(&summary).unwrap_or_default())?;
-    files.push(path);
+    let (model, solution, report) = super::solve_and_write(problem, dir, input.clone(), progress)?;
     let (deflection, component) = profile(problem, &model.nodes, &solution);
     let pressure = solution
         .contact
@@ -101,12 +87,12 @@ fn run_one(
         .unwrap_or_default();
     let run = MethodRun {
         method: problem.discretisation.method,
-        summary,
+        summary: report.summary,
         pressure,
         deflection,
         component,
     };
-    Ok((run, files))
+    Ok((run, report.files))
 }
 
 /// The displacement component with the larger range along the profile edge, sorted by arc
@@ -167,41 +153,34 @@ pub fn compare(
 }
 
 fn table(mfvm: &MethodRun, fem: &MethodRun) -> Vec<Row> {
-    let get = |run: &MethodRun, path: &[&str]| {
-        let mut v = &run.summary;
-        for key in path {
-            v = &v[*key];
-        }
-        v.as_f64()
-    };
-    let total_time = |run: &MethodRun| {
-        run.summary["timings"].as_object().map(|t| t.values().filter_map(Value::as_f64).sum())
-    };
     let extreme = |run: &MethodRun| {
         run.deflection.iter().map(|p| p.1).fold(None, |m: Option<f64>, v| {
             Some(m.map_or(v, |m| if v.abs() > m.abs() { v } else { m }))
         })
     };
+    let contact = |run: &MethodRun, f: &dyn Fn(&ContactSummary) -> Option<f64>| {
+        run.summary.contact.as_ref().and_then(f)
+    };
     let mut rows = Vec::new();
     let mut push = |quantity: &str, f: &dyn Fn(&MethodRun) -> Option<f64>| {
         rows.push(Row { quantity: quantity.into(), mfvm: f(mfvm), fem: f(fem) });
     };
-    push("nodes", &|r| get(r, &["counts", "nodes"]));
-    push("dofs", &|r| get(r, &["counts", "dofs"]));
-    push("matrix_nonzeros", &|r| get(r, &["counts", "matrix_nonzeros"]));
-    push("max_displacement", &|r| get(r, &["results", "max_displacement"]));
+    push("nodes", &|r| Some(r.summary.counts.nodes as f64));
+    push("dofs", &|r| Some(r.summary.counts.dofs as f64));
+    push("matrix_nonzeros", &|r| Some(r.summary.counts.matrix_nonzeros as f64));
+    push("max_displacement", &|r| Some(r.summary.results.max_displacement));
     push(&format!("largest_{}_on_profile_edge", mfvm.component), &extreme);
-    if mfvm.summary["contact"].is_object() {
-        push("contact_candidates", &|r| get(r, &["contact", "candidates"]));
-        push("closed_candidates", &|r| get(r, &["contact", "closed"]));
-        push("total_contact_force", &|r| get(r, &["contact", "total_force"]));
-        push("onset_l_c", &|r| get(r, &["contact", "onset_x"]));
-        push("onset_l_c_unclipped", &|r| get(r, &["contact", "onset_x_unclipped"]));
+    if mfvm.summary.contact.is_some() {
+        push("contact_candidates", &|r| contact(r, &|c| Some(c.candidates as f64)));
+        push("closed_candidates", &|r| contact(r, &|c| Some(c.closed as f64)));
+        push("total_contact_force", &|r| contact(r, &|c| Some(c.total_force)));
+        push("onset_l_c", &|r| contact(r, &|c| c.onset_x));
+        push("onset_l_c_unclipped", &|r| contact(r, &|c| c.onset_x_unclipped));
         push("max_contact_pressure", &|r| r.pressure.iter().map(|p| p.1).reduce(f64::max));
-        push("lemke_pivots", &|r| get(r, &["lcp", "pivots"]));
+        push("lemke_pivots", &|r| r.summary.lcp.as_ref().map(|l| l.pivots as f64));
     }
-    push("equilibrium_error", &|r| get(r, &["checks", "equilibrium_error"]));
-    push("total_seconds", &total_time);
+    push("equilibrium_error", &|r| Some(r.summary.checks.equilibrium_error));
+    push("total_seconds", &|r| Some(r.summary.total_seconds()));
     rows
 }
 

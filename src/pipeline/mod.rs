@@ -16,11 +16,12 @@ use crate::mls;
 use crate::model::{self, Model, Scheme};
 use crate::neighbours::Supports;
 use crate::nodes;
-use crate::post;
+use crate::post::{self, Summary};
 use crate::problem::{ContactSpec, Method, Problem};
 use crate::progress::{Clock, Progress, Silent};
 use crate::solution::{self, ContactSolution, Solution};
 use crate::weak_form::{self, FaceQuadrature};
+use std::path::{Path, PathBuf};
 
 /// Builds the model of `problem`: nodes, supports, shape functions, cells, assembly and
 /// factorisation for the MFVM; mesh, assembly and factorisation for the finite elements.
@@ -299,13 +300,13 @@ fn solve_contact(
     Ok((u1, u2, contact))
 }
 
-/// What a run reports: the summary JSON and the files written.
+/// What a run reports: the summary and the files written.
 #[derive(Debug)]
 pub struct RunReport {
-    /// Contents of `summary.json`.
-    pub summary: serde_json::Value,
-    /// Files written.
-    pub files: Vec<std::path::PathBuf>,
+    /// The contents of `summary.json`.
+    pub summary: Summary,
+    /// Files written (`summary.json` last).
+    pub files: Vec<PathBuf>,
 }
 
 impl std::fmt::Display for RunReport {
@@ -314,26 +315,33 @@ impl std::fmt::Display for RunReport {
         writeln!(
             f,
             "{} nodes, {} DOFs; residual {:.2e}, equilibrium error {:.2e}",
-            s["counts"]["nodes"],
-            s["counts"]["dofs"],
-            s["checks"]["relative_residual"].as_f64().unwrap_or(f64::NAN),
-            s["checks"]["equilibrium_error"].as_f64().unwrap_or(f64::NAN)
+            s.counts.nodes, s.counts.dofs, s.checks.relative_residual, s.checks.equilibrium_error
         )?;
-        write!(f, "wrote {} files", self.files.len() + 1)
+        write!(f, "wrote {} files", self.files.len())
     }
 }
 
-/// Solves `problem` and writes every output into `out` (the CLI's job; `summary.json` is
-/// returned for the caller to write, `input` is echoed into it).
+/// Solves `problem` and writes every output into `out`, `summary.json` included (the CLI's
+/// job; `input`, the problem file as read, is echoed into the summary).
 ///
 /// # Errors
 /// Any stage's error.
 pub fn run(
     problem: &Problem,
-    out: &std::path::Path,
+    out: &Path,
     input: serde_json::Value,
     progress: &mut dyn Progress,
 ) -> Result<RunReport, Error> {
+    solve_and_write(problem, out, input, progress).map(|(_, _, report)| report)
+}
+
+/// [`run`], also returning the model and the solution (for [`compare`]).
+fn solve_and_write(
+    problem: &Problem,
+    out: &Path,
+    input: serde_json::Value,
+    progress: &mut dyn Progress,
+) -> Result<(Model, Solution, RunReport), Error> {
     let (model, second) = discretise_all(problem, progress)?;
     let (model, second, solution) = solve_model(problem, model, second, progress)?;
     let mut files = post::write_solution(out, problem, &model, &solution)?;
@@ -342,6 +350,9 @@ pub fn run(
     {
         files.extend(post::write_solution(&out.join(&p2.name), p2, m2, s2)?);
     }
-    let summary = post::summary(input, problem, &model, &solution);
-    Ok(RunReport { summary, files })
+    let summary = Summary::new(input, problem, &model, &solution);
+    let path = out.join("summary.json");
+    post::write_text(&path, &summary.to_json())?;
+    files.push(path);
+    Ok((model, solution, RunReport { summary, files }))
 }

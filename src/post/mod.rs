@@ -4,14 +4,15 @@
 //! field of `summary.json`.
 
 pub mod plot;
+pub mod summary;
 mod vtk;
 
-use crate::linear_solve;
+pub use summary::Summary;
+
 use crate::model::Model;
 use crate::nodes::Axis;
 use crate::problem::Problem;
 use crate::solution::{ContactSolution, Solution};
-use serde_json::{Value, json};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -290,107 +291,4 @@ fn solution_plots(
         profile.with_extension("svg"),
         profile.with_extension("png"),
     ])
-}
-
-/// The summary of an elastostatic run as JSON (`input` is the echo of the problem file).
-pub fn summary(input: Value, problem: &Problem, model: &Model, solution: &Solution) -> Value {
-    let timings: serde_json::Map<String, Value> =
-        solution.timings.iter().map(|t| (t.stage.to_string(), json!(t.seconds))).collect();
-    let f = model.factorisation.stats();
-    // The factor size and the refinement record exist for the static-pivoting LU only.
-    let is_static = f.method == linear_solve::FactorMethod::StaticPivoting;
-    let linear_solve = json!({
-        "method": f.method,
-        "precision": f.precision,
-        "supernodes": f.supernodes,
-        "factor_nonzeros": is_static.then_some(f.factor_nnz),
-        "perturbed_pivots": is_static.then_some(f.perturbed_pivots),
-        "columns_solved": is_static.then_some(f.columns_solved),
-        "refinement_steps": is_static.then_some(f.refinement_steps),
-        "columns_in_double": is_static.then_some(f.columns_in_double),
-        "worst_backward_error": is_static.then_some(f.worst_backward_error),
-    });
-    json!({
-        "program": { "name": env!("CARGO_PKG_NAME"), "version": env!("CARGO_PKG_VERSION") },
-        "input": input,
-        "problem": {
-            "name": problem.name,
-            "method": problem.discretisation.method,
-            "material": problem.material,
-            "discretisation": problem.discretisation,
-            "layout": problem.layout,
-            "node_spacing": problem.node_spacing,
-        },
-        "counts": {
-            "nodes": model.nodes.len(),
-            "dofs": model.nodes.dof_count(),
-            "constrained_dofs": model.system.constraints.len(),
-            "interior_faces": model.mfvm().map_or(0, |m| m.faces.interior.len()),
-            "boundary_faces": model.mfvm().map_or(0, |m| m.faces.boundary.len()),
-            "matrix_nonzeros": model.system.matrix.values.len(),
-            "matrix_nonzeros_per_row": model.system.matrix.values.len() as f64 / model.system.matrix.n.max(1) as f64,
-            "elements": model.mesh().map(|m| m.elements.len()),
-        },
-        "linear_solve": linear_solve,
-        "checks": {
-            "relative_residual": solution.relative_residual,
-            "equilibrium_error": solution.equilibrium_error,
-            "applied_force": solution.applied_force,
-            "reaction_force": solution.reaction_force,
-            "contact_force": solution.contact_force,
-        },
-        "results": {
-            "max_displacement": solution.displacement.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max),
-            "max_von_mises": solution.stress.iter().map(|s| problem.material.von_mises(*s)).fold(0.0, f64::max),
-        },
-        "lcp": solution.contact.as_ref().map(|c| json!({
-            "size": c.candidates.len(),
-            "pivots": c.lcp.pivots,
-            "min_z": c.lcp.residuals.min_z,
-            "min_w": c.lcp.residuals.min_w,
-            "max_complementarity": c.lcp.residuals.max_complementarity,
-            "equation_residual": c.lcp.residuals.equation_residual,
-            "residual_scale": c.lcp.residuals.scale,
-            "compliance_min_diagonal": c.condensed.min_diagonal,
-            "compliance_min_symmetric_eigenvalue": c.condensed.min_symmetric_eigenvalue,
-            "compliance_max_symmetric_eigenvalue": c.condensed.max_symmetric_eigenvalue,
-            "compliance_eigenvalue_method": c.condensed.eigenvalue_method,
-            "compliance_skew_ratio": c.condensed.skew_ratio,
-        })),
-        "contact": solution.contact.as_ref().map(|c| json!({
-            "candidates": c.candidates.len(),
-            "closed": c.closed.iter().filter(|&&v| v).count(),
-            "closed_intervals": c.onset.closed_intervals,
-            "total_force": c.total_force,
-            "onset_x": c.onset.from_gap,
-            "onset_x_unclipped": c.onset.from_gap_raw,
-            "onset_x_from_pressure": c.onset.from_pressure,
-            "last_open_x": c.onset.last_open,
-            "first_closed_x": c.onset.first_closed,
-            "gap_tolerance": c.gap_tolerance,
-            "max_gap_mismatch": c.gap.iter().zip(&c.lcp.w).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max),
-            "warning": c.warning,
-            "onset_note": "distances along the contact edge from its first vertex; onset_x: gap^(2/3) extrapolated from the last two open candidates, clipped to [last_open_x, first_closed_x]; onset_x_from_pressure: p^2 extrapolated from the first two closed candidates",
-        })),
-        "second_body": solution.second_body.as_deref().map(|s2| json!({
-            "name": problem.second_body.as_ref().map(|p| p.name.clone()),
-            "nodes": s2.displacement.len(),
-            "dofs": 2 * s2.displacement.len(),
-            "relative_residual": s2.relative_residual,
-            "equilibrium_error": s2.equilibrium_error,
-            "applied_force": s2.applied_force,
-            "reaction_force": s2.reaction_force,
-            "contact_force": s2.contact_force,
-        })),
-        "warnings": warnings(problem, solution),
-        "timings": timings,
-    })
-}
-
-/// Everything the run proceeded past: an unstable discretisation accepted with
-/// `allow_unstable`, a contact compliance accepted with `allow_indefinite`.
-fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
-    let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
-    let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
-    disc.into_iter().chain(contact.map(|w| format!("contact: {w}"))).collect()
 }

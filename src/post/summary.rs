@@ -1,0 +1,349 @@
+//! `summary.json` as types: [`Summary`] and its sections, each field documented, serialised
+//! with sorted keys (through [`serde_json::Value`]) so that the file is byte-for-byte
+//! deterministic apart from `timings`.
+
+use crate::contact::EigenvalueMethod;
+use crate::linear_solve::{FactorMethod, FactorPrecision};
+use crate::material::Material;
+use crate::model::Model;
+use crate::problem::{Discretisation, Layout, Method, Problem};
+use crate::solution::Solution;
+use serde::Serialize;
+use serde_json::Value;
+use std::collections::BTreeMap;
+
+/// How `summary.json` explains the onset fields.
+pub const ONSET_NOTE: &str = "distances along the contact edge from its first vertex; onset_x: gap^(2/3) extrapolated from the last two open candidates, clipped to [last_open_x, first_closed_x]; onset_x_from_pressure: p^2 extrapolated from the first two closed candidates";
+
+/// The summary of a run (`summary.json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Summary {
+    /// The program's name and version.
+    pub program: Program,
+    /// The problem file as read (raw form, before validation).
+    pub input: Value,
+    /// The validated problem's main parameters.
+    pub problem: ProblemEcho,
+    /// Sizes of the discretisation.
+    pub counts: Counts,
+    /// The factorisation of `K`.
+    pub linear_solve: LinearSolve,
+    /// Residual and global equilibrium of the first body.
+    pub checks: Checks,
+    /// Headline results.
+    pub results: Results,
+    /// The LCP and the checks of `M` (contact problems).
+    pub lcp: Option<LcpSummary>,
+    /// The contact result (contact problems).
+    pub contact: Option<ContactSummary>,
+    /// The second body's checks (two-body contact).
+    pub second_body: Option<SecondBody>,
+    /// What the run proceeded past (an unstable discretisation or an indefinite `M` accepted on
+    /// request).
+    pub warnings: Vec<String>,
+    /// Seconds per stage (a stage run twice, such as `solve` for two bodies, keeps the last).
+    pub timings: BTreeMap<&'static str, f64>,
+}
+
+/// The program that wrote the summary.
+#[derive(Clone, Debug, Serialize)]
+pub struct Program {
+    /// Crate name.
+    pub name: &'static str,
+    /// Crate version.
+    pub version: &'static str,
+}
+
+/// The validated problem's parameters.
+#[derive(Clone, Debug, Serialize)]
+pub struct ProblemEcho {
+    /// Problem name.
+    pub name: String,
+    /// MFVM or FE.
+    pub method: Method,
+    /// Material.
+    pub material: Material,
+    /// Discretisation parameters.
+    pub discretisation: Discretisation,
+    /// Node layout.
+    pub layout: Layout,
+    /// Nominal node spacing `h`.
+    pub node_spacing: f64,
+}
+
+/// Sizes of the discretisation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Counts {
+    /// Nodes.
+    pub nodes: usize,
+    /// Unknowns (two per node).
+    pub dofs: usize,
+    /// Prescribed displacement components.
+    pub constrained_dofs: usize,
+    /// Interior cell faces (0 for FE).
+    pub interior_faces: usize,
+    /// Boundary cell faces (0 for FE).
+    pub boundary_faces: usize,
+    /// Stored entries of `K`.
+    pub matrix_nonzeros: usize,
+    /// `matrix_nonzeros / dofs`.
+    pub matrix_nonzeros_per_row: f64,
+    /// Finite elements (FE only).
+    pub elements: Option<usize>,
+}
+
+/// The factorisation of `K`; the fields after `supernodes` exist for the static-pivoting LU
+/// only (null for faer's LU).
+#[derive(Clone, Debug, Serialize)]
+pub struct LinearSolve {
+    /// Which LU.
+    pub method: FactorMethod,
+    /// Factor precision.
+    pub precision: FactorPrecision,
+    /// Supernodes of the factorisation.
+    pub supernodes: usize,
+    /// Stored entries of the factors.
+    pub factor_nonzeros: Option<usize>,
+    /// Tiny pivots replaced by a perturbation.
+    pub perturbed_pivots: Option<usize>,
+    /// Right-hand sides solved.
+    pub columns_solved: Option<usize>,
+    /// Iterative refinement steps.
+    pub refinement_steps: Option<usize>,
+    /// Columns solved again with double-precision factors.
+    pub columns_in_double: Option<usize>,
+    /// Largest normwise backward error after refinement.
+    pub worst_backward_error: Option<f64>,
+}
+
+/// Residual and global force balance of one body.
+#[derive(Clone, Debug, Serialize)]
+pub struct Checks {
+    /// `‖K û − f‖ / ‖f‖`.
+    pub relative_residual: f64,
+    /// Global force balance, relative.
+    pub equilibrium_error: f64,
+    /// `Σ f`.
+    pub applied_force: [f64; 2],
+    /// `Σ R`.
+    pub reaction_force: [f64; 2],
+    /// `Σ ν P`.
+    pub contact_force: [f64; 2],
+}
+
+/// Headline results.
+#[derive(Clone, Debug, Serialize)]
+pub struct Results {
+    /// Largest `|u^h|` at a node.
+    pub max_displacement: f64,
+    /// Largest von Mises stress at a node.
+    pub max_von_mises: f64,
+}
+
+/// The LCP and the run-time checks of `M`.
+#[derive(Clone, Debug, Serialize)]
+pub struct LcpSummary {
+    /// Candidates.
+    pub size: usize,
+    /// Lemke pivots.
+    pub pivots: usize,
+    /// `min z`.
+    pub min_z: f64,
+    /// `min w`.
+    pub min_w: f64,
+    /// `max |z_i w_i|`.
+    pub max_complementarity: f64,
+    /// `‖w − M z − q‖_∞`.
+    pub equation_residual: f64,
+    /// The scale the residuals are relative to.
+    pub residual_scale: f64,
+    /// Smallest diagonal entry of `M`.
+    pub compliance_min_diagonal: f64,
+    /// Smallest eigenvalue of `(M + Mᵀ)/2`.
+    pub compliance_min_symmetric_eigenvalue: f64,
+    /// Largest eigenvalue of `(M + Mᵀ)/2`.
+    pub compliance_max_symmetric_eigenvalue: f64,
+    /// How the two eigenvalues were computed.
+    pub compliance_eigenvalue_method: EigenvalueMethod,
+    /// `‖M − Mᵀ‖ / ‖M + Mᵀ‖`.
+    pub compliance_skew_ratio: f64,
+}
+
+/// The contact result.
+#[derive(Clone, Debug, Serialize)]
+pub struct ContactSummary {
+    /// Candidates.
+    pub candidates: usize,
+    /// Closed candidates.
+    pub closed: usize,
+    /// Maximal runs of closed candidates.
+    pub closed_intervals: usize,
+    /// `Σ P_c`.
+    pub total_force: f64,
+    /// Onset from the gaps, clipped to the bracket.
+    pub onset_x: Option<f64>,
+    /// Onset from the gaps, unclipped.
+    pub onset_x_unclipped: Option<f64>,
+    /// Onset from the pressures.
+    pub onset_x_from_pressure: Option<f64>,
+    /// The last open candidate before the first closed one.
+    pub last_open_x: Option<f64>,
+    /// The first closed candidate.
+    pub first_closed_x: Option<f64>,
+    /// The gap below which a candidate counts as closed.
+    pub gap_tolerance: f64,
+    /// Largest difference between the MLS gap and the LCP's `w`.
+    pub max_gap_mismatch: f64,
+    /// The checks of `M` that failed but were overridden.
+    pub warning: Option<String>,
+    /// What the onset fields mean ([`ONSET_NOTE`]).
+    pub onset_note: &'static str,
+}
+
+/// The second body of a two-body contact.
+#[derive(Clone, Debug, Serialize)]
+pub struct SecondBody {
+    /// Its name.
+    pub name: Option<String>,
+    /// Nodes.
+    pub nodes: usize,
+    /// Unknowns.
+    pub dofs: usize,
+    /// `‖K û − f‖ / ‖f‖`.
+    pub relative_residual: f64,
+    /// Global force balance, relative.
+    pub equilibrium_error: f64,
+    /// `Σ f`.
+    pub applied_force: [f64; 2],
+    /// `Σ R`.
+    pub reaction_force: [f64; 2],
+    /// `Σ ν P`.
+    pub contact_force: [f64; 2],
+}
+
+impl Summary {
+    /// The summary of a solved problem (`input` is the echo of the problem file).
+    pub fn new(input: Value, problem: &Problem, model: &Model, solution: &Solution) -> Self {
+        let f = model.factorisation.stats();
+        // The factor size and the refinement record exist for the static-pivoting LU only.
+        let is_static = f.method == FactorMethod::StaticPivoting;
+        let only_static = |v| is_static.then_some(v);
+        let matrix = &model.system.matrix;
+        let von_mises = |s: &[f64; 3]| problem.material.von_mises(*s);
+        Self {
+            program: Program { name: env!("CARGO_PKG_NAME"), version: env!("CARGO_PKG_VERSION") },
+            input,
+            problem: ProblemEcho {
+                name: problem.name.clone(),
+                method: problem.discretisation.method,
+                material: problem.material,
+                discretisation: problem.discretisation,
+                layout: problem.layout,
+                node_spacing: problem.node_spacing,
+            },
+            counts: Counts {
+                nodes: model.nodes.len(),
+                dofs: model.nodes.dof_count(),
+                constrained_dofs: model.system.constraints.len(),
+                interior_faces: model.mfvm().map_or(0, |m| m.faces.interior.len()),
+                boundary_faces: model.mfvm().map_or(0, |m| m.faces.boundary.len()),
+                matrix_nonzeros: matrix.values.len(),
+                matrix_nonzeros_per_row: matrix.values.len() as f64 / matrix.n.max(1) as f64,
+                elements: model.mesh().map(|m| m.elements.len()),
+            },
+            linear_solve: LinearSolve {
+                method: f.method,
+                precision: f.precision,
+                supernodes: f.supernodes,
+                factor_nonzeros: only_static(f.factor_nnz),
+                perturbed_pivots: only_static(f.perturbed_pivots),
+                columns_solved: only_static(f.columns_solved),
+                refinement_steps: only_static(f.refinement_steps),
+                columns_in_double: only_static(f.columns_in_double),
+                worst_backward_error: is_static.then_some(f.worst_backward_error),
+            },
+            checks: Checks {
+                relative_residual: solution.relative_residual,
+                equilibrium_error: solution.equilibrium_error,
+                applied_force: solution.applied_force,
+                reaction_force: solution.reaction_force,
+                contact_force: solution.contact_force,
+            },
+            results: Results {
+                max_displacement: solution
+                    .displacement
+                    .iter()
+                    .map(|u| u[0].hypot(u[1]))
+                    .fold(0.0, f64::max),
+                max_von_mises: solution.stress.iter().map(von_mises).fold(0.0, f64::max),
+            },
+            lcp: solution.contact.as_ref().map(|c| LcpSummary {
+                size: c.candidates.len(),
+                pivots: c.lcp.pivots,
+                min_z: c.lcp.residuals.min_z,
+                min_w: c.lcp.residuals.min_w,
+                max_complementarity: c.lcp.residuals.max_complementarity,
+                equation_residual: c.lcp.residuals.equation_residual,
+                residual_scale: c.lcp.residuals.scale,
+                compliance_min_diagonal: c.condensed.min_diagonal,
+                compliance_min_symmetric_eigenvalue: c.condensed.min_symmetric_eigenvalue,
+                compliance_max_symmetric_eigenvalue: c.condensed.max_symmetric_eigenvalue,
+                compliance_eigenvalue_method: c.condensed.eigenvalue_method,
+                compliance_skew_ratio: c.condensed.skew_ratio,
+            }),
+            contact: solution.contact.as_ref().map(|c| ContactSummary {
+                candidates: c.candidates.len(),
+                closed: c.closed.iter().filter(|&&v| v).count(),
+                closed_intervals: c.onset.closed_intervals,
+                total_force: c.total_force,
+                onset_x: c.onset.from_gap,
+                onset_x_unclipped: c.onset.from_gap_raw,
+                onset_x_from_pressure: c.onset.from_pressure,
+                last_open_x: c.onset.last_open,
+                first_closed_x: c.onset.first_closed,
+                gap_tolerance: c.gap_tolerance,
+                max_gap_mismatch: c
+                    .gap
+                    .iter()
+                    .zip(&c.lcp.w)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max),
+                warning: c.warning.clone(),
+                onset_note: ONSET_NOTE,
+            }),
+            second_body: solution.second_body.as_deref().map(|s2| SecondBody {
+                name: problem.second_body.as_ref().map(|p| p.name.clone()),
+                nodes: s2.displacement.len(),
+                dofs: 2 * s2.displacement.len(),
+                relative_residual: s2.relative_residual,
+                equilibrium_error: s2.equilibrium_error,
+                applied_force: s2.applied_force,
+                reaction_force: s2.reaction_force,
+                contact_force: s2.contact_force,
+            }),
+            warnings: warnings(problem, solution),
+            timings: solution.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
+        }
+    }
+
+    /// Total seconds over the recorded stages.
+    pub fn total_seconds(&self) -> f64 {
+        self.timings.values().sum()
+    }
+
+    /// The summary as pretty-printed JSON with sorted keys (the text of `summary.json`).
+    pub fn to_json(&self) -> String {
+        // Through `Value` (a sorted map) so that the keys are sorted at every level.
+        serde_json::to_value(self)
+            .and_then(|v| serde_json::to_string_pretty(&v))
+            .unwrap_or_default()
+    }
+}
+
+/// Everything the run proceeded past: an unstable discretisation accepted with
+/// `allow_unstable`, a contact compliance accepted with `allow_indefinite`.
+fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
+    let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
+    let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
+    disc.into_iter().chain(contact.map(|w| format!("contact: {w}"))).collect()
+}
