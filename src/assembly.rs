@@ -1,12 +1,12 @@
-//! Stage 5: assembly of `K û = f` (paper eqs. (12)–(15); method.md §3.4–3.6).
+//! Stage 5: assembly of `K û = f` (paper eqs. (12)–(15); docs/method.md §3.4–3.6).
 //!
 //! `K_int = −Q · blockdiag(D) · S`: `S` collocates the strains at the nodes
 //! (`ε̂_J = Σ_K B_K(x_J) û_K`, eq. 15), `φ_J(x_q)` interpolates them to the quadrature points of
 //! the interior faces (eq. 11), and `Q` integrates the traction `N(n) D ε^h` over each face
 //! (eq. 12), with opposite signs for its two cells. Rows of Dirichlet DOFs are then replaced
-//! by collocation of `u^h` (method.md §3.6). `K` is sparse and non-symmetric.
+//! by collocation of `u^h` (docs/method.md §3.6). `K` is sparse and non-symmetric.
 //!
-//! Stabilised variant (method.md §3.9, beyond the paper): with a blend `β ∈ [0, 1]` the strain
+//! Stabilised variant (docs/method.md §3.9, beyond the paper): with a blend `β ∈ [0, 1]` the strain
 //! at a face point is `(1 − β) Σ_J φ_J(x_q) ε̂_J + β Σ_K B_K(x_q) û_K`, so
 //! `K_int = −Q D [(1 − β) Φ S + β B_q]` with `B_q` the MLS strain–displacement matrix at the
 //! face points. `β = 0` is the paper's method; `β = 1` never touches `S` (the stencil of a row
@@ -188,7 +188,7 @@ pub struct AssemblyInput<'a> {
     pub body_force: Option<&'a BodyForce>,
     /// Gauss points per segment for applied tractions.
     pub load_quadrature_points: usize,
-    /// Stabilisation blend `β ∈ [0, 1]` (method.md §3.9; 0 = the paper's mixed method).
+    /// Stabilisation blend `β ∈ [0, 1]` (docs/method.md §3.9; 0 = the paper's mixed method).
     pub beta: f64,
 }
 
@@ -266,7 +266,7 @@ fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
             || (vec![[[0.0; 3]; 2]; n], vec![false; n], vec![[[0.0; 2]; 2]; n], vec![false; n]),
             |(qd, qd_used, krow, k_used), i| {
                 // Row i of (1 − β) Q·blockdiag(D)·Φ: a 2x3 block per strain node J; and the
-                // direct part −β Σ_q w_q T(n_q) B_K(x_q) straight into the row (method.md §3.9).
+                // direct part −β Σ_q w_q T(n_q) B_K(x_q) straight into the row (docs/method.md §3.9).
                 let mut js: Vec<u32> = Vec::new();
                 let mut ks: Vec<u32> = Vec::new();
                 for &(f, sign) in &adj[count[i]..count[i + 1]] {
@@ -597,7 +597,7 @@ mod tests {
         model.system.interior_stiffness.to_dense()
     }
 
-    /// `K_int(β) = (1 − β) K_int(0) + β K_int(1)` (method.md §3.9: the face stress is a blend),
+    /// `K_int(β) = (1 − β) K_int(0) + β K_int(1)` (docs/method.md §3.9: the face stress is a blend),
     /// and `β = 1` couples fewer nodes than the collocated-strain operator.
     #[test]
     fn interior_stiffness_is_linear_in_beta_and_sparser_at_one() {

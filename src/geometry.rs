@@ -4,7 +4,8 @@
 //! The discretisation works on a polygonal approximation of the loop
 //! ([`Domain::boundary_polygon`]): straight edges are kept, arcs are replaced by the chords
 //! between their boundary nodes (which lie on the exact arc). The area lost to the chords is
-//! `O(h²)` per unit arc length; `tests/validation/curved.rs` measures it.
+//! `O(h²)` per unit arc length; the Kirsch and Hertz validation cases
+//! (`tests/validation/kirsch.rs`, `hertz.rs`) run on such boundaries and converge.
 
 use std::f64::consts::PI;
 

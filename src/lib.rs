@@ -44,7 +44,7 @@
 //! | `ε̂_J` | strain collocated at node `J` (`ε̂ = S û`) |
 //! | `Ω_s`, `Ω_I` | subdomain (cell) of node `I` |
 //! | `α_s` | support factor: support radius `r_I = α_s h_I` |
-//! | `β` | stabilisation blend (method.md §3.9): face stress `D[(1 − β) Σ φ_J ε̂_J + β Σ B_K û_K]` |
+//! | `β` | stabilisation blend (docs/method.md §3.9): face stress `D[(1 − β) Σ φ_J ε̂_J + β Σ B_K û_K]` |
 //! | `Γ_u, Γ_t, Γ_c` | Dirichlet, traction and contact boundaries |
 //! | `g`, `p` | gap and contact pressure |
 //!

@@ -24,7 +24,7 @@
 //!   of nested dissection, which needs less memory at equal flops. With this operator the
 //!   banded order wins on beams, strips and the 48 × 12 cantilever up to ~50k nodes, nested
 //!   dissection beyond (peak 6.5 GB instead of 11.8 GB at 100k). Either costs milliseconds
-//!   where COLAMD on `K` took 36 s at 100k nodes (docs/dev/performance.md, session 2).
+//!   where COLAMD on `K` took 36 s at 100k nodes (docs/dev/performance.md).
 //!   Without coordinates ([`Factorisation::new`]) COLAMD orders the columns.
 //! - **Void entries.** Entries with `|K_ij| ≤ 1e-14 max|K|` (round-off left by cancellation in
 //!   `−Q D S`, ~14 % of them at α_s = 2) are dropped from the matrix that is factorised: they
@@ -77,7 +77,7 @@ pub enum SolveError {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub enum FactorMethod {
     /// [`Self::StaticPivoting`] for systems of at least [`STATIC_PIVOTING_MIN_DOFS`] unknowns
-    /// with a geometric ordering, [`Self::PartialPivoting`] otherwise. Measured (session 3,
+    /// with a geometric ordering, [`Self::PartialPivoting`] otherwise. Measured (docs/dev/performance.md,
     /// docs/dev/performance.md): the static-pivoting LU factorises 1.5–2× faster in half the
     /// memory, but its solves (with the residual check) are slower, which costs more than
     /// it saves in the contact condensation of the beam and the 84k-DOF strip.
@@ -105,7 +105,7 @@ pub enum FactorPrecision {
     /// factors, computed on first need. Not the default: on the cantilever (β = 0) it
     /// factorises 1.4× faster at 100k nodes but needs 8 refinement steps per solve, and at
     /// 250k nodes (κ · ε_f32 ≳ 1) refinement stalls and the `f64` factors must be computed
-    /// as well (docs/dev/performance.md, session 4).
+    /// as well (docs/dev/performance.md).
     Mixed,
 }
 

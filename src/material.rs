@@ -39,7 +39,7 @@ impl Material {
         }
     }
 
-    /// `D = E'/(1−ν'²)·[[1, ν', 0], [ν', 1, 0], [0, 0, (1−ν')/2]]` (method.md §1).
+    /// `D = E'/(1−ν'²)·[[1, ν', 0], [ν', 1, 0], [0, 0, (1−ν')/2]]` (docs/method.md §1).
     pub fn constitutive(&self) -> Constitutive {
         let (e, nu) = self.effective();
         let c = e / (1.0 - nu * nu);

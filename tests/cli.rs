@@ -289,7 +289,7 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
     assert_eq!(code, Some(0), "{stderr}");
 }
 
-/// Issue 7: discretisations outside the measured stability limits (method.md §2, §3.8, §3.9)
+/// Discretisations outside the measured stability limits (docs/method.md §2, §3.8, §3.9)
 /// are refused at validation with the reason and the way out.
 #[test]
 fn gh_7_unstable_discretisations_are_refused() {
@@ -459,7 +459,7 @@ fn two_blocks_problem_total_force() {
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
 }
 
-/// problems/beam_on_foundation_stabilised.toml (issue 7: `discretisation = "stabilised"`,
+/// problems/beam_on_foundation_stabilised.toml (`discretisation = "stabilised"`,
 /// i.e. `β = 1`, `α_s = 2`): the summary records the preset and its values and the run-time
 /// `M` checks, and the answer meets the accuracy the issues ask of a discretisation: total
 /// contact force within 0.1 % and contact onset within 0.05 of the independent FE reference
@@ -485,7 +485,8 @@ fn gh_7_stabilised_beam_problem() {
 }
 
 /// problems/beam_on_foundation_fem.toml (Q2 elements of size 0.25): the total contact force
-/// of the independent Python Q2 FE at the same element size (session 1), 32.34703080972117,
+/// of the independent Python Q2 FE at the same element size (see
+/// tests/validation/fem_beam_on_foundation.rs), 32.34703080972117,
 /// to solver round-off (observed 2e-12 relative).
 #[test]
 fn beam_on_foundation_fem_problem_total_force() {

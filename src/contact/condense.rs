@@ -1,11 +1,11 @@
 //! The condensation onto the contact unknowns — the paper's Schur complement in the form that
-//! is exact for MLS (method.md §4.2).
+//! is exact for MLS (docs/method.md §4.2).
 //!
 //! Eliminating `û` from `K û = f + E P` and `g = g0 + G û` gives the LCP
 //! <div>$$ g = q + M P \ge 0,\quad P \ge 0,\quad g^\top P = 0,\qquad
 //! M = G K^{-1} E,\quad q = g_0 + G K^{-1} f. $$</div>
 //! For two bodies `M = M_1 + M_2` and `q = g0 + G_1 K_1⁻¹ f_1 + G_2 K_2⁻¹ f_2` (springs in
-//! series, method.md §4.3).
+//! series, docs/method.md §4.3).
 //! `M` is the Schur complement of `K` in the bordered matrix `[[K, −E], [G, 0]]` (compliance
 //! form). The paper's stiffness form (eqs. 22–27) coincides with it only when nodal values
 //! interpolate, which MLS values do not.

@@ -1,5 +1,5 @@
 //! Stage 7: frictionless contact with a rigid obstacle — candidates, gap, force operators, and
-//! the condensation onto the contact unknowns (method.md §4; paper eqs. 16–27).
+//! the condensation onto the contact unknowns (docs/method.md §4; paper eqs. 16–27).
 //!
 //! Unknown per candidate `c`: the normal contact force `P_c ≥ 0` (the pressure integrated over
 //! the boundary segment the candidate's cell owns on the contact edge). With `ν_c` the unit
@@ -40,9 +40,9 @@ pub enum ContactError {
         /// Edge name.
         edge: String,
     },
-    /// The condensed compliance fails the run-time checks (method.md §4.1).
+    /// The condensed compliance fails the run-time checks (docs/method.md §4.1).
     #[error(
-        "the condensed contact compliance M is not trustworthy: {what} = {value:.3e} (at support factor α_s = {support_factor}); mixed MFVM supports above α_s ≈ 2.25 admit near-free checkerboard modes — use support_factor = 2 or the stabilised discretisation.beta = 0.5 (method.md §3.9), or set contact.allow_indefinite = true to proceed anyway"
+        "the condensed contact compliance M is not trustworthy: {what} = {value:.3e} (at support factor α_s = {support_factor}); mixed MFVM supports above α_s ≈ 2.25 admit near-free checkerboard modes — use support_factor = 2 or the stabilised discretisation.beta = 0.5 (docs/method.md §3.9), or set contact.allow_indefinite = true to proceed anyway"
     )]
     IndefiniteCompliance {
         /// Which check failed.
@@ -165,7 +165,7 @@ pub fn check_compliance(
 /// How one body enters the contact constraint: its displacement at the contact points adds
 /// `d·u^h(x_c)` to the gap (the `G` rows) and the contact force adds `d P_c` to the owner
 /// cell's equilibrium rows (the `E` columns). `d = +ν` for the candidate body and `−ν` for
-/// the target body of a two-body contact (method.md §4.3).
+/// the target body of a two-body contact (docs/method.md §4.3).
 #[derive(Clone, Debug)]
 pub struct BodyOperator {
     /// MLS shape functions at the contact points on this body (one row per candidate).
@@ -350,7 +350,7 @@ pub fn candidates(
 /// the body-2 cells whose boundary faces overlap the candidate's segment projected onto the
 /// edge, in proportion to the overlap (a uniform pressure over the segment), so that
 /// non-matching layouts pass the uniform-pressure patch test; where nothing overlaps, it goes
-/// to the cell holding `y_c` (method.md §4.3 describes the closest-point pairing).
+/// to the cell holding `y_c` (docs/method.md §4.3 describes the closest-point pairing).
 ///
 /// Returns the operator (`d = −ν`), the initial gaps and the paired points.
 ///
@@ -440,7 +440,7 @@ fn segment_distance(p: Point, a: Point, b: Point) -> f64 {
 }
 
 /// Where contact begins along the edge: the last open and first closed candidates of the first
-/// closed run, and two interpolated estimates (method.md §6).
+/// closed run, and two interpolated estimates (docs/method.md §6).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ContactOnset {
     /// Arc length of the last open candidate before the first closed one.

@@ -1,4 +1,4 @@
-//! An independent finite element discretisation of the same problems (issue 5), selected by
+//! An independent finite element discretisation of the same problems, selected by
 //! `[discretisation] method = "fem"`: an oracle for the MFVM and a feature (solve one problem
 //! file both ways, `mlpg-contact --compare`).
 //!

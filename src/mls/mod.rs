@@ -19,7 +19,7 @@ use crate::geometry::Point;
 pub enum MlsError {
     /// Fewer support nodes than the basis needs.
     #[error(
-        "MLS support of point ({x:.6}, {y:.6}) holds {support_size} nodes; the {basis} basis needs at least {needed} (more nodes than its basis terms) — increase support_factor (2 for the linear basis, 2.5 for the quadratic one: at 2 a corner's support holds only 4 nodes; method.md §2)",
+        "MLS support of point ({x:.6}, {y:.6}) holds {support_size} nodes; the {basis} basis needs at least {needed} (more nodes than its basis terms) — increase support_factor (2 for the linear basis, 2.5 for the quadratic one: at 2 a corner's support holds only 4 nodes; docs/method.md §2)",
         x = point[0], y = point[1]
     )]
     TooFewNodes {

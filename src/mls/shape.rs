@@ -97,7 +97,7 @@ impl ShapeSet {
 /// eqs. (3)–(4). The basis is evaluated in coordinates shifted to the evaluation point and
 /// scaled by the largest support radius there, so cond(`A`) does not grow as the spacing
 /// shrinks. Gradients use `γ = A⁻¹p`, `γ_,k = A⁻¹(p_,k − A_,k γ)`,
-/// `φ_I,k = w_I γ_,k·p_I + w_I,k γ·p_I` (method.md §2); `A` is never inverted explicitly
+/// `φ_I,k = w_I γ_,k·p_I + w_I,k γ·p_I` (docs/method.md §2); `A` is never inverted explicitly
 /// except to estimate its condition.
 ///
 /// Runs in parallel over points; the result does not depend on the number of threads.

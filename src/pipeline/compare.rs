@@ -1,4 +1,4 @@
-//! Both discretisations on one problem (issue 5): `mlpg-contact <problem.toml> --compare`.
+//! Both discretisations on one problem: `mlpg-contact <problem.toml> --compare`.
 //!
 //! Solves the problem with the MFVM and with the Q2 finite elements ([`crate::fem`]), writes
 //! each method's full outputs to `<out>/mfvm/` and `<out>/fem/`, a side-by-side table

@@ -43,7 +43,7 @@ pub struct ContactSpec {
     /// The obstacle or the second body's edge.
     pub target: ContactTarget,
     /// A candidate is reported closed when its gap is at most this (absolute; default
-    /// `1e-5 · max |g0| + 1e-12 · max |q|`, see method.md §6).
+    /// `1e-5 · max |g0| + 1e-12 · max |q|`, see docs/method.md §6).
     pub gap_tolerance: Option<f64>,
     /// Accept a condensed compliance `M` that fails the run-time checks (with a warning).
     pub allow_indefinite: bool,
@@ -55,7 +55,7 @@ pub struct ContactSpec {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Condensation {
-    /// `M = G K⁻¹ E` with MLS-evaluated gaps (method.md §4.2; default).
+    /// `M = G K⁻¹ E` with MLS-evaluated gaps (docs/method.md §4.2; default).
     #[default]
     Compliance,
     /// The paper's literal stiffness form (eqs. 22–27): the Schur complement on the nodal

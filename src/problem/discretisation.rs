@@ -11,7 +11,7 @@ pub enum Method {
     #[default]
     Mfvm,
     /// Biquadratic (Q2, 9-node) finite elements on a structured mesh of a rectangle
-    /// ([`crate::fem`]); an independent check of the MFVM (issue 5).
+    /// ([`crate::fem`]); an independent check of the MFVM.
     Fem,
 }
 
@@ -19,8 +19,8 @@ pub enum Method {
 /// `discretisation = "stabilised"` in a problem file, or `preset = …` inside the
 /// `[discretisation]` table, whose other keys then override the preset's values).
 ///
-/// Chosen from the issue-7 study (docs/dev/beta_study.md, "Presets"): on the beam on a rigid
-/// foundation and the Hertz cylinder, [`Preset::Stabilised`] reaches the issues' accuracy
+/// Chosen from the stabilisation study (docs/dev/beta_study.md, "Time to accuracy and the presets"): on the beam on a rigid
+/// foundation and the Hertz cylinder, [`Preset::Stabilised`] reaches the accuracy
 /// targets (contact onset within 0.05 and total force within 0.1 % on the beam; Hertz `a`
 /// within 1 % and `p₀` within 0.5 %) in a fraction of the paper's time, with half its matrix
 /// nonzeros; the paper's method is more accurate in the total contact force at equal spacing.
@@ -31,7 +31,7 @@ pub enum Preset {
     /// (the defaults).
     Paper,
     /// The stabilised MFVM with direct MLS strains at the cell boundaries: linear basis,
-    /// `α_s = 2`, `β = 1`, 2 Gauss points per segment (method.md §3.9).
+    /// `α_s = 2`, `β = 1`, 2 Gauss points per segment (docs/method.md §3.9).
     Stabilised,
 }
 
@@ -63,7 +63,7 @@ pub struct Discretisation {
     pub quadrature_points: usize,
     /// Gauss–Legendre points per segment for applied tractions (default 5, at least 3).
     pub load_quadrature_points: usize,
-    /// Stabilisation blend `β ∈ [0, 1]` (method.md §3.9): the stress at a cell-boundary
+    /// Stabilisation blend `β ∈ [0, 1]` (docs/method.md §3.9): the stress at a cell-boundary
     /// Gauss point `x_q` is `σ_q = D[(1 − β) Σ_J φ_J(x_q) ε̂_J + β Σ_K B_K(x_q) û_K]`.
     /// `β = 0` (default) is the paper's mixed method; `β = 1` a primal finite-volume scheme
     /// that never uses the collocated strains `S`.
@@ -90,14 +90,14 @@ impl Default for Discretisation {
 /// Largest support factor accepted for the pure mixed method (`β = 0`) with a linear basis.
 pub const MIXED_LINEAR_MAX_SUPPORT_FACTOR: f64 = 2.25;
 /// Largest support factor accepted for the pure mixed method (`β = 0`) with a quadratic basis.
-/// Issue 7 proposed 3; the parameter study (docs/param_study.md) measured `α_s = 3` failing the
+/// A limit of 3 was proposed first; the parameter study (docs/param_study.md) measured `α_s = 3` failing the
 /// run-time `M` checks on the paper's beam at h = 1 and 0.125 (84 contact intervals) and its
 /// cantilever energy error growing from h = 0.5 to 0.25, while 2.5 was intact everywhere.
 pub const MIXED_QUADRATIC_MAX_SUPPORT_FACTOR: f64 = 2.5;
 /// Smallest blend `β` that lifts those limits. The gap s₄/s_max above the rigid modes of a
 /// free body grows roughly in proportion to `β` (9 × 9 nodes, α_s = 3: 5e-5 at β = 0.001,
 /// 3.4e-4 at 0.01, 2.4e-3 at 0.1, 1.9e-2 at 1; tests/validation/free_body.rs), so a tiny `β`
-/// is as unstable as `β = 0`; method.md §3.9 measured `β ≥ 0.1` sufficient for α_s 2–4.
+/// is as unstable as `β = 0`; docs/method.md §3.9 measured `β ≥ 0.1` sufficient for α_s 2–4.
 pub const MIN_STABILISING_BETA: f64 = 0.1;
 
 impl Discretisation {
@@ -106,7 +106,7 @@ impl Discretisation {
     ///
     /// With `β = 0` the collocated strains are smoothed by supports larger than about
     /// `α_s = 2.25` (linear basis) or `α_s = 2.5` (quadratic basis) so much that checkerboard
-    /// displacement modes become nearly free (method.md §2, §3.8: s₄/s_max ≈ 7e-7 at
+    /// displacement modes become nearly free (docs/method.md §2, §3.8: s₄/s_max ≈ 7e-7 at
     /// `α_s = 3` on a 9 × 9 free body) and the contact compliance loses its positive diagonal
     /// (§4.1). A blend `β ≥` [`MIN_STABILISING_BETA`] lifts these limits (§3.9); a smaller
     /// positive `β` is treated like `β = 0`.
@@ -121,7 +121,7 @@ impl Discretisation {
         };
         (alpha > limit).then(|| {
             format!(
-                "support_factor = {alpha} with the {} basis and beta = {} ({}) is unstable above {limit}: the collocated strains admit nearly free checkerboard modes and contact answers become meaningless (method.md §3.8); use support_factor <= {limit}, or beta = 0.5 (stabilised MFVM, method.md §3.9; at least {MIN_STABILISING_BETA}), or set allow_unstable = true to proceed anyway",
+                "support_factor = {alpha} with the {} basis and beta = {} ({}) is unstable above {limit}: the collocated strains admit nearly free checkerboard modes and contact answers become meaningless (docs/method.md §3.8); use support_factor <= {limit}, or beta = 0.5 (stabilised MFVM, docs/method.md §3.9; at least {MIN_STABILISING_BETA}), or set allow_unstable = true to proceed anyway",
                 self.mls.basis.name(),
                 self.beta,
                 if self.beta == 0.0 { "the pure mixed method" } else { "too little stabilisation" }

@@ -138,7 +138,7 @@ impl FaceQuadrature {
 }
 
 /// The traction operator `T = N(n) D` (2 × 3): `t = T ε` for a Voigt strain, with
-/// `N = [[n_x, 0, n_y], [0, n_y, n_x]]` (paper eq. 10; method.md §3.3).
+/// `N = [[n_x, 0, n_y], [0, n_y, n_x]]` (paper eq. 10; docs/method.md §3.3).
 pub fn traction_operator(n: Point, d: &Constitutive) -> [[f64; 3]; 2] {
     let nm = [[n[0], 0.0, n[1]], [0.0, n[1], n[0]]];
     let mut t = [[0.0; 3]; 2];

@@ -1,6 +1,6 @@
 //! Subdomains `Ω_s`: the Voronoi cells of the nodes clipped to the domain, which tile it.
 //!
-//! Tiling gives two exact properties (method.md §3.5): interior-face contributions cancel
+//! Tiling gives two exact properties (docs/method.md §3.5): interior-face contributions cancel
 //! pairwise, so global equilibrium holds to round-off, and every boundary segment has exactly
 //! one owner. On a structured grid the cells are the usual rectangles around the nodes (halved
 //! on edges, quartered at corners).

@@ -1,4 +1,4 @@
-//! The paper's example (Erdönmez, §4–5; method.md §6): a cantilever clamped at `x = 0`, uniform
+//! The paper's example (Erdönmez, §4–5; docs/method.md §6): a cantilever clamped at `x = 0`, uniform
 //! load `f = 1` on its top edge, rigid flat foundation at initial gap `δ0 = 0.01` below the
 //! bottom edge; plane stress, `E = 30 000`, `ν = 0.3`, `L = 48`, `D = 6`.
 //!
@@ -7,7 +7,7 @@
 //! global equilibrium (applied load = contact force + clamp reaction), the shape of the
 //! contact zone (one interval ending at the tip), the run-time checks of `M`, and that the
 //! total contact force and the onset converge under refinement (successive differences
-//! shrink). Issue 7: the same checks for the stabilised blend (method.md §3.9) at `α_s = 3`,
+//! shrink). The same checks for the stabilised blend (docs/method.md §3.9) at `α_s = 3`,
 //! `β = 0.5`, which must agree with the default variant. The converged values are established by `cargo run --release --example
 //! beam_refinement` (README).
 
@@ -17,8 +17,8 @@ use super::common::shipped_problem;
 
 /// Independent reference: a Q2 (9-node) finite element solution of the same 2-D problem
 /// (plane stress, full 3×3 Gauss, node-to-rigid-line contact, exact complementarity by an
-/// active-set iteration), h = 1 … 0.0625 (593k DOFs), written in Python as a throwaway check
-/// in the first development session (issue 4 note); extrapolated: ΣP = 32.3476 ± 0.0001,
+/// active-set iteration), h = 1 … 0.0625 (593k DOFs), written independently in Python as a
+/// throwaway check during development (not in the repository; its results are quoted here); extrapolated: ΣP = 32.3476 ± 0.0001,
 /// l_c = 19.810 ± 0.005 (the onset bracket of the three finest meshes is [19.78125, 19.8125]).
 const FE_CONTACT_FORCE: f64 = 32.3476;
 const FE_ONSET: f64 = 19.810;
@@ -40,7 +40,7 @@ struct Outcome {
     first_closed: f64,
 }
 
-/// The beam with the stabilised blend `β` at support factor `α_s` (method.md §3.9).
+/// The beam with the stabilised blend `β` at support factor `α_s` (docs/method.md §3.9).
 fn stabilised_beam(h: f64, support_factor: f64, beta: f64) -> Problem {
     let mut p = beam(h);
     p.discretisation.mls.support_factor = support_factor;
@@ -71,7 +71,7 @@ fn run_problem(h: f64, problem: &Problem) -> Outcome {
     // One closed interval, reaching the tip.
     assert_eq!(c.onset.closed_intervals, 1, "h = {h}");
     assert!(*c.closed.last().unwrap(), "h = {h}: the tip candidate is open");
-    // Run-time checks of the compliance (method.md §4.1).
+    // Run-time checks of the compliance (docs/method.md §4.1).
     assert!(c.condensed.min_diagonal > 0.0);
     assert!(c.condensed.min_symmetric_eigenvalue > 0.0);
     let tip = s
@@ -143,7 +143,7 @@ fn stiffness_form_is_close_but_not_mls_exact() {
     assert!(m > 1e-6 && m < 1e-4, "stiffness form gap mismatch {m:.3e}");
 }
 
-/// Issue 7: the stabilised blend at a support the pure mixed method refuses (`α_s = 3`,
+/// The stabilised blend at a support the pure mixed method refuses (`α_s = 3`,
 /// `β = 0.5`) gives a trustworthy contact compliance (positive diagonal, positive definite
 /// symmetric part: asserted in `run_problem`), one contact interval ending at the tip, and the
 /// same `l_c` and total contact force as the default variant within their discretisation errors.
@@ -186,7 +186,7 @@ fn gh_7_stabilised_beam_agrees_with_the_default_variant() {
     assert!((finest.onset - FE_ONSET).abs() < 0.125, "l_c {}", finest.onset);
 }
 
-/// Issue 7: the stabilised variants on jittered nodes (h = 0.25, amplitude 0.25): KKT,
+/// The stabilised variants on jittered nodes (h = 0.25, amplitude 0.25): KKT,
 /// equilibrium, `M` checks and one contact interval ending at the tip (asserted in
 /// `run_problem`); F_c within 1e-2 and l_c within one spacing of the FE reference. Observed:
 /// β = 0.5, α_s = 3: F_c 32.346695, l_c 19.7500; β = 1, α_s = 2: F_c 32.341922, l_c 19.7923.
@@ -203,7 +203,7 @@ fn gh_7_stabilised_beam_on_jittered_nodes() {
     }
 }
 
-/// Issue 5, item 5: the paper's method (α_s = 2, β = 0) on jittered nodes (h = 0.25,
+/// The paper's method (α_s = 2, β = 0) on jittered nodes (h = 0.25,
 /// amplitude 0.25) gives the structured answer within the measured discretisation error:
 /// closer to the FE reference than the structured layout one halving coarser (h = 0.5:
 /// F_c error 3.2e-3, l_c 19.61 against 19.81), i.e. scattering the nodes costs less than one

@@ -125,7 +125,7 @@ const ENERGY_BOUND_STRUCTURED: f64 = 1.3e-4;
 const DISPLACEMENT_BOUND_JITTERED: f64 = 1.2e-5;
 const ENERGY_BOUND_JITTERED: f64 = 3.3e-3;
 
-/// Issue 7 (method.md §3.9): on jittered nodes at `α_s = 3` the stabilised `β = 1` converges,
+/// The stabilised blend (docs/method.md §3.9): on jittered nodes at `α_s = 3` the stabilised `β = 1` converges,
 /// while the pure mixed method (`β = 0`, accepted only with `allow_unstable`) does not: its
 /// near-free checkerboard modes pollute the solution (the documented negative case).
 #[test]

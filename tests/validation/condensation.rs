@@ -1,4 +1,4 @@
-//! The condensed compliance `M = G K⁻¹ E` and `q = g0 + G K⁻¹ f` (method.md §4.2), formed by
+//! The condensed compliance `M = G K⁻¹ E` and `q = g0 + G K⁻¹ f` (docs/method.md §4.2), formed by
 //! blocked sparse solves, equal a dense computation (dense LU of `K`, explicit `G` and `E`)
 //! on a small beam-on-foundation problem. Tolerance: round-off amplified by cond(K) ~ 1e6.
 

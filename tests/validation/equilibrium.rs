@@ -1,4 +1,4 @@
-//! Global equilibrium (method.md §3.5–3.6): with tiling cells interior-face contributions
+//! Global equilibrium (docs/method.md §3.5–3.6): with tiling cells interior-face contributions
 //! cancel pairwise, so the applied load plus the recovered reactions vanish to round-off.
 //! Loads: a body force, a linearly varying traction and a pressure, on jittered nodes, plane
 //! strain. Also checks that the applied load equals its closed-form total (the load rules

@@ -1,9 +1,9 @@
 //! The paper's beam on a rigid foundation (see `beam_on_foundation.rs`) solved by the Q2 FE
-//! discretisation, and the MFVM-vs-FE agreement of issue 5, item 4.
+//! discretisation, and the MFVM-vs-FE agreement.
 //!
 //! 1. FE: KKT/complementarity residuals, global equilibrium, one closed interval to the tip,
-//!    and agreement with the throwaway Python Q2 FE of session 1 (`/work/fe-reference`, not
-//!    shipped): the same discretisation written independently (scipy, primal-dual active
+//!    and agreement with a throwaway Python Q2 FE written during development (not in the
+//!    repository; its results are quoted below): the same discretisation written independently (scipy, primal-dual active
 //!    set on the full system instead of Lemke on the condensed LCP), so the numbers must
 //!    agree to solver round-off, not just to discretisation error.
 //! 2. MFVM vs FE: total contact force, onset `l_c` and tip deflection `u_y(48, 0)` agree
@@ -14,7 +14,7 @@ use mlpg_contact::problem::{Method, Problem};
 
 use super::common::shipped_problem;
 
-/// Python Q2 FE (`results_full.jsonl`, session 1) at element size h: (h, ΣP, l_c unclipped,
+/// The Python Q2 FE at element size h: (h, ΣP, l_c unclipped,
 /// u_y(48, 0)).
 const PYTHON_FE: [(f64, f64, f64, f64); 2] = [
     (0.5, 32.34512628438632, 19.79429616162397, -0.010099958602984467),
@@ -107,7 +107,7 @@ fn fem_beam_matches_the_independent_python_fe() {
 /// A scalar read from an outcome.
 type Quantity = fn(&Outcome) -> f64;
 
-/// Issue 5, item 4: `|Q_MFVM(h) − Q_FE(h)| ≤ e_MFVM(h) + e_FE(h)` with the error of each
+/// `|Q_MFVM(h) − Q_FE(h)| ≤ e_MFVM(h) + e_FE(h)` with the error of each
 /// method estimated as `|Q(h) − Q(2h)|`, at `h = 0.25`.
 fn agreement(coarse: f64, fine: f64) {
     let m = [run(coarse, Method::Mfvm), run(fine, Method::Mfvm)];

@@ -1,4 +1,4 @@
-//! FE oracle (issue 5, item 6): the Q2 discretisation on the Timoshenko & Goodier cantilever
+//! FE oracle: the Q2 discretisation on the Timoshenko & Goodier cantilever
 //! [TG70, §21] (closed form and boundary conditions as in `cantilever_end_shear.rs`: exact
 //! displacement on `x = 0`, exact parabolic traction on `x = L`, plane stress, `L = 48`,
 //! `D = 12`, `E = 3e7`, `ν = 0.3`, `P = 1000`), element sizes `h = 4, 2, 1, 0.5`.

@@ -1,4 +1,4 @@
-//! FE oracle (issue 5, item 6): the Q2 discretisation reproduces a linear displacement field
+//! FE oracle: the Q2 discretisation reproduces a linear displacement field
 //! exactly, with the field imposed on the whole boundary, and with the constant-stress
 //! tractions of that field on three edges (the fourth prescribed). Also global equilibrium
 //! (applied load + reactions = 0) under a body force, a linear traction and a pressure, plane

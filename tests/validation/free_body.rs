@@ -1,12 +1,12 @@
-//! Free body (method.md §3.8): with no displacement conditions, `K_int` must have exactly three
+//! Free body (docs/method.md §3.8): with no displacement conditions, `K_int` must have exactly three
 //! near-zero singular values (two translations, one rotation) and a clear gap to the fourth.
 //! Nodal collocation of strains resembles nodal integration, which can admit spurious
 //! zero-energy modes; the prototype measured on a 9 × 9 free body s₄/s_max ≈ 4e-3 at
 //! `α_s = 2` and 7e-7 at `α_s = 3` (checkerboard modes). Checked here on structured and
 //! jittered nodes: the positive case at `α_s = 2`; the documented negative case at `α_s = 3`
 //! with the pure mixed method (`β = 0`, only accepted with `allow_unstable`); and the
-//! stabilised blend of method.md §3.9 (`β = 0.5`), which must remove the checkerboard modes
-//! at `α_s = 3` (issue 7).
+//! stabilised blend of docs/method.md §3.9 (`β = 0.5`), which must remove the checkerboard modes
+//! at `α_s = 3`.
 
 use super::common::*;
 use mlpg_contact::geometry::Domain;
@@ -72,7 +72,7 @@ fn near_zero_energy_modes_at_support_factor_3() {
     }
 }
 
-/// Issue 7: the stabilised blend `β = 0.5` at `α_s = 3` keeps exactly three rigid modes and a
+/// The stabilised blend `β = 0.5` at `α_s = 3` keeps exactly three rigid modes and a
 /// clear gap to the fourth.
 #[test]
 fn gh_7_stabilised_blend_removes_checkerboard_modes() {

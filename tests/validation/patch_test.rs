@@ -1,8 +1,8 @@
-//! Patch test (method.md §3.7): a linear displacement field imposed on the whole boundary of
+//! Patch test (docs/method.md §3.7): a linear displacement field imposed on the whole boundary of
 //! a square must be reproduced to round-off inside, with a linear MLS basis, on structured and
 //! jittered nodes. Exact: `u = (a0 + a1 x + a2 y, b0 + b1 x + b2 y)`; constant strain, so
 //! every cell's `∮ t dΓ = 0` and the collocated strains are exact. The stabilised blend of
-//! method.md §3.9 mixes two exact strains (collocated and direct MLS), so it must pass for
+//! docs/method.md §3.9 mixes two exact strains (collocated and direct MLS), so it must pass for
 //! every `β`: checked for `β ∈ {0, 0.1, 0.5, 1}` at `α_s = 2`, and for `β ∈ {0.5, 1}` at
 //! `α_s = 3` (a support the pure mixed method refuses).
 
@@ -14,7 +14,7 @@ use std::sync::Arc;
 /// Relative max-norm error bound: round-off with a margin (condition of K ~ 1e4–1e6).
 const TOLERANCE: f64 = 1e-10;
 
-/// Blends checked at `α_s = 2` (issue 7).
+/// Blends checked at `α_s = 2`.
 const BETAS: [f64; 4] = [0.0, 0.1, 0.5, 1.0];
 
 fn exact(p: [f64; 2]) -> [f64; 2] {

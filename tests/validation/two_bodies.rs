@@ -1,4 +1,4 @@
-//! Two elastic bodies in frictionless contact (method.md §4.3; paper eqs. 28–34):
+//! Two elastic bodies in frictionless contact (docs/method.md §4.3; paper eqs. 28–34):
 //! `M = M_1 + M_2`, `q = g0 + G_1 K_1⁻¹ f_1 + G_2 K_2⁻¹ f_2`, the candidate body's force `+ν P`
 //! and the target body's `−ν P` at the closest point of its edge.
 //!
@@ -9,7 +9,7 @@
 //! 2. Mirror symmetry: a block and its mirror image about `y = 0`, loaded symmetrically, give
 //!    the same contact forces as the block alone on a rigid line at `y = 0`.
 //!
-//! Issue 7: the uniform-pressure case also for the stabilised blend (method.md §3.9), `β = 1`
+//! The uniform-pressure case also for the stabilised blend (docs/method.md §3.9), `β = 1`
 //! at `α_s = 2` and `β = 0.5` at `α_s = 3`, on both bodies.
 
 use super::common::*;
@@ -122,7 +122,7 @@ fn non_matching_layouts() {
         2.0 * exact
     );
     // Round-off bound, as for the matching case (observed 3.8e-15). With the reaction put at
-    // the closest point only, this case deviated by 33 % pointwise (session 1).
+    // the closest point only, this case deviated by 33 % pointwise (measured during development).
     assert!((total / (2.0 * exact) - 1.0).abs() < 1e-8, "total {total}");
     assert!(worst < 1e-8, "pressure deviates by {worst:.3e}");
 }
