@@ -1,9 +1,9 @@
 //! Isotropic linear elasticity in 2-D: plane stress and plane strain constitutive matrices.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Which 2-D reduction of 3-D elasticity is solved.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PlaneState {
     /// Thin body, `σ_zz = 0`.

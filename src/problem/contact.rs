@@ -2,7 +2,7 @@
 //! `Problem::try_from`, used by the contact stage [`crate::contact`]).
 
 use crate::geometry::Point;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// A rigid straight obstacle: the line through `point` with unit normal `normal` pointing into
 /// the body. The initial gap of a point `x` is `(x − point)·normal` (negative = penetration, i.e.
@@ -52,7 +52,7 @@ pub struct ContactSpec {
 }
 
 /// How the problem is condensed onto the contact unknowns.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Condensation {
     /// `M = G K⁻¹ E` with MLS-evaluated gaps (docs/method.md §4.2; default).

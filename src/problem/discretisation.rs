@@ -1,10 +1,10 @@
 //! Discretisation parameters: the method, the MLS approximation, the node layout, the
 //! stabilisation blend and the presets, with the stability limits of the pure mixed method.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Which discretisation solves the problem.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Method {
     /// The meshless mixed MLPG finite volume method (default).
@@ -24,7 +24,7 @@ pub enum Method {
 /// targets (contact onset within 0.05 and total force within 0.1 % on the beam; Hertz `a`
 /// within 1 % and `p₀` within 0.5 %) in a fraction of the paper's time, with half its matrix
 /// nonzeros; the paper's method is more accurate in the total contact force at equal spacing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Preset {
     /// The paper's mixed MFVM: linear basis, `α_s = 2`, `β = 0`, 2 Gauss points per segment
@@ -148,7 +148,7 @@ impl Default for MlsParams {
 }
 
 /// Polynomial basis `p` of the MLS approximation.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Basis {
     /// `p = (1, ξ, η)` (default; \[AHR04\] shows a low order suffices for the mixed method).

@@ -1,7 +1,8 @@
 //! The raw problem file: TOML deserialised as written ([`ProblemFile`] and its tables), before
 //! any range check. [`super::Problem::try_from`] validates it.
 
-use super::ProblemError;
+use super::{Basis, Condensation, Method, Preset, ProblemError};
+use crate::material::PlaneState;
 use serde::{Deserialize, Serialize};
 
 /// The problem file as written (TOML). See `problems/*.toml` for annotated examples.
@@ -67,7 +68,7 @@ pub struct ContactFile {
     /// `"compliance"` (default, exact for MLS) or `"stiffness"` (the paper's literal form on
     /// nodal parameters, for comparison).
     #[serde(default)]
-    pub condensation: Option<String>,
+    pub condensation: Option<Condensation>,
 }
 
 /// One `[[body]]` table of a two-body problem.
@@ -143,7 +144,7 @@ pub struct CurveFile {
     /// Direction of an arc: `"ccw"` (default; the body inside the circle) or `"cw"` (the
     /// body outside it, as around a hole).
     #[serde(default)]
-    pub turn: Option<String>,
+    pub turn: Option<Turn>,
 }
 
 /// `[nodes]`.
@@ -154,7 +155,7 @@ pub struct NodesFile {
     pub spacing: f64,
     /// `"structured"` (default) or `"jittered"`.
     #[serde(default)]
-    pub layout: Option<String>,
+    pub layout: Option<LayoutKind>,
     /// Jitter amplitude as a fraction of `h` (jittered only; default 0.25, range (0, 0.4]).
     #[serde(default)]
     pub jitter: Option<f64>,
@@ -172,7 +173,7 @@ pub struct MaterialFile {
     /// Poisson's ratio `ν`, `0 ≤ ν < 0.5`.
     pub poisson: f64,
     /// `"stress"` or `"strain"`.
-    pub plane: String,
+    pub plane: PlaneState,
 }
 
 /// `[discretisation]`, or a preset name alone (`discretisation = "stabilised"`).
@@ -181,13 +182,13 @@ pub struct MaterialFile {
 pub struct DiscretisationFile {
     /// `"paper"` or `"stabilised"` ([`super::Preset`]); the other keys override its values.
     #[serde(default)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// `"mfvm"` (default) or `"fem"` (Q2 finite elements; rectangles with structured nodes).
     #[serde(default)]
-    pub method: Option<String>,
+    pub method: Option<Method>,
     /// `"linear"` (default) or `"quadratic"`.
     #[serde(default)]
-    pub basis: Option<String>,
+    pub basis: Option<Basis>,
     /// `α_s` (default 2; range [1, 6]).
     #[serde(default)]
     pub support_factor: Option<f64>,
@@ -260,7 +261,17 @@ impl ProblemFile {
     /// # Errors
     /// [`ProblemError::Parse`] with the TOML error (line, column, unknown or missing key).
     pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
-        toml::from_str(text).map_err(|e| ProblemError::Parse(e.to_string()))
+        let parse = |e: toml::de::Error| ProblemError::Parse(e.to_string());
+        let deserializer = toml::de::Deserializer::parse(text).map_err(parse)?;
+        serde_path_to_error::deserialize(deserializer).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            if path == "." {
+                parse(inner)
+            } else {
+                ProblemError::Parse(format!("at `{path}`: {inner}"))
+            }
+        })
     }
 }
 
@@ -277,11 +288,34 @@ where
             f.write_str("a [discretisation] table or a preset name (\"paper\", \"stabilised\")")
         }
         fn visit_str<E: serde::de::Error>(self, name: &str) -> Result<Self::Value, E> {
-            Ok(DiscretisationFile { preset: Some(name.to_owned()), ..Default::default() })
+            let preset = Preset::deserialize(serde::de::value::StrDeserializer::<E>::new(name))?;
+            Ok(DiscretisationFile { preset: Some(preset), ..Default::default() })
         }
         fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
             DiscretisationFile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
         }
     }
     deserializer.deserialize_any(TableOrPreset)
+}
+
+/// The direction of a circular arc in `[geometry] curves` (`turn = "ccw" | "cw"`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Turn {
+    /// Counter-clockwise (default): the body inside the circle.
+    #[default]
+    Ccw,
+    /// Clockwise: the body outside the circle (around a hole).
+    Cw,
+}
+
+/// `[nodes] layout`: the node layout's name (its parameters are the table's other keys).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LayoutKind {
+    /// A regular grid (default).
+    #[default]
+    Structured,
+    /// The grid with seeded random offsets of the interior nodes (`jitter`, `seed`).
+    Jittered,
 }

@@ -4,7 +4,7 @@
 use super::file::*;
 use super::*;
 use crate::geometry::{Curve, Domain};
-use crate::material::{Material, PlaneState};
+use crate::material::Material;
 
 fn check_finite(field: &str, v: f64) -> Result<f64, ProblemError> {
     if v.is_finite() { Ok(v) } else { Err(invalid(field, v, "must be a finite number")) }
@@ -117,40 +117,11 @@ impl TryFrom<ProblemFile> for Problem {
 
 fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, ProblemError> {
     let d = file;
-    let preset = match d.preset.as_deref() {
-        None => None,
-        Some(name) => match Preset::ALL.iter().find(|(n, _)| *n == name) {
-            Some(&(_, p)) => Some(p),
-            None => {
-                return Err(invalid(
-                    "discretisation.preset",
-                    name,
-                    "expected \"paper\" or \"stabilised\"",
-                ));
-            }
-        },
-    };
+    let preset = d.preset;
     let (preset_basis, preset_support, preset_beta, preset_quadrature) =
         preset.unwrap_or(Preset::Paper).values();
-    let method = match d.method.as_deref().unwrap_or("mfvm") {
-        "mfvm" => Method::Mfvm,
-        "fem" => Method::Fem,
-        other => {
-            return Err(invalid("discretisation.method", other, "expected \"mfvm\" or \"fem\""));
-        }
-    };
-    let basis = match d.basis.as_deref() {
-        None => preset_basis,
-        Some("linear") => Basis::Linear,
-        Some("quadratic") => Basis::Quadratic,
-        Some(other) => {
-            return Err(invalid(
-                "discretisation.basis",
-                other,
-                "expected \"linear\" or \"quadratic\"",
-            ));
-        }
-    };
+    let method = d.method.unwrap_or_default();
+    let basis = d.basis.unwrap_or(preset_basis);
     let support_factor = d.support_factor.unwrap_or(preset_support);
     if !(support_factor.is_finite() && (1.0..=6.0).contains(&support_factor)) {
         return Err(invalid(
@@ -240,10 +211,10 @@ fn validate_body(
                 check_finite(&field("to"), c.to[1])?;
                 let curve = match c.center {
                     None => {
-                        if c.turn.is_some() {
+                        if let Some(turn) = c.turn {
                             return Err(invalid(
                                 &field("turn"),
-                                c.turn.as_deref().unwrap_or_default(),
+                                format!("{turn:?}").to_lowercase(),
                                 "only used with `center` (arcs)",
                             ));
                         }
@@ -252,17 +223,7 @@ fn validate_body(
                     Some(center) => {
                         check_finite(&field("center"), center[0])?;
                         check_finite(&field("center"), center[1])?;
-                        let ccw = match c.turn.as_deref().unwrap_or("ccw") {
-                            "ccw" => true,
-                            "cw" => false,
-                            other => {
-                                return Err(invalid(
-                                    &field("turn"),
-                                    other,
-                                    "expected \"ccw\" or \"cw\"",
-                                ));
-                            }
-                        };
+                        let ccw = c.turn.unwrap_or_default() == Turn::Ccw;
                         let r0 = (from[0] - center[0]).hypot(from[1] - center[1]);
                         let r1 = (c.to[0] - center[0]).hypot(c.to[1] - center[1]);
                         if r0 <= 0.0 || (r1 - r0).abs() > 1e-9 * r0 {
@@ -310,8 +271,8 @@ fn validate_body(
     if domain.area() / (h * h) > 2.0e7 {
         return Err(invalid("nodes.spacing", h, "would create more than 20 million nodes"));
     }
-    let layout = match file.nodes.layout.as_deref().unwrap_or("structured") {
-        "structured" => {
+    let layout = match file.nodes.layout.unwrap_or_default() {
+        LayoutKind::Structured => {
             if file.nodes.jitter.is_some() {
                 return Err(invalid(
                     "nodes.jitter",
@@ -321,7 +282,7 @@ fn validate_body(
             }
             Layout::Structured
         }
-        "jittered" => {
+        LayoutKind::Jittered => {
             let amplitude = file.nodes.jitter.unwrap_or(0.25);
             if !(amplitude > 0.0 && amplitude <= 0.4) {
                 return Err(invalid(
@@ -331,9 +292,6 @@ fn validate_body(
                 ));
             }
             Layout::Jittered { amplitude, seed: file.nodes.seed.unwrap_or(1) }
-        }
-        other => {
-            return Err(invalid("nodes.layout", other, "expected \"structured\" or \"jittered\""));
         }
     };
 
@@ -348,7 +306,7 @@ fn validate_body(
         if layout != Layout::Structured {
             return Err(invalid(
                 "nodes.layout",
-                file.nodes.layout.as_deref().unwrap_or_default(),
+                "jittered",
                 "discretisation.method = \"fem\" needs layout = \"structured\" (the element grid)",
             ));
         }
@@ -361,14 +319,7 @@ fn validate_body(
     if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
         return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
     }
-    let plane = match m.plane.as_str() {
-        "stress" => PlaneState::Stress,
-        "strain" => PlaneState::Strain,
-        other => {
-            return Err(invalid("material.plane", other, "expected \"stress\" or \"strain\""));
-        }
-    };
-    let material = Material { young: m.young, poisson: m.poisson, plane };
+    let material = Material { young: m.young, poisson: m.poisson, plane: m.plane };
 
     let mut boundary: Vec<Option<EdgeCondition>> = vec![None; domain.edge_count()];
     for (i, b) in file.boundary.iter().enumerate() {
@@ -478,17 +429,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         }
     }
     let allow_indefinite = c.allow_indefinite.unwrap_or(false);
-    let condensation = match c.condensation.as_deref().unwrap_or("compliance") {
-        "compliance" => Condensation::Compliance,
-        "stiffness" => Condensation::Stiffness,
-        other => {
-            return Err(invalid(
-                "contact.condensation",
-                other,
-                "expected \"compliance\" or \"stiffness\"",
-            ));
-        }
-    };
+    let condensation = c.condensation.unwrap_or_default();
     if let Some(second) = problem.second_body.as_deref() {
         if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
             return Err(invalid(
