@@ -10,7 +10,7 @@
 //! just variant `k` of the list, 1-based).
 //!
 //! No parameter is tuned toward any number of the paper; the Hertz case of the issue is
-//! examples/beta_study_hertz.rs.
+//! examples/studies/beta_study_hertz.rs.
 
 mod study;
 

@@ -21,8 +21,9 @@
 //! * `l_c` is `contact.onset_x` of `summary.json` (`gap^(2/3)` extrapolation clipped to the
 //!   bracket [last open, first closed]).
 //!
-//! `--only k` runs MFVM variant `k` (1-based, as in `examples/study/mod.rs`), or the FE ladder
-//! for `k = 6`. Nothing is asserted; the results go into docs/dev/beta_study.md and the notes.
+//! `--only k` runs MFVM variant `k` (1-based, as in `examples/studies/study/mod.rs`), or the FE
+//! ladder for `k = 6`. Nothing is asserted; the results go into docs/dev/beta_study.md and the
+//! notes.
 
 #[allow(dead_code)] // the β-study helpers this benchmark does not use
 mod study;

@@ -1,7 +1,7 @@
 //! Issue 7 study, Hertz case: accuracy per cost of the stabilised MFVM variants (method.md
 //! §3.9) on an elastic cylinder pressed onto a rigid flat (problems/hertz_cylinder.toml: a
 //! quarter disk of radius 1 with curved boundaries, plane strain), at several node spacings.
-//! The variants are those of examples/beta_study.rs (the beam study).
+//! The variants are those of examples/studies/beta_study.rs (the beam study).
 //!
 //! Measured as in tests/validation/hertz.rs: the resultant per unit length of the whole
 //! cylinder is `P = 2 × total contact force`; Hertz (Johnson §4.3) gives `a = √(4PR/(πE*))`,

@@ -29,7 +29,7 @@
 #[allow(dead_code)]
 mod study;
 
-#[path = "../tests/validation/end_shear_exact.rs"]
+#[path = "../../tests/validation/end_shear_exact.rs"]
 mod end_shear_exact;
 
 use end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
@@ -406,7 +406,7 @@ fn write_fe_cache(path: &Path, rows: &[(f64, BeamRow)]) {
         .and_then(|o| String::from_utf8(o.stdout).ok())
         .map_or("unknown".into(), |s| s.trim().to_string());
     let mut text = format!(
-        "# Q2 FE reference of examples/param_study.rs: problems/beam_on_foundation.toml with\n\
+        "# Q2 FE reference of examples/studies/param_study.rs: problems/beam_on_foundation.toml with\n\
          # method = \"fem\" (element size h); u_y at (48, 0); seconds: wall time of that run.\n\
          # Written by `cargo run --release --example param_study` (full run, cache missing or\n\
          # stale, or `-- fe-fine`) at commit {commit} plus uncommitted changes, if any. Every\n\
@@ -817,7 +817,7 @@ fn draw_grid<DB: DrawingBackend>(
 }
 
 fn draw_figure(path: &Path, title: &str, columns: usize, panels: &[Panel], size: (u32, u32)) {
-    static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+    static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
     static REGISTER: std::sync::Once = std::sync::Once::new();
     REGISTER.call_once(|| {
         if plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_err() {

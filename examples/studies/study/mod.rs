@@ -1,6 +1,6 @@
-//! What the β studies (`examples/beta_study.rs`, `examples/beta_study_hertz.rs`) share: the
-//! variants, the command line, the spacing ladder, the problem substitution, the per-stage
-//! times, the pressure ripple and the error-against-cost charts.
+//! What the β studies (`examples/studies/beta_study.rs`, `examples/studies/beta_study_hertz.rs`)
+//! share: the variants, the command line, the spacing ladder, the problem substitution, the
+//! per-stage times, the pressure ripple and the error-against-cost charts.
 
 use mlpg_contact::mls::Basis;
 use mlpg_contact::post::plot;
