@@ -5,7 +5,7 @@
 //! `mlpg-contact` command line.
 //!
 //! ```text
-//! cargo run --release --example solve_problem                     # problems/beam_on_foundation.toml
+//! cargo run --release --example solve_problem       # problems/beam_on_foundation.toml
 //! cargo run --release --example solve_problem -- problems/hertz_cylinder.toml
 //! ```
 //!

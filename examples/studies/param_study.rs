@@ -1,6 +1,7 @@
 //! Parameter study, the one that justified the defaults: how accuracy depends on the support
 //! factor `α_s`, the MLS basis, the cell type and the number of Gauss points per cell-boundary
-//! segment, one parameter at a time around the defaults (linear basis, `α_s = 2`, 2 points, `β = 0`, structured nodes), on
+//! segment, one parameter at a time around the defaults (linear basis, `α_s = 2`, 2 points,
+//! `β = 0`, structured nodes), on
 //!
 //! - the cantilever (`problems/cantilever.toml`, with the exact end conditions of the closed
 //!   form in `tests/validation/end_shear_exact.rs`): relative L2 and energy-norm errors at
