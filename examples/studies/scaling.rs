@@ -3,11 +3,12 @@
 //! list of node counts. Run with
 //!
 //! ```text
-//! cargo run --release --example scaling [N1 N2 ...]
+//! cargo run --release --example scaling -- [N1 N2 ...] [--beta 1] [--support-factor 1.5]
 //! ```
 //!
-//! `MLPG_SCALING_BETA=1` runs the stabilised operator (`discretisation.beta`, issue 7);
-//! `MLPG_SCALING_SUPPORT=1.5` sets `discretisation.support_factor` (default 2).
+//! `--beta 1` runs the sparser stabilised operator (`discretisation.beta`, default 0: the
+//! paper's mixed method); `--support-factor 1.5` sets `discretisation.support_factor`
+//! (default 2).
 //!
 //! Node counts may be written `25000`, `25k` or `1.5M` (default: 10k 25k 50k 100k 250k). The
 //! grid has `ny` intervals across the height and `4 ny` along the length, with `ny` chosen so
@@ -20,6 +21,9 @@
 //! the peak memory; then the least-squares growth exponent
 //! `p` of `t ∝ N^p` of each stage over the sizes run. Nothing is asserted about timings.
 
+mod args;
+
+use clap::Parser;
 use std::process::Command;
 use std::time::Instant;
 
@@ -56,12 +60,10 @@ fn intervals_for(n: usize) -> usize {
     ny
 }
 
-/// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height.
-/// `MLPG_SCALING_BETA` (default 0) sets `discretisation.beta`, e.g. 1 for the sparser
-/// stabilised operator of issue 7.
-fn cantilever(ny: usize) -> Problem {
+/// The cantilever of `problems/cantilever.toml` with `ny` intervals across its height, with
+/// `discretisation.beta` and `discretisation.support_factor` set to `beta` and `support`.
+fn cantilever(ny: usize, beta: f64, support: f64) -> Problem {
     let spacing = 12.0 / ny as f64;
-    let (beta, support) = (setting("MLPG_SCALING_BETA", 0.0), setting("MLPG_SCALING_SUPPORT", 2.0));
     let text = format!(
         r#"
         name = "cantilever"
@@ -95,11 +97,6 @@ fn cantilever(ny: usize) -> Problem {
     }
 }
 
-/// The number in environment variable `key`, or `default` when it is unset or not a number.
-fn setting(key: &str, default: f64) -> f64 {
-    std::env::var(key).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
-}
-
 /// Peak resident set size (`VmHWM`) of this process in MiB, if the kernel reports it.
 fn peak_rss_mib() -> Option<f64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
@@ -119,22 +116,24 @@ fn cpu_seconds() -> Option<f64> {
     Some(ticks / 100.0)
 }
 
-/// Parses `25000`, `25k`, `1.5M`.
-fn parse_count(s: &str) -> Option<usize> {
-    let s = s.trim();
-    let (num, mult) = match s.chars().last()? {
-        'k' | 'K' => (&s[..s.len() - 1], 1e3),
-        'm' | 'M' => (&s[..s.len() - 1], 1e6),
-        _ => (s, 1.0),
-    };
-    let v: f64 = num.replace('_', "").parse().ok()?;
-    (v > 0.0).then(|| (v * mult).round() as usize)
+/// End-to-end scaling of the solver on the cantilever 48 × 12: one row per node count, each
+/// solved in a fresh child process.
+#[derive(Parser)]
+struct Cli {
+    /// Node counts, written 25000, 25k or 1.5M
+    #[arg(value_name = "N", value_parser = args::count, default_values_t = DEFAULT_SIZES)]
+    sizes: Vec<usize>,
+    #[command(flatten)]
+    operator: args::Operator,
+    /// Child mode: solve this one size and print one JSON line
+    #[arg(long, value_name = "N", value_parser = args::count, hide = true)]
+    one: Option<usize>,
 }
 
 /// Child mode: solves one size and prints one JSON line on stdout.
-fn run_one(n: usize) -> Result<(), Box<dyn std::error::Error>> {
+fn run_one(n: usize, beta: f64, support: f64) -> Result<(), Box<dyn std::error::Error>> {
     let ny = intervals_for(n);
-    let problem = cantilever(ny);
+    let problem = cantilever(ny, beta, support);
     let t0 = Instant::now();
     let model = discretise(&problem, &mut Silent)?;
     let (model, _, solution) = solve_model(&problem, model, None, &mut Silent)?;
@@ -168,10 +167,10 @@ struct Row {
 }
 
 /// Runs one size in a fresh child process.
-fn run_child(exe: &std::path::Path, n: usize) -> Result<Row, String> {
+fn run_child(exe: &std::path::Path, n: usize, beta: f64, support: f64) -> Result<Row, String> {
     let out = Command::new(exe)
-        .arg("--one")
-        .arg(n.to_string())
+        .args(["--one", &n.to_string()])
+        .args(["--beta", &beta.to_string(), "--support-factor", &support.to_string()])
         .output()
         .map_err(|e| format!("cannot start {}: {e}", exe.display()))?;
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -229,23 +228,20 @@ fn exponent(xs: &[f64], ys: &[f64]) -> f64 {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    if let Some(pos) = args.iter().position(|a| a == "--one") {
-        let n = args.get(pos + 1).and_then(|s| parse_count(s)).ok_or("--one needs a count")?;
-        return run_one(n);
+    args::refuse_retired_env(&[
+        ("MLPG_SCALING_BETA", "--beta"),
+        ("MLPG_SCALING_SUPPORT", "--support-factor"),
+    ]);
+    let cli: Cli = args::parse(&[("beta", "0"), ("support_factor", "2")]);
+    let (beta, support) =
+        (cli.operator.beta.unwrap_or(0.0), cli.operator.support_factor.unwrap_or(2.0));
+    if let Some(n) = cli.one {
+        return run_one(n, beta, support);
     }
-    let mut sizes = Vec::new();
-    for a in &args {
-        sizes.push(parse_count(a).ok_or_else(|| format!("not a node count: {a}"))?);
-    }
-    if sizes.is_empty() {
-        sizes = DEFAULT_SIZES.to_vec();
-    }
+    let sizes = cli.sizes;
     let exe = std::env::current_exe()?;
     println!(
-        "cantilever 48 x 12, linear basis, alpha_s = {}, 2-point face quadrature, beta = {}; {} rayon threads",
-        setting("MLPG_SCALING_SUPPORT", 2.0),
-        setting("MLPG_SCALING_BETA", 0.0),
+        "cantilever 48 x 12, linear basis, alpha_s = {support}, 2-point face quadrature, beta = {beta}; {} rayon threads",
         rayon::current_num_threads()
     );
     println!(
@@ -256,7 +252,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut stages: Vec<String> = Vec::new();
     let mut rows = Vec::new();
     for n in sizes {
-        let row = match run_child(&exe, n) {
+        let row = match run_child(&exe, n, beta, support) {
             Ok(row) => row,
             Err(e) => {
                 println!("{n:>8} nodes requested: failed ({e})");

@@ -1,6 +1,6 @@
-//! What the β studies (`examples/beta_study.rs`, `examples/beta_study_hertz.rs`) share: the
-//! variants, the command line, the spacing ladder, the problem substitution, the per-stage
-//! times, the pressure ripple and the error-against-cost charts.
+//! What the β studies (`examples/studies/beta_study.rs`, `examples/studies/beta_study_hertz.rs`)
+//! share: the variants, the spacing ladder, the problem substitution, the per-stage times, the
+//! pressure ripple and the error-against-cost charts. Their command line is `args.rs`.
 
 use mlpg_contact::mls::Basis;
 use mlpg_contact::post::plot;
@@ -14,7 +14,8 @@ pub struct Variant {
     pub beta: f64,
 }
 
-/// The variants of issue 7's study.
+/// The variants of the β study: the paper's mixed method, the blend β with larger supports, and
+/// the quadratic basis.
 pub const VARIANTS: [Variant; 5] = [
     Variant {
         name: "mixed β=0, α_s=2 (paper)",
@@ -32,30 +33,6 @@ pub const VARIANTS: [Variant; 5] = [
         beta: 0.0,
     },
 ];
-
-/// `--finest h` (default `default_finest`) and `--only k` (1-based variant).
-pub struct Args {
-    pub finest: f64,
-    pub only: Option<usize>,
-}
-
-impl Args {
-    pub fn parse(default_finest: f64) -> Self {
-        let args: Vec<String> = std::env::args().collect();
-        let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1));
-        Self {
-            finest: value("--finest")
-                .map(|v| v.parse::<f64>().expect("--finest takes a number"))
-                .unwrap_or(default_finest),
-            only: value("--only")
-                .map(|v| v.parse::<usize>().expect("--only takes a variant number")),
-        }
-    }
-    /// Whether variant `k` (0-based) runs.
-    pub fn runs(&self, k: usize) -> bool {
-        self.only.is_none_or(|o| o == k + 1)
-    }
-}
 
 /// `coarsest, coarsest/2, …` down to `finest`.
 pub fn spacings(coarsest: f64, finest: f64) -> Vec<f64> {

@@ -2,7 +2,7 @@
 //! system of a problem file with its node spacing overridden. Run with
 //!
 //! ```text
-//! cargo run --release --example factor_orderings -- <problem.toml> <spacing> [variant ...]
+//! cargo run --release --example factor_orderings -- <problem.toml> <spacing> [variant ...] [--beta 1]
 //! ```
 //!
 //! A variant is `nd` or `colamd` followed by optional `:key=value` settings: `void=1e-14`
@@ -15,9 +15,14 @@
 //! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
 //! of one solve against the full `K`, the solve time and a hash of the solution (equal hashes
 //! = bit-identical solutions). The last line is the peak resident memory of the process
-//! (`VmHWM`): run one variant per process to measure its memory. `MLPG_BETA=1` overrides the
-//! problem's `discretisation.beta`.
+//! (`VmHWM`): run one variant per process to measure its memory. `--beta 1` and
+//! `--support-factor 1.5` override the problem's `discretisation.beta` and
+//! `discretisation.support_factor`.
 
+mod args;
+
+use clap::Parser;
+use std::path::PathBuf;
 use std::time::Instant;
 
 use mlpg_contact::assembly::{self, AssemblyInput};
@@ -34,15 +39,32 @@ fn peak_rss_mib() -> Option<f64> {
     Some(line.split_whitespace().nth(1)?.parse::<f64>().ok()? / 1024.0)
 }
 
+/// Column orderings and options of the sparse LU on the system of a problem file.
+#[derive(Parser)]
+struct Cli {
+    /// Problem file (TOML)
+    problem: PathBuf,
+    /// Node spacing h (overrides the file's)
+    #[arg(value_parser = args::positive)]
+    spacing: f64,
+    /// `nd` or `colamd`, each followed by optional `:key=value` settings (see the file header)
+    #[arg(default_values = ["nd", "colamd"])]
+    variants: Vec<String>,
+    #[command(flatten)]
+    operator: args::Operator,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let [file, spacing, variants @ ..] = args.as_slice() else {
-        return Err("usage: factor_orderings <problem.toml> <spacing> [variant ...]".into());
-    };
-    let mut problem = Problem::from_toml(&std::fs::read_to_string(file)?)?;
-    problem.node_spacing = spacing.parse()?;
-    if let Some(beta) = std::env::var("MLPG_BETA").ok().and_then(|v| v.parse().ok()) {
+    args::refuse_retired_env(&[("MLPG_BETA", "--beta")]);
+    let cli: Cli = args::parse(&[]);
+    let (spacing, variants) = (cli.spacing, &cli.variants);
+    let mut problem = Problem::from_toml(&std::fs::read_to_string(&cli.problem)?)?;
+    problem.node_spacing = spacing;
+    if let Some(beta) = cli.operator.beta {
         problem.discretisation.beta = beta;
+    }
+    if let Some(support_factor) = cli.operator.support_factor {
+        problem.discretisation.mls.support_factor = support_factor;
     }
     let t = Instant::now();
     let disc = &problem.discretisation;
@@ -78,8 +100,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         t.elapsed().as_secs_f64(),
         linear_solve::separator_width(k, &nodes.points)
     );
-    let defaults = ["nd".to_string(), "colamd".to_string()];
-    let variants = if variants.is_empty() { &defaults[..] } else { variants };
     let b = &system.rhs;
     for v in variants {
         let mut parts = v.split(':');

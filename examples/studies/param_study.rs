@@ -1,6 +1,7 @@
-//! Issue 5 parameter study: how accuracy depends on the support factor `α_s`, the MLS basis,
-//! the cell type and the number of Gauss points per cell-boundary segment, one parameter at a
-//! time around the defaults (linear basis, `α_s = 2`, 2 points, `β = 0`, structured nodes), on
+//! Parameter study, the one that justified the defaults: how accuracy depends on the support
+//! factor `α_s`, the MLS basis, the cell type and the number of Gauss points per cell-boundary
+//! segment, one parameter at a time around the defaults (linear basis, `α_s = 2`, 2 points,
+//! `β = 0`, structured nodes), on
 //!
 //! - the cantilever (`problems/cantilever.toml`, with the exact end conditions of the closed
 //!   form in `tests/validation/end_shear_exact.rs`): relative L2 and energy-norm errors at
@@ -13,7 +14,7 @@
 //! The FE reference is computed at h = 0.25 and 0.125 on every run; its finest row (h = 0.0625,
 //! 593k DOFs, minutes and ~6 GB) is read from `docs/data/param_study_fe_reference.csv` when the
 //! cache's coarser rows agree with the fresh ones to 1e-9, and computed and cached otherwise
-//! (or when `fe-fine` is given).
+//! (or when `--fe-fine` is given).
 //!
 //! Every variant runs with `allow_unstable` (and `contact.allow_indefinite`), so the
 //! combinations the program refuses by default are run and shown with their flags, not
@@ -21,17 +22,24 @@
 //! (SVG and PNG); the full run also copies the SVGs to `docs/img/`. Results and conclusions:
 //! `docs/param_study.md`.
 //!
-//! `cargo run --release --example param_study [-- fe-fine]` (full) or `… -- quick` (coarser
-//! spacings, FE reference at h = 0.25, for a check that it runs; writes nothing into `docs/`).
-//! No parameter is tuned toward any number of the paper.
+//! ```text
+//! cargo run --release --example param_study [-- --fe-fine]   # full run
+//! cargo run --release --example param_study -- --quick       # a check that it runs
+//! ```
+//!
+//! `--quick`: coarser spacings, FE reference at h = 0.25, writes nothing into `docs/`;
+//! `--fe-fine`: recompute the cached FE row. No parameter is tuned toward any number of the
+//! paper.
 
+mod args;
 // The shared module also serves the β studies; only part of it is used here.
 #[allow(dead_code)]
 mod study;
 
-#[path = "../tests/validation/end_shear_exact.rs"]
+#[path = "../../tests/validation/end_shear_exact.rs"]
 mod end_shear_exact;
 
+use clap::{Parser, ValueEnum};
 use end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
 use mlpg_contact::material::PlaneState;
 use mlpg_contact::mls::Basis;
@@ -131,16 +139,36 @@ struct Plan {
     fem_cached: Option<f64>,
 }
 
+/// Parameter study on the cantilever and the beam on a rigid foundation: support factor, MLS
+/// basis, cell type, Gauss points and β, one at a time around the defaults.
+#[derive(Parser)]
+struct Cli {
+    /// Coarser spacings and the FE reference at h = 0.5 and 0.25 only: a check that the study
+    /// runs (20–40 s); writes nothing into docs/
+    #[arg(long)]
+    quick: bool,
+    /// Recompute the finest FE reference row (h = 0.0625; minutes and ~6 GB) instead of
+    /// reading it from docs/data/ (full run only)
+    #[arg(long)]
+    fe_fine: bool,
+    /// The flags written as words (`quick`, `fe-fine`), as docs/param_study.md gives them.
+    #[arg(value_enum, hide = true)]
+    words: Vec<Word>,
+}
+
+/// `--quick` and `--fe-fine` written without the dashes.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Word {
+    Quick,
+    FeFine,
+}
+
 impl Plan {
     fn parse() -> Self {
-        let args: Vec<String> = std::env::args().skip(1).collect();
-        let has = |a: &str| args.iter().any(|x| x == a || x.strip_prefix("--") == Some(a));
-        if let Some(bad) =
-            args.iter().find(|a| !["quick", "fe-fine"].contains(&a.trim_start_matches('-')))
-        {
-            panic!("unknown argument {bad:?}: expected `quick` and/or `fe-fine`");
-        }
-        if has("quick") {
+        let cli: Cli = args::parse(&[]);
+        let quick = cli.quick || cli.words.contains(&Word::Quick);
+        let fe_fine = cli.fe_fine || cli.words.contains(&Word::FeFine);
+        if quick {
             Self {
                 quick: true,
                 fe_fine: false,
@@ -152,7 +180,7 @@ impl Plan {
         } else {
             Self {
                 quick: false,
-                fe_fine: has("fe-fine"),
+                fe_fine,
                 cantilever: vec![2.0, 1.0, 0.5, 0.25],
                 beam: vec![1.0, 0.5, 0.25, 0.125],
                 fem: vec![0.25, 0.125],
@@ -406,10 +434,10 @@ fn write_fe_cache(path: &Path, rows: &[(f64, BeamRow)]) {
         .and_then(|o| String::from_utf8(o.stdout).ok())
         .map_or("unknown".into(), |s| s.trim().to_string());
     let mut text = format!(
-        "# Q2 FE reference of examples/param_study.rs: problems/beam_on_foundation.toml with\n\
+        "# Q2 FE reference of examples/studies/param_study.rs: problems/beam_on_foundation.toml with\n\
          # method = \"fem\" (element size h); u_y at (48, 0); seconds: wall time of that run.\n\
          # Written by `cargo run --release --example param_study` (full run, cache missing or\n\
-         # stale, or `-- fe-fine`) at commit {commit} plus uncommitted changes, if any. Every\n\
+         # stale, or `-- --fe-fine`) at commit {commit} plus uncommitted changes, if any. Every\n\
          # full run recomputes the coarser rows and ignores this file unless they agree to 1e-9.\n\
          h,nodes,force,onset_raw,onset,tip,m_ok,intervals,seconds\n"
     );
@@ -427,7 +455,7 @@ fn fe_reference(base: &Problem, plan: &Plan) -> Reference {
     if let Some(fine) = plan.fem_cached {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(FE_CACHE);
         let cached =
-            if plan.fe_fine { Err("fe-fine given".into()) } else { read_fe_cache(&path, &rows) };
+            if plan.fe_fine { Err("--fe-fine given".into()) } else { read_fe_cache(&path, &rows) };
         match cached.ok().and_then(|c| c.into_iter().find(|(h, _)| *h == fine)) {
             Some(row) => {
                 note = format!(
@@ -817,7 +845,7 @@ fn draw_grid<DB: DrawingBackend>(
 }
 
 fn draw_figure(path: &Path, title: &str, columns: usize, panels: &[Panel], size: (u32, u32)) {
-    static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+    static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
     static REGISTER: std::sync::Once = std::sync::Once::new();
     REGISTER.call_once(|| {
         if plotters::style::register_font("sans-serif", FontStyle::Normal, FONT).is_err() {

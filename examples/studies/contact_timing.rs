@@ -1,19 +1,23 @@
-//! Timing of the contact stages on a long strip with ~2 000 contact candidates (issue 4's
-//! size): a strip `L × 1` (default `L = 100`), clamped on its left edge, under a uniform
-//! downward load `1` on its top edge, above a rigid foundation `0.01` below its bottom edge
-//! (the beam on foundation, stretched). Plane stress, `E = 30 000`, `ν = 0.3`, linear basis,
-//! `α_s = 2`. Run with
+//! Timing of the contact stages on a long strip with ~2 000 contact candidates (the size for
+//! which condensation, checks of `M` and Lemke together were to take under 10 s): a strip
+//! `L × 1` (default `L = 100`), clamped on its left edge, under a uniform downward load `1` on
+//! its top edge, above a rigid foundation `0.01` below its bottom edge (the beam on
+//! foundation, stretched). Plane stress, `E = 30 000`, `ν = 0.3`, linear basis, `α_s = 2`.
+//! Run with
 //!
 //! ```text
-//! cargo run --release --example contact_timing [-- h [L [repeats [block,block,...]]]]
+//! cargo run --release --example contact_timing -- [--spacing h] [--length L] [--repeats r] [--blocks 32,64,...]
 //! ```
 //!
-//! (default `h = 0.05`, `L = 100`: 42 021 nodes and 2 000 candidates; `repeats = 3`; block =
-//! the library's default width). Prints the discretisation stages once, then for each block
-//! width the condensation `M = G K⁻¹ E` `repeats` times (min and max) with a hash of `M`,
-//! the checks of `M` (Cholesky and Lanczos, `contact::spectrum`), and Lemke (pivots,
-//! seconds). Nothing is asserted.
+//! (defaults `--spacing 0.05 --length 100`: 42 021 nodes and 2 000 candidates; `--repeats 3`;
+//! without `--blocks`, the library's default block width). Prints the discretisation stages
+//! once, then for each block width the condensation `M = G K⁻¹ E` `repeats` times (min and
+//! max) with a hash of `M`, the checks of `M` (Cholesky and Lanczos, `contact::spectrum`), and
+//! Lemke (pivots, seconds). Nothing is asserted.
 
+mod args;
+
+use clap::Parser;
 use std::time::Instant;
 
 use mlpg_contact::contact::{self, ContactTarget};
@@ -58,15 +62,29 @@ fn strip(h: f64, length: f64) -> Problem {
     }
 }
 
+/// Timing of the contact stages (candidates, condensation, checks of M, Lemke) on a long strip
+/// above a rigid foundation.
+#[derive(Parser)]
+struct Cli {
+    /// Node spacing h
+    #[arg(long, value_name = "H", default_value_t = 0.05, value_parser = args::positive)]
+    spacing: f64,
+    /// Length L of the strip L × 1
+    #[arg(long, value_name = "L", default_value_t = 100.0, value_parser = args::positive)]
+    length: f64,
+    /// Condensations timed per block width
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
+    /// Block widths of the condensation, comma-separated (default: the library's width)
+    #[arg(long, value_name = "WIDTH", value_delimiter = ',')]
+    blocks: Vec<usize>,
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let h: f64 = args.first().map_or(Ok(0.05), |s| s.parse())?;
-    let length: f64 = args.get(1).map_or(Ok(100.0), |s| s.parse())?;
-    let repeats: usize = args.get(2).map_or(Ok(3), |s| s.parse())?;
-    let blocks: Vec<Option<usize>> = match args.get(3) {
-        Some(list) => list.split(',').map(|b| b.parse().map(Some)).collect::<Result<_, _>>()?,
-        None => vec![None],
-    };
+    let cli: Cli = args::parse(&[]);
+    let (h, length, repeats) = (cli.spacing, cli.length, cli.repeats);
+    let blocks: Vec<Option<usize>> =
+        if cli.blocks.is_empty() { vec![None] } else { cli.blocks.into_iter().map(Some).collect() };
     let problem = strip(h, length);
     println!("strip {length} x 1, h = {h}; {} rayon threads", rayon::current_num_threads());
     let t0 = Instant::now();

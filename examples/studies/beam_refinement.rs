@@ -2,8 +2,15 @@
 //! node spacing, then support factor and quadrature at one spacing. Prints Markdown tables
 //! (the README's) and the successive differences of the headline values.
 //!
-//! `cargo run --release --example beam_refinement [-- --finest 0.0625]`
+//! ```text
+//! cargo run --release --example beam_refinement -- [--finest 0.0625]
+//! ```
+//!
+//! `--finest h`: the finest spacing of the ladder 0.5, 0.25, … (default 0.0625).
 
+mod args;
+
+use clap::Parser;
 use mlpg_contact::contact::Condensation;
 use mlpg_contact::problem::Problem;
 use std::time::Instant;
@@ -107,14 +114,17 @@ fn differences(name: &str, v: &[f64]) {
     println!("{name}: successive differences {}", text.join(", "));
 }
 
+/// Refinement study of the beam on a rigid foundation: node spacing, support factor,
+/// quadrature, and the paper's stiffness form of the contact condensation.
+#[derive(Parser)]
+struct Cli {
+    #[command(flatten)]
+    ladder: args::Ladder,
+}
+
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let finest = args
-        .iter()
-        .position(|a| a == "--finest")
-        .and_then(|i| args.get(i + 1))
-        .and_then(|v| v.parse::<f64>().ok())
-        .unwrap_or(0.0625);
+    let cli: Cli = args::parse(&[("finest", "0.0625")]);
+    let finest = cli.ladder.finest;
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/beam_on_foundation.toml");
     let base = Problem::from_toml(&std::fs::read_to_string(path).expect("problem file"))
         .expect("valid problem");

@@ -1,22 +1,29 @@
-//! Issue 7 study: accuracy per cost of the stabilised MFVM variants (method.md §3.9) on the
-//! paper's beam on a rigid foundation (problems/beam_on_foundation.toml), at several node
-//! spacings. Prints one Markdown table per variant: contact onset `l_c` (both estimators), total
+//! Accuracy per cost of the stabilised MFVM variants (method.md §3.9: the blend β of the
+//! collocated and the direct MLS strains, larger supports, the quadratic basis) on the paper's
+//! beam on a rigid foundation (problems/beam_on_foundation.toml), at several node spacings.
+//! Prints one Markdown table per variant: contact onset `l_c` (both estimators), total
 //! contact force `F_c`, peak pressure, pressure ripple, tip deflection, node and nonzero counts,
 //! and wall time per stage; then the errors against the independent Q2 FE reference
 //! (`F_c = 32.3476 ± 1e-4`, `l_c = 19.810 ± 0.005`, `u_y(48, 0) = −0.01009996`; see
 //! tests/validation/beam_on_foundation.rs).
 //!
-//! `cargo run --release --example beta_study [-- --finest 0.0625] [--only 2]` (`--only k`:
-//! just variant `k` of the list, 1-based).
+//! ```text
+//! cargo run --release --example beta_study -- [--finest 0.0625] [--only 2]
+//! ```
 //!
-//! No parameter is tuned toward any number of the paper; the Hertz case of the issue is
-//! examples/beta_study_hertz.rs.
+//! `--finest h`: the finest spacing of the ladder 1, 0.5, … (default 0.125); `--only k`: just
+//! variant `k` of the list, 1-based. Results: docs/dev/beta_study.md.
+//!
+//! No parameter is tuned toward any number of the paper; the Hertz case of the study is
+//! examples/studies/beta_study_hertz.rs.
 
+mod args;
 mod study;
 
+use clap::Parser;
 use mlpg_contact::problem::Problem;
 use std::time::Instant;
-use study::{Args, ChartSpec, VARIANTS, Variant};
+use study::{ChartSpec, VARIANTS, Variant};
 
 /// FE reference (see the module doc).
 const FE_FORCE: f64 = 32.3476;
@@ -67,14 +74,24 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, mlpg_contact::Error> 
     })
 }
 
+/// Accuracy per cost of the stabilised MFVM variants on the beam on a rigid foundation, one
+/// Markdown table per variant.
+#[derive(Parser)]
+struct Cli {
+    #[command(flatten)]
+    ladder: args::Ladder,
+    #[command(flatten)]
+    only: args::Only,
+}
+
 fn main() {
-    let args = Args::parse(0.125);
+    let cli: Cli = args::parse(&[("finest", "0.125")]);
     let base = study::load("beam_on_foundation.toml");
-    let spacings = study::spacings(1.0, args.finest);
+    let spacings = study::spacings(1.0, cli.ladder.finest);
     println!("FE reference: F_c = {FE_FORCE}, l_c = {FE_ONSET}\n");
     let mut results: Vec<(&str, Vec<Row>)> = Vec::new();
     for (k, v) in VARIANTS.iter().enumerate() {
-        if !args.runs(k) {
+        if !cli.only.runs(k) {
             continue;
         }
         let mut rows = Vec::new();

@@ -1,7 +1,7 @@
-//! Issue 7 study, Hertz case: accuracy per cost of the stabilised MFVM variants (method.md
-//! §3.9) on an elastic cylinder pressed onto a rigid flat (problems/hertz_cylinder.toml: a
-//! quarter disk of radius 1 with curved boundaries, plane strain), at several node spacings.
-//! The variants are those of examples/beta_study.rs (the beam study).
+//! Accuracy per cost of the stabilised MFVM variants (method.md §3.9), Hertz case: on an
+//! elastic cylinder pressed onto a rigid flat (problems/hertz_cylinder.toml: a quarter disk of
+//! radius 1 with curved boundaries, plane strain), at several node spacings.
+//! The variants are those of examples/studies/beta_study.rs (the beam study).
 //!
 //! Measured as in tests/validation/hertz.rs: the resultant per unit length of the whole
 //! cylinder is `P = 2 × total contact force`; Hertz (Johnson §4.3) gives `a = √(4PR/(πE*))`,
@@ -13,17 +13,23 @@
 //! beam study) and wall time per stage. A variant that fails (refused, `M` check, LCP) is a
 //! row saying why.
 //!
-//! `cargo run --release --example beta_study_hertz [-- --finest 0.01] [--only 2]` (`--only k`:
-//! just variant `k` of the list, 1-based). Spacings 0.04, 0.02, 0.01, 0.005 by default.
+//! ```text
+//! cargo run --release --example beta_study_hertz -- [--finest 0.01] [--only 2]
+//! ```
+//!
+//! `--finest h`: the finest spacing of the ladder 0.04, 0.02, … (default 0.005); `--only k`:
+//! just variant `k` of the list, 1-based. Results: docs/dev/beta_study.md.
 //!
 //! The problem is loaded from the problem file, not from test code; nothing is tuned toward
 //! any number of the paper.
 
+mod args;
 mod study;
 
+use clap::Parser;
 use mlpg_contact::problem::Problem;
 use std::time::Instant;
-use study::{Args, ChartSpec, VARIANTS, Variant};
+use study::{ChartSpec, VARIANTS, Variant};
 
 const RADIUS: f64 = 1.0;
 
@@ -105,13 +111,23 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, String> {
     })
 }
 
+/// Accuracy per cost of the stabilised MFVM variants on the Hertz cylinder, one Markdown table
+/// per variant.
+#[derive(Parser)]
+struct Cli {
+    #[command(flatten)]
+    ladder: args::Ladder,
+    #[command(flatten)]
+    only: args::Only,
+}
+
 fn main() {
-    let args = Args::parse(0.005);
+    let cli: Cli = args::parse(&[("finest", "0.005")]);
     let base = study::load("hertz_cylinder.toml");
-    let spacings = study::spacings(0.04, args.finest);
+    let spacings = study::spacings(0.04, cli.ladder.finest);
     let mut results: Vec<(&str, Vec<Row>)> = Vec::new();
     for (k, v) in VARIANTS.iter().enumerate() {
-        if !args.runs(k) {
+        if !cli.only.runs(k) {
             continue;
         }
         let mut rows = Vec::new();

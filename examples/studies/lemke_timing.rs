@@ -5,11 +5,14 @@
 //! and q uniform in [−1, 1]ⁿ (about half negative). Run with
 //!
 //! ```text
-//! cargo run --release --example lemke_timing [n1 n2 ...]
+//! cargo run --release --example lemke_timing -- [n1 n2 ...]
 //! ```
 //!
 //! (default sizes 250, 500, 1000, 2000). Prints n, pivots, seconds and the scaled residuals.
 
+mod args;
+
+use clap::Parser;
 use std::time::Instant;
 
 use mlpg_contact::lcp::{Lcp, LemkeParams, lemke};
@@ -102,11 +105,16 @@ fn run(label: &str, lcp: &Lcp, setup: f64) {
     }
 }
 
+/// Timing of Lemke's method on random dense LCPs of contact size.
+#[derive(Parser)]
+struct Cli {
+    /// LCP sizes n, written 2000 or 2k
+    #[arg(value_name = "N", value_parser = args::count, default_values_t = [250, 500, 1000, 2000])]
+    sizes: Vec<usize>,
+}
+
 fn main() {
-    let sizes: Vec<usize> = {
-        let args: Vec<usize> = std::env::args().skip(1).filter_map(|a| a.parse().ok()).collect();
-        if args.is_empty() { vec![250, 500, 1000, 2000] } else { args }
-    };
+    let sizes = args::parse::<Cli>(&[]).sizes;
     println!(
         "q \"uniform\": q_i uniform in [-1, 1]; q \"25% zero\": the same with q_i = 0 for i = 0 mod 4"
     );
