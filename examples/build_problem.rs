@@ -14,60 +14,41 @@
 //! bottom edge; plane stress. The tip would deflect about 0.6 without the foundation, so the
 //! strip comes to rest on it.
 
+use mlpg_contact::material::PlaneState;
 use mlpg_contact::problem::{
     BoundaryFile, ComponentsFile, ContactFile, DiscretisationFile, GeometryFile, MaterialFile,
-    NodesFile, OutputFile, Problem, ProblemError, ProblemFile, ValueFile,
+    NodesFile, OutputFile, Problem, ProblemError, ProblemFile,
 };
 
 /// The problem as the raw structs. Each struct is one table of a problem file; a field that
-/// is an `Option` may be left out of a file, and `None` here means the same: its default.
+/// is an `Option` may be left out of a file, and `None` here means the same: its default. The
+/// constructors (`NodesFile::structured`, `BoundaryFile::displacement`, …) fill in the rest.
 fn strip_on_foundation() -> ProblemFile {
     ProblemFile {
         name: Some("strip_on_foundation".into()),
         // [geometry]: a rectangle, whose edges are named bottom, right, top and left.
         geometry: Some(GeometryFile::Rectangle { x: [0.0, 8.0], y: [0.0, 1.0] }),
         // [nodes]: the nominal node spacing h, on a structured grid.
-        nodes: Some(NodesFile { spacing: 0.125, layout: None, jitter: None, seed: None }),
+        nodes: Some(NodesFile::structured(0.125)),
         // [material]: Young's modulus, Poisson's ratio, plane stress.
-        material: Some(MaterialFile { young: 1000.0, poisson: 0.3, plane: "stress".into() }),
+        material: Some(MaterialFile::new(1000.0, 0.3, PlaneState::Stress)),
         // [discretisation]: everything at its default (the paper's mixed MFVM: linear basis,
         // support factor 2, β = 0). `DiscretisationFile { beta: Some(1.0), ..Default::default() }`
         // would choose the stabilised variant.
         discretisation: DiscretisationFile::default(),
         // [[boundary]]: one entry per edge with a condition; the others are traction-free.
         boundary: vec![
-            BoundaryFile {
-                edge: "left".into(),
-                displacement: Some(ComponentsFile {
-                    x: Some(ValueFile::Constant(0.0)),
-                    y: Some(ValueFile::Constant(0.0)),
-                }),
-                traction: None,
-                pressure: None,
-            },
-            BoundaryFile {
-                edge: "top".into(),
-                displacement: None,
-                traction: Some(ComponentsFile { x: None, y: Some(ValueFile::Constant(-0.1)) }),
-                pressure: None,
-            },
+            BoundaryFile::displacement("left", ComponentsFile::xy(0.0, 0.0)),
+            BoundaryFile::traction("top", ComponentsFile::y(-0.1)),
         ],
-        // [contact]: the bottom edge against a rigid straight line through `obstacle_point`,
-        // whose normal points into the body.
-        contact: Some(ContactFile {
-            edge: "bottom".into(),
-            obstacle_point: Some([0.0, -0.05]),
-            obstacle_normal: Some([0.0, 1.0]),
-            target_edge: None,
-            gap_tolerance: None,
-            allow_indefinite: None,
-            condensation: None,
-        }),
+        // [contact]: the bottom edge against a rigid straight line through a point, whose
+        // normal points into the body.
+        contact: Some(ContactFile::rigid_line("bottom", [0.0, -0.05], [0.0, 1.0])),
         // [output]: which edge's displacement profile to plot (used by `mlpg_contact::run`).
         output: OutputFile { profile_edge: Some("bottom".into()) },
-        body_force: None,
-        // Two-body problems list two [[body]] tables here instead of geometry, nodes, ….
-        body: Vec::new(),
+        // Everything else at its default (two-body problems list two [[body]] tables instead
+        // of geometry, nodes, …).
+        ..ProblemFile::default()
     }
 }
 

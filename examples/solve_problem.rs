@@ -76,12 +76,11 @@ fn main() -> anyhow::Result<()> {
         None => println!("  (no contact in this problem)"),
     }
 
-    // Step 4. `run` solves again and writes the CSV tables, VTU files and plots into `out`;
-    // it returns the summary for the caller to write, as the command line does.
+    // Step 4. `run` is what the command line does: it solves again and writes the CSV
+    // tables, the VTU file, the plots and summary.json into `out`, and returns the summary as
+    // a typed struct (`report.summary.contact`, `.checks`, …).
     let out = Path::new("out").join("solve_problem").join(&problem.name);
     let report = mlpg_contact::run(&problem, &out, input, &mut mlpg_contact::Silent)?;
-    let summary = serde_json::to_string_pretty(&report.summary)?;
-    std::fs::write(out.join("summary.json"), summary)?;
     println!("{report} into {}", out.display());
     Ok(())
 }

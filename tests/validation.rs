@@ -3,7 +3,7 @@ mod validation {
     mod common;
     // Linear field reproduced to round-off, structured and jittered nodes.
     mod patch_test;
-    // Timoshenko & Goodier cantilever: the closed form (also used by examples/param_study.rs).
+    // Timoshenko & Goodier cantilever: the closed form (also used by examples/studies/param_study.rs).
     mod end_shear_exact;
     // Timoshenko & Goodier cantilever: errors and rates, structured and jittered.
     mod cantilever_end_shear;

@@ -20,7 +20,7 @@ use rayon::prelude::*;
 /// Right-hand sides per blocked solve. Fixed (not derived from the thread count) so results
 /// are bit-identical whatever the number of threads (a column's arithmetic does not depend on
 /// its block: `M` was bit-identical for 32, 64, 128 and 256). On the 2 000-candidate strip
-/// (`examples/contact_timing.rs`) 64 and 128 ran in 13–25 s against 25–33 s for 32 (noisy,
+/// (`examples/studies/contact_timing.rs`) 64 and 128 ran in 13–25 s against 25–33 s for 32 (noisy,
 /// shared machine); 64 keeps a block's `n × 64` right-hand sides small for large bodies.
 const BLOCK: usize = 64;
 

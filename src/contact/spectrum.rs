@@ -18,7 +18,7 @@
 //! estimates extreme eigenvalues of `S + δS` with `‖δS‖ = O(n ε ‖S‖)` (the backward error of
 //! the Cholesky factor and the solves), which is the accuracy of a full eigen-decomposition as
 //! well: an absolute `O(n ε λ_max)` in `λ_min`. On the 2 000-candidate strip
-//! (`examples/contact_timing.rs`, `λ_max/λ_min ≈ 10⁹`) the estimates and all eigenvalues agree
+//! (`examples/studies/contact_timing.rs`, `λ_max/λ_min ≈ 10⁹`) the estimates and all eigenvalues agree
 //! to 1.6·10⁻⁹ relative in `λ_min` and 1.5·10⁻¹⁵ in `λ_max`; the unit tests compare them on
 //! matrices with known spectra (condition numbers up to 10⁶, double extreme eigenvalues).
 //!

@@ -99,7 +99,7 @@ impl LemkeParams {
 /// pivot in memory-bound loops: the cost per pivot is still O(n·k) flops but runs at the
 /// processor's arithmetic speed. On the 2 000-candidate strip, where contact closes along a
 /// front and every guess enters in turn, 1 888 pivots take 2.4–2.8× less time than the
-/// previous per-pivot update (`examples/lemke_timing.rs`, `examples/contact_timing.rs`;
+/// previous per-pivot update (`examples/studies/lemke_timing.rs`, `examples/studies/contact_timing.rs`;
 /// `docs/dev/performance.md`). All products run sequentially, so results do not depend on the
 /// number of threads.
 ///

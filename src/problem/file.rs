@@ -6,7 +6,7 @@ use crate::material::PlaneState;
 use serde::{Deserialize, Serialize};
 
 /// The problem file as written (TOML). See `problems/*.toml` for annotated examples.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProblemFile {
     /// Name used in outputs.
@@ -45,7 +45,7 @@ pub struct ProblemFile {
 /// `[contact]`: one edge of the body against a rigid straight line (`obstacle_point`,
 /// `obstacle_normal`), or, with two `[[body]]` tables, against an edge of the second body
 /// (`target_edge`).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
     /// The edge that may touch the obstacle.
@@ -217,7 +217,7 @@ pub struct OutputFile {
 }
 
 /// One `[[boundary]]` entry.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundaryFile {
     /// Edge name.
@@ -234,7 +234,7 @@ pub struct BoundaryFile {
 }
 
 /// `{ x = …, y = … }`, each optional.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ComponentsFile {
     /// x component.
@@ -296,6 +296,83 @@ where
         }
     }
     deserializer.deserialize_any(TableOrPreset)
+}
+
+// Constructors for building a problem in code (`examples/build_problem.rs`): each returns the
+// table with its other keys at their defaults, as if left out of the file.
+
+impl NodesFile {
+    /// `[nodes] spacing = h` on the structured layout.
+    pub fn structured(spacing: f64) -> Self {
+        Self { spacing, layout: None, jitter: None, seed: None }
+    }
+}
+
+impl MaterialFile {
+    /// `[material]`: Young's modulus, Poisson's ratio and the plane state.
+    pub fn new(young: f64, poisson: f64, plane: PlaneState) -> Self {
+        Self { young, poisson, plane }
+    }
+}
+
+impl ComponentsFile {
+    /// Both components, constant.
+    pub fn xy(x: f64, y: f64) -> Self {
+        Self { x: Some(x.into()), y: Some(y.into()) }
+    }
+    /// The `x` component alone (`y` free).
+    pub fn x(x: f64) -> Self {
+        Self { x: Some(x.into()), y: None }
+    }
+    /// The `y` component alone (`x` free).
+    pub fn y(y: f64) -> Self {
+        Self { x: None, y: Some(y.into()) }
+    }
+}
+
+impl From<f64> for ValueFile {
+    fn from(v: f64) -> Self {
+        ValueFile::Constant(v)
+    }
+}
+
+impl From<[f64; 2]> for ValueFile {
+    /// `[start, end]`, linear along the edge.
+    fn from(v: [f64; 2]) -> Self {
+        ValueFile::Linear(v)
+    }
+}
+
+impl BoundaryFile {
+    /// `[[boundary]]`: prescribed displacement components on `edge`.
+    pub fn displacement(edge: impl Into<String>, components: ComponentsFile) -> Self {
+        Self { edge: edge.into(), displacement: Some(components), ..Self::default() }
+    }
+    /// `[[boundary]]`: a traction (force per unit length, global components) on `edge`.
+    pub fn traction(edge: impl Into<String>, components: ComponentsFile) -> Self {
+        Self { edge: edge.into(), traction: Some(components), ..Self::default() }
+    }
+    /// `[[boundary]]`: a pressure (pushing into the body) on `edge`.
+    pub fn pressure(edge: impl Into<String>, pressure: impl Into<ValueFile>) -> Self {
+        Self { edge: edge.into(), pressure: Some(pressure.into()), ..Self::default() }
+    }
+}
+
+impl ContactFile {
+    /// `[contact]`: `edge` against the rigid straight line through `point` with unit normal
+    /// `normal` pointing into the body.
+    pub fn rigid_line(edge: impl Into<String>, point: [f64; 2], normal: [f64; 2]) -> Self {
+        Self {
+            edge: edge.into(),
+            obstacle_point: Some(point),
+            obstacle_normal: Some(normal),
+            ..Self::default()
+        }
+    }
+    /// `[contact]` of two bodies: `edge` of the first against `target_edge` of the second.
+    pub fn bodies(edge: impl Into<String>, target_edge: impl Into<String>) -> Self {
+        Self { edge: edge.into(), target_edge: Some(target_edge.into()), ..Self::default() }
+    }
 }
 
 /// The direction of a circular arc in `[geometry] curves` (`turn = "ccw" | "cw"`).

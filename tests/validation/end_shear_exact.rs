@@ -7,7 +7,7 @@
 //! (Checked symbolically: equilibrium, traction-free top and bottom, resultant shear `P`.)
 //!
 //! Used by `cantilever_end_shear.rs`, `fem_cantilever.rs` and (through `#[path]`)
-//! `examples/param_study.rs`; depends on nothing but `std`.
+//! `examples/studies/param_study.rs`; depends on nothing but `std`.
 
 /// Length `L` (the beam spans `x ∈ [0, L]`).
 pub const LENGTH: f64 = 48.0;
