@@ -112,26 +112,22 @@ impl Inputs {
             &nodes,
             &supports,
             &disc.mls,
-            disc.beta > 0.0,
+            assembly::needs_face_gradients(disc.beta),
         )
         .expect("face shapes");
         Self { problem, nodes, supports, cells, faces, face_quadrature, face_shapes, node_shapes }
     }
 
     fn assemble(&self) -> GlobalSystem {
+        let d = self.problem.material.constitutive();
         assembly::assemble(&AssemblyInput {
-            domain: &self.problem.domain,
-            nodes: &self.nodes,
+            body: assembly::Body::new(&self.problem, &self.nodes, &d),
             cells: &self.cells,
             interior_faces: &self.faces.interior,
             boundary_faces: &self.faces.boundary,
             face_quadrature: &self.face_quadrature,
             face_shapes: &self.face_shapes,
             node_shapes: &self.node_shapes,
-            d: &self.problem.material.constitutive(),
-            boundary: &self.problem.boundary,
-            body_force: self.problem.body_force.as_ref(),
-            load_quadrature_points: self.problem.discretisation.load_quadrature_points,
             beta: self.problem.discretisation.beta,
         })
         .expect("assembly")

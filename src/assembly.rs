@@ -16,7 +16,7 @@ use crate::geometry::{Domain, Point};
 use crate::material::Constitutive;
 use crate::mls::ShapeSet;
 use crate::nodes::{Axis, Nodes, dof};
-use crate::problem::{BodyForce, ComponentCondition, EdgeCondition, Field};
+use crate::problem::{BodyForce, ComponentCondition, EdgeCondition, Field, Problem};
 use crate::weak_form::{
     Cell, CellError, EdgeLabel, Face, FaceQuadrature, segment_rule, traction_operator,
 };
@@ -164,10 +164,8 @@ impl GlobalSystem {
 
 /// What assembly needs from the earlier stages.
 pub struct AssemblyInput<'a> {
-    /// Domain (edge normals and parameters).
-    pub domain: &'a Domain,
-    /// Nodes.
-    pub nodes: &'a Nodes,
+    /// The body: domain, nodes, material, conditions and loads.
+    pub body: Body<'a>,
     /// Cells.
     pub cells: &'a [Cell],
     /// Interior faces.
@@ -180,16 +178,41 @@ pub struct AssemblyInput<'a> {
     pub face_shapes: &'a ShapeSet,
     /// Shape functions with gradients at the nodes (`S` and collocation).
     pub node_shapes: &'a ShapeSet,
+    /// Stabilisation blend `β ∈ [0, 1]` (docs/method.md §3.9; 0 = the paper's mixed method).
+    pub beta: f64,
+}
+
+/// What either discretisation ([`assemble`], [`crate::fem::system::assemble`]) needs of the
+/// body: its domain and nodes, the constitutive matrix, the edge conditions and the loads.
+#[derive(Clone, Copy, Debug)]
+pub struct Body<'a> {
+    /// Domain (edge normals and parameters).
+    pub domain: &'a Domain,
+    /// Nodes (with boundary tags).
+    pub nodes: &'a Nodes,
     /// Constitutive matrix.
     pub d: &'a Constitutive,
     /// Edge conditions (one per domain edge).
     pub boundary: &'a [EdgeCondition],
     /// Body force.
     pub body_force: Option<&'a BodyForce>,
-    /// Gauss points per segment for applied tractions.
+    /// Gauss points per segment (FE: per element side, and per direction for the body force)
+    /// for applied tractions.
     pub load_quadrature_points: usize,
-    /// Stabilisation blend `β ∈ [0, 1]` (docs/method.md §3.9; 0 = the paper's mixed method).
-    pub beta: f64,
+}
+
+impl<'a> Body<'a> {
+    /// The body of `problem` with its nodes `nodes` and constitutive matrix `d`.
+    pub fn new(problem: &'a Problem, nodes: &'a Nodes, d: &'a Constitutive) -> Self {
+        Self {
+            domain: &problem.domain,
+            nodes,
+            d,
+            boundary: &problem.boundary,
+            body_force: problem.body_force.as_ref(),
+            load_quadrature_points: problem.discretisation.load_quadrature_points,
+        }
+    }
 }
 
 /// Assembles `K_int`, `f`, the constraints and the solved matrix.
@@ -212,8 +235,8 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
     if constraints.is_empty() {
         return Err(AssemblyError::NoDirichlet);
     }
-    check_rigid_body_restraint(&constraints, input.nodes)?;
-    let collocation_scale = input.d[0][0];
+    check_rigid_body_restraint(&constraints, input.body.nodes)?;
+    let collocation_scale = input.body.d[0][0];
     let (matrix, rhs) = system_matrix(
         &interior_stiffness,
         &load,
@@ -233,7 +256,7 @@ type BlockRow = (Vec<u32>, Vec<[[f64; 2]; 2]>);
 fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
     let beta = input.beta;
     let mixed = 1.0 - beta;
-    let n = input.nodes.len();
+    let n = input.body.nodes.len();
     // Node -> (face, sign): the face normal points out of the owner.
     let mut count = vec![0usize; n + 1];
     for f in input.interior_faces {
@@ -255,7 +278,7 @@ fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
             fill[j as usize] += 1;
         }
     }
-    let d = input.d;
+    let d = input.body.d;
     let q = input.face_quadrature;
     let S = input.node_shapes;
     // Workspaces are dense over the nodes; `with_min_len` bounds how many get allocated.
@@ -358,29 +381,29 @@ fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
 
 /// `f_I = ∫_{Γt ∩ ∂Ω_I} t̄ dΓ + ∫_{Ω_I} b dΩ` (paper eq. 12, right-hand side).
 fn applied_load(input: &AssemblyInput<'_>) -> Result<Vec<f64>, AssemblyError> {
-    let n = input.nodes.len();
+    let n = input.body.nodes.len();
     let mut f = vec![0.0; 2 * n];
     for face in input.boundary_faces {
         let EdgeLabel::Boundary(k) = face.across else { continue };
         let k = k as usize;
         let owner = face.owner as usize;
-        let condition = &input.boundary[k];
+        let condition = &input.body.boundary[k];
         for axis in Axis::BOTH {
             if condition.displacement(axis as usize).is_some()
-                && !input.nodes.edges[owner].contains(k)
+                && !input.body.nodes.edges[owner].contains(k)
             {
                 return Err(CellError::DirichletOwnership {
                     node: owner,
-                    edge: input.domain.edge_names()[k].clone(),
+                    edge: input.body.domain.edge_names()[k].clone(),
                 }
                 .into());
             }
         }
         // Straight edges: the edge's normal. Arcs: the normal of the chord this face lies on,
         // so that a pressure on the polygonal approximation is in equilibrium by itself.
-        let normal = input.domain.straight_normal(k).unwrap_or(face.normal);
+        let normal = input.body.domain.straight_normal(k).unwrap_or(face.normal);
         let traction = |p: Point| -> [f64; 2] {
-            let t = input.domain.edge_parameter(k, p);
+            let t = input.body.domain.edge_parameter(k, p);
             match condition {
                 EdgeCondition::Pressure(pr) => {
                     let v = pr.value(p, t);
@@ -405,13 +428,13 @@ fn applied_load(input: &AssemblyInput<'_>) -> Result<Vec<f64>, AssemblyError> {
         if zero {
             continue;
         }
-        for (p, w) in segment_rule(face.a, face.b, input.load_quadrature_points) {
+        for (p, w) in segment_rule(face.a, face.b, input.body.load_quadrature_points) {
             let t = traction(p);
             f[2 * owner] += w * t[0];
             f[2 * owner + 1] += w * t[1];
         }
     }
-    if let Some(b) = input.body_force {
+    if let Some(b) = input.body.body_force {
         for (i, cell) in input.cells.iter().enumerate() {
             let v = integrate_over_cell(cell, |p| b.at(p));
             f[2 * i] += v[0];
@@ -447,14 +470,14 @@ pub fn integrate_over_cell(cell: &Cell, g: impl Fn(Point) -> [f64; 2]) -> [f64; 
 /// (the lowest-numbered such edge wins at corners).
 fn constraints(input: &AssemblyInput<'_>) -> Vec<Constraint> {
     let mut out = Vec::new();
-    for (i, edges) in input.nodes.edges.iter().enumerate() {
+    for (i, edges) in input.body.nodes.edges.iter().enumerate() {
         for axis in Axis::BOTH {
             let hit = edges.iter().find_map(|k| {
-                input.boundary[k].displacement(axis as usize).map(|f: &Field| (k, f))
+                input.body.boundary[k].displacement(axis as usize).map(|f: &Field| (k, f))
             });
             if let Some((k, field)) = hit {
-                let p = input.nodes.points[i];
-                let t = input.domain.edge_parameter(k, p);
+                let p = input.body.nodes.points[i];
+                let t = input.body.domain.edge_parameter(k, p);
                 out.push(Constraint { node: i as u32, axis, value: field.value(p, t) });
             }
         }

@@ -16,7 +16,7 @@
 //!
 //! | stage | modules | produces |
 //! |---|---|---|
-//! | 0 | [`progress`], [`geometry`], [`material`] | stage timing and progress; points, curves, the domain; elastic constants `D` |
+//! | 0 | [`progress`], [`random`], [`geometry`], [`material`] | stage timing and progress; a seeded generator; points, curves, the domain; elastic constants `D` |
 //! | 1 | [`problem`] | the validated [`problem::Problem`], from TOML or from a [`problem::ProblemFile`] built in code |
 //! | 2 | [`nodes`] | [`nodes::Nodes`] with boundary tags |
 //! | 3 | [`neighbours`] | [`neighbours::Supports`] (MLS supports, cell grid) |
@@ -106,6 +106,7 @@ pub mod pipeline;
 pub mod post;
 pub mod problem;
 pub mod progress;
+pub mod random;
 pub mod solution;
 pub mod weak_form;
 

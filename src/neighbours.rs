@@ -160,7 +160,7 @@ impl Supports {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nodes::SplitMix64;
+    use crate::random::SplitMix64;
 
     #[test]
     fn grid_matches_brute_force() {

@@ -7,6 +7,7 @@
 pub use crate::problem::Layout;
 
 use crate::geometry::{Domain, GeometryError, Point};
+use crate::random::SplitMix64;
 
 /// Coordinate axis of a displacement component.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -176,18 +177,19 @@ fn polygon_grid(domain: &Domain, h: f64) -> Vec<Point> {
             points.push([a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]);
         }
     }
+    let inside =
+        |p: Point| (0..domain.edge_count()).all(|k| domain.edge_distance(k, p) <= -0.5 * h);
+    points.extend(lattice(domain, h).filter(|&p| inside(p)));
+    points
+}
+
+/// The points of the square lattice of spacing `h` anchored at the lower-left corner of the
+/// domain's bounding box and covering it, row by row.
+fn lattice(domain: &Domain, h: f64) -> impl Iterator<Item = Point> {
     let (lo, hi) = domain.bounding_box();
     let nx = ((hi[0] - lo[0]) / h).ceil() as usize;
     let ny = ((hi[1] - lo[1]) / h).ceil() as usize;
-    for j in 0..=ny {
-        for i in 0..=nx {
-            let p = [lo[0] + i as f64 * h, lo[1] + j as f64 * h];
-            if (0..domain.edge_count()).all(|k| domain.edge_distance(k, p) <= -0.5 * h) {
-                points.push(p);
-            }
-        }
-    }
-    points
+    (0..=ny).flat_map(move |j| (0..=nx).map(move |i| [lo[0] + i as f64 * h, lo[1] + j as f64 * h]))
 }
 
 /// Least distance of an interior node from a curved domain's boundary, in spacings.
@@ -226,45 +228,8 @@ fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
     let near_arc = |p: Point| {
         domain.curves().iter().any(|c| !c.is_straight() && c.distance(p) < ARC_GRID_CLEARANCE * h)
     };
-    let (lo, hi) = domain.bounding_box();
-    let nx = ((hi[0] - lo[0]) / h).ceil() as usize;
-    let ny = ((hi[1] - lo[1]) / h).ceil() as usize;
-    for j in 0..=ny {
-        for i in 0..=nx {
-            let p = [lo[0] + i as f64 * h, lo[1] + j as f64 * h];
-            if clear(p) && !near_arc(p) {
-                points.push(p);
-            }
-        }
-    }
+    points.extend(lattice(domain, h).filter(|&p| clear(p) && !near_arc(p)));
     points
-}
-
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny deterministic generator for jitter.
-#[derive(Clone, Debug)]
-pub struct SplitMix64(u64);
-
-impl SplitMix64 {
-    /// A generator from a seed.
-    pub fn new(seed: u64) -> Self {
-        Self(seed)
-    }
-    /// Next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in `[0, 1)`.
-    pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    /// Uniform in `[-1, 1)`.
-    pub fn uniform_symmetric(&mut self) -> f64 {
-        2.0 * self.uniform() - 1.0
-    }
 }
 
 #[cfg(test)]

@@ -74,20 +74,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let faces = weak_form::collect_faces(&cells);
     let fq = weak_form::FaceQuadrature::new(&faces.interior, disc.quadrature_points);
     let ns = mls::shape_functions(&nodes.points, &nodes, &supports, &disc.mls, true)?;
-    let fs = mls::shape_functions(&fq.points, &nodes, &supports, &disc.mls, disc.beta > 0.0)?;
+    let fs = mls::shape_functions(
+        &fq.points,
+        &nodes,
+        &supports,
+        &disc.mls,
+        assembly::needs_face_gradients(disc.beta),
+    )?;
+    let d = problem.material.constitutive();
     let system = assembly::assemble(&AssemblyInput {
-        domain: &problem.domain,
-        nodes: &nodes,
+        body: assembly::Body::new(&problem, &nodes, &d),
         cells: &cells,
         interior_faces: &faces.interior,
         boundary_faces: &faces.boundary,
         face_quadrature: &fq,
         face_shapes: &fs,
         node_shapes: &ns,
-        d: &problem.material.constitutive(),
-        boundary: &problem.boundary,
-        body_force: problem.body_force.as_ref(),
-        load_quadrature_points: disc.load_quadrature_points,
         beta: disc.beta,
     })?;
     let k = &system.matrix;

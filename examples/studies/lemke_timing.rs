@@ -16,24 +16,7 @@ use clap::Parser;
 use std::time::Instant;
 
 use mlpg_contact::lcp::{Lcp, LemkeParams, lemke};
-
-/// SplitMix64: a small, fast, deterministic generator (no external crate needed).
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [−1, 1).
-    fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-}
+use mlpg_contact::random::SplitMix64;
 
 /// x·y with eight partial sums, so that the compiler can vectorise it.
 fn dot(x: &[f64], y: &[f64]) -> f64 {
@@ -50,10 +33,10 @@ fn dot(x: &[f64], y: &[f64]) -> f64 {
 
 /// The random test problem of size n described in the file header.
 pub fn random_problem(n: usize, seed: u64) -> Lcp {
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     // The columns of A, stored contiguously (A is uniform, so any layout is equally random);
     // (AᵀA)_ij is the dot product of columns i and j.
-    let a_cols: Vec<f64> = (0..n * n).map(|_| rng.uniform()).collect();
+    let a_cols: Vec<f64> = (0..n * n).map(|_| rng.uniform_symmetric()).collect();
     let col = |i: usize| &a_cols[i * n..(i + 1) * n];
     let mut m = vec![0.0; n * n];
     // Blocks of 16 columns i share each column j while it is in cache.
@@ -72,12 +55,12 @@ pub fn random_problem(n: usize, seed: u64) -> Lcp {
     for i in 0..n {
         m[i * n + i] = m[i * n + i] * inv_n + 1.0;
         for j in 0..i {
-            let s = skew * rng.uniform();
+            let s = skew * rng.uniform_symmetric();
             m[i * n + j] = m[i * n + j] * inv_n + s;
             m[j * n + i] = m[j * n + i] * inv_n - s;
         }
     }
-    let q: Vec<f64> = (0..n).map(|_| rng.uniform()).collect();
+    let q: Vec<f64> = (0..n).map(|_| rng.uniform_symmetric()).collect();
     match Lcp::new(n, m, q) {
         Ok(lcp) => lcp,
         Err(e) => panic!("random problem is invalid: {e}"),

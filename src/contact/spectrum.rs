@@ -32,6 +32,7 @@
 //! are bit-identical whatever the number of threads.
 
 use crate::linear_solve::SolveError;
+use crate::random::SplitMix64;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::evd::{ComputeEigenvectors, self_adjoint_evd, self_adjoint_evd_scratch};
 use faer::linalg::matmul::matmul;
@@ -146,9 +147,9 @@ fn lanczos_largest(
     let steps = MAX_STEPS.min(n);
     // The Lanczos vectors, one per column.
     let mut q = Mat::<f64>::zeros(n, steps + 1);
-    let mut state = 0x5DEE_CE66_D1CE_4E5B_u64;
+    let mut rng = SplitMix64::new(0x5DEE_CE66_D1CE_4E5B);
     for i in 0..n {
-        q[(i, 0)] = split_mix(&mut state);
+        q[(i, 0)] = rng.uniform_symmetric();
     }
     let norm = q.col(0).norm_l2();
     q.col_mut(0).iter_mut().for_each(|x| *x /= norm);
@@ -216,16 +217,6 @@ fn largest_ritz_pair(alpha: &[f64], beta: &[f64]) -> Result<(f64, f64), SolveErr
     Ok((s[best], u[(k - 1, best)]))
 }
 
-/// SplitMix64, mapped to a uniform number in [−1, 1).
-fn split_mix(state: &mut u64) -> f64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-}
-
 /// All eigenvalues of a symmetric matrix (lower half read), computed sequentially: faer's
 /// convenience method follows the global parallelism setting and then sums in a
 /// thread-dependent order, which changed the last digits of the reported eigenvalue between
@@ -250,9 +241,9 @@ mod tests {
     fn with_spectrum(values: &[f64], seed: u64) -> Mat<f64> {
         let n = values.len();
         let mut a = Mat::<f64>::from_fn(n, n, |i, j| if i == j { values[i] } else { 0.0 });
-        let mut state = seed;
+        let mut rng = SplitMix64::new(seed);
         for _ in 0..3 {
-            let v: Vec<f64> = (0..n).map(|_| split_mix(&mut state)).collect();
+            let v: Vec<f64> = (0..n).map(|_| rng.uniform_symmetric()).collect();
             let vv: f64 = v.iter().map(|x| x * x).sum();
             // A ← H A H with H = I − 2 v vᵀ / vᵀv.
             for pass in 0..2 {

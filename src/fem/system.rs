@@ -4,30 +4,19 @@
 use super::FemError;
 use super::element::{self, NODES};
 use super::mesh::Mesh;
-use crate::assembly::{BlockRows, Constraint, GlobalSystem, SystemMatrix};
-use crate::geometry::Domain;
+use crate::assembly::{BlockRows, Body, Constraint, GlobalSystem, SystemMatrix};
 use crate::material::Constitutive;
 use crate::nodes::{Axis, Nodes, dof};
-use crate::problem::{BodyForce, ComponentCondition, EdgeCondition};
+use crate::problem::{ComponentCondition, EdgeCondition};
 use crate::weak_form::gauss_legendre;
 use rayon::prelude::*;
 
 /// What the FE assembly needs.
 pub struct FemInput<'a> {
-    /// The rectangle.
-    pub domain: &'a Domain,
+    /// The body: the rectangle, the mesh's nodes, material, conditions and loads.
+    pub body: Body<'a>,
     /// The mesh.
     pub mesh: &'a Mesh,
-    /// Its nodes (with boundary tags).
-    pub nodes: &'a Nodes,
-    /// Constitutive matrix.
-    pub d: &'a Constitutive,
-    /// Edge conditions (one per domain edge).
-    pub boundary: &'a [EdgeCondition],
-    /// Body force.
-    pub body_force: Option<&'a BodyForce>,
-    /// Gauss points per element side for tractions (and per direction for the body force).
-    pub load_quadrature_points: usize,
 }
 
 /// Assembles the global system in the form the rest of the pipeline expects:
@@ -40,12 +29,12 @@ pub struct FemInput<'a> {
 /// [`FemError::NoDirichlet`] / [`FemError::RigidBodyMotion`] when the prescribed
 /// displacements leave a rigid-body motion free.
 pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
-    let stiffness = stiffness(input.mesh, input.nodes.len(), input.d);
+    let stiffness = stiffness(input.mesh, input.body.nodes.len(), input.body.d);
     let load = load(input);
     let constraints = constraints(input);
-    check_restraint(&constraints, input.nodes)?;
-    let scale = input.d[0][0];
-    let n = 2 * input.nodes.len();
+    check_restraint(&constraints, input.body.nodes)?;
+    let scale = input.body.d[0][0];
+    let n = 2 * input.body.nodes.len();
     let mut prescribed = vec![0.0; n];
     let mut constrained = vec![false; n];
     for c in &constraints {
@@ -150,10 +139,10 @@ fn eliminated_matrix(k: &BlockRows, constrained: &[bool], scale: f64) -> SystemM
 /// Consistent nodal loads: `∫ N_a t̄ ds` over the element sides on traction and pressure
 /// edges, `∫ N_a b dA` over the elements.
 fn load(input: &FemInput<'_>) -> Vec<f64> {
-    let (domain, nodes, mesh) = (input.domain, input.nodes, input.mesh);
+    let (domain, nodes, mesh) = (input.body.domain, input.body.nodes, input.mesh);
     let mut f = vec![0.0; 2 * nodes.len()];
-    let (xs, ws) = gauss_legendre(input.load_quadrature_points);
-    for (k, condition) in input.boundary.iter().enumerate() {
+    let (xs, ws) = gauss_legendre(input.body.load_quadrature_points);
+    for (k, condition) in input.body.boundary.iter().enumerate() {
         let normal =
             domain.straight_normal(k).expect("FE domains are rectangles (fem::discretise checks)");
         for (ids, length) in mesh.boundary_segments(domain, nodes, k) {
@@ -183,7 +172,7 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
             }
         }
     }
-    if let Some(b) = input.body_force {
+    if let Some(b) = input.body.body_force {
         let det = 0.25 * mesh.element_size[0] * mesh.element_size[1];
         for (k, e) in mesh.elements.iter().enumerate() {
             for (&eta, &wy) in xs.iter().zip(ws) {
@@ -207,14 +196,14 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
 /// lowest-numbered such edge wins at corners), sorted by DOF; the nodal value `ū(x_I)`.
 fn constraints(input: &FemInput<'_>) -> Vec<Constraint> {
     let mut out = Vec::new();
-    for (i, edges) in input.nodes.edges.iter().enumerate() {
+    for (i, edges) in input.body.nodes.edges.iter().enumerate() {
         for axis in Axis::BOTH {
             let hit = edges
                 .iter()
-                .find_map(|k| input.boundary[k].displacement(axis as usize).map(|f| (k, f)));
+                .find_map(|k| input.body.boundary[k].displacement(axis as usize).map(|f| (k, f)));
             if let Some((k, field)) = hit {
-                let p = input.nodes.points[i];
-                let t = input.domain.edge_parameter(k, p);
+                let p = input.body.nodes.points[i];
+                let t = input.body.domain.edge_parameter(k, p);
                 out.push(Constraint { node: i as u32, axis, value: field.value(p, t) });
             }
         }

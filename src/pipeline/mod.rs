@@ -62,18 +62,13 @@ fn discretise_mfvm(problem: &Problem, progress: &mut dyn Progress) -> Result<Mod
     let d = problem.material.constitutive();
     let system = clock.run("assembly", || {
         assembly::assemble(&AssemblyInput {
-            domain: &problem.domain,
-            nodes: &nodes,
+            body: assembly::Body::new(problem, &nodes, &d),
             cells: &cells,
             interior_faces: &faces.interior,
             boundary_faces: &faces.boundary,
             face_quadrature: &face_quadrature,
             face_shapes: &face_shapes,
             node_shapes: &node_shapes,
-            d: &d,
-            boundary: &problem.boundary,
-            body_force: problem.body_force.as_ref(),
-            load_quadrature_points: disc.load_quadrature_points,
             beta: disc.beta,
         })
     })?;
@@ -102,13 +97,8 @@ fn discretise_fem(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
     let d = problem.material.constitutive();
     let system = clock.run("assembly", || {
         fem::system::assemble(&fem::system::FemInput {
-            domain: &problem.domain,
+            body: assembly::Body::new(problem, &nodes, &d),
             mesh: &mesh,
-            nodes: &nodes,
-            d: &d,
-            boundary: &problem.boundary,
-            body_force: problem.body_force.as_ref(),
-            load_quadrature_points: problem.discretisation.load_quadrature_points,
         })
     })?;
     let factorisation = clock.run("factorisation", || Factorisation::new(&system.matrix))?;

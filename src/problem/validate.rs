@@ -182,7 +182,36 @@ fn validate_body(
     file: BodyParts<'_>,
     discretisation: Discretisation,
 ) -> Result<Problem, ProblemError> {
-    let domain = match &file.geometry {
+    let domain = domain(file.geometry)?;
+    let (h, layout) = node_layout(&file, &domain, discretisation.method)?;
+    let material = material(file.material)?;
+    let boundary = edge_conditions(file.boundary, &domain)?;
+    let body_force = match file.body_force {
+        Some(b) => {
+            check_finite("body_force", b[0])?;
+            check_finite("body_force", b[1])?;
+            Some(BodyForce::constant(b))
+        }
+        None => None,
+    };
+    Ok(Problem {
+        name,
+        domain,
+        node_spacing: h,
+        layout,
+        material,
+        discretisation,
+        boundary,
+        body_force,
+        profile_edge: 0,
+        contact: None,
+        second_body: None,
+    })
+}
+
+/// `[geometry]` → the domain.
+fn domain(geometry: &GeometryFile) -> Result<Domain, ProblemError> {
+    match geometry {
         GeometryFile::Rectangle { x, y } => {
             for (name, v) in [("geometry.x", x), ("geometry.y", y)] {
                 check_finite(name, v[0])?;
@@ -253,8 +282,15 @@ fn validate_body(
             Domain::from_curves(vec![Curve::arc_between(p, p, *center, true)], vec!["rim".into()])
         }
     }
-    .map_err(|e| invalid("geometry", "", e.to_string()))?;
+    .map_err(|e| invalid("geometry", "", e.to_string()))
+}
 
+/// `[nodes]` → the spacing and the layout (the FE path's restrictions included).
+fn node_layout(
+    file: &BodyParts<'_>,
+    domain: &Domain,
+    method: Method,
+) -> Result<(f64, Layout), ProblemError> {
     let h = file.nodes.spacing;
     let (lo, hi) = domain.bounding_box();
     let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
@@ -295,7 +331,7 @@ fn validate_body(
         }
     };
 
-    if discretisation.method == Method::Fem {
+    if method == Method::Fem {
         if !matches!(file.geometry, GeometryFile::Rectangle { .. }) {
             return Err(invalid(
                 "geometry.kind",
@@ -311,18 +347,27 @@ fn validate_body(
             ));
         }
     }
+    Ok((h, layout))
+}
 
-    let m = &file.material;
+/// `[material]` → the material.
+fn material(m: &MaterialFile) -> Result<Material, ProblemError> {
     if !(m.young.is_finite() && m.young > 0.0) {
         return Err(invalid("material.young", m.young, "must be a positive number"));
     }
     if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
         return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
     }
-    let material = Material { young: m.young, poisson: m.poisson, plane: m.plane };
+    Ok(Material { young: m.young, poisson: m.poisson, plane: m.plane })
+}
 
+/// `[[boundary]]` → one condition per domain edge (traction-free where none is given).
+fn edge_conditions(
+    conditions: &[BoundaryFile],
+    domain: &Domain,
+) -> Result<Vec<EdgeCondition>, ProblemError> {
     let mut boundary: Vec<Option<EdgeCondition>> = vec![None; domain.edge_count()];
-    for (i, b) in file.boundary.iter().enumerate() {
+    for (i, b) in conditions.iter().enumerate() {
         let field = format!("boundary[{i}]");
         let k = domain.edge_index(&b.edge).ok_or_else(|| {
             invalid(
@@ -372,29 +417,7 @@ fn validate_body(
         };
         boundary[k] = Some(condition);
     }
-    let boundary: Vec<EdgeCondition> =
-        boundary.into_iter().map(|c| c.unwrap_or_else(EdgeCondition::free)).collect();
-    let body_force = match file.body_force {
-        Some(b) => {
-            check_finite("body_force", b[0])?;
-            check_finite("body_force", b[1])?;
-            Some(BodyForce::constant(b))
-        }
-        None => None,
-    };
-    Ok(Problem {
-        name,
-        domain,
-        node_spacing: h,
-        layout,
-        material,
-        discretisation,
-        boundary,
-        body_force,
-        profile_edge: 0,
-        contact: None,
-        second_body: None,
-    })
+    Ok(boundary.into_iter().map(|c| c.unwrap_or_else(EdgeCondition::free)).collect())
 }
 
 /// Prefixes the field name of an [`ProblemError::Invalid`] (for `body[k].` tables).
