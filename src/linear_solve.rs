@@ -506,7 +506,7 @@ impl Plan {
         };
         // The first candidate, unless a later one bounds the flops clearly lower (the first,
         // nested dissection proper, needs less memory at equal flops: 6.5 vs 11.8 GB at 100k
-        // nodes in session 2).
+        // nodes, docs/dev/performance.md).
         let is_static = use_static;
         stats.method =
             if is_static { FactorMethod::StaticPivoting } else { FactorMethod::PartialPivoting };
