@@ -36,6 +36,14 @@ pub enum Error {
     /// The LCP has no solution or Lemke failed (stage 8).
     #[error(transparent)]
     Lcp(#[from] LcpError),
+    /// The solution holds a value that is not finite.
+    #[error(
+        "the solution's {what} is not finite (NaN or infinite): the arithmetic overflowed or the system is singular; check the magnitudes of the loads and the material, and the displacement conditions"
+    )]
+    NonFinite {
+        /// Which quantity.
+        what: &'static str,
+    },
     /// Writing outputs failed (stage 9).
     #[error(transparent)]
     Output(#[from] OutputError),

@@ -291,13 +291,15 @@ impl Domain {
             return Err(GeometryError::TooFewVertices { count: n });
         }
         check_names(&edge_names, n)?;
-        let scale = vertices.iter().flat_map(|p| p.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
         for k in 0..n {
             let a = vertices[(k + n - 1) % n];
             let b = vertices[k];
             let c = vertices[(k + 1) % n];
             let cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
-            if cross <= 1e-12 * scale * scale.max(1e-300) {
+            // The sine of the turn at b must be positive beyond round-off: relative to the
+            // adjacent edges' lengths, not to the coordinates (a body far from the origin).
+            let lengths = (b[0] - a[0]).hypot(b[1] - a[1]) * (c[0] - b[0]).hypot(c[1] - b[1]);
+            if cross.is_nan() || cross <= 1e-12 * lengths {
                 return Err(GeometryError::NotConvex { vertex: k, cross });
             }
         }
@@ -561,6 +563,16 @@ impl Domain {
             && v[0][0] < v[1][0])
             .then(|| ([v[0][0], v[1][0]], [v[0][1], v[2][1]]))
     }
+}
+
+/// Whether the orthogonal projection of `x` on the line through `a` and `b` falls on the
+/// segment `[a, b]`, to `tol` in length (a point of one body has a partner on a target edge
+/// only then).
+pub fn projects_onto(x: Point, a: Point, b: Point, tol: f64) -> bool {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len = dx.hypot(dy);
+    let s = ((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / len;
+    (-tol..=len + tol).contains(&s)
 }
 
 #[cfg(test)]

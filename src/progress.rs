@@ -5,7 +5,7 @@
 //! Progress never decides a run: a reporter that cannot print drops the message.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write as _};
 use std::time::{Duration, Instant};
 
 /// Wall time of one pipeline stage.
@@ -87,7 +87,8 @@ impl Progress for StageProgress {
             bar.finish_and_clear();
         }
         if !self.quiet {
-            eprintln!("  {stage:<14} {seconds:>9.3} s");
+            // A failing stderr never decides the run.
+            let _ = writeln!(std::io::stderr(), "  {stage:<14} {seconds:>9.3} s");
         }
     }
 }

@@ -72,6 +72,9 @@ pub struct ContactSolution {
     pub total_force: f64,
     /// A warning when the compliance checks failed but were overridden.
     pub warning: Option<String>,
+    /// Two bodies: points of the contact edge beside the target edge, which have no partner
+    /// and are no candidates.
+    pub unpaired: usize,
 }
 
 impl ContactSolution {
@@ -115,7 +118,27 @@ impl ContactSolution {
             onset,
             total_force,
             warning,
+            unpaired: 0,
         }
+    }
+}
+
+impl Solution {
+    /// The first reported quantity holding a value that is not finite (NaN or infinite), if
+    /// any: a singular system that the factorisation did not catch, or magnitudes that overflow.
+    pub fn first_non_finite(&self) -> Option<&'static str> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let checks: [(&'static str, bool); 7] = [
+            ("displacement", self.displacement.iter().all(|u| finite(u))),
+            ("stress", self.stress.iter().all(|s| finite(s))),
+            ("reactions", self.reactions.iter().all(|r| r.2.is_finite())),
+            ("relative residual", self.relative_residual.is_finite()),
+            ("equilibrium error", self.equilibrium_error.is_finite()),
+            ("contact force", self.contact.as_ref().is_none_or(|c| finite(&c.lcp.z))),
+            ("contact gap", self.contact.as_ref().is_none_or(|c| finite(&c.gap))),
+        ];
+        let own = checks.into_iter().find(|(_, ok)| !ok).map(|(what, _)| what);
+        own.or_else(|| self.second_body.as_ref().and_then(|s| s.first_non_finite()))
     }
 }
 

@@ -187,7 +187,7 @@ fn bad_curved_geometry_gives_a_clear_error_and_exit_code_2() {
         (
             "turn_typo",
             HALF_DISK.replace("center = [0.0, 0.0] }", "center = [0.0, 0.0], turn = \"left\" }"),
-            "unknown variant `left`, expected `ccw` or `cw`",
+            "at `geometry.curves[1].turn`: TOML parse error",
         ),
         (
             "turn_on_segment",

@@ -70,6 +70,16 @@ pub enum ContactError {
         /// Edge name.
         edge: String,
     },
+    /// No candidate of the contact edge lies over the target edge of the second body.
+    #[error(
+        "no point of contact edge `{edge}` lies over edge `{target}` of the second body: the bodies cannot touch (check the geometry)"
+    )]
+    NoPartner {
+        /// The contact edge.
+        edge: String,
+        /// The target edge.
+        target: String,
+    },
     /// A two-body contact was solved without the second body's model.
     #[error("the contact targets a second body, but no model of it was given")]
     MissingTarget,
@@ -232,6 +242,24 @@ pub struct Candidates {
 }
 
 impl Candidates {
+    /// Keeps the candidates `k` with `keep[k]` (in order) and returns how many were dropped.
+    pub fn retain(&mut self, keep: &[bool]) -> usize {
+        let rows: Vec<usize> = (0..self.len()).filter(|&k| keep[k]).collect();
+        fn pick<T: Clone>(v: &[T], rows: &[usize]) -> Vec<T> {
+            rows.iter().map(|&k| v[k].clone()).collect()
+        }
+        let dropped = self.len() - rows.len();
+        self.nodes = pick(&self.nodes, &rows);
+        self.points = pick(&self.points, &rows);
+        self.arc_length = pick(&self.arc_length, &rows);
+        self.segment_length = pick(&self.segment_length, &rows);
+        self.segment_ends = pick(&self.segment_ends, &rows);
+        self.initial_gap = pick(&self.initial_gap, &rows);
+        self.operator.shapes = self.operator.shapes.select_rows(&rows);
+        self.operator.owners = pick(&self.operator.owners, &rows);
+        dropped
+    }
+
     /// Number of candidates `m`.
     pub fn len(&self) -> usize {
         self.nodes.len()

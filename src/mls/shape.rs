@@ -30,6 +30,22 @@ impl ShapeSet {
             dphi_dy: Vec::new(),
         }
     }
+    /// The rows `rows` of this set, in that order (gradients kept when present).
+    pub fn select_rows(&self, rows: &[usize]) -> Self {
+        let grads = self.has_gradients();
+        let mut out = Self { offsets: vec![0], ..Self::default() };
+        for &k in rows {
+            let range = self.offsets[k]..self.offsets[k + 1];
+            out.nodes.extend_from_slice(&self.nodes[range.clone()]);
+            out.phi.extend_from_slice(&self.phi[range.clone()]);
+            if grads {
+                out.dphi_dx.extend_from_slice(&self.dphi_dx[range.clone()]);
+                out.dphi_dy.extend_from_slice(&self.dphi_dy[range]);
+            }
+            out.offsets.push(out.nodes.len());
+        }
+        out
+    }
     /// Rows given explicitly: point `k` has the `(node, φ)` pairs `rows[k]` (nodes ascending;
     /// no gradients). Used for interpolating finite element shape functions.
     pub fn from_rows(rows: &[Vec<(u32, f64)>]) -> Self {

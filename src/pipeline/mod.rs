@@ -10,6 +10,7 @@ use crate::assembly::{self, AssemblyInput};
 use crate::contact::{self, ContactTarget};
 use crate::error::Error;
 use crate::fem;
+use crate::geometry;
 use crate::lcp;
 use crate::linear_solve::Factorisation;
 use crate::mls;
@@ -167,7 +168,7 @@ pub fn solve_model(
             clock.run("recovery", || solution::recover(problem, &model, u_hat, None));
         solution.timings = clock.timings.clone();
         model.timings = clock.timings;
-        return Ok((model, None, solution));
+        return finite(solution).map(|s| (model, None, s));
     };
     let pair = problem.second_body.as_deref().zip(second.as_ref());
     let (u1, u2, contact) = solve_contact(problem, spec, &model, pair, &mut clock)?;
@@ -183,7 +184,15 @@ pub fn solve_model(
     solution.contact = Some(contact);
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
-    Ok((model, second, solution))
+    finite(solution).map(|s| (model, second, s))
+}
+
+/// `solution`, unless it holds a value that is not finite ([`Error::NonFinite`]).
+fn finite(solution: Solution) -> Result<Solution, Error> {
+    match solution.first_non_finite() {
+        Some(what) => Err(Error::NonFinite { what }),
+        None => Ok(solution),
+    }
 }
 
 type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
@@ -197,7 +206,7 @@ fn solve_contact(
     second: Option<(&Problem, &Model)>,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let (candidates, target, paired_points) =
+    let (candidates, target, paired_points, unpaired) =
         clock.run("contact_candidates", || match (&spec.target, second) {
             (ContactTarget::Rigid(line), _) => {
                 let c = contact::candidates_on(
@@ -208,7 +217,7 @@ fn solve_contact(
                     &|x| line.gap(x),
                     spec.condensation,
                 )?;
-                Ok((c, None, Vec::new()))
+                Ok((c, None, Vec::new(), 0))
             }
             (ContactTarget::Body { edge }, Some((p2, m2))) => {
                 let normal = p2.domain.straight_normal(*edge).ok_or_else(|| {
@@ -224,9 +233,22 @@ fn solve_contact(
                     &|_| 0.0,
                     spec.condensation,
                 )?;
+                // A candidate whose projection falls beside the target edge has no partner:
+                // it cannot close, and is no candidate.
+                let (a2, b2) = p2.domain.edge(*edge);
+                let tol = 1e-9 * (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
+                let over: Vec<bool> =
+                    c.points.iter().map(|&x| geometry::projects_onto(x, a2, b2, tol)).collect();
+                let unpaired = c.retain(&over);
+                if c.is_empty() {
+                    return Err(contact::ContactError::NoPartner {
+                        edge: problem.domain.edge_names()[spec.edge].clone(),
+                        target: p2.domain.edge_names()[*edge].clone(),
+                    });
+                }
                 let (op, gaps, paired) = contact::target_operator_on(p2, m2, *edge, &c)?;
                 c.initial_gap = gaps;
-                Ok((c, Some(op), paired))
+                Ok((c, Some(op), paired, unpaired))
             }
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
@@ -277,7 +299,7 @@ fn solve_contact(
         }
         _ => None,
     };
-    let contact = ContactSolution::new(
+    let mut contact = ContactSolution::new(
         spec,
         candidates,
         target,
@@ -287,6 +309,7 @@ fn solve_contact(
         gap,
         warning,
     );
+    contact.unpaired = unpaired;
     Ok((u1, u2, contact))
 }
 

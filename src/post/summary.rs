@@ -345,5 +345,11 @@ impl Summary {
 fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
     let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
     let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
-    disc.into_iter().chain(contact.map(|w| format!("contact: {w}"))).collect()
+    let unpaired = solution.contact.as_ref().filter(|c| c.unpaired > 0).map(|c| {
+        format!(
+            "contact: {} nodes of the contact edge lie beside the target edge; they have no partner and cannot close",
+            c.unpaired
+        )
+    });
+    disc.into_iter().chain(contact.map(|w| format!("contact: {w}"))).chain(unpaired).collect()
 }

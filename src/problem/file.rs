@@ -13,7 +13,7 @@ pub struct ProblemFile {
     #[serde(default)]
     pub name: Option<String>,
     /// Body force `[b_x, b_y]` per unit volume.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::optional_pair")]
     pub body_force: Option<[f64; 2]>,
     /// The domain (single body).
     #[serde(default)]
@@ -51,10 +51,10 @@ pub struct ContactFile {
     /// The edge that may touch the obstacle.
     pub edge: String,
     /// A point of the rigid obstacle line.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::optional_pair")]
     pub obstacle_point: Option<[f64; 2]>,
     /// Normal of the obstacle line, pointing into the body (normalised on reading).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::optional_pair")]
     pub obstacle_normal: Option<[f64; 2]>,
     /// Two bodies: the edge of the second body that `edge` (of the first) touches.
     #[serde(default)]
@@ -79,7 +79,7 @@ pub struct BodyFile {
     #[serde(default)]
     pub name: Option<String>,
     /// Body force `[b_x, b_y]` per unit volume.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::optional_pair")]
     pub body_force: Option<[f64; 2]>,
     /// The domain.
     pub geometry: GeometryFile,
@@ -92,9 +92,11 @@ pub struct BodyFile {
     pub boundary: Vec<BoundaryFile>,
 }
 
-/// `[geometry]`.
+/// `[geometry]`. Read through the flat [`GeometryTable`] (so that a parse error names its key
+/// path, e.g. `geometry.x`, which an internally tagged enum cannot), written with `kind` as the
+/// tag.
 #[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+#[serde(try_from = "GeometryTable", tag = "kind", rename_all = "snake_case")]
 pub enum GeometryFile {
     /// `kind = "rectangle"`, `x = [x0, x1]`, `y = [y0, y1]`; edges `bottom, right, top, left`.
     Rectangle {
@@ -128,6 +130,103 @@ pub enum GeometryFile {
     },
 }
 
+/// The `kind` of a `[geometry]` table.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GeometryKind {
+    /// `x`, `y`.
+    Rectangle,
+    /// `vertices`, `edges`.
+    Polygon,
+    /// `start`, `curves`.
+    Curves,
+    /// `center`, `radius`.
+    Disk,
+}
+
+/// `[geometry]` as written: `kind` and the union of every kind's keys. Converted into
+/// [`GeometryFile`], refusing a key of another kind and naming a missing one.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GeometryTable {
+    /// The kind.
+    pub kind: GeometryKind,
+    /// Rectangle: `[x0, x1]`.
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub x: Option<[f64; 2]>,
+    /// Rectangle: `[y0, y1]`.
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub y: Option<[f64; 2]>,
+    /// Polygon: vertices.
+    #[serde(default, deserialize_with = "exact::optional_pairs")]
+    pub vertices: Option<Vec<[f64; 2]>>,
+    /// Polygon: edge names.
+    #[serde(default)]
+    pub edges: Option<Vec<String>>,
+    /// Curves: the start point.
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub start: Option<[f64; 2]>,
+    /// Curves: the curves.
+    #[serde(default)]
+    pub curves: Option<Vec<CurveFile>>,
+    /// Disk: the centre.
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub center: Option<[f64; 2]>,
+    /// Disk: the radius.
+    #[serde(default)]
+    pub radius: Option<f64>,
+}
+
+impl TryFrom<GeometryTable> for GeometryFile {
+    type Error = String;
+
+    fn try_from(g: GeometryTable) -> Result<Self, String> {
+        let (name, keys): (&str, &[&str]) = match g.kind {
+            GeometryKind::Rectangle => ("rectangle", &["x", "y"]),
+            GeometryKind::Polygon => ("polygon", &["vertices", "edges"]),
+            GeometryKind::Curves => ("curves", &["start", "curves"]),
+            GeometryKind::Disk => ("disk", &["center", "radius"]),
+        };
+        let given = [
+            ("x", g.x.is_some()),
+            ("y", g.y.is_some()),
+            ("vertices", g.vertices.is_some()),
+            ("edges", g.edges.is_some()),
+            ("start", g.start.is_some()),
+            ("curves", g.curves.is_some()),
+            ("center", g.center.is_some()),
+            ("radius", g.radius.is_some()),
+        ];
+        for (key, present) in given {
+            if present && !keys.contains(&key) {
+                return Err(format!(
+                    "`{key}` is not a key of kind = \"{name}\" (its keys are {})",
+                    keys.join(", ")
+                ));
+            }
+        }
+        let missing = |key: &str| format!("kind = \"{name}\" needs `{key}`");
+        Ok(match g.kind {
+            GeometryKind::Rectangle => GeometryFile::Rectangle {
+                x: g.x.ok_or_else(|| missing("x"))?,
+                y: g.y.ok_or_else(|| missing("y"))?,
+            },
+            GeometryKind::Polygon => GeometryFile::Polygon {
+                vertices: g.vertices.ok_or_else(|| missing("vertices"))?,
+                edges: g.edges.ok_or_else(|| missing("edges"))?,
+            },
+            GeometryKind::Curves => GeometryFile::Curves {
+                start: g.start.ok_or_else(|| missing("start"))?,
+                curves: g.curves.ok_or_else(|| missing("curves"))?,
+            },
+            GeometryKind::Disk => GeometryFile::Disk {
+                center: g.center.ok_or_else(|| missing("center"))?,
+                radius: g.radius.ok_or_else(|| missing("radius"))?,
+            },
+        })
+    }
+}
+
 /// One curve of a `kind = "curves"` geometry: from the end of the previous curve (or the
 /// loop's `start`) to `to`, straight, or along the circle about `center` when it is given.
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -136,10 +235,11 @@ pub struct CurveFile {
     /// Edge name (used by `[[boundary]]`, `[contact]`, `[output]`).
     pub name: String,
     /// End point.
+    #[serde(deserialize_with = "exact::pair")]
     pub to: [f64; 2],
     /// Centre of a circular arc (absent: a straight segment). `to` must lie on the circle
     /// through the start point; `to` equal to the start point gives the full circle.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::optional_pair")]
     pub center: Option<[f64; 2]>,
     /// Direction of an arc: `"ccw"` (default; the body inside the circle) or `"cw"` (the
     /// body outside it, as around a hole).
@@ -252,7 +352,7 @@ pub enum ValueFile {
     /// Constant.
     Constant(f64),
     /// Linear from the edge's first vertex to its second.
-    Linear([f64; 2]),
+    Linear(#[serde(deserialize_with = "exact::pair")] [f64; 2]),
 }
 
 impl ProblemFile {
@@ -395,4 +495,33 @@ pub enum LayoutKind {
     Structured,
     /// The grid with seeded random offsets of the interior nodes (`jitter`, `seed`).
     Jittered,
+}
+
+/// Fixed-length arrays read exactly: serde's `[f64; 2]` would drop extra elements silently.
+mod exact {
+    use serde::de::{Deserialize, Deserializer, Error};
+
+    fn two<E: Error>(v: &[f64]) -> Result<[f64; 2], E> {
+        <[f64; 2]>::try_from(v).map_err(|_| E::invalid_length(v.len(), &"exactly 2 numbers"))
+    }
+
+    /// `[a, b]`, exactly two numbers.
+    pub fn pair<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+        two(&Vec::<f64>::deserialize(d)?)
+    }
+
+    /// An optional `[a, b]`.
+    pub fn optional_pair<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+        Option::<Vec<f64>>::deserialize(d)?.map(|v| two(&v)).transpose()
+    }
+
+    /// An optional `[[a, b], …]`, each exactly two numbers.
+    pub fn optional_pairs<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<Vec<[f64; 2]>>, D::Error> {
+        match Option::<Vec<Vec<f64>>>::deserialize(d)? {
+            Some(list) => list.iter().map(|v| two(v)).collect::<Result<_, _>>().map(Some),
+            None => Ok(None),
+        }
+    }
 }

@@ -3,11 +3,28 @@
 
 use super::file::*;
 use super::*;
-use crate::geometry::{Curve, Domain};
+use crate::geometry::{Curve, Domain, projects_onto};
 use crate::material::Material;
 
+/// The largest magnitude accepted for a coordinate, a load or a modulus: products of two such
+/// numbers (stiffness times displacement, squared lengths) stay far from overflow.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+
+/// `v`, if it is a finite number of magnitude at most [`MAX_MAGNITUDE`].
 fn check_finite(field: &str, v: f64) -> Result<f64, ProblemError> {
-    if v.is_finite() { Ok(v) } else { Err(invalid(field, v, "must be a finite number")) }
+    if !v.is_finite() {
+        return Err(invalid(field, v, "must be a finite number"));
+    }
+    if v.abs() > MAX_MAGNITUDE {
+        return Err(invalid(
+            field,
+            format!("{v:e}"),
+            format!(
+                "magnitudes above {MAX_MAGNITUDE:e} make the arithmetic overflow; rescale the units"
+            ),
+        ));
+    }
+    Ok(v)
 }
 
 fn value_field(field: &str, v: ValueFile) -> Result<Field, ProblemError> {
@@ -70,7 +87,10 @@ impl TryFrom<ProblemFile> for Problem {
                     boundary: &b.boundary,
                     body_force: b.body_force,
                 };
-                let body_name = b.name.clone().unwrap_or_else(|| format!("body{}", k + 1));
+                let body_name = match &b.name {
+                    Some(name) => output_name(&format!("body[{k}].name"), name)?,
+                    None => format!("body{}", k + 1),
+                };
                 bodies.push(
                     validate_body(body_name, parts, discretisation)
                         .map_err(|e| prefixed(&format!("body[{k}]."), e))?,
@@ -352,7 +372,7 @@ fn node_layout(
 
 /// `[material]` → the material.
 fn material(m: &MaterialFile) -> Result<Material, ProblemError> {
-    if !(m.young.is_finite() && m.young > 0.0) {
+    if check_finite("material.young", m.young)? <= 0.0 {
         return Err(invalid("material.young", m.young, "must be a positive number"));
     }
     if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
@@ -418,6 +438,37 @@ fn edge_conditions(
         boundary[k] = Some(condition);
     }
     Ok(boundary.into_iter().map(|c| c.unwrap_or_else(EdgeCondition::free)).collect())
+}
+
+/// The smaller side of a domain's bounding box.
+fn smallest_extent(domain: &Domain) -> f64 {
+    let (lo, hi) = domain.bounding_box();
+    (hi[0] - lo[0]).min(hi[1] - lo[1])
+}
+
+/// Directory names of the outputs that a body's name must not take.
+const RESERVED_NAMES: [&str; 3] = ["plots", "mfvm", "fem"];
+
+/// A body name that is used as an output directory (`<out>/<name>/`): 1–64 ASCII letters,
+/// digits, `_` or `-`, so that it can neither be empty, nor leave the output directory, nor
+/// collide with an output file; and not one of [`RESERVED_NAMES`].
+fn output_name(field: &str, name: &str) -> Result<String, ProblemError> {
+    let safe = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    if name.is_empty() || name.len() > 64 || !name.chars().all(safe) {
+        return Err(invalid(
+            field,
+            format!("{name:?}"),
+            "a body name names its output directory: use 1–64 letters, digits, '_' or '-'",
+        ));
+    }
+    if RESERVED_NAMES.contains(&name) {
+        return Err(invalid(
+            field,
+            format!("{name:?}"),
+            format!("reserved for an output directory; the reserved names are {RESERVED_NAMES:?}"),
+        ));
+    }
+    Ok(name.to_string())
 }
 
 /// Prefixes the field name of an [`ProblemError::Invalid`] (for `body[k].` tables).
@@ -505,6 +556,29 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
                 "the first body is not on the outer side of this edge of the second body: the bodies would overlap",
             ));
         }
+        // Initial interference: the contact edge's points over the target edge may reach
+        // across it by at most 10 % of the smaller body's smallest extent (as for a rigid
+        // obstacle) and at most the larger node spacing (a prescribed small interference).
+        let (a2, b2) = second.domain.edge(target);
+        let target_length = (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
+        let curve = domain.curve(edge);
+        let worst = (0..=1024)
+            .map(|i| curve.point_at(i as f64 / 1024.0))
+            .filter(|&x| projects_onto(x, a2, b2, 1e-9 * target_length))
+            .map(|x| (x[0] - a2[0]) * nu[0] + (x[1] - a2[1]) * nu[1])
+            .fold(f64::INFINITY, f64::min);
+        let allowed = (0.1 * smallest_extent(domain).min(smallest_extent(&second.domain)))
+            .min(problem.node_spacing.max(second.node_spacing));
+        if worst < -allowed {
+            return Err(invalid(
+                "contact.target_edge",
+                name,
+                format!(
+                    "the bodies overlap: the contact edge reaches {:.3e} across this edge of the second body, more than the {allowed:.3e} allowed (10 % of the smaller body's smallest extent, at most the larger node spacing)",
+                    -worst
+                ),
+            ));
+        }
         return Ok(ContactSpec {
             edge,
             target: ContactTarget::Body { edge: target },
@@ -525,14 +599,22 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
     };
     let obstacle_point = c.obstacle_point.ok_or_else(|| missing("contact.obstacle_point"))?;
     let obstacle_normal = c.obstacle_normal.ok_or_else(|| missing("contact.obstacle_normal"))?;
-    for v in obstacle_point.iter().chain(&obstacle_normal) {
-        check_finite("contact", *v)?;
+    for v in obstacle_point {
+        check_finite("contact.obstacle_point", v)?;
+    }
+    for v in obstacle_normal {
+        check_finite("contact.obstacle_normal", v)?;
     }
     let [nx, ny] = obstacle_normal;
     let len = nx.hypot(ny);
     if len == 0.0 {
         return Err(invalid("contact.obstacle_normal", "[0, 0]", "must be a non-zero vector"));
     }
+    // A component below 1e-12 of the length is round-off: it is snapped to zero, so that a
+    // normal given as [1e-300, 1] is the same obstacle as [0, 1].
+    let snap = |c: f64| if c.abs() <= 1e-12 * len { 0.0 } else { c };
+    let (nx, ny) = (snap(nx), snap(ny));
+    let len = nx.hypot(ny);
     let obstacle = RigidLine { point: obstacle_point, normal: [nx / len, ny / len] };
     // The body must lie on the side the normal points to: its centroid, at least.
     let centroid = domain.centroid();
