@@ -162,3 +162,59 @@ fn an_overhang_keeps_only_the_candidates_over_the_target_edge() {
     let equilibrium = summary["checks"]["equilibrium_error"].as_f64().unwrap();
     assert!(equilibrium < 1e-10, "equilibrium error {equilibrium:e}");
 }
+
+fn shipped(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(name)
+}
+
+fn run_problem(problem: &Path, out: &Path, extra: &[&str]) -> Output {
+    Command::new(binary())
+        .arg(problem)
+        .arg("--out")
+        .arg(out)
+        .arg("--quiet")
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+/// The names in a directory, sorted, hidden ones included.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| d.flatten().map(|e| e.file_name().to_string_lossy().into_owned()).collect())
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+#[test]
+fn an_output_directory_holds_one_complete_run() {
+    let dir = scratch("one-run");
+    let out = dir.join("out");
+    // A contact run, then a run without contact into the same directory: nothing of the first
+    // (contact.csv, its plots, a stray file) is left.
+    assert!(run_problem(&shipped("beam_on_foundation.toml"), &out, &[]).status.success());
+    std::fs::write(out.join("stale.csv"), "x").unwrap();
+    assert!(run_problem(&shipped("cantilever.toml"), &out, &[]).status.success());
+    let after = listing(&out);
+    assert!(!after.contains(&"contact.csv".to_string()), "{after:?}");
+    assert!(!after.contains(&"stale.csv".to_string()), "{after:?}");
+    assert!(!listing(&out.join("plots")).iter().any(|f| f.starts_with("contact_")));
+    // A comparison the finite elements cannot do (a curved body) is refused before anything
+    // is solved or written: the previous run stays as it was, no staging directory remains.
+    let failed = run_problem(&shipped("hertz_cylinder.toml"), &out, &["--compare"]);
+    assert_eq!(failed.status.code(), Some(2));
+    assert_eq!(listing(&out), after);
+    assert_eq!(listing(&dir), vec!["out".to_string()]);
+}
+
+#[test]
+fn a_directory_that_holds_no_run_is_not_replaced() {
+    let dir = scratch("user-dir");
+    std::fs::write(dir.join("thesis.tex"), "mine").unwrap();
+    let out = run_problem(&shipped("cantilever.toml"), &dir, &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("holds something other than an mlpg-contact run"), "{stderr}");
+    assert_eq!(listing(&dir), vec!["thesis.tex".to_string()]);
+}

@@ -131,6 +131,14 @@ pub fn compare(
     input: Value,
     progress: &mut dyn Progress,
 ) -> Result<Comparison, Error> {
+    // Both methods must accept the problem before either is solved.
+    let fem_problem = with_method(problem, Method::Fem);
+    crate::fem::mesh(&fem_problem)?;
+    if let Some(second) = &fem_problem.second_body {
+        crate::fem::mesh(second)?;
+    }
+    let staged = post::StagedDir::new(out)?;
+    let out = staged.path();
     let (mfvm, mut files) =
         run_one(&with_method(problem, Method::Mfvm), &out.join("mfvm"), &input, progress)?;
     let (fem, more) =
@@ -149,6 +157,7 @@ pub fn compare(
         files.push(path);
     }
     files.extend(overlay_plots(problem, out, &mfvm, &fem)?);
+    let files = staged.commit(files)?;
     Ok(Comparison { mfvm, fem, rows, files })
 }
 

@@ -335,7 +335,9 @@ impl std::fmt::Display for RunReport {
 }
 
 /// Solves `problem` and writes every output into `out`, `summary.json` included (the CLI's
-/// job; `input`, the problem file as read, is echoed into the summary).
+/// job; `input`, the problem file as read, is echoed into the summary). `out` is replaced as
+/// a whole when the run succeeds ([`post::StagedDir`]) and left as it was when it fails; an
+/// existing non-empty `out` that holds no earlier run is refused.
 ///
 /// # Errors
 /// Any stage's error.
@@ -345,7 +347,10 @@ pub fn run(
     input: serde_json::Value,
     progress: &mut dyn Progress,
 ) -> Result<RunReport, Error> {
-    solve_and_write(problem, out, input, progress).map(|(_, _, report)| report)
+    let staged = post::StagedDir::new(out)?;
+    let (_, _, report) = solve_and_write(problem, staged.path(), input, progress)?;
+    let files = staged.commit(report.files)?;
+    Ok(RunReport { summary: report.summary, files })
 }
 
 /// [`run`], also returning the model and the solution (for [`compare`]).
