@@ -1,0 +1,175 @@
+//! A seeded mutation campaign on the problem-file front door: every shipped problem file is
+//! mutated (each number replaced by extreme and wrongly typed values, each line deleted and
+//! duplicated, seeded random byte edits) and fed to `ProblemFile::from_toml` →
+//! `Problem::try_from`. Every input must end in `Ok` or in a typed error with a message (an
+//! `Invalid` error names a key path); none may panic. The count of inputs is printed
+//! (`cargo test --release --test mutation_campaign -- --nocapture`).
+
+use mlpg_contact::problem::{Problem, ProblemError, ProblemFile};
+use mlpg_contact::random::SplitMix64;
+use std::path::Path;
+
+/// What a number is replaced by.
+const REPLACEMENTS: [&str; 14] = [
+    "nan",
+    "inf",
+    "-inf",
+    "0",
+    "0.0",
+    "-1",
+    "1e300",
+    "-1e300",
+    "1e-300",
+    "1e100",
+    "\"abc\"",
+    "[1.0, 2.0, 3.0]",
+    "true",
+    "{}",
+];
+
+/// Byte ranges of the numbers in `text` (outside strings and comments).
+fn numbers(text: &str) -> Vec<(usize, usize)> {
+    let b = text.as_bytes();
+    let mut out = Vec::new();
+    let (mut i, mut in_string, mut in_comment) = (0, false, false);
+    while i < b.len() {
+        let c = b[i];
+        if in_comment {
+            in_comment = c != b'\n';
+        } else if in_string {
+            in_string = c != b'"';
+        } else if c == b'#' {
+            in_comment = true;
+        } else if c == b'"' {
+            in_string = true;
+        } else if c.is_ascii_digit() || (c == b'-' && b.get(i + 1).is_some_and(u8::is_ascii_digit))
+        {
+            let prev = if i == 0 { b' ' } else { b[i - 1] };
+            if !(prev.is_ascii_alphanumeric() || prev == b'_') {
+                let start = i;
+                i += 1;
+                // Digits, '.', 'e'/'E', and a sign only right after an exponent mark.
+                let continues = |i: usize| {
+                    let c = b[i];
+                    c.is_ascii_digit()
+                        || b"._eE".contains(&c)
+                        || (b"+-".contains(&c) && b"eE".contains(&b[i - 1]))
+                };
+                while i < b.len() && continues(i) {
+                    i += 1;
+                }
+                out.push((start, i));
+                continue;
+            }
+        }
+        i += 1;
+    }
+    out
+}
+
+/// Validates `text`; panics are caught and returned as `Err` with the input.
+fn check(text: &str) -> Result<(), String> {
+    let outcome = std::panic::catch_unwind(|| {
+        ProblemFile::from_toml(text).and_then(Problem::try_from).map(|_| ())
+    });
+    match outcome {
+        Err(_) => Err(format!("panic on input:\n{text}")),
+        Ok(Ok(())) => Ok(()),
+        Ok(Err(ProblemError::Invalid { field, reason, .. })) => {
+            if field.is_empty() || reason.is_empty() {
+                Err(format!("an Invalid error without field or reason on input:\n{text}"))
+            } else {
+                Ok(())
+            }
+        }
+        Ok(Err(e)) => {
+            if e.to_string().is_empty() {
+                Err(format!("an empty message on input:\n{text}"))
+            } else {
+                Ok(())
+            }
+        }
+    }
+}
+
+#[test]
+fn no_mutated_problem_file_panics() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.path()).collect();
+    files.sort();
+    let mut inputs = 0usize;
+    let mut accepted = 0usize;
+    let mut failures = Vec::new();
+    let mut solved = 0usize;
+    let mut run = |text: &str| {
+        inputs += 1;
+        if let Ok(problem) = ProblemFile::from_toml(text).and_then(Problem::try_from) {
+            accepted += 1;
+            // Every 25th accepted input is solved too: it must end in a finite solution or a
+            // typed error, never in a panic.
+            if accepted % 25 == 0 {
+                solved += 1;
+                match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    mlpg_contact::solve(&problem)
+                })) {
+                    Err(_) => failures.push(format!("panic solving:\n{text}")),
+                    Ok(Ok(s)) if s.first_non_finite().is_some() => {
+                        failures.push(format!("a non-finite solution of:\n{text}"))
+                    }
+                    Ok(_) => {}
+                }
+            }
+        }
+        if let Err(e) = check(text) {
+            failures.push(e);
+        }
+    };
+    // Quiet the default panic message of caught panics; failures are reported below.
+    std::panic::set_hook(Box::new(|_| {}));
+    for (seed, path) in
+        files.iter().filter(|p| p.extension().is_some_and(|x| x == "toml")).enumerate()
+    {
+        let text = std::fs::read_to_string(path).unwrap();
+        for (start, end) in numbers(&text) {
+            for r in REPLACEMENTS {
+                run(&format!("{}{r}{}", &text[..start], &text[end..]));
+            }
+        }
+        let lines: Vec<&str> = text.lines().collect();
+        for k in 0..lines.len() {
+            let mut deleted = lines.clone();
+            deleted.remove(k);
+            run(&deleted.join("\n"));
+            let mut duplicated = lines.clone();
+            duplicated.insert(k, lines[k]);
+            run(&duplicated.join("\n"));
+        }
+        let mut rng = SplitMix64::new(seed as u64 + 1);
+        for _ in 0..300 {
+            let mut bytes = text.clone().into_bytes();
+            for _ in 0..1 + rng.next_u64() % 4 {
+                let at = (rng.next_u64() % bytes.len() as u64) as usize;
+                match rng.next_u64() % 3 {
+                    0 => bytes[at] = (rng.next_u64() % 128) as u8,
+                    1 => {
+                        bytes.remove(at);
+                    }
+                    _ => bytes.insert(at, b"0.-e[]{}=\",x9"[(rng.next_u64() % 13) as usize]),
+                }
+            }
+            run(&String::from_utf8_lossy(&bytes));
+        }
+    }
+    let _ = std::panic::take_hook();
+    println!(
+        "mutation campaign: {inputs} inputs, {accepted} accepted, {solved} of those solved, {} failures",
+        failures.len()
+    );
+    assert!(inputs > 2000, "the campaign ran only {inputs} inputs");
+    assert!(
+        failures.is_empty(),
+        "{} of {inputs} inputs failed:\n{}",
+        failures.len(),
+        failures[..failures.len().min(3)].join("\n---\n")
+    );
+}
