@@ -323,14 +323,57 @@ pub struct RunReport {
 }
 
 impl std::fmt::Display for RunReport {
+    /// The result block the command line prints after the stage list.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let s = &self.summary;
+        let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
+        writeln!(f, "{}: {} nodes, {} DOFs", s.problem.name, s.counts.nodes, s.counts.dofs)?;
         writeln!(
             f,
-            "{} nodes, {} DOFs; residual {:.2e}, equilibrium error {:.2e}",
-            s.counts.nodes, s.counts.dofs, s.checks.relative_residual, s.checks.equilibrium_error
+            "  residual {:.2e}, equilibrium error {:.2e}",
+            s.checks.relative_residual, s.checks.equilibrium_error
         )?;
-        write!(f, "wrote {} files", self.files.len())
+        if let Some(second) = &s.second_body {
+            writeln!(
+                f,
+                "  second body {}: {} nodes, residual {:.2e}, equilibrium error {:.2e}",
+                second.name.as_deref().unwrap_or("-"),
+                second.nodes,
+                second.relative_residual,
+                second.equilibrium_error
+            )?;
+        }
+        if let (Some(c), Some(l)) = (&s.contact, &s.lcp) {
+            writeln!(
+                f,
+                "  contact: total force {:.6}, {} of {} candidates closed in {} zone(s)",
+                c.total_force, c.closed, c.candidates, c.closed_intervals
+            )?;
+            writeln!(
+                f,
+                "  onset {} (bracket {} to {}, from the pressures {})",
+                opt(c.onset_x),
+                opt(c.last_open_x),
+                opt(c.first_closed_x),
+                opt(c.onset_x_from_pressure)
+            )?;
+            writeln!(
+                f,
+                "  M: min diagonal {:.3e}, eigenvalues of the symmetric part {:.3e} to {:.3e}; Lemke: {} pivots, complementarity {:.1e}",
+                l.compliance_min_diagonal,
+                l.compliance_min_symmetric_eigenvalue,
+                l.compliance_max_symmetric_eigenvalue,
+                l.pivots,
+                l.max_complementarity
+            )?;
+        }
+        let dir = self.files.last().and_then(|p| p.parent());
+        write!(
+            f,
+            "wrote {} files into {}",
+            self.files.len(),
+            dir.map_or_else(|| "-".into(), |d| d.display().to_string())
+        )
     }
 }
 
