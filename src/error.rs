@@ -44,6 +44,22 @@ pub enum Error {
         /// Which quantity.
         what: &'static str,
     },
+    /// The run would need more memory than the process may use.
+    #[error(
+        "this problem needs about {gb:.1} GB ({nodes:.0} nodes), more than the {avail:.1} GB {limit} leaves: increase nodes.spacing (the memory grows as 1/spacing²), or lower discretisation.support_factor",
+        gb = estimate / 1e9,
+        avail = available / 1e9
+    )]
+    Memory {
+        /// Estimated peak bytes.
+        estimate: f64,
+        /// Estimated node count.
+        nodes: f64,
+        /// Bytes the process may use.
+        available: f64,
+        /// Which limit.
+        limit: &'static str,
+    },
     /// Writing outputs failed (stage 9).
     #[error(transparent)]
     Output(#[from] OutputError),

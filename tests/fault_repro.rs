@@ -218,3 +218,24 @@ fn a_directory_that_holds_no_run_is_not_replaced() {
     assert!(stderr.contains("holds something other than an mlpg-contact run"), "{stderr}");
     assert_eq!(listing(&dir), vec!["thesis.tex".to_string()]);
 }
+
+#[test]
+fn a_problem_that_cannot_fit_in_memory_is_refused_up_front() {
+    // ~120k nodes need about 4.3 GB: under a 4 GB address-space limit the run must refuse
+    // with the estimate and the parameter to change, not abort half-way.
+    let dir = scratch("r7_mem.toml");
+    let command = format!(
+        "ulimit -v 4000000 && exec '{}' '{}' --out '{}' --quiet",
+        binary(),
+        repro("r7_mem.toml").display(),
+        dir.join("out").display()
+    );
+    let Ok(out) = Command::new("sh").arg("-c").arg(&command).output() else {
+        return; // no POSIX shell on this system
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("the address-space limit"), "{stderr}");
+    assert!(stderr.contains("increase nodes.spacing"), "{stderr}");
+    assert!(!dir.join("out").exists());
+}

@@ -5,6 +5,7 @@
 //! one problem.
 
 pub mod compare;
+pub mod memory;
 
 use crate::assembly::{self, AssemblyInput};
 use crate::contact::{self, ContactTarget};
@@ -114,11 +115,24 @@ fn discretise_fem(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
     })
 }
 
+/// Refuses `problem` when its estimated memory ([`memory::estimate`]) exceeds what the
+/// process may use ([`memory::limit`]).
+fn check_memory(problem: &Problem) -> Result<(), Error> {
+    let (need, nodes) = memory::estimate(problem);
+    match memory::limit() {
+        Some((available, what)) if need > available => {
+            Err(Error::Memory { estimate: need, nodes, available, limit: what })
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The models of `problem` and of its second body, if it has one.
 fn discretise_all(
     problem: &Problem,
     progress: &mut dyn Progress,
 ) -> Result<(Model, Option<Model>), Error> {
+    check_memory(problem)?;
     let model = discretise(problem, progress)?;
     let second = match &problem.second_body {
         Some(p2) => Some(discretise(p2, progress)?),
