@@ -72,6 +72,68 @@ pub struct ContactSolution {
     pub total_force: f64,
     /// A warning when the compliance checks failed but were overridden.
     pub warning: Option<String>,
+    /// The frictional part of the answer (`μ > 0` only; docs/method.md §8).
+    pub friction: Option<FrictionContact>,
+}
+
+/// The frictional part of a contact solution (one load step; docs/method.md §8).
+#[derive(Debug)]
+pub struct FrictionContact {
+    /// The coefficient `μ` of the problem.
+    pub coefficient: f64,
+    /// Whether each candidate can take a tangential force (`false`: its tangential row is a
+    /// displacement condition; it is frictionless).
+    pub tangentially_free: Vec<bool>,
+    /// The tangential operator (`d = t`).
+    pub operator: BodyOperator,
+    /// The step solver's answer: `P`, `T`, `g`, `s`, `Δs`, states, residuals, method.
+    pub step: lcp::FrictionSolution,
+    /// Tangential traction `T_c / |segment_c|`.
+    pub traction: Vec<f64>,
+    /// Slip of the step: `Δs_c` where the candidate slips, 0 where it sticks or is open.
+    pub slip: Vec<f64>,
+    /// `Σ T_c`.
+    pub total_force: f64,
+    /// Maximal runs of sticking candidates along the edge.
+    pub stick_zones: usize,
+    /// Maximal runs of slipping candidates along the edge.
+    pub slip_zones: usize,
+}
+
+impl FrictionContact {
+    /// The frictional part from the step answer.
+    pub fn new(
+        coefficient: f64,
+        tangentially_free: Vec<bool>,
+        operator: BodyOperator,
+        step: lcp::FrictionSolution,
+        segment_length: &[f64],
+    ) -> Self {
+        let traction = step.tangential.iter().zip(segment_length).map(|(t, l)| t / l).collect();
+        let slip = step
+            .state
+            .iter()
+            .zip(&step.slip_increment)
+            .map(|(s, &ds)| if s.is_slip() { ds } else { 0.0 })
+            .collect();
+        let runs = |pred: &dyn Fn(lcp::ContactState) -> bool| {
+            let st = &step.state;
+            (0..st.len()).filter(|&c| pred(st[c]) && (c == 0 || !pred(st[c - 1]))).count()
+        };
+        let stick_zones = runs(&|s| s == lcp::ContactState::Stick);
+        let slip_zones = runs(&|s| s.is_slip());
+        Self {
+            coefficient,
+            tangentially_free,
+            operator,
+            total_force: step.tangential.iter().sum(),
+            traction,
+            slip,
+            step,
+            stick_zones,
+            slip_zones,
+        }
+    }
 }
 
 impl ContactSolution {
@@ -115,17 +177,19 @@ impl ContactSolution {
             onset,
             total_force,
             warning,
+            friction: None,
         }
     }
 }
 
-/// Recovers the solution of one body from its nodal parameters `u_hat`; `contact` is the
-/// body's contact operator and the contact forces, when it has contact.
+/// Recovers the solution of one body from its nodal parameters `u_hat`; `contact` holds the
+/// body's contact operators and their forces (none without contact; the normal operator
+/// first, then the tangential one with friction).
 pub fn recover(
     problem: &Problem,
     model: &Model,
     u_hat: Vec<f64>,
-    contact: Option<(&BodyOperator, &[f64])>,
+    contact: &[(&BodyOperator, &[f64])],
 ) -> Solution {
     let system = &model.system;
     let ns = &model.node_shapes;
@@ -138,10 +202,16 @@ pub fn recover(
     let mut contact_rhs = vec![0.0; 2 * n];
     let mut contact_force = [0.0; 2];
     let mut contact_abs = 0.0;
-    if let Some((op, forces)) = contact {
+    if let Some(&(op, forces)) = contact.first() {
         op.add_forces(forces, &mut contact_rhs);
         contact_force = op.resultant(forces);
         contact_abs = forces.iter().map(|p| p.abs()).sum();
+    }
+    for &(op, forces) in contact.iter().skip(1) {
+        op.add_forces(forces, &mut contact_rhs);
+        let r = op.resultant(forces);
+        contact_force = [contact_force[0] + r[0], contact_force[1] + r[1]];
+        contact_abs += forces.iter().map(|p| p.abs()).sum::<f64>();
     }
     let reactions: Vec<(u32, Axis, f64)> = system
         .constraints
