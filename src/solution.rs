@@ -75,6 +75,68 @@ pub struct ContactSolution {
     /// Two bodies: points of the contact edge beside the target edge, which have no partner
     /// and are no candidates.
     pub unpaired: usize,
+    /// The frictional part of the answer (`μ > 0` only; docs/method.md §8).
+    pub friction: Option<FrictionContact>,
+}
+
+/// The frictional part of a contact solution (one load step; docs/method.md §8).
+#[derive(Debug)]
+pub struct FrictionContact {
+    /// The coefficient `μ` of the problem.
+    pub coefficient: f64,
+    /// Whether each candidate can take a tangential force (`false`: its tangential row is a
+    /// displacement condition; it is frictionless).
+    pub tangentially_free: Vec<bool>,
+    /// The tangential operator (`d = t`).
+    pub operator: BodyOperator,
+    /// The step solver's answer: `P`, `T`, `g`, `s`, `Δs`, states, residuals, method.
+    pub step: lcp::FrictionSolution,
+    /// Tangential traction `T_c / |segment_c|`.
+    pub traction: Vec<f64>,
+    /// Slip of the step: `Δs_c` where the candidate slips, 0 where it sticks or is open.
+    pub slip: Vec<f64>,
+    /// `Σ T_c`.
+    pub total_force: f64,
+    /// Maximal runs of sticking candidates along the edge.
+    pub stick_zones: usize,
+    /// Maximal runs of slipping candidates along the edge.
+    pub slip_zones: usize,
+}
+
+impl FrictionContact {
+    /// The frictional part from the step answer.
+    pub fn new(
+        coefficient: f64,
+        tangentially_free: Vec<bool>,
+        operator: BodyOperator,
+        step: lcp::FrictionSolution,
+        segment_length: &[f64],
+    ) -> Self {
+        let traction = step.tangential.iter().zip(segment_length).map(|(t, l)| t / l).collect();
+        let slip = step
+            .state
+            .iter()
+            .zip(&step.slip_increment)
+            .map(|(s, &ds)| if s.is_slip() { ds } else { 0.0 })
+            .collect();
+        let runs = |pred: &dyn Fn(lcp::ContactState) -> bool| {
+            let st = &step.state;
+            (0..st.len()).filter(|&c| pred(st[c]) && (c == 0 || !pred(st[c - 1]))).count()
+        };
+        let stick_zones = runs(&|s| s == lcp::ContactState::Stick);
+        let slip_zones = runs(&|s| s.is_slip());
+        Self {
+            coefficient,
+            tangentially_free,
+            operator,
+            total_force: step.tangential.iter().sum(),
+            traction,
+            slip,
+            step,
+            stick_zones,
+            slip_zones,
+        }
+    }
 }
 
 impl ContactSolution {
@@ -119,6 +181,7 @@ impl ContactSolution {
             total_force,
             warning,
             unpaired: 0,
+            friction: None,
         }
     }
 }
@@ -128,13 +191,20 @@ impl Solution {
     /// any: a singular system that the factorisation did not catch, or magnitudes that overflow.
     pub fn first_non_finite(&self) -> Option<&'static str> {
         let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        let checks: [(&'static str, bool); 7] = [
+        let checks: [(&'static str, bool); 8] = [
             ("displacement", self.displacement.iter().all(|u| finite(u))),
             ("stress", self.stress.iter().all(|s| finite(s))),
             ("reactions", self.reactions.iter().all(|r| r.2.is_finite())),
             ("relative residual", self.relative_residual.is_finite()),
             ("equilibrium error", self.equilibrium_error.is_finite()),
             ("contact force", self.contact.as_ref().is_none_or(|c| finite(&c.lcp.z))),
+            (
+                "tangential contact force",
+                self.contact
+                    .as_ref()
+                    .and_then(|c| c.friction.as_ref())
+                    .is_none_or(|f| finite(&f.step.tangential)),
+            ),
             ("contact gap", self.contact.as_ref().is_none_or(|c| finite(&c.gap))),
         ];
         let own = checks.into_iter().find(|(_, ok)| !ok).map(|(what, _)| what);
@@ -142,13 +212,14 @@ impl Solution {
     }
 }
 
-/// Recovers the solution of one body from its nodal parameters `u_hat`; `contact` is the
-/// body's contact operator and the contact forces, when it has contact.
+/// Recovers the solution of one body from its nodal parameters `u_hat`; `contact` holds the
+/// body's contact operators and their forces (none without contact; the normal operator
+/// first, then the tangential one with friction).
 pub fn recover(
     problem: &Problem,
     model: &Model,
     u_hat: Vec<f64>,
-    contact: Option<(&BodyOperator, &[f64])>,
+    contact: &[(&BodyOperator, &[f64])],
 ) -> Solution {
     let system = &model.system;
     let ns = &model.node_shapes;
@@ -161,10 +232,16 @@ pub fn recover(
     let mut contact_rhs = vec![0.0; 2 * n];
     let mut contact_force = [0.0; 2];
     let mut contact_abs = 0.0;
-    if let Some((op, forces)) = contact {
+    if let Some(&(op, forces)) = contact.first() {
         op.add_forces(forces, &mut contact_rhs);
         contact_force = op.resultant(forces);
         contact_abs = forces.iter().map(|p| p.abs()).sum();
+    }
+    for &(op, forces) in contact.iter().skip(1) {
+        op.add_forces(forces, &mut contact_rhs);
+        let r = op.resultant(forces);
+        contact_force = [contact_force[0] + r[0], contact_force[1] + r[1]];
+        contact_abs += forces.iter().map(|p| p.abs()).sum::<f64>();
     }
     let reactions: Vec<(u32, Axis, f64)> = system
         .constraints

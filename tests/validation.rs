@@ -31,4 +31,6 @@ mod validation {
     mod fem_two_bodies;
     // The static-pivoting LU (default from 100k unknowns) against faer's LU on small MFVM matrices.
     mod static_pivoting;
+    // Coulomb friction, one step: tiny μ = frictionless, huge μ = bonded, gross sliding.
+    mod friction;
 }

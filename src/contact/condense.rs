@@ -173,3 +173,116 @@ impl CondensedContact {
         })
     }
 }
+
+/// The condensed blocks of frictional contact (docs/method.md §8): with the normal operator
+/// (`G_n`, `E_n`, direction `ν`) and the tangential operator (`G_t`, `E_t`, direction `t`) of
+/// the same candidates,
+///
+/// ```text
+/// g = q_n + M_nn P + M_nt T,      s = q_t + M_tn P + M_tt T,
+/// M_ab = Σ_k G_a,k K_k⁻¹ E_b,k,   q_n = g0 + Σ_k G_n,k K_k⁻¹ f_k,   q_t = Σ_k G_t,k K_k⁻¹ f_k.
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct CondensedBlocks {
+    /// Candidates `m`.
+    pub size: usize,
+    /// `M_nn` (the frictionless `M`), row-major `m × m`.
+    pub nn: Vec<f64>,
+    /// `M_nt`: gap change per unit tangential force.
+    pub nt: Vec<f64>,
+    /// `M_tn`: tangential displacement per unit normal force.
+    pub tn: Vec<f64>,
+    /// `M_tt`: tangential compliance.
+    pub tt: Vec<f64>,
+    /// `q_n`: the gaps without contact forces.
+    pub free_gap: Vec<f64>,
+    /// `q_t`: the tangential displacements `t·u^h(x_c)` without contact forces.
+    pub free_tangential: Vec<f64>,
+}
+
+impl CondensedBlocks {
+    /// The blocks of one body ([`condense_blocks`]) with the initial gaps added to `q_n`.
+    pub fn with_initial_gap(mut self, initial_gap: &[f64]) -> Self {
+        for (q, g0) in self.free_gap.iter_mut().zip(initial_gap) {
+            *q += g0;
+        }
+        self
+    }
+}
+
+/// One body's four blocks `G_a K⁻¹ E_b` (`a, b ∈ {n, t}`) and `G_a K⁻¹ f` from one
+/// factorisation: `K⁻¹ [E_n E_t]` in blocks of `BLOCK` right-hand sides (in parallel over
+/// blocks), each solved column read by both `G_n` and `G_t`. `normal` and `tangential` must
+/// have the same contact points (as [`super::Candidates::tangential_operator`] builds them).
+/// `free_gap` holds `G_n K⁻¹ f` only (add `g0` with [`CondensedBlocks::with_initial_gap`]).
+///
+/// # Errors
+/// [`ContactError::Solve`] when a solve is not finite.
+pub fn condense_blocks(
+    factorisation: &Factorisation,
+    rhs: &[f64],
+    normal: &BodyOperator,
+    tangential: &BodyOperator,
+) -> Result<CondensedBlocks, ContactError> {
+    let m = normal.len();
+    assert_eq!(tangential.len(), m, "normal and tangential operators of different sizes");
+    let n = factorisation.size();
+    let free_solution = factorisation.solve(rhs)?;
+    let ops = [normal, tangential];
+    // Column j < m: E_n e_j; column m + j: E_t e_j.
+    let starts: Vec<usize> = (0..2 * m).step_by(BLOCK).collect();
+    let blocks: Vec<[Vec<f64>; 2]> = starts
+        .par_iter()
+        .map(|&start| {
+            let width = BLOCK.min(2 * m - start);
+            let mut x = Mat::<f64>::zeros(n, width);
+            for j in 0..width {
+                let col = start + j;
+                let op = ops[col / m];
+                let d = op.direction;
+                for &(i, w) in &op.owners[col % m] {
+                    x[(dof(i as usize, Axis::X), j)] += d[0] * w;
+                    x[(dof(i as usize, Axis::Y), j)] += d[1] * w;
+                }
+            }
+            factorisation.solve_in_place(x.as_mut());
+            let mut out = [Vec::with_capacity(m * width), Vec::with_capacity(m * width)];
+            for j in 0..width {
+                for (a, op) in ops.iter().enumerate() {
+                    out[a].extend(op.gap_contribution(x.col_as_slice(j)));
+                }
+            }
+            out
+        })
+        .collect();
+    // full[a][b]: row-major m × m block G_a K⁻¹ E_b.
+    let mut full = [[vec![0.0; m * m], vec![0.0; m * m]], [vec![0.0; m * m], vec![0.0; m * m]]];
+    for (blk, &start) in blocks.iter().zip(&starts) {
+        for (a, rows) in blk.iter().enumerate() {
+            for (j, col) in rows.chunks_exact(m.max(1)).enumerate() {
+                let (b, c) = ((start + j) / m, (start + j) % m);
+                for (i, &v) in col.iter().enumerate() {
+                    full[a][b][i * m + c] = v;
+                }
+            }
+        }
+    }
+    let [[nn, nt], [tn, tt]] = full;
+    for block in [&nn, &nt, &tn, &tt] {
+        if let Some(i) = block.iter().position(|v| !v.is_finite()) {
+            return Err(SolveError::Singular {
+                detail: format!("non-finite frictional compliance entry {i}"),
+            }
+            .into());
+        }
+    }
+    Ok(CondensedBlocks {
+        size: m,
+        nn,
+        nt,
+        tn,
+        tt,
+        free_gap: normal.gap_contribution(&free_solution),
+        free_tangential: tangential.gap_contribution(&free_solution),
+    })
+}

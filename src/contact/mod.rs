@@ -16,7 +16,9 @@ pub mod fem;
 pub mod spectrum;
 
 pub use crate::problem::{Condensation, ContactSpec, ContactTarget, RigidLine};
-pub use condense::{CondensedContact, CondensedPart, condense, condense_blocked};
+pub use condense::{
+    CondensedBlocks, CondensedContact, CondensedPart, condense, condense_blocked, condense_blocks,
+};
 pub use spectrum::EigenvalueMethod;
 
 use crate::assembly::GlobalSystem;
@@ -268,6 +270,44 @@ impl Candidates {
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
+    /// The contact tangent `t = (ν_y, −ν_x)`: `ν` turned clockwise by a right angle
+    /// (docs/method.md §8). A positive tangential force pushes the body along `+t`.
+    pub fn tangent(&self) -> Point {
+        tangent(self.normal)
+    }
+    /// The tangential operator of the candidate body (docs/method.md §8): the same contact
+    /// points and owners as [`Candidates::operator`], direction `t` instead of `ν`. A
+    /// candidate whose owner has a prescribed displacement along `t` (its tangential row is a
+    /// displacement condition of `system`) gets no tangential force: its owner list is empty
+    /// and its flag in the returned vector is `false` (such candidates are frictionless).
+    pub fn tangential_operator(&self, system: &GlobalSystem) -> (BodyOperator, Vec<bool>) {
+        let t = self.tangent();
+        let free: Vec<bool> = self
+            .operator
+            .owners
+            .iter()
+            .map(|owners| {
+                owners.iter().all(|&(i, _)| {
+                    Axis::BOTH.iter().all(|&a| {
+                        t[a as usize] == 0.0 || !system.is_constrained(dof(i as usize, a))
+                    })
+                })
+            })
+            .collect();
+        let owners = self
+            .operator
+            .owners
+            .iter()
+            .zip(&free)
+            .map(|(o, &f)| if f { o.clone() } else { Vec::new() })
+            .collect();
+        (BodyOperator { shapes: self.operator.shapes.clone(), owners, direction: t }, free)
+    }
+}
+
+/// `t = (ν_y, −ν_x)` for the unit normal `ν` (docs/method.md §8).
+pub fn tangent(normal: Point) -> Point {
+    [normal[1], -normal[0]]
 }
 
 /// The discretised body a contact operator is built on.

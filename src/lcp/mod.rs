@@ -21,9 +21,13 @@
 //! [`enumerate_solutions`] is an exponential brute-force reference used by the tests.
 
 mod enumerate;
+pub mod friction;
 mod lemke;
 
 pub use enumerate::enumerate_solutions;
+pub use friction::{
+    ContactState, FrictionMethod, FrictionProblem, FrictionResiduals, FrictionSolution, solve_step,
+};
 pub use lemke::{LemkeParams, lemke};
 
 /// A linear complementarity problem LCP(q, M): find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0
@@ -288,6 +292,27 @@ pub enum LcpError {
         max_complementarity: f64,
         /// The acceptance threshold that was exceeded.
         threshold: f64,
+    },
+    /// Neither Lemke on the step LCP nor the fixed point with the active-set step produced an
+    /// answer of one frictional step meeting the residual tolerance (docs/method.md §8).
+    #[error(
+        "the frictional contact step did not converge: Lemke on the step LCP failed ({lemke}); \
+         the fixed point made {fixed_point_rounds} rounds (last relative change \
+         {fixed_point_change:.3e}) and the active-set step {active_set_rounds}, ending at scaled \
+         residual {residual:.3e} (tolerance 1e-9); the friction problem may have no solution or \
+         several (try a smaller friction coefficient or smaller load steps)"
+    )]
+    FrictionNotConverged {
+        /// Fixed-point rounds made.
+        fixed_point_rounds: usize,
+        /// Active-set rounds made.
+        active_set_rounds: usize,
+        /// The scaled residual of the last answer.
+        residual: f64,
+        /// The fixed point's last relative change of the forces.
+        fixed_point_change: f64,
+        /// Why Lemke's answer was not accepted.
+        lemke: String,
     },
 }
 

@@ -178,8 +178,7 @@ pub fn solve_model(
     let mut clock = Clock::new(progress, std::mem::take(&mut model.timings));
     let Some(spec) = &problem.contact else {
         let u_hat = clock.run("solve", || model.factorisation.solve(&model.system.rhs))?;
-        let mut solution =
-            clock.run("recovery", || solution::recover(problem, &model, u_hat, None));
+        let mut solution = clock.run("recovery", || solution::recover(problem, &model, u_hat, &[]));
         solution.timings = clock.timings.clone();
         model.timings = clock.timings;
         return finite(solution).map(|s| (model, None, s));
@@ -188,10 +187,13 @@ pub fn solve_model(
     let (u1, u2, contact) = solve_contact(problem, spec, &model, pair, &mut clock)?;
     let mut solution = clock.run("recovery", || {
         let forces = &contact.lcp.z;
-        let mut s =
-            solution::recover(problem, &model, u1, Some((&contact.candidates.operator, forces)));
+        let mut ops = vec![(&contact.candidates.operator, forces.as_slice())];
+        if let Some(f) = &contact.friction {
+            ops.push((&f.operator, f.step.tangential.as_slice()));
+        }
+        let mut s = solution::recover(problem, &model, u1, &ops);
         if let (Some((p2, m2)), Some(u2), Some(target)) = (pair, u2, &contact.target) {
-            s.second_body = Some(Box::new(solution::recover(p2, m2, u2, Some((target, forces)))));
+            s.second_body = Some(Box::new(solution::recover(p2, m2, u2, &[(target, forces)])));
         }
         s
     });
@@ -266,6 +268,29 @@ fn solve_contact(
             }
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
+    if spec.friction > 0.0 {
+        // Validated: a rigid obstacle and the MFVM (docs/dev/friction.md).
+        let contact = solve_frictional(problem, spec, model, candidates, clock)?;
+        let mut rhs = model.system.rhs.clone();
+        contact.candidates.operator.add_forces(&contact.lcp.z, &mut rhs);
+        if let Some(f) = &contact.friction {
+            f.operator.add_forces(&f.step.tangential, &mut rhs);
+        }
+        let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
+        let nu = contact.candidates.normal;
+        let mut contact = contact;
+        contact.gap = contact
+            .candidates
+            .initial_gap
+            .iter()
+            .zip(&contact.candidates.nodes)
+            .map(|(g0, &i)| {
+                let u = model.node_shapes.interpolate(i as usize, &u1);
+                g0 + nu[0] * u[0] + nu[1] * u[1]
+            })
+            .collect();
+        return Ok((u1, None, contact));
+    }
     let condensed = clock.run("condensation", || {
         let mut parts =
             vec![contact::condense(&model.factorisation, &model.system.rhs, &candidates.operator)?];
@@ -325,6 +350,80 @@ fn solve_contact(
     );
     contact.unpaired = unpaired;
     Ok((u1, u2, contact))
+}
+
+/// One frictional load step against a rigid obstacle (docs/method.md §8): the tangential
+/// operator, the four condensed blocks from the one factorisation, the checks of `M_nn`, and
+/// the step solver. The returned solution's `gap` is the step solver's (the caller replaces it
+/// by the MLS gaps after the final solve).
+fn solve_frictional(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    candidates: contact::Candidates,
+    clock: &mut Clock<'_>,
+) -> Result<ContactSolution, Error> {
+    let (tangential, free) = candidates.tangential_operator(&model.system);
+    let blocks = clock.run("condensation", || {
+        contact::condense_blocks(
+            &model.factorisation,
+            &model.system.rhs,
+            &candidates.operator,
+            &tangential,
+        )
+    })?;
+    let part =
+        contact::CondensedPart { compliance: blocks.nn.clone(), free_gap: blocks.free_gap.clone() };
+    let condensed = contact::CondensedContact::combine(&candidates.initial_gap, &[part])?;
+    let blocks = blocks.with_initial_gap(&candidates.initial_gap);
+    let mut warning = None;
+    if let Err(err) =
+        contact::check_compliance(&condensed, problem.discretisation.mls.support_factor)
+    {
+        if !spec.allow_indefinite {
+            return Err(err.into());
+        }
+        warning = Some(err.to_string());
+    }
+    let m = candidates.len();
+    let step_problem = lcp::FrictionProblem {
+        nn: blocks.nn,
+        nt: blocks.nt,
+        tn: blocks.tn,
+        tt: blocks.tt,
+        free_gap: blocks.free_gap,
+        free_tangential: blocks.free_tangential,
+        previous_tangential: vec![0.0; m],
+        friction: free.iter().map(|&f| if f { spec.friction } else { 0.0 }).collect(),
+    };
+    let step = clock.run("friction", || lcp::solve_step(&step_problem))?;
+    // The normal LCP given the tangential forces, for the `lcp` section of the summary.
+    let q: Vec<f64> = (0..m)
+        .map(|i| {
+            let row = &step_problem.nt[i * m..(i + 1) * m];
+            step_problem.free_gap[i]
+                + row.iter().zip(&step.tangential).map(|(a, b)| a * b).sum::<f64>()
+        })
+        .collect();
+    let normal = lcp::Lcp::new(m, step_problem.nn.clone(), q)?;
+    let result = lcp::LcpSolution {
+        w: normal.w(&step.normal),
+        residuals: normal.residuals(&step.normal),
+        z: step.normal.clone(),
+        pivots: step.pivots,
+    };
+    let gap = step.gap.clone();
+    let segment_length = candidates.segment_length.clone();
+    let mut contact =
+        ContactSolution::new(spec, candidates, None, Vec::new(), condensed, result, gap, warning);
+    contact.friction = Some(solution::FrictionContact::new(
+        spec.friction,
+        free,
+        tangential,
+        step,
+        &segment_length,
+    ));
+    Ok(contact)
 }
 
 /// What a run reports: the summary and the files written.

@@ -241,10 +241,15 @@ fn contact_outputs(
 ) -> Result<Vec<PathBuf>, OutputError> {
     let cand = &c.candidates;
     let mut text =
-        String::from("candidate,node,x,y,arc_length,initial_gap,gap,force,pressure,in_contact\n");
+        String::from("candidate,node,x,y,arc_length,initial_gap,gap,force,pressure,in_contact");
+    // Friction columns only with friction, so that frictionless files are unchanged.
+    if c.friction.is_some() {
+        text.push_str(",tangential_force,tangential_traction,slip,state");
+    }
+    text.push('\n');
     for k in 0..cand.len() {
         let p = cand.points[k];
-        let _ = writeln!(
+        let _ = write!(
             text,
             "{k},{},{},{},{},{},{},{},{},{}",
             cand.nodes[k],
@@ -257,6 +262,17 @@ fn contact_outputs(
             num(c.pressure[k]),
             u8::from(c.closed[k])
         );
+        if let Some(f) = &c.friction {
+            let _ = write!(
+                text,
+                ",{},{},{},{}",
+                num(f.step.tangential[k]),
+                num(f.traction[k]),
+                num(f.slip[k]),
+                f.step.state[k].label()
+            );
+        }
+        text.push('\n');
     }
     let mut written = vec![save(dir, "contact.csv", &text)?];
     let plots = dir.join("plots");

@@ -3,6 +3,7 @@
 //! deterministic apart from `timings`.
 
 use crate::contact::EigenvalueMethod;
+use crate::lcp::{ContactState, FrictionMethod};
 use crate::linear_solve::{FactorMethod, FactorPrecision};
 use crate::material::Material;
 use crate::model::Model;
@@ -198,6 +199,34 @@ pub struct ContactSummary {
     pub warning: Option<String>,
     /// What the onset fields mean ([`ONSET_NOTE`]).
     pub onset_note: &'static str,
+    /// The friction coefficient `μ` (friction only; the friction keys are absent otherwise, so
+    /// that frictionless summaries are unchanged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_coefficient: Option<f64>,
+    /// `Σ T_c`, the tangential contact force on the body along `t` (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub total_tangential_force: Option<f64>,
+    /// Maximal runs of sticking candidates (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stick_zones: Option<usize>,
+    /// Maximal runs of slipping candidates (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub slip_zones: Option<usize>,
+    /// Candidates that stick, that slip (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stick_slip_counts: Option<[usize; 2]>,
+    /// Which method solved the frictional step (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_solver: Option<FrictionMethod>,
+    /// Fixed-point and active-set rounds of the frictional step (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_iterations: Option<usize>,
+    /// Largest scaled residual of the frictional step (friction only; docs/method.md §8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_residual: Option<f64>,
+    /// Why Lemke on the step LCP was not accepted, when the fallback answered (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_lemke_failure: Option<String>,
 }
 
 /// The second body of a two-body contact.
@@ -310,6 +339,24 @@ impl Summary {
                     .fold(0.0, f64::max),
                 warning: c.warning.clone(),
                 onset_note: ONSET_NOTE,
+                friction_coefficient: c.friction.as_ref().map(|f| f.coefficient),
+                total_tangential_force: c.friction.as_ref().map(|f| f.total_force),
+                stick_zones: c.friction.as_ref().map(|f| f.stick_zones),
+                slip_zones: c.friction.as_ref().map(|f| f.slip_zones),
+                stick_slip_counts: c.friction.as_ref().map(|f| {
+                    let st = &f.step.state;
+                    [
+                        st.iter().filter(|s| **s == ContactState::Stick).count(),
+                        st.iter().filter(|s| s.is_slip()).count(),
+                    ]
+                }),
+                friction_solver: c.friction.as_ref().map(|f| f.step.method),
+                friction_iterations: c.friction.as_ref().map(|f| f.step.iterations),
+                friction_residual: c.friction.as_ref().map(|f| f.step.residuals.max()),
+                friction_lemke_failure: c
+                    .friction
+                    .as_ref()
+                    .and_then(|f| f.step.lemke_failure.clone()),
             }),
             second_body: solution.second_body.as_deref().map(|s2| SecondBody {
                 name: problem.second_body.as_ref().map(|p| p.name.clone()),

@@ -49,6 +49,9 @@ pub struct ContactSpec {
     pub allow_indefinite: bool,
     /// Which condensation (default: the compliance form, exact for MLS).
     pub condensation: Condensation,
+    /// Coulomb friction coefficient `μ ≥ 0`; 0 (the default) is frictionless contact and takes
+    /// the frictionless path unchanged (docs/method.md §8).
+    pub friction: f64,
 }
 
 /// How the problem is condensed onto the contact unknowns.

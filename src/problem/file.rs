@@ -37,7 +37,8 @@ pub struct ProblemFile {
     /// Output options.
     #[serde(default)]
     pub output: OutputFile,
-    /// Frictionless contact with a rigid straight obstacle.
+    /// Contact with a rigid straight obstacle or a second body (frictionless unless
+    /// `friction` is given).
     #[serde(default)]
     pub contact: Option<ContactFile>,
 }
@@ -69,6 +70,10 @@ pub struct ContactFile {
     /// nodal parameters, for comparison).
     #[serde(default)]
     pub condensation: Option<Condensation>,
+    /// Coulomb friction coefficient `μ ≥ 0` (default 0: frictionless; docs/method.md §8).
+    /// Not echoed when absent, so that frictionless summaries are unchanged.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
 }
 
 /// One `[[body]]` table of a two-body problem.

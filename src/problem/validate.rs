@@ -504,6 +504,28 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
     }
     let allow_indefinite = c.allow_indefinite.unwrap_or(false);
     let condensation = c.condensation.unwrap_or_default();
+    let friction = c.friction.unwrap_or(0.0);
+    if !(friction.is_finite() && friction >= 0.0) {
+        return Err(invalid(
+            "contact.friction",
+            friction,
+            "the Coulomb friction coefficient must be a finite number ≥ 0",
+        ));
+    }
+    if friction > 0.0 && problem.second_body.is_some() {
+        return Err(invalid(
+            "contact.friction",
+            friction,
+            "friction between two elastic bodies is not supported yet (only against a rigid obstacle; docs/dev/friction.md)",
+        ));
+    }
+    if friction > 0.0 && problem.discretisation.method == Method::Fem {
+        return Err(invalid(
+            "contact.friction",
+            friction,
+            "friction with method = \"fem\" is not supported yet (only the MFVM; docs/dev/friction.md)",
+        ));
+    }
     if let Some(second) = problem.second_body.as_deref() {
         if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
             return Err(invalid(
@@ -585,6 +607,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             gap_tolerance: c.gap_tolerance,
             allow_indefinite,
             condensation,
+            friction,
         });
     }
     if c.target_edge.is_some() {
@@ -647,5 +670,6 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         gap_tolerance: c.gap_tolerance,
         allow_indefinite,
         condensation,
+        friction,
     })
 }

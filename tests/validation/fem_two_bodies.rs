@@ -37,6 +37,7 @@ fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
         gap_tolerance: None,
         allow_indefinite: false,
         condensation: Default::default(),
+        friction: 0.0,
     });
     upper.second_body = Some(Box::new(lower));
     let s = mlpg_contact::solve(&upper).unwrap();

@@ -64,6 +64,7 @@ pub fn hertz_problem(h: f64, layout: Layout) -> Problem {
         gap_tolerance: None,
         allow_indefinite: false,
         condensation: Default::default(),
+        friction: 0.0,
     });
     p
 }
@@ -253,6 +254,7 @@ fn cylinder_on_block(h: f64) -> Problem {
         gap_tolerance: None,
         allow_indefinite: false,
         condensation: Default::default(),
+        friction: 0.0,
     });
     upper.second_body = Some(Box::new(lower));
     upper

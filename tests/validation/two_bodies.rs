@@ -51,6 +51,7 @@ fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
         gap_tolerance: None,
         allow_indefinite: false,
         condensation: Default::default(),
+        friction: 0.0,
     });
     let mut lower = lower;
     lower.name = "lower".into();
@@ -145,6 +146,7 @@ fn mirror_image_equals_rigid_line() {
         gap_tolerance: None,
         allow_indefinite: false,
         condensation: Default::default(),
+        friction: 0.0,
     });
     let mut pair = upper("upper");
     let mut mirror = block([-1.0 - gap, -gap], 0.1, None, Some(bottom));
@@ -155,6 +157,7 @@ fn mirror_image_equals_rigid_line() {
         gap_tolerance: None,
         allow_indefinite: false,
         condensation: Default::default(),
+        friction: 0.0,
     });
     pair.second_body = Some(Box::new(mirror));
     let a = mlpg_contact::solve(&rigid).unwrap();

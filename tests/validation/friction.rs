@@ -1,0 +1,210 @@
+//! Coulomb friction, one load step against a rigid obstacle (docs/method.md §8):
+//!
+//! - (a) a tiny `μ = 1e-12` on every shipped MFVM rigid-obstacle problem gives the frictionless
+//!   contact forces to 1e-9 (`μ = 0` itself takes the frictionless path unchanged; the
+//!   outputs are checked byte for byte by `scripts/output-digest.sh`);
+//! - (b) full stick: `μ = 1e6` on a block pressed and sheared on a rigid flat gives the bonded
+//!   solution, computed independently as the same block with its bottom edge clamped by
+//!   displacement conditions (the reactions there are the bonded contact forces), to 1e-8;
+//! - (c) gross sliding: the block sheared beyond `μ P` slips at every closed candidate, with
+//!   `Σ T = −μ Σ P` to 1e-10;
+//! - (d) in every frictional case the scaled step residual is ≤ 1e-9 and the global
+//!   equilibrium (applied + reactions + normal and tangential contact forces) ≤ 1e-8;
+//! - the `[contact] friction` key is validated and refused where it is not wired yet.
+
+use super::common::shipped_problem;
+use mlpg_contact::lcp::{ContactState, FrictionMethod};
+use mlpg_contact::problem::Problem;
+use mlpg_contact::{Solution, solve};
+
+/// A 2 × 1 block (E = 1000, ν = 0.3, plane stress, h = 0.1) whose top is moved by
+/// `(shift, −0.01)`; its bottom either touches the rigid line y = 0 with friction `mu`, or
+/// (`mu = None`) is clamped (`u = 0`, the bonded reference).
+fn block(shift: f64, mu: Option<f64>) -> Problem {
+    let bottom = match mu {
+        Some(mu) => format!(
+            "[contact]\nedge = \"bottom\"\nobstacle_point = [0.0, 0.0]\nobstacle_normal = [0.0, 1.0]\nfriction = {mu:e}\n"
+        ),
+        None => "[[boundary]]\nedge = \"bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n".into(),
+    };
+    Problem::from_toml(&format!(
+        r#"
+        name = "block"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 2.0]
+        y = [0.0, 1.0]
+        [nodes]
+        spacing = 0.1
+        [material]
+        young = 1000.0
+        poisson = 0.3
+        plane = "stress"
+        [[boundary]]
+        edge = "top"
+        displacement = {{ x = {shift:e}, y = -0.01 }}
+        {bottom}
+        "#
+    ))
+    .unwrap()
+}
+
+/// (d): the step residual and the global equilibrium of a frictional solution.
+fn check_frictional(s: &Solution, case: &str) {
+    let c = s.contact.as_ref().unwrap();
+    let f = c.friction.as_ref().expect("a frictional solution");
+    let r = f.step.residuals.max();
+    println!(
+        "{case}: solver {:?}, pivots {}, iterations {}, residual {r:.2e}, equilibrium {:.2e}, stick {} slip {} zones",
+        f.step.method,
+        f.step.pivots,
+        f.step.iterations,
+        s.equilibrium_error,
+        f.stick_zones,
+        f.slip_zones
+    );
+    assert!(r <= 1e-9, "{case}: step residual {r:.3e}");
+    assert!(s.equilibrium_error <= 1e-8, "{case}: equilibrium {:.3e}", s.equilibrium_error);
+    // The MLS gaps after the final solve agree with the step's gaps.
+    let scale = c.candidates.initial_gap.iter().fold(0.01f64, |a, g| a.max(g.abs()));
+    for (a, b) in c.gap.iter().zip(&f.step.gap) {
+        assert!((a - b).abs() <= 1e-9 * scale, "{case}: gap {a} vs {b}");
+    }
+}
+
+#[test]
+fn tiny_friction_gives_the_frictionless_forces() {
+    for (file, h) in [
+        ("beam_on_foundation.toml", 0.5),
+        ("beam_on_foundation_stabilised.toml", 0.5),
+        ("hertz_cylinder.toml", 0.02),
+    ] {
+        let frictionless = shipped_problem(file, h);
+        let mut tiny = frictionless.clone();
+        tiny.contact.as_mut().unwrap().friction = 1e-12;
+        let (a, b) = (solve(&frictionless).unwrap(), solve(&tiny).unwrap());
+        check_frictional(&b, file);
+        let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
+        let scale = ca.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+        let worst = ca.lcp.z.iter().zip(&cb.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+        let f = cb.friction.as_ref().unwrap();
+        let t_max = f.step.tangential.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+        println!(
+            "{file}: max |P_μ − P_0| / max P = {:.2e}, max |T| / max P = {:.2e}, {} tangentially clamped",
+            worst / scale,
+            t_max / scale,
+            f.tangentially_free.iter().filter(|&&x| !x).count()
+        );
+        assert!(worst <= 1e-9 * scale, "{file}: forces differ by {worst:.3e}");
+        assert!(t_max <= 1e-11 * scale, "{file}: |T| = {t_max:.3e}");
+        assert!(
+            f.step.residuals.cone <= 1e-12,
+            "{file}: cone residual {:.3e}",
+            f.step.residuals.cone
+        );
+    }
+}
+
+#[test]
+fn huge_friction_gives_the_bonded_solution() {
+    let shift = 0.002;
+    let stuck = solve(&block(shift, Some(1e6))).unwrap();
+    check_frictional(&stuck, "stick");
+    let bonded = solve(&block(shift, None)).unwrap();
+    let c = stuck.contact.as_ref().unwrap();
+    let f = c.friction.as_ref().unwrap();
+    assert!(f.step.state.iter().all(|&s| s == ContactState::Stick), "{:?}", f.step.state);
+    assert_eq!((f.stick_zones, f.slip_zones), (1, 0));
+    // Bonded reference: the reactions of the clamped bottom nodes.
+    let reaction = |node: u32, axis: usize| {
+        bonded
+            .reactions
+            .iter()
+            .find(|&&(n, a, _)| n == node && a as usize == axis)
+            .map(|r| r.2)
+            .unwrap_or_else(|| panic!("node {node} is not clamped in the reference"))
+    };
+    let scale = f.step.normal.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let mut worst = 0.0f64;
+    for (k, &node) in c.candidates.nodes.iter().enumerate() {
+        // ν = (0, 1), t = (1, 0): R_y = P, R_x = T.
+        worst = worst.max((reaction(node, 1) - f.step.normal[k]).abs());
+        worst = worst.max((reaction(node, 0) - f.step.tangential[k]).abs());
+    }
+    let du = stuck
+        .displacement
+        .iter()
+        .zip(&bonded.displacement)
+        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+        .fold(0.0, f64::max);
+    println!(
+        "stick: m = {}, max |force − bonded reaction| / max P = {:.2e}, max |u − u_bonded| = {du:.2e}, ΣT / ΣP = {:.4}",
+        c.candidates.len(),
+        worst / scale,
+        f.total_force / c.total_force
+    );
+    assert!(worst <= 1e-8 * scale, "forces differ from the bonded reactions by {worst:.3e}");
+    assert!(du <= 1e-8 * 0.01, "displacements differ by {du:.3e}");
+}
+
+#[test]
+fn gross_sliding_slips_everywhere_on_the_cone() {
+    let mu = 0.2;
+    let s = solve(&block(0.05, Some(mu))).unwrap();
+    check_frictional(&s, "gross sliding");
+    let c = s.contact.as_ref().unwrap();
+    let f = c.friction.as_ref().unwrap();
+    let closed = f.step.normal.iter().filter(|&&p| p > 0.0).count();
+    assert!(closed > c.candidates.len() / 2, "only {closed} candidates closed");
+    for (k, &state) in f.step.state.iter().enumerate() {
+        if f.step.normal[k] > 0.0 {
+            assert_eq!(state, ContactState::SlipPositive, "candidate {k}");
+        }
+    }
+    let ratio = f.total_force / c.total_force;
+    println!(
+        "gross sliding: {closed} of {} closed, ΣT = {:.6}, ΣP = {:.6}, ΣT/ΣP = {ratio:.12}",
+        c.candidates.len(),
+        f.total_force,
+        c.total_force
+    );
+    assert!((ratio + mu).abs() <= 1e-10, "ΣT / ΣP = {ratio}");
+    // The top's reaction carries the friction force: Σ R_x = −Σ T.
+    let rx = s.reaction_force[0];
+    assert!((rx + f.total_force).abs() <= 1e-8 * c.total_force, "Σ R_x = {rx}");
+    assert_ne!(f.step.method, FrictionMethod::Frictionless);
+}
+
+#[test]
+fn partial_slip_meets_every_condition() {
+    // Between the two: a stick zone inside, slip towards the ends.
+    let s = solve(&block(0.004, Some(0.3))).unwrap();
+    check_frictional(&s, "partial slip");
+    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    assert!(f.stick_zones >= 1 && f.slip_zones >= 1, "{:?}", f.step.state);
+}
+
+#[test]
+fn friction_key_is_validated() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/beam_on_foundation.toml"),
+    )
+    .unwrap();
+    let with = |line: &str| text.replace("[contact]\n", &format!("[contact]\n{line}\n"));
+    for bad in ["friction = -0.1", "friction = nan", "friction = inf"] {
+        let e = Problem::from_toml(&with(bad)).unwrap_err().to_string();
+        assert!(e.contains("contact.friction"), "{bad}: {e}");
+    }
+    let p = Problem::from_toml(&with("friction = 0.3")).unwrap();
+    assert_eq!(p.contact.unwrap().friction, 0.3);
+    assert_eq!(Problem::from_toml(&text).unwrap().contact.unwrap().friction, 0.0);
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    for (file, what) in [("beam_on_foundation_fem.toml", "fem"), ("two_blocks.toml", "two elastic")]
+    {
+        let t = std::fs::read_to_string(root.join(file)).unwrap();
+        let t = t.replace("[contact]\n", "[contact]\nfriction = 0.3\n");
+        let e = Problem::from_toml(&t).unwrap_err().to_string();
+        assert!(e.contains("contact.friction") && e.contains("not supported yet"), "{file}: {e}");
+        assert!(e.contains(what), "{file}: {e}");
+    }
+}
