@@ -1,4 +1,4 @@
-//! Stage 5: assembly of `K û = f` (paper eqs. (12)–(15); docs/method.md §3.4–3.6).
+//! Stage 6: assembly of `K û = f` (paper eqs. (12)–(15); docs/method.md §3.4–3.6).
 //!
 //! `K_int = −Q · blockdiag(D) · S`: `S` collocates the strains at the nodes
 //! (`ε̂_J = Σ_K B_K(x_J) û_K`, eq. 15), `φ_J(x_q)` interpolates them to the quadrature points of

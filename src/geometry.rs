@@ -1,4 +1,4 @@
-//! Stage 1a: the domain — a closed loop of named boundary curves (straight segments and
+//! Stage 0: the domain — a closed loop of named boundary curves (straight segments and
 //! circular arcs) with the body on its left (counter-clockwise outer boundary).
 //!
 //! The discretisation works on a polygonal approximation of the loop

@@ -1,4 +1,4 @@
-//! Stage 6: sparse LU factorisation of `K` (faer's supernodal LU), kept for many solves.
+//! Stage 7: sparse LU factorisation of `K` (faer's supernodal LU), kept for many solves.
 //!
 //! # How
 //!

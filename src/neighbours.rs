@@ -1,4 +1,4 @@
-//! Stage 2: neighbour search — a uniform cell grid over the nodes, and the MLS supports.
+//! Stage 3: neighbour search — a uniform cell grid over the nodes, and the MLS supports.
 //!
 //! A bucket grid (cell size = largest support radius) answers every query by scanning a few
 //! cells. It suits the near-uniform node clouds this solver generates and is deterministic by

@@ -1,4 +1,4 @@
-//! Stage 1b: node layouts (structured, jittered) and boundary tags.
+//! Stage 2: node layouts (structured, jittered) and boundary tags.
 //!
 //! Boundary nodes are placed on the domain's edges at the nominal spacing and are never
 //! jittered, so every boundary segment of a subdomain cell belongs to a node on that edge

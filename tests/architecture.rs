@@ -179,6 +179,30 @@ fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>>
     graph.keys().find_map(|v| visit(v, graph, &mut Vec::new(), &mut done))
 }
 
+/// Module docs that open with "Stage N" must agree with the table.
+#[test]
+fn module_docs_name_their_stage() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let lib = fs::read_to_string(src.join("lib.rs")).expect("read lib.rs");
+    let stage = stages(&lib).expect("the stage table");
+    let mut wrong = Vec::new();
+    for (module, &n) in &stage {
+        let file = [src.join(format!("{module}.rs")), src.join(module).join("mod.rs")]
+            .into_iter()
+            .find(|p| p.exists())
+            .expect("a module file");
+        let text = fs::read_to_string(&file).expect("read a module");
+        let first = text.lines().next().unwrap_or_default();
+        if let Some(rest) = first.strip_prefix("//! Stage ") {
+            let said: String = rest.chars().take_while(char::is_ascii_digit).collect();
+            if !said.is_empty() && said.parse::<u32>().ok() != Some(n) {
+                wrong.push(format!("{}: says stage {said}, the table says {n}", file.display()));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
 #[test]
 fn modules_import_only_earlier_stages() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");

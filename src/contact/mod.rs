@@ -1,4 +1,4 @@
-//! Stage 7: frictionless contact with a rigid obstacle — candidates, gap, force operators, and
+//! Stage 9: contact with a rigid obstacle or a second body — candidates, gap, force operators, and
 //! the condensation onto the contact unknowns (docs/method.md §4; paper eqs. 16–27).
 //!
 //! Unknown per candidate `c`: the normal contact force `P_c ≥ 0` (the pressure integrated over

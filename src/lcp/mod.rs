@@ -1,4 +1,4 @@
-//! Stage 8 of the pipeline: the linear complementarity problem (LCP) of frictionless contact,
+//! Stage 10 of the pipeline: the linear complementarity problem (LCP) of frictionless contact,
 //! solved by Lemke's complementary pivot method.
 //!
 //! Given a dense, generally non-symmetric matrix M ∈ ℝⁿˣⁿ and a vector q ∈ ℝⁿ, the LCP(q, M) asks

@@ -1,4 +1,4 @@
-//! Stage 3: moving least squares (MLS) shape functions and their gradients \[LS81\]; paper
+//! Stage 4: moving least squares (MLS) shape functions and their gradients \[LS81\]; paper
 //! eqs. (1)–(5).
 //!
 //! MLS is **not interpolating**: `u^h(x_I) ≠ û_I`. The nodal unknowns are fictitious values and

@@ -1,4 +1,4 @@
-//! Stage 13: orchestration — the pipeline as functions that read like the algorithm:
+//! Stage 14: orchestration — the pipeline as functions that read like the algorithm:
 //! [`discretise`] (stages 2–8, MFVM or FE), [`solve_model`] (solve, or condense, run the LCP
 //! and solve again; then recover), [`solve`] (both in one call) and [`run`] (solve and write
 //! every output, the command-line program's job). [`compare`] runs both discretisations on

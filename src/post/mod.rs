@@ -1,4 +1,4 @@
-//! Stage 9: outputs — CSV tables, a VTU file for ParaView, plots and `summary.json`.
+//! Stage 12: outputs — CSV tables, a VTU file for ParaView, plots and `summary.json`.
 //!
 //! Every file is deterministic (fixed float formatting, sorted keys) except the `timings`
 //! field of `summary.json`.

@@ -1,4 +1,4 @@
-//! Stage 0: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
+//! Stage 1: the problem description — a raw TOML form ([`ProblemFile`]) validated into a
 //! checked [`Problem`]. Only a `Problem` reaches the solver.
 //!
 //! - [`mod@file`]: the raw form, as written ([`ProblemFile`]);

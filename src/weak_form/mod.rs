@@ -1,4 +1,4 @@
-//! Stage 4: the local weak form of the mixed MLPG finite volume method over subdomains `Ω_s`
+//! Stage 5: the local weak form of the mixed MLPG finite volume method over subdomains `Ω_s`
 //! (paper eqs. (8)–(12); \[AHR04\]).
 //!
 //! With a Heaviside test function on the cell `Ω_I` of node `I`, the local balance is
