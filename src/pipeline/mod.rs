@@ -470,6 +470,17 @@ impl std::fmt::Display for RunReport {
                 opt(c.first_closed_x),
                 opt(c.onset_x_from_pressure)
             )?;
+            if let (Some(mu), Some(tangential), Some([stick, slip])) =
+                (c.friction_coefficient, c.total_tangential_force, c.stick_slip_counts)
+            {
+                writeln!(
+                    f,
+                    "  friction μ = {mu}: tangential force {tangential:.6}, {stick} candidates stick and {slip} slip ({} solver, residual {:.1e})",
+                    c.friction_solver
+                        .map_or_else(|| "-".to_string(), |m| format!("{m:?}").to_lowercase()),
+                    c.friction_residual.unwrap_or(f64::NAN)
+                )?;
+            }
             writeln!(
                 f,
                 "  M: min diagonal {:.3e}, eigenvalues of the symmetric part {:.3e} to {:.3e}; Lemke: {} pivots, complementarity {:.1e}",
