@@ -477,7 +477,9 @@ impl std::fmt::Display for RunReport {
                     f,
                     "  friction μ = {mu}: tangential force {tangential:.6}, {stick} candidates stick and {slip} slip ({} solver, residual {:.1e})",
                     c.friction_solver
-                        .map_or_else(|| "-".to_string(), |m| format!("{m:?}").to_lowercase()),
+                        .and_then(|m| serde_json::to_value(m).ok())
+                        .and_then(|v| v.as_str().map(str::to_string))
+                        .unwrap_or_else(|| "-".into()),
                     c.friction_residual.unwrap_or(f64::NAN)
                 )?;
             }
