@@ -19,6 +19,9 @@ pub struct StageTiming {
 
 /// Receives stage start/finish events (the CLI shows them as progress).
 pub trait Progress {
+    /// A part of the run begins whose stages belong together (one body of several, one
+    /// method of a comparison); `label` names it.
+    fn section(&mut self, _label: &str) {}
     /// A stage begins.
     fn start(&mut self, _stage: &'static str) {}
     /// A stage ended after `seconds`.
@@ -69,6 +72,12 @@ impl StageProgress {
 }
 
 impl Progress for StageProgress {
+    fn section(&mut self, label: &str) {
+        if !self.quiet {
+            let _ = writeln!(std::io::stderr(), "{label}:");
+        }
+    }
+
     fn start(&mut self, stage: &'static str) {
         if self.quiet || !std::io::stderr().is_terminal() {
             return;
@@ -88,7 +97,7 @@ impl Progress for StageProgress {
         }
         if !self.quiet {
             // A failing stderr never decides the run.
-            let _ = writeln!(std::io::stderr(), "  {stage:<14} {seconds:>9.3} s");
+            let _ = writeln!(std::io::stderr(), "  {stage:<18} {seconds:>9.3} s");
         }
     }
 }

@@ -139,8 +139,10 @@ pub fn compare(
     }
     let staged = post::StagedDir::new(out)?;
     let out = staged.path();
+    progress.section("MFVM");
     let (mfvm, mut files) =
         run_one(&with_method(problem, Method::Mfvm), &out.join("mfvm"), &input, progress)?;
+    progress.section("finite elements (Q2)");
     let (fem, more) =
         run_one(&with_method(problem, Method::Fem), &out.join("fem"), &input, progress)?;
     files.extend(more);

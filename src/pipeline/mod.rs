@@ -133,11 +133,25 @@ fn discretise_all(
     progress: &mut dyn Progress,
 ) -> Result<(Model, Option<Model>), Error> {
     check_memory(problem)?;
+    let method = match problem.discretisation.method {
+        Method::Mfvm => "MFVM",
+        Method::Fem => "FE",
+    };
+    let several = problem.second_body.is_some();
+    if several {
+        progress.section(&format!("body `{}` ({method})", problem.name));
+    }
     let model = discretise(problem, progress)?;
     let second = match &problem.second_body {
-        Some(p2) => Some(discretise(p2, progress)?),
+        Some(p2) => {
+            progress.section(&format!("body `{}` ({method})", p2.name));
+            Some(discretise(p2, progress)?)
+        }
         None => None,
     };
+    if several {
+        progress.section("contact and recovery");
+    }
     Ok((model, second))
 }
 
