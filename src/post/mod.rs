@@ -36,6 +36,12 @@ pub enum OutputError {
         /// The directory.
         path: String,
     },
+    /// The MLS field could not be evaluated at a point of the VTU file.
+    #[error("cannot evaluate the MLS field for solution.vtu: {reason}")]
+    Field {
+        /// The cause.
+        reason: String,
+    },
     /// Plotting failed.
     #[error("cannot draw plot {path}: {reason}")]
     Plot {
@@ -222,7 +228,7 @@ pub fn write_solution(
     }
     written.push(save(dir, "reactions.csv", &text)?);
 
-    let vtu = vtk::solution_vtu(problem, model, solution);
+    let vtu = vtk::solution_vtu(problem, model, solution)?;
     written.push(save(dir, "solution.vtu", &vtu)?);
 
     written.extend(solution_plots(dir, problem, model, solution)?);
