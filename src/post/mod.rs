@@ -9,9 +9,10 @@ mod vtk;
 
 pub use summary::Summary;
 
+use crate::geometry::Domain;
 use crate::model::Model;
 use crate::nodes::Axis;
-use crate::problem::Problem;
+use crate::problem::{ContactTarget, Problem, RigidLine};
 use crate::solution::{ContactSolution, Solution};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -35,6 +36,12 @@ pub enum OutputError {
     NotAnOutputDirectory {
         /// The directory.
         path: String,
+    },
+    /// The MLS field could not be evaluated at a point of the VTU file.
+    #[error("cannot evaluate the MLS field for solution.vtu: {reason}")]
+    Field {
+        /// The cause.
+        reason: String,
     },
     /// Plotting failed.
     #[error("cannot draw plot {path}: {reason}")]
@@ -222,7 +229,7 @@ pub fn write_solution(
     }
     written.push(save(dir, "reactions.csv", &text)?);
 
-    let vtu = vtk::solution_vtu(problem, model, solution);
+    let vtu = vtk::solution_vtu(problem, model, solution)?;
     written.push(save(dir, "solution.vtu", &vtu)?);
 
     written.extend(solution_plots(dir, problem, model, solution)?);
@@ -286,21 +293,41 @@ fn contact_outputs(
             (cand.arc_length[k], nu[0] * u[0] + nu[1] * u[1])
         })
         .collect();
-    let obstacle: Vec<(f64, f64)> =
-        (0..cand.len()).map(|k| (cand.arc_length[k], -cand.initial_gap[k])).collect();
+    // The target in the same coordinate: contact where ν·u_1 = −g0 (a rigid obstacle) or
+    // −g0 + ν·u_2^h(y_c) (a second body, whose displacement at the paired points moves it).
+    let second = problem.second_body.as_deref().zip(solution.second_body.as_deref());
+    let target_motion = match (second, &c.target) {
+        (Some((_, s2)), Some(op)) if op.len() == cand.len() => {
+            op.gap_contribution(&s2.nodal_parameters)
+        }
+        _ => vec![0.0; cand.len()],
+    };
+    let obstacle: Vec<(f64, f64)> = (0..cand.len())
+        .map(|k| (cand.arc_length[k], -cand.initial_gap[k] - target_motion[k]))
+        .collect();
+    let (target_label, target_title) = match (problem.contact.map(|s| s.target), second) {
+        (Some(ContactTarget::Body { edge: e2 }), Some((p2, _))) => {
+            let edge2 = &p2.domain.edge_names()[e2];
+            (
+                format!("body `{}`, edge `{edge2}`: ν·u^h − g0", p2.name),
+                format!("body `{}`", p2.name),
+            )
+        }
+        _ => ("rigid obstacle: −g0".to_string(), "the obstacle".to_string()),
+    };
     let chart = plot::Chart {
-        title: format!("{}: displacement of edge `{edge}` towards the obstacle", problem.name),
-        x_label: format!("distance along `{edge}`"),
+        title: format!("{}: displacement of edge `{edge}` towards {target_title}", problem.name),
+        x_label: format!("distance s along `{edge}`"),
         y_label: "normal displacement ν·u^h".into(),
         series: vec![
             plot::Series {
-                label: format!("ν·u^h ({})", method_label(problem)),
+                label: format!("edge `{edge}`: ν·u^h ({})", method_label(problem)),
                 points: deflection,
                 style: plot::Style::Line,
                 colour: 1,
             },
             plot::Series {
-                label: "rigid obstacle".into(),
+                label: target_label,
                 points: obstacle,
                 style: plot::Style::Dashed,
                 colour: 0,
@@ -314,7 +341,7 @@ fn contact_outputs(
     let pressure: Vec<(f64, f64)> =
         (0..cand.len()).map(|k| (cand.arc_length[k], c.pressure[k])).collect();
     let mut series = vec![plot::Series {
-        label: "contact pressure P_c/|segment|".into(),
+        label: "p = P_c/|segment|".into(),
         points: pressure,
         style: plot::Style::Line,
         colour: 4,
@@ -330,8 +357,8 @@ fn contact_outputs(
     }
     let chart = plot::Chart {
         title: format!("{}: contact pressure along `{edge}`", problem.name),
-        x_label: format!("distance along `{edge}`"),
-        y_label: "pressure".into(),
+        x_label: format!("distance s along `{edge}`"),
+        y_label: "contact pressure p".into(),
         series,
     };
     let stem = plots.join("contact_pressure");
@@ -369,16 +396,55 @@ fn solution_plots(
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
     let umax = solution.displacement.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
     let magnification = if umax > 0.0 { 0.1 * size / umax } else { 1.0 };
+    let deform =
+        |p: &[f64; 2], u: &[f64; 2]| (p[0] + magnification * u[0], p[1] + magnification * u[1]);
+    let mut points: Vec<(f64, f64)> =
+        nodes.points.iter().zip(&solution.displacement).map(|(p, u)| deform(p, u)).collect();
+    let mut values: Vec<f64> =
+        solution.stress.iter().map(|s| problem.material.von_mises(*s)).collect();
+    let min_spacing = nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut lines = vec![outline(&problem.domain, min_spacing, "undeformed outline")];
+    let mut labels = Vec::new();
+    match (problem.contact.map(|s| s.target), &solution.contact) {
+        (Some(ContactTarget::Rigid(line)), Some(c)) => {
+            lines.push(obstacle_line(&line, c, magnification, &points));
+        }
+        (Some(ContactTarget::Body { .. }), _) => {
+            if let (Some(p2), Some(s2)) =
+                (problem.second_body.as_deref(), solution.second_body.as_deref())
+            {
+                // The second body's nodes as the pipeline generates them (drawn only if they
+                // match its solution), on the same scale and magnification.
+                let nodes2 = crate::nodes::generate(&p2.domain, p2.node_spacing, p2.layout);
+                if let Some(n2) = nodes2.ok().filter(|n| n.len() == s2.displacement.len()) {
+                    labels.push(body_label(&problem.name, &points));
+                    let second: Vec<(f64, f64)> =
+                        n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
+                    labels.push(body_label(&p2.name, &second));
+                    points.extend(second);
+                    values.extend(s2.stress.iter().map(|s| p2.material.von_mises(*s)));
+                    let h2 = n2.spacing.iter().copied().fold(f64::INFINITY, f64::min);
+                    let mut o = outline(&p2.domain, h2, "");
+                    o.label = None;
+                    lines.push(o);
+                }
+            }
+        }
+        _ => {}
+    }
     let map = plot::ColourMap {
-        title: format!("{}: deformed shape (x{magnification:.3e}), von Mises stress", problem.name),
-        value_label: "von Mises".into(),
-        points: nodes
-            .points
-            .iter()
-            .zip(&solution.displacement)
-            .map(|(p, u)| (p[0] + magnification * u[0], p[1] + magnification * u[1]))
-            .collect(),
-        values: solution.stress.iter().map(|s| problem.material.von_mises(*s)).collect(),
+        title: format!(
+            "{}: deformed shape (displacement ×{}), von Mises stress",
+            problem.name,
+            significant(magnification)
+        ),
+        value_label: "von Mises σ_vM".into(),
+        x_label: "x + m·u_x".into(),
+        y_label: "y + m·u_y".into(),
+        points,
+        values,
+        lines,
+        labels,
     };
     let deformed = plots.join("deformed");
     plot::write_colour_map(&deformed, &map)?;
@@ -399,8 +465,8 @@ fn solution_plots(
     };
     let chart = plot::Chart {
         title: format!("{}: displacement u^h along edge `{name}`", problem.name),
-        x_label: format!("distance along `{name}` from its first vertex"),
-        y_label: "displacement".into(),
+        x_label: format!("distance s along `{name}` from its first vertex"),
+        y_label: "displacement u^h".into(),
         series: vec![series(0, "u_x", 0), series(1, "u_y", 1)],
     };
     let profile = plots.join("profile");
@@ -411,4 +477,68 @@ fn solution_plots(
         profile.with_extension("svg"),
         profile.with_extension("png"),
     ])
+}
+
+/// `v` with four significant digits, without an exponent when it is between 0.01 and 1e5.
+fn significant(v: f64) -> String {
+    if (1e-2..1e5).contains(&v.abs()) {
+        let decimals = (3 - v.abs().log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// The undeformed boundary of `domain` as a closed thin grey polyline (arcs as chords of
+/// length about `h / 2`).
+fn outline(domain: &Domain, h: f64, label: &str) -> plot::Overlay {
+    let (mut vertices, _) = domain.boundary_polygon(0.5 * h);
+    if let Some(&first) = vertices.first() {
+        vertices.push(first);
+    }
+    plot::Overlay {
+        label: Some(label.to_string()),
+        points: vertices.into_iter().map(|p| (p[0], p[1])).collect(),
+        kind: plot::OverlayKind::Outline,
+    }
+}
+
+/// The rigid obstacle line in a deformed plot magnified `m` times: its distance to the
+/// undeformed body is magnified too (it is drawn `(m − 1) g_min` farther along `−n`, with
+/// `g_min` the smallest initial gap), so that a candidate of gap `g_min` that closes touches
+/// it; it spans the plot's extent along the line.
+fn obstacle_line(
+    line: &RigidLine,
+    c: &ContactSolution,
+    m: f64,
+    points: &[(f64, f64)],
+) -> plot::Overlay {
+    let g_min = c.candidates.initial_gap.iter().copied().fold(f64::INFINITY, f64::min);
+    let g_min = if g_min.is_finite() { g_min } else { 0.0 };
+    let n = line.normal;
+    let shift = (1.0 - m) * g_min;
+    let origin = [line.point[0] + shift * n[0], line.point[1] + shift * n[1]];
+    let t = [-n[1], n[0]];
+    let along = |p: &(f64, f64)| (p.0 - origin[0]) * t[0] + (p.1 - origin[1]) * t[1];
+    let (lo, hi) = plot::range(points.iter().map(along));
+    let pad = 0.05 * (hi - lo);
+    let at = |s: f64| (origin[0] + s * t[0], origin[1] + s * t[1]);
+    let label = if shift.abs() > 0.0 {
+        format!("rigid obstacle (gap drawn ×{} like u)", significant(m))
+    } else {
+        "rigid obstacle".to_string()
+    };
+    plot::Overlay {
+        label: Some(label),
+        points: vec![at(lo - pad), at(hi + pad)],
+        kind: plot::OverlayKind::Obstacle,
+    }
+}
+
+/// A body's name at the centre of its (deformed) points.
+fn body_label(name: &str, points: &[(f64, f64)]) -> (String, (f64, f64)) {
+    let n = points.len().max(1) as f64;
+    let x = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let y = points.iter().map(|p| p.1).sum::<f64>() / n;
+    (format!("body `{name}`"), (x, y))
 }

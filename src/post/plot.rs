@@ -55,7 +55,10 @@ pub struct Chart {
     pub series: Vec<Series>,
 }
 
-fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+/// The axis range of `values`: padded by 5 % of their spread, or, when the spread is below
+/// `1e-9` of their magnitude (a constant up to round-off), ±10 % of the value around it, so
+/// that round-off is not drawn as data.
+pub(crate) fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);
@@ -64,8 +67,38 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
-    let pad = if hi > lo { 0.05 * (hi - lo) } else { lo.abs().max(1e-12) * 0.1 };
+    let magnitude = lo.abs().max(hi.abs());
+    if hi - lo <= 1e-9 * magnitude {
+        let centre = 0.5 * (lo + hi);
+        let half = if magnitude > 0.0 { 0.1 * magnitude } else { 1.0 };
+        return (centre - half, centre + half);
+    }
+    let pad = 0.05 * (hi - lo);
     (lo - pad, hi + pad)
+}
+
+/// Tick labels for an axis over `lo..hi`, with as many digits as the tick spacing needs (the
+/// spacing is at least a tenth of the range): fixed notation for magnitudes in `[0.01, 1e4)`,
+/// scientific otherwise; a value below `1e-6` of the range is printed as 0.
+pub(crate) fn tick_label(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
+    let span = (hi - lo).abs();
+    let magnitude = lo.abs().max(hi.abs());
+    let step = if span > 0.0 { span / 10.0 } else { magnitude.max(1.0) };
+    let step_exponent = step.log10().floor() as i32;
+    let fixed = (1e-2..1e4).contains(&magnitude);
+    move |&v| {
+        let v = if v.abs() <= 1e-6 * span { 0.0 } else { v };
+        if fixed {
+            let decimals = (-step_exponent).max(0) as usize;
+            format!("{v:.decimals$}")
+        } else if v == 0.0 {
+            "0".into()
+        } else {
+            let exponent = v.abs().log10().floor() as i32;
+            let digits = (exponent - step_exponent).clamp(0, 6) as usize;
+            format!("{v:.digits$e}")
+        }
+    }
 }
 
 fn draw_chart<DB: DrawingBackend>(
@@ -87,7 +120,8 @@ fn draw_chart<DB: DrawingBackend>(
         .y_desc(&chart.y_label)
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
-        .y_label_formatter(&|v| format!("{v:.3e}"))
+        .x_label_formatter(&tick_label(x0, x1))
+        .y_label_formatter(&tick_label(y0, y1))
         .draw()
         .map_err(|e| e.to_string())?;
     for s in &chart.series {
@@ -149,17 +183,46 @@ pub fn write_chart(stem: &Path, chart: &Chart) -> Result<(), OutputError> {
         .map_err(|reason| OutputError::Plot { path: png.display().to_string(), reason })
 }
 
-/// A scatter of points coloured by a scalar (e.g. the deformed nodes by von Mises stress).
+/// A scatter of points coloured by a scalar (e.g. the deformed nodes by von Mises stress),
+/// over reference lines (the undeformed outline, an obstacle) and with text labels.
 #[derive(Clone, Debug)]
 pub struct ColourMap {
     /// Title.
     pub title: String,
     /// Label of the scalar.
     pub value_label: String,
+    /// x-axis label.
+    pub x_label: String,
+    /// y-axis label.
+    pub y_label: String,
     /// Points.
     pub points: Vec<(f64, f64)>,
     /// Scalar per point.
     pub values: Vec<f64>,
+    /// Lines drawn under the points.
+    pub lines: Vec<Overlay>,
+    /// Text labels (e.g. a body's name) at positions of the plot.
+    pub labels: Vec<(String, (f64, f64))>,
+}
+
+/// A reference line of a [`ColourMap`].
+#[derive(Clone, Debug)]
+pub struct Overlay {
+    /// Legend label (none: not in the legend).
+    pub label: Option<String>,
+    /// The polyline.
+    pub points: Vec<(f64, f64)>,
+    /// How it is drawn.
+    pub kind: OverlayKind,
+}
+
+/// How an [`Overlay`] is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OverlayKind {
+    /// Thin grey line (an undeformed outline).
+    Outline,
+    /// Thick dashed black line (a rigid obstacle).
+    Obstacle,
 }
 
 fn viridis(t: f64) -> RGBColor {
@@ -185,11 +248,12 @@ fn draw_colour_map<DB: DrawingBackend>(
 ) -> Result<(), String> {
     area.fill(&WHITE).map_err(|e| e.to_string())?;
     let (main, bar) = area.split_horizontally(880);
-    let (x0, x1) = range(map.points.iter().map(|p| p.0));
-    let (y0, y1) = range(map.points.iter().map(|p| p.1));
+    let everything = || map.points.iter().chain(map.lines.iter().flat_map(|l| l.points.iter()));
+    let (x0, x1) = range(everything().map(|p| p.0));
+    let (y0, y1) = range(everything().map(|p| p.1));
     // Equal axis scales: widen the shorter range.
     let (w, h) = (x1 - x0, y1 - y0);
-    let aspect = 820.0 / 520.0;
+    let aspect = 800.0 / 490.0;
     let (x0, x1, y0, y1) = if w / h > aspect {
         let c = 0.5 * (y0 + y1);
         (x0, x1, c - 0.5 * w / aspect, c + 0.5 * w / aspect)
@@ -201,15 +265,41 @@ fn draw_colour_map<DB: DrawingBackend>(
     let mut ctx = ChartBuilder::on(&main)
         .caption(&map.title, ("sans-serif", 20))
         .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(55)
+        .x_label_area_size(45)
+        .y_label_area_size(65)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(|e| e.to_string())?;
     ctx.configure_mesh()
         .disable_mesh()
+        .x_desc(&map.x_label)
+        .y_desc(&map.y_label)
         .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .x_label_formatter(&tick_label(x0, x1))
+        .y_label_formatter(&tick_label(y0, y1))
         .draw()
         .map_err(|e| e.to_string())?;
+    for line in &map.lines {
+        let (colour, width) = match line.kind {
+            OverlayKind::Outline => (RGBColor(150, 150, 150).to_rgba(), 1),
+            OverlayKind::Obstacle => (BLACK.to_rgba(), 2),
+        };
+        let points = line.points.iter().copied();
+        let drawn = match line.kind {
+            OverlayKind::Outline => {
+                ctx.draw_series(LineSeries::new(points, colour.stroke_width(width)))
+            }
+            OverlayKind::Obstacle => {
+                ctx.draw_series(DashedLineSeries::new(points, 10, 6, colour.stroke_width(width)))
+            }
+        }
+        .map_err(|e| e.to_string())?;
+        if let Some(label) = &line.label {
+            drawn.label(label).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(width))
+            });
+        }
+    }
     let radius = ((500.0 / (map.points.len() as f64).sqrt()).round() as i32).clamp(1, 6);
     ctx.draw_series(
         map.points.iter().zip(&map.values).map(|(&(x, y), &v)| {
@@ -217,18 +307,35 @@ fn draw_colour_map<DB: DrawingBackend>(
         }),
     )
     .map_err(|e| e.to_string())?;
+    for (text, at) in &map.labels {
+        ctx.draw_series(std::iter::once(Text::new(
+            text.clone(),
+            *at,
+            ("sans-serif", 16).into_font().color(&BLACK),
+        )))
+        .map_err(|e| e.to_string())?;
+    }
+    if map.lines.iter().any(|l| l.label.is_some()) {
+        ctx.configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
     let mut bar_ctx = ChartBuilder::on(&bar)
         .margin_top(40)
         .margin_bottom(40)
         .y_label_area_size(70)
-        .caption(&map.value_label, ("sans-serif", 14))
+        .caption(&map.value_label, ("sans-serif", 13))
         .build_cartesian_2d(0.0..1.0, v0..v1)
         .map_err(|e| e.to_string())?;
     bar_ctx
         .configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_label_formatter(&|v| format!("{v:.2e}"))
+        .y_label_formatter(&tick_label(v0, v1))
         .label_style(("sans-serif", 12))
         .draw()
         .map_err(|e| e.to_string())?;
