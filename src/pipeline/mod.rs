@@ -545,11 +545,11 @@ fn solve_and_write(
 ) -> Result<(Model, Solution, RunReport), Error> {
     let (model, second) = discretise_all(problem, progress)?;
     let (model, second, solution) = solve_model(problem, model, second, progress)?;
-    let mut files = post::write_solution(out, problem, &model, &solution)?;
+    let mut files = post::write_solution(out, problem, &model, second.as_ref(), &solution)?;
     if let (Some(p2), Some(m2), Some(s2)) =
         (problem.second_body.as_deref(), second.as_ref(), solution.second_body.as_deref())
     {
-        files.extend(post::write_solution(&out.join(&p2.name), p2, m2, s2)?);
+        files.extend(post::write_solution(&out.join(&p2.name), p2, m2, None, s2)?);
     }
     let summary = Summary::new(input, problem, &model, &solution);
     let path = out.join("summary.json");

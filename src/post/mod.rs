@@ -171,11 +171,13 @@ pub fn num(v: f64) -> String {
     format!("{v:.11e}")
 }
 
-/// The files written for an elastostatic solution.
+/// The files written for an elastostatic solution (`second`: the second body's model of a
+/// two-body contact, drawn with the first in the deformed plot).
 pub fn write_solution(
     dir: &Path,
     problem: &Problem,
     model: &Model,
+    second: Option<&Model>,
     solution: &Solution,
 ) -> Result<Vec<PathBuf>, OutputError> {
     create_dir(dir)?;
@@ -232,7 +234,7 @@ pub fn write_solution(
     let vtu = vtk::solution_vtu(problem, model, solution)?;
     written.push(save(dir, "solution.vtu", &vtu)?);
 
-    written.extend(solution_plots(dir, problem, model, solution)?);
+    written.extend(solution_plots(dir, problem, model, second, solution)?);
     if let Some(c) = &solution.contact {
         written.extend(contact_outputs(dir, problem, solution, c)?);
     }
@@ -387,6 +389,7 @@ fn solution_plots(
     dir: &Path,
     problem: &Problem,
     model: &Model,
+    second: Option<&Model>,
     solution: &Solution,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let plots = dir.join("plots");
@@ -413,10 +416,8 @@ fn solution_plots(
             if let (Some(p2), Some(s2)) =
                 (problem.second_body.as_deref(), solution.second_body.as_deref())
             {
-                // The second body's nodes as the pipeline generates them (drawn only if they
-                // match its solution), on the same scale and magnification.
-                let nodes2 = crate::nodes::generate(&p2.domain, p2.node_spacing, p2.layout);
-                if let Some(n2) = nodes2.ok().filter(|n| n.len() == s2.displacement.len()) {
+                // The second body on the same scale and magnification.
+                if let Some(n2) = second.map(|m| &m.nodes) {
                     labels.push(body_label(&problem.name, &points));
                     let second: Vec<(f64, f64)> =
                         n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
