@@ -24,6 +24,9 @@ pub trait Progress {
     fn section(&mut self, _label: &str) {}
     /// A stage begins.
     fn start(&mut self, _stage: &'static str) {}
+    /// The running stage has done `done` of `total` units of countable work (condensation
+    /// columns, Lemke pivots, load increments).
+    fn advance(&mut self, _done: usize, _total: usize) {}
     /// A stage ended after `seconds`.
     fn finish(&mut self, _stage: &'static str, _seconds: f64) {}
 }
@@ -50,6 +53,22 @@ impl<'a> Clock<'a> {
         self.progress.start(stage);
         let t0 = Instant::now();
         let out = f();
+        let seconds = t0.elapsed().as_secs_f64();
+        self.progress.finish(stage, seconds);
+        self.timings.push(StageTiming { stage, seconds });
+        out
+    }
+
+    /// Runs `f` as the stage `stage`, handing it a callback for `(done, total)` progress.
+    pub fn run_counted<T>(
+        &mut self,
+        stage: &'static str,
+        f: impl FnOnce(&mut dyn FnMut(usize, usize)) -> T,
+    ) -> T {
+        self.progress.start(stage);
+        let t0 = Instant::now();
+        let progress = &mut *self.progress;
+        let out = f(&mut |done, total| progress.advance(done, total));
         let seconds = t0.elapsed().as_secs_f64();
         self.progress.finish(stage, seconds);
         self.timings.push(StageTiming { stage, seconds });
@@ -89,6 +108,18 @@ impl Progress for StageProgress {
         bar.set_message(stage);
         bar.enable_steady_tick(Duration::from_millis(120));
         self.bar = Some(bar);
+    }
+
+    fn advance(&mut self, done: usize, total: usize) {
+        let Some(bar) = &self.bar else { return };
+        if bar.length().is_none() {
+            let template = "{msg} [{bar:30}] {percent:>3}% ({pos}/{len}) [{elapsed_precise}]";
+            if let Ok(style) = ProgressStyle::with_template(template) {
+                bar.set_style(style.progress_chars("=> "));
+            }
+        }
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
     }
 
     fn finish(&mut self, stage: &'static str, seconds: f64) {

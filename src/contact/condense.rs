@@ -78,6 +78,30 @@ pub fn condense_blocked(
     operator: &BodyOperator,
     block: usize,
 ) -> Result<CondensedPart, ContactError> {
+    condense_with(factorisation, rhs, operator, block, &mut |_, _| {})
+}
+
+/// [`condense`], reporting `(columns done, columns)` to `progress` as the column blocks
+/// finish (a few blocks per thread at a time; the result is the same bits).
+///
+/// # Errors
+/// [`ContactError::Solve`] when a solve is not finite.
+pub fn condense_observed(
+    factorisation: &Factorisation,
+    rhs: &[f64],
+    operator: &BodyOperator,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<CondensedPart, ContactError> {
+    condense_with(factorisation, rhs, operator, BLOCK, progress)
+}
+
+fn condense_with(
+    factorisation: &Factorisation,
+    rhs: &[f64],
+    operator: &BodyOperator,
+    block: usize,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<CondensedPart, ContactError> {
     let m = operator.len();
     let n = factorisation.size();
     let block = block.max(1);
@@ -86,26 +110,31 @@ pub fn condense_blocked(
     let starts: Vec<usize> = (0..m).step_by(block).collect();
     let d = operator.direction;
     // Column blocks of M (column c = G K⁻¹ E e_c), each `m × width` column-major.
-    let blocks: Vec<Vec<f64>> = starts
-        .par_iter()
-        .map(|&start| {
-            let width = block.min(m - start);
-            let mut x = Mat::<f64>::zeros(n, width);
-            for j in 0..width {
-                // E e_c: the force d on the owners' rows (as `BodyOperator::add_forces`).
-                for &(i, w) in &operator.owners[start + j] {
-                    x[(dof(i as usize, Axis::X), j)] += d[0] * w;
-                    x[(dof(i as usize, Axis::Y), j)] += d[1] * w;
-                }
+    let column_block = |&start: &usize| {
+        let width = block.min(m - start);
+        let mut x = Mat::<f64>::zeros(n, width);
+        for j in 0..width {
+            // E e_c: the force d on the owners' rows (as `BodyOperator::add_forces`).
+            for &(i, w) in &operator.owners[start + j] {
+                x[(dof(i as usize, Axis::X), j)] += d[0] * w;
+                x[(dof(i as usize, Axis::Y), j)] += d[1] * w;
             }
-            factorisation.solve_in_place(x.as_mut());
-            let mut out = Vec::with_capacity(m * width);
-            for j in 0..width {
-                out.extend(operator.gap_contribution(x.col_as_slice(j)));
-            }
-            out
-        })
-        .collect();
+        }
+        factorisation.solve_in_place(x.as_mut());
+        let mut out = Vec::with_capacity(m * width);
+        for j in 0..width {
+            out.extend(operator.gap_contribution(x.col_as_slice(j)));
+        }
+        out
+    };
+    // Blocks are independent: computing them a few per thread at a time, to report progress
+    // in between, gives the same bits as computing them all at once.
+    let chunk = 4 * rayon::current_num_threads().max(1);
+    let mut blocks: Vec<Vec<f64>> = Vec::with_capacity(starts.len());
+    for group in starts.chunks(chunk) {
+        blocks.extend(group.par_iter().map(column_block).collect::<Vec<_>>());
+        progress(blocks.len().saturating_mul(block).min(m), m);
+    }
     let mut compliance = vec![0.0; m * m];
     for (b, &start) in starts.iter().enumerate() {
         for (j, col) in blocks[b].chunks_exact(m).enumerate() {

@@ -18,6 +18,7 @@ pub mod spectrum;
 pub use crate::problem::{Condensation, ContactSpec, ContactTarget, RigidLine};
 pub use condense::{
     CondensedBlocks, CondensedContact, CondensedPart, condense, condense_blocked, condense_blocks,
+    condense_observed,
 };
 pub use spectrum::EigenvalueMethod;
 

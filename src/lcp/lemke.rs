@@ -135,6 +135,20 @@ impl LemkeParams {
 /// * [`LcpError::InaccurateSolution`]: the run terminated but the verified residuals exceed
 ///   10⁻⁶ (scaled).
 pub fn lemke(lcp: &Lcp, params: &LemkeParams) -> Result<LcpSolution, LcpError> {
+    lemke_observed(lcp, params, &mut |_, _| {})
+}
+
+/// [`lemke`], reporting `(pivots, expected pivots)` to `progress` every 16 pivots; the
+/// expected count is `n + 1` (a complementary basis with every candidate closed) and grows
+/// with the pivots beyond it (the limit is [`LemkeParams::pivot_limit`]).
+///
+/// # Errors
+/// As [`lemke`].
+pub fn lemke_observed(
+    lcp: &Lcp,
+    params: &LemkeParams,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<LcpSolution, LcpError> {
     let tol = params.pivot_tolerance;
     if !(tol.is_finite() && (0.0..1.0).contains(&tol)) {
         return Err(LcpError::InvalidParameter { what: "pivot_tolerance", value: tol });
@@ -200,6 +214,9 @@ pub fn lemke(lcp: &Lcp, params: &LemkeParams) -> Result<LcpSolution, LcpError> {
         let next = t.basis[r].complement();
         t.pivot(r, &d, entering, next, &mut dnext);
         pivots += 1;
+        if pivots % 16 == 0 {
+            progress(pivots, pivots.max(n + 1));
+        }
         match next {
             Some(v) => entering = v,
             None => break,

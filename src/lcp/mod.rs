@@ -28,7 +28,7 @@ pub use enumerate::enumerate_solutions;
 pub use friction::{
     ContactState, FrictionMethod, FrictionProblem, FrictionResiduals, FrictionSolution, solve_step,
 };
-pub use lemke::{LemkeParams, lemke};
+pub use lemke::{LemkeParams, lemke, lemke_observed};
 
 /// A linear complementarity problem LCP(q, M): find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0
 /// [CPS92, §1.1].

@@ -305,11 +305,12 @@ fn solve_contact(
             .collect();
         return Ok((u1, None, contact));
     }
-    let condensed = clock.run("condensation", || {
-        let mut parts =
-            vec![contact::condense(&model.factorisation, &model.system.rhs, &candidates.operator)?];
+    let condensed = clock.run_counted("condensation", |progress| {
+        let (factors, rhs, op) = (&model.factorisation, &model.system.rhs, &candidates.operator);
+        let mut parts = vec![contact::condense_observed(factors, rhs, op, progress)?];
         if let (Some(op), Some((_, m2))) = (&target, second) {
-            parts.push(contact::condense(&m2.factorisation, &m2.system.rhs, op)?);
+            let (factors, rhs) = (&m2.factorisation, &m2.system.rhs);
+            parts.push(contact::condense_observed(factors, rhs, op, progress)?);
         }
         contact::CondensedContact::combine(&candidates.initial_gap, &parts)
     })?;
@@ -324,7 +325,9 @@ fn solve_contact(
     }
     let m = candidates.len();
     let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
-    let result = clock.run("lemke", || lcp::lemke(&lcp_problem, &lcp::LemkeParams::default()))?;
+    let result = clock.run_counted("lemke", |progress| {
+        lcp::lemke_observed(&lcp_problem, &lcp::LemkeParams::default(), progress)
+    })?;
     let mut rhs = model.system.rhs.clone();
     candidates.operator.add_forces(&result.z, &mut rhs);
     let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
