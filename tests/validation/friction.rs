@@ -208,3 +208,198 @@ fn friction_key_is_validated() {
         assert!(e.contains(what), "{file}: {e}");
     }
 }
+
+/// The 2 × 1 block of [`block`] on the rigid line y = 0 with friction `mu`, loaded along the
+/// path `steps` (`[[step]]` tables): its top is declared `displacement = { x = 0, y = 0 }`
+/// and each step sets its end values.
+fn stepped_block(mu: f64, steps: &str) -> Problem {
+    Problem::from_toml(&stepped_block_text(mu, steps)).unwrap()
+}
+
+/// Press by 0.01 in `k` increments, shear by `shift` in `m` increments with the press held.
+fn press_then_shear(k: usize, m: usize, shift: f64) -> String {
+    format!(
+        "[[step]]\nincrements = {k}\nboundary = [{{ edge = \"top\", displacement = {{ y = -0.01 }} }}]\n\
+         [[step]]\nincrements = {m}\nboundary = [{{ edge = \"top\", displacement = {{ x = {shift:e} }} }}]\n"
+    )
+}
+
+/// Every increment of a stepped solution: complementarity ≤ 1e-9, equilibrium ≤ 1e-8.
+fn check_increments(s: &Solution, case: &str) -> Vec<f64> {
+    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let mut worst = (0.0f64, 0.0f64);
+    for r in &f.increments {
+        assert!(r.complementarity <= 1e-9, "{case}: {r:?}");
+        assert!(r.equilibrium_error <= 1e-8, "{case}: {r:?}");
+        worst = (worst.0.max(r.complementarity), worst.1.max(r.equilibrium_error));
+    }
+    println!(
+        "{case}: {} increments, worst complementarity {:.2e}, equilibrium {:.2e}; ΣT per increment {:?}",
+        f.increments.len(),
+        worst.0,
+        worst.1,
+        f.increments.iter().map(|r| format!("{:.4}", r.tangential_force)).collect::<Vec<_>>()
+    );
+    f.increments.iter().map(|r| r.tangential_force).collect()
+}
+
+#[test]
+fn frictionless_steps_reproduce_the_one_step_answer() {
+    // μ = 0: contact without friction is path independent, so the last increment equals the
+    // one-step solve at the final load (the frictionless path, no steps).
+    let stepped = solve(&stepped_block(0.0, &press_then_shear(3, 4, 0.004))).unwrap();
+    let mut reference = block(0.004, Some(0.0));
+    reference.contact.as_mut().unwrap().friction = 0.0;
+    let reference = solve(&reference).unwrap();
+    assert!(reference.contact.as_ref().unwrap().friction.is_none());
+    check_increments(&stepped, "μ = 0 steps");
+    let (a, b) = (stepped.contact.as_ref().unwrap(), reference.contact.as_ref().unwrap());
+    let scale = b.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let dp = a.lcp.z.iter().zip(&b.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+    let du = stepped
+        .displacement
+        .iter()
+        .zip(&reference.displacement)
+        .map(|(x, y)| (x[0] - y[0]).hypot(x[1] - y[1]))
+        .fold(0.0, f64::max);
+    let t = a.friction.as_ref().unwrap().step.tangential.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+    println!(
+        "μ = 0 steps vs one step: max |ΔP| / max P = {:.2e}, max |Δu| / 0.01 = {:.2e}, max |T| = {t:.1e}",
+        dp / scale,
+        du / 0.01
+    );
+    assert!(dp <= 1e-12 * scale, "forces differ by {dp:.3e}");
+    assert!(du <= 1e-12 * 0.01, "displacements differ by {du:.3e}");
+    assert_eq!(t, 0.0);
+}
+
+#[test]
+fn press_then_shear_meets_every_condition_at_every_increment() {
+    let s = solve(&stepped_block(0.3, &press_then_shear(4, 8, 0.004))).unwrap();
+    check_frictional(&s, "press then shear");
+    let t = check_increments(&s, "press then shear");
+    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    assert_eq!(f.increments.len(), 12);
+    // The shear builds up monotonically (T opposes the shift, so ΣT decreases).
+    assert!(t[4..].windows(2).all(|w| w[1] < w[0]), "{t:?}");
+    // The last increment is the reported answer.
+    assert_eq!(f.increments.last().unwrap().tangential_force, f.total_force);
+    // Unloading the shear afterwards leaves a residual tangential force where candidates slipped.
+    let unload = format!(
+        "{}[[step]]\nincrements = 4\nboundary = [{{ edge = \"top\", displacement = {{ x = 0.0 }} }}]\n",
+        press_then_shear(4, 8, 0.004)
+    );
+    let u = solve(&stepped_block(0.3, &unload)).unwrap();
+    let tu = check_increments(&u, "press, shear, unload");
+    println!("after unloading: ΣT = {:.3e} (ΣT loaded {:.4})", tu[15], tu[11]);
+}
+
+#[test]
+fn the_path_matters_only_when_something_slips() {
+    // The same final load (top moved by (0.004, −0.01)) along three paths: A press, then
+    // shear; B press and shear together (proportional); C press, shear to 0.008, back to 0.004.
+    let paths = [
+        ("press then shear", press_then_shear(4, 8, 0.004)),
+        (
+            "proportional",
+            "[[step]]\nincrements = 8\nboundary = [{ edge = \"top\", displacement = { x = 0.004, y = -0.01 } }]\n"
+                .to_string(),
+        ),
+        (
+            "overshoot and back",
+            format!(
+                "{}[[step]]\nincrements = 8\nboundary = [{{ edge = \"top\", displacement = {{ x = 0.004 }} }}]\n",
+                press_then_shear(4, 8, 0.008)
+            ),
+        ),
+    ];
+    let totals = |mu: f64| -> Vec<(f64, usize)> {
+        paths
+            .iter()
+            .map(|(case, steps)| {
+                let s = solve(&stepped_block(mu, steps)).unwrap();
+                check_increments(&s, &format!("μ = {mu}, {case}"));
+                let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+                (f.total_force, f.increments.iter().map(|r| r.slip).sum())
+            })
+            .collect()
+    };
+    let slip = totals(0.3);
+    println!("μ = 0.3: (ΣT, slipping candidate-increments) per path {slip:?}");
+    assert!(slip.iter().all(|&(_, n)| n > 0));
+    let (a, b, c) = (slip[0].0, slip[1].0, slip[2].0);
+    assert!((a - b).abs() > 1e-5 * a.abs(), "A {a} vs B {b}");
+    assert!((a - c).abs() > 1e-2 * a.abs(), "A {a} vs C {c}");
+    let stick = totals(1e3);
+    println!("μ = 1e3: (ΣT, slipping candidate-increments) per path {stick:?}");
+    for &(t, n) in &stick {
+        assert_eq!(n, 0);
+        assert!((t - stick[0].0).abs() <= 1e-10 * t.abs(), "{t} vs {}", stick[0].0);
+    }
+}
+
+#[test]
+fn steps_are_validated() {
+    let ok = press_then_shear(2, 2, 0.004);
+    assert_eq!(stepped_block(0.3, &ok).steps.len(), 2);
+    let parse = |mu: f64, steps: &str| {
+        let text = stepped_block_text(mu, steps);
+        Problem::from_toml(&text).unwrap_err().to_string()
+    };
+    for (steps, key) in [
+        (ok.replace("increments = 2\nboundary", "increments = 0\nboundary"), "step[0].increments"),
+        (ok.replace("increments = 2\nboundary", "incremnts = 2\nboundary"), "step[0].incremnts"),
+        (ok.replacen("edge = \"top\"", "edge = \"left\"", 1), "step[0].boundary[0].edge"),
+        (ok.replacen("edge = \"top\"", "edge = \"nowhere\"", 1), "step[0].boundary[0].edge"),
+        (ok.replacen("displacement = {", "traction = {", 1), "step[0].boundary[0].traction.y"),
+        (ok.replacen("displacement = {", "pressure = 1.0, x = {", 1), "step[0].boundary[0]"),
+        ("[[step]]\nincrements = 2\n".into(), "step[0].boundary"),
+        (format!("{ok}[[step]]\nobstacle_displacement = [1.0]\n"), "step[2].obstacle_displacement"),
+        (
+            format!("{ok}[[step]]\nobstacle_displacement = [nan, 0.0]\n"),
+            "step[2].obstacle_displacement",
+        ),
+    ] {
+        let e = parse(0.3, &steps);
+        assert!(e.contains(key), "{key}: {e}");
+    }
+    // The loading starts from the unloaded body: a non-zero [[boundary]] value is refused.
+    let text = stepped_block_text(0.3, &ok).replace("x = 0.0, y = 0.0 }", "x = 0.0, y = -0.01 }");
+    let e = Problem::from_toml(&text).unwrap_err().to_string();
+    assert!(e.contains("boundary[0].displacement.y"), "{e}");
+    // Steps need a contact problem (here: the block clamped at the bottom, no contact).
+    let text = stepped_block_text(0.3, &ok).replace(
+        "[contact]\n        edge = \"bottom\"\n        obstacle_point = [0.0, 0.0]\n        obstacle_normal = [0.0, 1.0]\n        friction = 3e-1\n",
+        "[[boundary]]\nedge = \"bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n",
+    );
+    let e = Problem::from_toml(&text).unwrap_err().to_string();
+    assert!(e.contains("`step`") && e.contains("need contact"), "{e}");
+}
+
+/// The text of [`stepped_block`].
+fn stepped_block_text(mu: f64, steps: &str) -> String {
+    format!(
+        r#"
+        name = "block_steps"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 2.0]
+        y = [0.0, 1.0]
+        [nodes]
+        spacing = 0.1
+        [material]
+        young = 1000.0
+        poisson = 0.3
+        plane = "stress"
+        [[boundary]]
+        edge = "top"
+        displacement = {{ x = 0.0, y = 0.0 }}
+        [contact]
+        edge = "bottom"
+        obstacle_point = [0.0, 0.0]
+        obstacle_normal = [0.0, 1.0]
+        friction = {mu:e}
+        {steps}
+        "#
+    )
+}
