@@ -106,6 +106,9 @@ pub struct FrictionContact {
     pub slip_zones: usize,
     /// One record per load increment, in order (the last is `step`).
     pub increments: Vec<IncrementRecord>,
+    /// Two bodies: the second body's tangential operator (direction `−t` at the paired
+    /// points); its forces are `step.tangential`.
+    pub target_operator: Option<BodyOperator>,
 }
 
 /// What one load increment did (`summary.json`'s `steps`; docs/method.md §8).
@@ -172,6 +175,7 @@ impl FrictionContact {
             stick_zones,
             slip_zones,
             increments: Vec::new(),
+            target_operator: None,
         }
     }
 }

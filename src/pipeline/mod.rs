@@ -206,7 +206,13 @@ pub fn solve_model(
         }
         let mut s = solution::recover(problem, &model, u1, &ops);
         if let (Some((p2, m2)), Some(u2), Some(target)) = (pair, u2, &contact.target) {
-            s.second_body = Some(Box::new(solution::recover(p2, m2, u2, &[(target, forces)])));
+            let mut ops2 = vec![(target, forces.as_slice())];
+            if let Some((f, op)) =
+                contact.friction.as_ref().and_then(|f| f.target_operator.as_ref().map(|o| (f, o)))
+            {
+                ops2.push((op, f.step.tangential.as_slice()));
+            }
+            s.second_body = Some(Box::new(solution::recover(p2, m2, u2, &ops2)));
         }
         s
     });
@@ -283,7 +289,7 @@ fn solve_contact(
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
     if spec.friction > 0.0 || steps.is_some() {
-        // Validated: a rigid obstacle and the MFVM (docs/dev/friction.md).
+        // Validated: the MFVM; steps against a rigid obstacle only (docs/dev/friction.md).
         let one = [StepEnd {
             increments: 1,
             load: model.system.load.clone(),
@@ -291,7 +297,14 @@ fn solve_contact(
             obstacle: [0.0, 0.0],
         }];
         let steps = steps.unwrap_or(&one);
-        let (mut contact, u1) = solve_frictional(problem, spec, model, candidates, steps, clock)?;
+        let target = match (target, second) {
+            (Some(op), Some((_, m2))) => Some(Target { model: m2, operator: op }),
+            _ => None,
+        };
+        let (u1, u2, mut contact) =
+            solve_frictional(problem, spec, model, candidates, target, steps, clock)?;
+        contact.paired_points = paired_points;
+        contact.unpaired = unpaired;
         let nu = contact.candidates.normal;
         contact.gap = contact
             .candidates
@@ -303,7 +316,12 @@ fn solve_contact(
                 g0 + nu[0] * u[0] + nu[1] * u[1]
             })
             .collect();
-        return Ok((u1, None, contact));
+        if let (Some(op), Some(u2)) = (&contact.target, &u2) {
+            for (g, d) in contact.gap.iter_mut().zip(op.gap_contribution(u2)) {
+                *g += d;
+            }
+        }
+        return Ok((u1, u2, contact));
     }
     let condensed = clock.run("condensation", || {
         let mut parts =
@@ -419,34 +437,93 @@ fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
 }
 
-/// Frictional contact against a rigid obstacle along the load path `steps` (docs/method.md
-/// §8): the tangential operator, the four condensed blocks from the one factorisation (with
-/// the model's right-hand side, the last step's), the checks of `M_nn`, the free gaps and
+/// The second body of a two-body frictional contact: its model and normal operator.
+struct Target<'a> {
+    model: &'a Model,
+    operator: contact::BodyOperator,
+}
+
+/// Frictional contact against a rigid obstacle or a second body (`target`; one step) along
+/// the load path `steps` (docs/method.md §8): the tangential operators (the second body's
+/// with direction `−t` at the paired points, so that `s` is the relative tangential
+/// displacement, as §4.3 does for the gap), the four condensed blocks of each body from its
+/// one factorisation (with the model's right-hand side, the last step's), summed over the
+/// bodies, the checks of `M_nn`, the free gaps and
 /// tangential displacements of each step's end (one solve per step; linear in between), and
 /// the step solver per increment, carrying the tangential displacements `s` and the
 /// accumulated slip. Returns the last increment's solution (whose `gap` the caller replaces
-/// by the MLS gaps) and its nodal parameters.
+/// by the MLS gaps) with the nodal parameters of both bodies.
 fn solve_frictional(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     mut candidates: contact::Candidates,
+    target: Option<Target<'_>>,
     steps: &[StepEnd],
     clock: &mut Clock<'_>,
-) -> Result<(ContactSolution, Vec<f64>), Error> {
-    let (tangential, free) = candidates.tangential_operator(&model.system);
-    let blocks = clock.run("condensation", || {
-        contact::condense_blocks(
+) -> Result<ContactOutcome, Error> {
+    let (mut tangential, mut free) = candidates.tangential_operator(&model.system);
+    // The second body: direction −t at the paired points; a candidate whose partner's
+    // tangential row is a displacement condition is frictionless too.
+    let target_tangential = target.as_ref().map(|tg| {
+        let t = candidates.tangent();
+        let mut op = tg.operator.clone();
+        op.direction = [-t[0], -t[1]];
+        let sys = &tg.model.system;
+        for (c, owners) in op.owners.iter().enumerate() {
+            let fixed = owners.iter().any(|&(i, _)| {
+                crate::nodes::Axis::BOTH.iter().any(|&a| {
+                    t[a as usize] != 0.0 && sys.is_constrained(crate::nodes::dof(i as usize, a))
+                })
+            });
+            if fixed {
+                free[c] = false;
+            }
+        }
+        op
+    });
+    let target_tangential = target_tangential.map(|mut op| {
+        for (c, &f) in free.iter().enumerate() {
+            if !f {
+                op.owners[c].clear();
+                tangential.owners[c].clear();
+            }
+        }
+        op
+    });
+    let (blocks, condensed) = clock.run("condensation", || -> Result<_, Error> {
+        let mut blocks = contact::condense_blocks(
             &model.factorisation,
             &model.system.rhs,
             &candidates.operator,
             &tangential,
-        )
+        )?;
+        let mut parts = vec![contact::CondensedPart {
+            compliance: blocks.nn.clone(),
+            free_gap: blocks.free_gap.clone(),
+        }];
+        if let (Some(tg), Some(op_t)) = (&target, &target_tangential) {
+            let b2 = contact::condense_blocks(
+                &tg.model.factorisation,
+                &tg.model.system.rhs,
+                &tg.operator,
+                op_t,
+            )?;
+            parts.push(contact::CondensedPart {
+                compliance: b2.nn.clone(),
+                free_gap: b2.free_gap.clone(),
+            });
+            let add = |a: &mut Vec<f64>, b: &[f64]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+            add(&mut blocks.nn, &b2.nn);
+            add(&mut blocks.nt, &b2.nt);
+            add(&mut blocks.tn, &b2.tn);
+            add(&mut blocks.tt, &b2.tt);
+            add(&mut blocks.free_gap, &b2.free_gap);
+            add(&mut blocks.free_tangential, &b2.free_tangential);
+        }
+        let condensed = contact::CondensedContact::combine(&candidates.initial_gap, &parts)?;
+        Ok((blocks.with_initial_gap(&candidates.initial_gap), condensed))
     })?;
-    let part =
-        contact::CondensedPart { compliance: blocks.nn.clone(), free_gap: blocks.free_gap.clone() };
-    let condensed = contact::CondensedContact::combine(&candidates.initial_gap, &[part])?;
-    let blocks = blocks.with_initial_gap(&candidates.initial_gap);
     let mut warning = None;
     if let Err(err) =
         contact::check_compliance(&condensed, problem.discretisation.mls.support_factor)
@@ -523,6 +600,27 @@ fn solve_frictional(
                     (&candidates.operator, step.normal.as_slice()),
                     (&tangential, step.tangential.as_slice()),
                 ];
+                let mut equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
+                // The second body (one step: its loads scale with the same factor).
+                let u2 = match (&target, &target_tangential) {
+                    (Some(tg), Some(op_t)) => {
+                        let sys = &tg.model.system;
+                        let zero = vec![0.0; sys.rhs.len()];
+                        let mut rhs2 = lerp(&zero, &sys.rhs, lambda);
+                        tg.operator.add_forces(&step.normal, &mut rhs2);
+                        op_t.add_forces(&step.tangential, &mut rhs2);
+                        let u2 = tg.model.factorisation.solve(&rhs2)?;
+                        let load2 = lerp(&zero, &sys.load, lambda);
+                        let ops2 = [
+                            (&tg.operator, step.normal.as_slice()),
+                            (op_t, step.tangential.as_slice()),
+                        ];
+                        equilibrium =
+                            equilibrium.max(solution::equilibrium_error(sys, &load2, &u2, &ops2));
+                        Some(u2)
+                    }
+                    _ => None,
+                };
                 let count = |f: &dyn Fn(&lcp::ContactState) -> bool| {
                     step.state.iter().filter(|s| f(s)).count()
                 };
@@ -536,7 +634,7 @@ fn solve_frictional(
                     pivots: step.pivots,
                     iterations: step.iterations,
                     complementarity: step.residuals.max(),
-                    equilibrium_error: solution::equilibrium_error(&model.system, &load, &u, &ops),
+                    equilibrium_error: equilibrium,
                     stick: count(&|s| *s == lcp::ContactState::Stick),
                     slip: count(&|s| s.is_slip()),
                     open: count(&|s| *s == lcp::ContactState::Open),
@@ -549,14 +647,14 @@ fn solve_frictional(
                     }
                 }
                 step_problem.previous_tangential.clone_from(&step.tangential_displacement);
-                last = Some((step, u));
+                last = Some((step, u, u2));
             }
             (load0, rhs0) = (end.load.clone(), end.rhs.clone());
             (qn0, qt0) = (qn1.clone(), qt1.clone());
         }
         Ok(())
     })?;
-    let Some((step, u)) = last else {
+    let Some((step, u, u2)) = last else {
         unreachable!("validated: at least one step with at least one increment")
     };
     // The normal LCP given the tangential forces, for the `lcp` section of the summary.
@@ -583,14 +681,24 @@ fn solve_frictional(
     }
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();
-    let mut contact =
-        ContactSolution::new(spec, candidates, None, Vec::new(), condensed, result, gap, warning);
+    let target_operator = target.map(|tg| tg.operator);
+    let mut contact = ContactSolution::new(
+        spec,
+        candidates,
+        target_operator,
+        Vec::new(),
+        condensed,
+        result,
+        gap,
+        warning,
+    );
     let mut friction =
         solution::FrictionContact::new(spec.friction, free, tangential, step, &segment_length);
     friction.slip = accumulated;
     friction.increments = records;
+    friction.target_operator = target_tangential;
     contact.friction = Some(friction);
-    Ok((contact, u))
+    Ok((u, u2, contact))
 }
 
 /// What a run reports: the summary and the files written.

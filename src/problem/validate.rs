@@ -514,13 +514,6 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             "the Coulomb friction coefficient must be a finite number ≥ 0",
         ));
     }
-    if friction > 0.0 && problem.second_body.is_some() {
-        return Err(invalid(
-            "contact.friction",
-            friction,
-            "friction between two elastic bodies is not supported yet (only against a rigid obstacle; docs/dev/friction.md)",
-        ));
-    }
     if friction > 0.0 && problem.discretisation.method == Method::Fem {
         return Err(invalid(
             "contact.friction",

@@ -1,4 +1,4 @@
-//! Coulomb friction, one load step against a rigid obstacle (docs/method.md §8):
+//! Coulomb friction against a rigid obstacle and between two bodies (docs/method.md §8):
 //!
 //! - (a) a tiny `μ = 1e-12` on every shipped MFVM rigid-obstacle problem gives the frictionless
 //!   contact forces to 1e-9 (`μ = 0` itself takes the frictionless path unchanged; the
@@ -10,7 +10,14 @@
 //!   `Σ T = −μ Σ P` to 1e-10;
 //! - (d) in every frictional case the scaled step residual is ≤ 1e-9 and the global
 //!   equilibrium (applied + reactions + normal and tangential contact forces) ≤ 1e-8;
-//! - the `[contact] friction` key is validated and refused where it is not wired yet.
+//! - the `[contact] friction` key is validated and refused where it is not wired yet;
+//! - load steps (`[[step]]`): with `μ = 0` they give the one-step answer at the final load;
+//!   with friction every increment meets the residual and equilibrium bounds; the same final
+//!   load along different paths gives different `Σ T` when candidates slip and the same when
+//!   all stick; the `[[step]]` tables are validated with their key paths;
+//! - two identical blocks pressed and sheared: the contact forces on the bodies cancel, both
+//!   bodies are in equilibrium, and the normal forces do not depend on friction (mirrored,
+//!   elastically similar bodies uncouple).
 
 use super::common::shipped_problem;
 use mlpg_contact::lcp::{ContactState, FrictionMethod};
@@ -199,14 +206,23 @@ fn friction_key_is_validated() {
     assert_eq!(p.contact.unwrap().friction, 0.3);
     assert_eq!(Problem::from_toml(&text).unwrap().contact.unwrap().friction, 0.0);
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
-    for (file, what) in [("beam_on_foundation_fem.toml", "fem"), ("two_blocks.toml", "two elastic")]
-    {
+    let with_friction = |file: &str| {
         let t = std::fs::read_to_string(root.join(file)).unwrap();
-        let t = t.replace("[contact]\n", "[contact]\nfriction = 0.3\n");
-        let e = Problem::from_toml(&t).unwrap_err().to_string();
-        assert!(e.contains("contact.friction") && e.contains("not supported yet"), "{file}: {e}");
-        assert!(e.contains(what), "{file}: {e}");
-    }
+        t.replace("[contact]\n", "[contact]\nfriction = 0.3\n")
+    };
+    let e = Problem::from_toml(&with_friction("beam_on_foundation_fem.toml")).unwrap_err();
+    let e = e.to_string();
+    assert!(e.contains("contact.friction") && e.contains("not supported yet"), "{e}");
+    assert!(e.contains("fem"), "{e}");
+    // Two bodies take friction, but not load steps yet.
+    let two = with_friction("two_blocks.toml");
+    assert_eq!(Problem::from_toml(&two).unwrap().contact.unwrap().friction, 0.3);
+    let e = Problem::from_toml(&format!(
+        "{two}\n[[step]]\nboundary = [{{ edge = \"top\", displacement = {{ y = -0.01 }} }}]\n"
+    ))
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("`step`") && e.contains("two elastic bodies"), "{e}");
 }
 
 /// The 2 × 1 block of [`block`] on the rigid line y = 0 with friction `mu`, loaded along the
@@ -402,4 +418,99 @@ fn stepped_block_text(mu: f64, steps: &str) -> String {
         {steps}
         "#
     )
+}
+
+/// Two identical 2 × 1 blocks (E = 1000, ν = 0.3, plane stress, h = 0.1), the upper one's top
+/// moved by `(shift, −0.01)`, the lower one's bottom clamped; friction `mu` between them.
+fn two_blocks(shift: f64, mu: f64) -> Problem {
+    Problem::from_toml(&format!(
+        r#"
+        [[body]]
+        name = "upper"
+        geometry = {{ kind = "rectangle", x = [0.0, 2.0], y = [1.0, 2.0] }}
+        nodes = {{ spacing = 0.1 }}
+        material = {{ young = 1000.0, poisson = 0.3, plane = "stress" }}
+        boundary = [{{ edge = "top", displacement = {{ x = {shift:e}, y = -0.01 }} }}]
+        [[body]]
+        name = "lower"
+        geometry = {{ kind = "rectangle", x = [0.0, 2.0], y = [0.0, 1.0] }}
+        nodes = {{ spacing = 0.1 }}
+        material = {{ young = 1000.0, poisson = 0.3, plane = "stress" }}
+        boundary = [{{ edge = "bottom", displacement = {{ x = 0.0, y = 0.0 }} }}]
+        [contact]
+        edge = "bottom"
+        target_edge = "top"
+        friction = {mu:e}
+        "#
+    ))
+    .unwrap()
+}
+
+#[test]
+fn two_blocks_pressed_and_sheared() {
+    // Frictionless reference: the blocks are mirror images about the interface (elastically
+    // similar bodies), so M_nt = M_tn = 0 and the normal forces do not depend on friction.
+    let p0 = solve(&two_blocks(0.0, 0.0)).unwrap().contact.unwrap().lcp.z;
+    let p_max = p0.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    for (shift, mu, case) in [
+        (0.009, 0.3, "two blocks, partial slip"),
+        (0.05, 0.2, "two blocks, gross sliding"),
+        (0.002, 1e3, "two blocks, stick"),
+    ] {
+        let s = solve(&two_blocks(shift, mu)).unwrap();
+        check_frictional(&s, case);
+        let s2 = s.second_body.as_deref().unwrap();
+        let c = s.contact.as_ref().unwrap();
+        let f = c.friction.as_ref().unwrap();
+        // The contact forces on the two bodies balance: body 1 gets +ν P + t T, body 2 the
+        // opposite (ν = (0, 1), t = (1, 0)).
+        let (f1, f2) = (s.contact_force, s2.contact_force);
+        let total = c.total_force.abs().max(f.total_force.abs());
+        let imbalance = (f1[0] + f2[0]).hypot(f1[1] + f2[1]);
+        println!(
+            "{case}: ΣP = {:.6}, ΣT = {:.6}, body forces ({:.6}, {:.6}) and ({:.6}, {:.6}), imbalance {:.1e}, equilibrium {:.1e} / {:.1e}, residual {:.1e} / {:.1e}, stick {} slip {} of {}",
+            c.total_force,
+            f.total_force,
+            f1[0],
+            f1[1],
+            f2[0],
+            f2[1],
+            imbalance / total,
+            s.equilibrium_error,
+            s2.equilibrium_error,
+            s.relative_residual,
+            s2.relative_residual,
+            f.step.state.iter().filter(|&&x| x == ContactState::Stick).count(),
+            f.step.state.iter().filter(|x| x.is_slip()).count(),
+            f.step.state.len()
+        );
+        assert!((f1[0] - f.total_force).abs() <= 1e-12 * total, "{case}: {f1:?}");
+        assert!(imbalance <= 1e-12 * total, "{case}: {f1:?} vs {f2:?}");
+        assert!(
+            s2.equilibrium_error <= 1e-8,
+            "{case}: body 2 equilibrium {}",
+            s2.equilibrium_error
+        );
+        assert!(f.total_force.abs() > 1e-3 * c.total_force, "{case}: no shear");
+        let inc = f.increments.last().unwrap();
+        assert!(inc.equilibrium_error <= 1e-8 && inc.complementarity <= 1e-9, "{case}: {inc:?}");
+        let dp = c.lcp.z.iter().zip(&p0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        println!("{case}: max |P − P_frictionless| / max P = {:.1e}", dp / p_max);
+        assert!(dp <= 1e-9 * p_max, "{case}: normal forces depend on friction by {dp:.3e}");
+        let (stick, slip) = (
+            f.step.state.iter().filter(|&&x| x == ContactState::Stick).count(),
+            f.step.state.iter().filter(|x| x.is_slip()).count(),
+        );
+        match case {
+            "two blocks, partial slip" => {
+                assert!(stick > 0 && slip > 0, "{case}: {:?}", f.step.state)
+            }
+            "two blocks, stick" => assert_eq!(slip, 0, "{case}"),
+            _ => assert_eq!(stick, 0, "{case}"),
+        }
+        if mu < 1.0 && shift > 0.01 {
+            let ratio = f.total_force / c.total_force;
+            assert!((ratio + mu).abs() <= 1e-10, "{case}: ΣT/ΣP = {ratio}");
+        }
+    }
 }
