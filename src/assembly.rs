@@ -247,6 +247,22 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
     Ok(GlobalSystem { interior_stiffness, load, constraints, collocation_scale, matrix, rhs })
 }
 
+/// The applied load `f` and the solved right-hand side of `input`'s conditions without
+/// assembling the matrix: for load steps, whose conditions differ from the assembled ones in
+/// their values only (the same constrained DOFs, so the same matrix; docs/method.md §8).
+///
+/// # Errors
+/// As [`assemble`]'s load.
+pub fn load_and_rhs(input: &AssemblyInput<'_>) -> Result<(Vec<f64>, Vec<f64>), AssemblyError> {
+    let load = applied_load(input)?;
+    let mut rhs = load.clone();
+    let scale = input.body.d[0][0];
+    for c in constraints(input) {
+        rhs[dof(c.node as usize, c.axis)] = scale * c.value;
+    }
+    Ok((load, rhs))
+}
+
 /// One block row: column nodes and their 2 × 2 blocks.
 type BlockRow = (Vec<u32>, Vec<[[f64; 2]; 2]>);
 

@@ -2,6 +2,7 @@
 //! reported: the displacement `u^h` and the stresses at the nodes, the reactions, the contact
 //! table (gaps, pressures, closed set, onset) and the global checks (residual, equilibrium).
 
+use crate::assembly::GlobalSystem;
 use crate::contact::{self, BodyOperator};
 use crate::geometry;
 use crate::lcp;
@@ -75,11 +76,12 @@ pub struct ContactSolution {
     /// Two bodies: points of the contact edge beside the target edge, which have no partner
     /// and are no candidates.
     pub unpaired: usize,
-    /// The frictional part of the answer (`μ > 0` only; docs/method.md §8).
+    /// The frictional part of the answer (`μ > 0` or load steps only; docs/method.md §8).
     pub friction: Option<FrictionContact>,
 }
 
-/// The frictional part of a contact solution (one load step; docs/method.md §8).
+/// The frictional part of a contact solution (the last load increment, and a record of every
+/// increment; docs/method.md §8).
 #[derive(Debug)]
 pub struct FrictionContact {
     /// The coefficient `μ` of the problem.
@@ -93,7 +95,8 @@ pub struct FrictionContact {
     pub step: lcp::FrictionSolution,
     /// Tangential traction `T_c / |segment_c|`.
     pub traction: Vec<f64>,
-    /// Slip of the step: `Δs_c` where the candidate slips, 0 where it sticks or is open.
+    /// Slip accumulated over the increments: `Σ Δs_c` over the increments in which the
+    /// candidate slipped (one increment: `Δs_c` where it slips, 0 where it sticks or is open).
     pub slip: Vec<f64>,
     /// `Σ T_c`.
     pub total_force: f64,
@@ -101,6 +104,42 @@ pub struct FrictionContact {
     pub stick_zones: usize,
     /// Maximal runs of slipping candidates along the edge.
     pub slip_zones: usize,
+    /// One record per load increment, in order (the last is `step`).
+    pub increments: Vec<IncrementRecord>,
+    /// Two bodies: the second body's tangential operator (direction `−t` at the paired
+    /// points); its forces are `step.tangential`.
+    pub target_operator: Option<BodyOperator>,
+}
+
+/// What one load increment did (`summary.json`'s `steps`; docs/method.md §8).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct IncrementRecord {
+    /// The `[[step]]` (1-based; 1 without steps).
+    pub step: usize,
+    /// The increment within the step (1-based).
+    pub increment: usize,
+    /// The step's load factor at the end of the increment, `increment / increments`.
+    pub load_factor: f64,
+    /// `Σ P_c`.
+    pub normal_force: f64,
+    /// `Σ T_c`.
+    pub tangential_force: f64,
+    /// Which method solved the increment.
+    pub solver: lcp::FrictionMethod,
+    /// Lemke pivots.
+    pub pivots: usize,
+    /// Fixed-point and active-set rounds.
+    pub iterations: usize,
+    /// Largest scaled complementarity residual (docs/method.md §8).
+    pub complementarity: f64,
+    /// Relative global equilibrium error of the increment's displacements.
+    pub equilibrium_error: f64,
+    /// Candidates that stick, slip and are open (`P = 0`).
+    pub stick: usize,
+    /// Candidates that slip.
+    pub slip: usize,
+    /// Candidates that are open.
+    pub open: usize,
 }
 
 impl FrictionContact {
@@ -135,6 +174,8 @@ impl FrictionContact {
             step,
             stick_zones,
             slip_zones,
+            increments: Vec::new(),
+            target_operator: None,
         }
     }
 }
@@ -228,6 +269,49 @@ pub fn recover(
     let d = problem.material.constitutive();
     let strain = model.nodal_strains(&u_hat);
     let stress = strain.iter().map(|e| material::apply(&d, *e)).collect();
+    let Balance { contact_rhs, reactions, applied, reaction, contact_force, imbalance, scale } =
+        balance(system, &system.load, &u_hat, contact);
+    let ku = linear_solve::mul(&system.matrix, &u_hat);
+    let rhs: Vec<f64> = system.rhs.iter().zip(&contact_rhs).map(|(a, b)| a + b).collect();
+    let res: f64 = ku.iter().zip(&rhs).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+    let rhs_norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
+    Solution {
+        nodal_parameters: u_hat,
+        displacement,
+        strain,
+        stress,
+        reactions,
+        applied_force: applied,
+        reaction_force: reaction,
+        contact_force,
+        contact: None,
+        second_body: None,
+        relative_residual: res / rhs_norm,
+        equilibrium_error: imbalance / scale,
+        timings: Vec::new(),
+    }
+}
+
+/// The global balance of one body: applied loads, reactions and contact forces.
+struct Balance {
+    contact_rhs: Vec<f64>,
+    reactions: Vec<(u32, Axis, f64)>,
+    applied: [f64; 2],
+    reaction: [f64; 2],
+    contact_force: [f64; 2],
+    imbalance: f64,
+    scale: f64,
+}
+
+/// The balance of `u_hat` under the load `load` (the system's own, or a load step's) and the
+/// contact forces `contact` (the normal operator first).
+fn balance(
+    system: &GlobalSystem,
+    load: &[f64],
+    u_hat: &[f64],
+    contact: &[(&BodyOperator, &[f64])],
+) -> Balance {
+    let n = load.len() / 2;
     // E P: contact forces on the right-hand side (zero without contact).
     let mut contact_rhs = vec![0.0; 2 * n];
     let mut contact_force = [0.0; 2];
@@ -248,16 +332,16 @@ pub fn recover(
         .iter()
         .map(|c| {
             let i = c.node as usize;
-            let r = system.interior_stiffness.row_dot(i, c.axis, &u_hat)
-                - system.load[dof(i, c.axis)]
+            let r = system.interior_stiffness.row_dot(i, c.axis, u_hat)
+                - load[dof(i, c.axis)]
                 - contact_rhs[dof(i, c.axis)];
             (c.node, c.axis, r)
         })
         .collect();
     let mut applied = [0.0; 2];
     for i in 0..n {
-        applied[0] += system.load[2 * i];
-        applied[1] += system.load[2 * i + 1];
+        applied[0] += load[2 * i];
+        applied[1] += load[2 * i + 1];
     }
     let mut reaction = [0.0; 2];
     let mut reaction_abs = 0.0;
@@ -269,23 +353,17 @@ pub fn recover(
         .hypot(applied[1] + reaction[1] + contact_force[1]);
     let scale =
         applied[0].hypot(applied[1]).max(reaction_abs).max(contact_abs).max(f64::MIN_POSITIVE);
-    let ku = linear_solve::mul(&system.matrix, &u_hat);
-    let rhs: Vec<f64> = system.rhs.iter().zip(&contact_rhs).map(|(a, b)| a + b).collect();
-    let res: f64 = ku.iter().zip(&rhs).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
-    let rhs_norm = rhs.iter().map(|v| v * v).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
-    Solution {
-        nodal_parameters: u_hat,
-        displacement,
-        strain,
-        stress,
-        reactions,
-        applied_force: applied,
-        reaction_force: reaction,
-        contact_force,
-        contact: None,
-        second_body: None,
-        relative_residual: res / rhs_norm,
-        equilibrium_error: imbalance / scale,
-        timings: Vec::new(),
-    }
+    Balance { contact_rhs, reactions, applied, reaction, contact_force, imbalance, scale }
+}
+
+/// The relative global equilibrium error of `u_hat` under `load` and the contact forces
+/// `contact` (as [`Solution::equilibrium_error`]; for the increments of a load step).
+pub fn equilibrium_error(
+    system: &GlobalSystem,
+    load: &[f64],
+    u_hat: &[f64],
+    contact: &[(&BodyOperator, &[f64])],
+) -> f64 {
+    let b = balance(system, load, u_hat, contact);
+    b.imbalance / b.scale
 }

@@ -164,6 +164,7 @@ fn patch_problem(layout: Layout) -> Problem {
         profile_edge: 0,
         contact: None,
         second_body: None,
+        steps: Vec::new(),
     }
 }
 

@@ -8,7 +8,7 @@ use crate::linear_solve::{FactorMethod, FactorPrecision};
 use crate::material::Material;
 use crate::model::Model;
 use crate::problem::{Discretisation, Layout, Method, Problem};
-use crate::solution::Solution;
+use crate::solution::{IncrementRecord, Solution};
 use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
@@ -39,6 +39,10 @@ pub struct Summary {
     pub contact: Option<ContactSummary>,
     /// The second body's checks (two-body contact).
     pub second_body: Option<SecondBody>,
+    /// One record per load increment (friction or `[[step]]` only; absent otherwise, so that
+    /// frictionless summaries are unchanged; docs/method.md §8).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps: Option<Vec<IncrementRecord>>,
     /// What the run proceeded past (an unstable discretisation or an indefinite `M` accepted on
     /// request).
     pub warnings: Vec<String>,
@@ -368,6 +372,11 @@ impl Summary {
                 reaction_force: s2.reaction_force,
                 contact_force: s2.contact_force,
             }),
+            steps: solution
+                .contact
+                .as_ref()
+                .and_then(|c| c.friction.as_ref())
+                .map(|f| f.increments.clone()),
             warnings: warnings(problem, solution),
             timings: solution.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
         }

@@ -41,6 +41,30 @@ pub struct ProblemFile {
     /// `friction` is given).
     #[serde(default)]
     pub contact: Option<ContactFile>,
+    /// Load steps (`[[step]]`, docs/method.md §8): the loading path from the unloaded body.
+    /// Not echoed when absent, so that summaries without steps are unchanged.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub step: Vec<StepFile>,
+}
+
+/// One `[[step]]`: the end values of named boundary conditions and of the rigid obstacle's
+/// displacement, reached linearly in `increments` equal increments from the values at the
+/// end of the previous step (zero before the first). Conditions a step does not name keep
+/// their values.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepFile {
+    /// Equal load increments of the step (default 1, at least 1).
+    #[serde(default)]
+    pub increments: Option<usize>,
+    /// End values of conditions declared in `[[boundary]]`: the same edge and the same kind
+    /// (displacement or traction per component, or pressure).
+    #[serde(default)]
+    pub boundary: Vec<BoundaryFile>,
+    /// Total displacement `[dx, dy]` of the rigid obstacle at the end of the step (it moves
+    /// as a rigid body; default: where the previous step left it, initially `[0, 0]`).
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub obstacle_displacement: Option<[f64; 2]>,
 }
 
 /// `[contact]`: one edge of the body against a rigid straight line (`obstacle_point`,

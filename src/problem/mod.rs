@@ -125,6 +125,20 @@ pub struct Problem {
     pub contact: Option<ContactSpec>,
     /// The second elastic body of a two-body contact (its own `contact` is `None`).
     pub second_body: Option<Box<Problem>>,
+    /// Load steps (`[[step]]`; empty: one step to the `boundary` values, as without steps).
+    pub steps: Vec<LoadStep>,
+}
+
+/// One load step, validated: the state at its end and the increments that reach it linearly
+/// from the end of the previous step (the unloaded body before the first; docs/method.md §8).
+#[derive(Clone, Debug)]
+pub struct LoadStep {
+    /// Equal increments (≥ 1).
+    pub increments: usize,
+    /// Every edge's condition at the end of the step (same kinds as `Problem::boundary`).
+    pub boundary: Vec<EdgeCondition>,
+    /// Total displacement of the rigid obstacle at the end of the step.
+    pub obstacle_displacement: Point,
 }
 
 /// Body force per unit volume `b(x)`.

@@ -131,6 +131,7 @@ impl TryFrom<ProblemFile> for Problem {
                 "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
             ));
         }
+        problem.steps = load_steps(&file, &problem)?;
         Ok(problem)
     }
 }
@@ -226,6 +227,7 @@ fn validate_body(
         profile_edge: 0,
         contact: None,
         second_body: None,
+        steps: Vec::new(),
     })
 }
 
@@ -512,13 +514,6 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             "the Coulomb friction coefficient must be a finite number ≥ 0",
         ));
     }
-    if friction > 0.0 && problem.second_body.is_some() {
-        return Err(invalid(
-            "contact.friction",
-            friction,
-            "friction between two elastic bodies is not supported yet (only against a rigid obstacle; docs/dev/friction.md)",
-        ));
-    }
     if friction > 0.0 && problem.discretisation.method == Method::Fem {
         return Err(invalid(
             "contact.friction",
@@ -672,4 +667,165 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         condensation,
         friction,
     })
+}
+
+/// Whether a field is identically zero (a constant 0 or a linear field from 0 to 0).
+fn field_is_zero(f: &Field) -> bool {
+    match f {
+        Field::Constant(v) => *v == 0.0,
+        Field::Linear { start, end } => *start == 0.0 && *end == 0.0,
+        Field::Function(_) => false,
+    }
+}
+
+/// `[[step]]` → the load steps: each step's end state from the previous one (the
+/// `[[boundary]]` values, which must be zero, before the first; docs/method.md §8).
+fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<LoadStep>, ProblemError> {
+    if file.step.is_empty() {
+        return Ok(Vec::new());
+    }
+    let why = match &problem.contact {
+        None => Some(
+            "load steps need contact: without it the problem is linear and one solve gives the answer",
+        ),
+        Some(c) if !matches!(c.target, ContactTarget::Rigid(_)) => Some(
+            "load steps are not supported yet between two elastic bodies (only against a rigid obstacle; docs/dev/friction.md)",
+        ),
+        Some(_) if problem.discretisation.method == Method::Fem => Some(
+            "load steps are not supported yet with method = \"fem\" (only the MFVM; docs/dev/friction.md)",
+        ),
+        Some(_) if problem.body_force.is_some() => {
+            Some("load steps do not scale the body force yet: remove body_force or the steps")
+        }
+        Some(_) => None,
+    };
+    if let Some(reason) = why {
+        return Err(invalid("step", format!("{} steps", file.step.len()), reason));
+    }
+    // The path starts from the unloaded body: every value of [[boundary]] is the value before
+    // step 1 and must be zero (a step sets the loads).
+    for (i, b) in file.boundary.iter().enumerate() {
+        let Some(k) = problem.domain.edge_index(&b.edge) else { continue };
+        let nonzero = match &problem.boundary[k] {
+            EdgeCondition::Pressure(p) => (!field_is_zero(p)).then(|| "pressure".to_string()),
+            EdgeCondition::Components(c) => (0..2).find_map(|a| {
+                let (kind, f) = match &c[a] {
+                    ComponentCondition::Displacement(f) => ("displacement", f),
+                    ComponentCondition::Traction(f) => ("traction", f),
+                };
+                (!field_is_zero(f)).then(|| format!("{kind}.{}", ["x", "y"][a]))
+            }),
+        };
+        if let Some(key) = nonzero {
+            return Err(invalid(
+                &format!("boundary[{i}].{key}"),
+                &b.edge,
+                "with [[step]] tables the loading starts from the unloaded body: [[boundary]] declares each condition with the value 0 and the steps set its values",
+            ));
+        }
+    }
+    let declared: Vec<usize> =
+        file.boundary.iter().filter_map(|b| problem.domain.edge_index(&b.edge)).collect();
+    let mut boundary = problem.boundary.clone();
+    let mut obstacle = [0.0, 0.0];
+    let mut steps = Vec::with_capacity(file.step.len());
+    for (k, step) in file.step.iter().enumerate() {
+        let field = |f: &str| format!("step[{k}].{f}");
+        let increments = step.increments.unwrap_or(1);
+        if !(1..=100_000).contains(&increments) {
+            return Err(invalid(&field("increments"), increments, "must be 1–100000"));
+        }
+        if let Some(d) = step.obstacle_displacement {
+            check_finite(&field("obstacle_displacement"), d[0])?;
+            check_finite(&field("obstacle_displacement"), d[1])?;
+            obstacle = d;
+        }
+        let mut named = Vec::new();
+        for (j, b) in step.boundary.iter().enumerate() {
+            let f = |g: &str| field(&format!("boundary[{j}].{g}"));
+            let e = problem.domain.edge_index(&b.edge).ok_or_else(|| {
+                invalid(
+                    &f("edge"),
+                    &b.edge,
+                    format!("no such edge; the edges are {:?}", problem.domain.edge_names()),
+                )
+            })?;
+            if named.contains(&e) {
+                return Err(invalid(&f("edge"), &b.edge, "edge listed twice in one step"));
+            }
+            named.push(e);
+            if !declared.contains(&e) {
+                return Err(invalid(
+                    &f("edge"),
+                    &b.edge,
+                    "this edge has no condition in [[boundary]]: a step sets the values of declared conditions (declare it there with the value 0)",
+                ));
+            }
+            if b.pressure.is_none() && b.displacement.is_none() && b.traction.is_none() {
+                return Err(invalid(&f("edge"), &b.edge, "the step gives no value for this edge"));
+            }
+            match &mut boundary[e] {
+                EdgeCondition::Pressure(p) => {
+                    if b.displacement.is_some() || b.traction.is_some() {
+                        return Err(invalid(
+                            &f(if b.displacement.is_some() { "displacement" } else { "traction" }),
+                            &b.edge,
+                            "this edge has a pressure condition in [[boundary]]; a step can only set its pressure",
+                        ));
+                    }
+                    if let Some(v) = b.pressure {
+                        *p = value_field(&f("pressure"), v)?;
+                    }
+                }
+                EdgeCondition::Components(c) => {
+                    if b.pressure.is_some() {
+                        return Err(invalid(
+                            &f("pressure"),
+                            &b.edge,
+                            "this edge has no pressure condition in [[boundary]]",
+                        ));
+                    }
+                    for (axis, name) in ["x", "y"].iter().enumerate() {
+                        let pick = |c: &Option<ComponentsFile>| {
+                            c.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y })
+                        };
+                        for (kind, v) in [
+                            ("displacement", pick(&b.displacement)),
+                            ("traction", pick(&b.traction)),
+                        ] {
+                            let Some(v) = v else { continue };
+                            let key = f(&format!("{kind}.{name}"));
+                            let value = value_field(&key, v)?;
+                            match (&mut c[axis], kind) {
+                                (ComponentCondition::Displacement(old), "displacement")
+                                | (ComponentCondition::Traction(old), "traction") => *old = value,
+                                _ => {
+                                    return Err(invalid(
+                                        &key,
+                                        &b.edge,
+                                        format!(
+                                            "[[boundary]] gives this edge's {name} component no {kind} condition; a step sets the values of declared conditions only"
+                                        ),
+                                    ));
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        if step.obstacle_displacement.is_none() && step.boundary.is_empty() {
+            return Err(invalid(
+                &field("boundary"),
+                "(missing)",
+                "a step needs `boundary` values or `obstacle_displacement`",
+            ));
+        }
+        steps.push(LoadStep {
+            increments,
+            boundary: boundary.clone(),
+            obstacle_displacement: obstacle,
+        });
+    }
+    Ok(steps)
 }

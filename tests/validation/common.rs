@@ -32,6 +32,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         profile_edge: 0,
         contact: None,
         second_body: None,
+        steps: Vec::new(),
     }
 }
 
