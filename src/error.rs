@@ -64,3 +64,39 @@ pub enum Error {
     #[error(transparent)]
     Output(#[from] OutputError),
 }
+
+impl Error {
+    /// The problem-file keys that decide this error, for a message that names the input
+    /// (`None` for a validation error, which names its key itself).
+    pub fn input_keys(&self) -> Option<&'static str> {
+        use crate::assembly::AssemblyError as A;
+        use crate::contact::ContactError as C;
+        use crate::fem::FemError as F;
+        use crate::lcp::LcpError as L;
+        Some(match self {
+            Error::Problem(_) => return None,
+            Error::Geometry(_) => "geometry, nodes.spacing",
+            Error::Mls(_) => "discretisation.support_factor, discretisation.basis, nodes.spacing",
+            Error::Cells(_) => "geometry, nodes.spacing, nodes.layout",
+            Error::Assembly(A::MissingFaceGradients { .. }) => "discretisation.beta",
+            Error::Assembly(_) => "boundary[*].displacement",
+            Error::Fem(F::NotRectangle { .. }) => "geometry.kind, discretisation.method",
+            Error::Fem(F::NotStructured { .. }) => "nodes.layout, discretisation.method",
+            Error::Fem(_) => "boundary[*].displacement",
+            Error::Solve(_) => "boundary[*].displacement, material, discretisation",
+            Error::Contact(C::IndefiniteCompliance { .. }) => {
+                "discretisation.support_factor, discretisation.beta, contact.allow_indefinite"
+            }
+            Error::Contact(C::TargetConstrained { .. } | C::CurvedTarget { .. }) => {
+                "contact.target_edge, boundary of the second body"
+            }
+            Error::Contact(C::NoPartner { .. }) => "contact.edge, contact.target_edge, geometry",
+            Error::Contact(_) => "contact.edge, boundary[*].displacement",
+            Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
+            Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
+            Error::NonFinite { .. } => "material.young, boundary[*] values, body_force",
+            Error::Memory { .. } => "nodes.spacing, discretisation.support_factor",
+            Error::Output(_) => "--out",
+        })
+    }
+}

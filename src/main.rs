@@ -87,6 +87,10 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             say(format_args!("error: {e:#}"));
+            if let Some(keys) = e.downcast_ref::<mlpg_contact::Error>().and_then(|e| e.input_keys())
+            {
+                say(format_args!("  (decided by: {keys})"));
+            }
             ExitCode::from(2)
         }
     }

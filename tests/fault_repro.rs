@@ -83,6 +83,8 @@ fn convexity_is_judged_relative_to_the_edges_not_the_coordinates() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("convex"), "{stderr}");
     assert!(stderr.contains("no displacement is prescribed"), "{stderr}");
+    // A run-time refusal names the input that decides it.
+    assert!(stderr.contains("(decided by: boundary[*].displacement)"), "{stderr}");
 }
 
 #[test]
