@@ -1,0 +1,321 @@
+//! Frictional contact in the pipeline: the ends of the load steps and the frictional
+//! solve over their increments (docs/method.md §8; plan in docs/dev/friction.md).
+
+use super::*;
+
+/// The end of one load step: the load `f` and the solved right-hand side there, the rigid
+/// obstacle's total displacement, and the increments that reach it.
+#[derive(Clone, Debug)]
+pub(super) struct StepEnd {
+    pub(super) increments: usize,
+    pub(super) load: Vec<f64>,
+    pub(super) rhs: Vec<f64>,
+    pub(super) obstacle: geometry::Point,
+}
+
+/// The ends of `problem.steps`: each step's conditions on the assembled body (the same
+/// constrained DOFs, so the same `K`; only `f` and the prescribed values change).
+pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>, Error> {
+    let Scheme::Mfvm(m) = &model.scheme else {
+        return Err(crate::problem::ProblemError::Invalid {
+            field: "step".into(),
+            value: "method = \"fem\"".into(),
+            reason: "load steps are not supported yet with the finite elements".into(),
+        }
+        .into());
+    };
+    let d = problem.material.constitutive();
+    problem
+        .steps
+        .iter()
+        .map(|step| {
+            let mut body = assembly::Body::new(problem, &model.nodes, &d);
+            body.boundary = &step.boundary;
+            let (load, rhs) = assembly::load_and_rhs(&AssemblyInput {
+                body,
+                cells: &m.cells,
+                interior_faces: &m.faces.interior,
+                boundary_faces: &m.faces.boundary,
+                face_quadrature: &m.face_quadrature,
+                face_shapes: &m.face_shapes,
+                node_shapes: &model.node_shapes,
+                beta: problem.discretisation.beta,
+            })?;
+            Ok(StepEnd {
+                increments: step.increments,
+                load,
+                rhs,
+                obstacle: step.obstacle_displacement,
+            })
+        })
+        .collect()
+}
+
+/// `(1 − λ) a + λ b`, exactly `b` at `λ = 1` (and `a` at `λ = 0`).
+fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
+}
+
+/// The second body of a two-body frictional contact: its model and normal operator.
+pub(super) struct Target<'a> {
+    pub(super) model: &'a Model,
+    pub(super) operator: contact::BodyOperator,
+}
+
+/// Frictional contact against a rigid obstacle or a second body (`target`; one step) along
+/// the load path `steps` (docs/method.md §8): the tangential operators (the second body's
+/// with direction `−t` at the paired points, so that `s` is the relative tangential
+/// displacement, as §4.3 does for the gap), the four condensed blocks of each body from its
+/// one factorisation (with the model's right-hand side, the last step's), summed over the
+/// bodies, the checks of `M_nn`, the free gaps and
+/// tangential displacements of each step's end (one solve per step; linear in between), and
+/// the step solver per increment, carrying the tangential displacements `s` and the
+/// accumulated slip. Returns the last increment's solution (whose `gap` the caller replaces
+/// by the MLS gaps) with the nodal parameters of both bodies.
+pub(super) fn solve_frictional(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    mut candidates: contact::Candidates,
+    target: Option<Target<'_>>,
+    steps: &[StepEnd],
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let (mut tangential, mut free) = candidates.tangential_operator(&model.system);
+    // The second body: direction −t at the paired points; a candidate whose partner's
+    // tangential row is a displacement condition is frictionless too.
+    let target_tangential = target.as_ref().map(|tg| {
+        let t = candidates.tangent();
+        let mut op = tg.operator.clone();
+        op.direction = [-t[0], -t[1]];
+        let sys = &tg.model.system;
+        for (c, owners) in op.owners.iter().enumerate() {
+            let fixed = owners.iter().any(|&(i, _)| {
+                crate::nodes::Axis::BOTH.iter().any(|&a| {
+                    t[a as usize] != 0.0 && sys.is_constrained(crate::nodes::dof(i as usize, a))
+                })
+            });
+            if fixed {
+                free[c] = false;
+            }
+        }
+        op
+    });
+    let target_tangential = target_tangential.map(|mut op| {
+        for (c, &f) in free.iter().enumerate() {
+            if !f {
+                op.owners[c].clear();
+                tangential.owners[c].clear();
+            }
+        }
+        op
+    });
+    let (blocks, condensed) = clock.run("condensation", || -> Result<_, Error> {
+        let mut blocks = contact::condense_blocks(
+            &model.factorisation,
+            &model.system.rhs,
+            &candidates.operator,
+            &tangential,
+        )?;
+        let mut parts = vec![contact::CondensedPart {
+            compliance: blocks.nn.clone(),
+            free_gap: blocks.free_gap.clone(),
+        }];
+        if let (Some(tg), Some(op_t)) = (&target, &target_tangential) {
+            let b2 = contact::condense_blocks(
+                &tg.model.factorisation,
+                &tg.model.system.rhs,
+                &tg.operator,
+                op_t,
+            )?;
+            parts.push(contact::CondensedPart {
+                compliance: b2.nn.clone(),
+                free_gap: b2.free_gap.clone(),
+            });
+            let add = |a: &mut Vec<f64>, b: &[f64]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+            add(&mut blocks.nn, &b2.nn);
+            add(&mut blocks.nt, &b2.nt);
+            add(&mut blocks.tn, &b2.tn);
+            add(&mut blocks.tt, &b2.tt);
+            add(&mut blocks.free_gap, &b2.free_gap);
+            add(&mut blocks.free_tangential, &b2.free_tangential);
+        }
+        let condensed = contact::CondensedContact::combine(&candidates.initial_gap, &parts)?;
+        Ok((blocks.with_initial_gap(&candidates.initial_gap), condensed))
+    })?;
+    let mut warning = None;
+    if let Err(err) =
+        contact::check_compliance(&condensed, problem.discretisation.mls.support_factor)
+    {
+        if !spec.allow_indefinite {
+            return Err(err.into());
+        }
+        warning = Some(err.to_string());
+    }
+    let m = candidates.len();
+    let (nu, t) = (candidates.normal, candidates.tangent());
+    // (q_n, q_t) at the end of each step, the obstacle's displacement d shifting the gap by
+    // −d·ν and the tangential displacement relative to it by −d·t.
+    let ends: Vec<(Vec<f64>, Vec<f64>)> = clock.run("load_steps", || {
+        steps
+            .iter()
+            .enumerate()
+            .map(|(k, end)| {
+                let (mut qn, mut qt) = if k + 1 == steps.len() {
+                    (blocks.free_gap.clone(), blocks.free_tangential.clone())
+                } else {
+                    let u = model.factorisation.solve(&end.rhs)?;
+                    let qn = candidates
+                        .initial_gap
+                        .iter()
+                        .zip(candidates.operator.gap_contribution(&u))
+                        .map(|(g0, g)| g + g0)
+                        .collect();
+                    (qn, tangential.gap_contribution(&u))
+                };
+                let (dn, dt) = (
+                    end.obstacle[0] * nu[0] + end.obstacle[1] * nu[1],
+                    end.obstacle[0] * t[0] + end.obstacle[1] * t[1],
+                );
+                if dn != 0.0 || dt != 0.0 {
+                    qn.iter_mut().for_each(|q| *q -= dn);
+                    qt.iter_mut().for_each(|q| *q -= dt);
+                }
+                Ok((qn, qt))
+            })
+            .collect::<Result<_, Error>>()
+    })?;
+    let friction: Vec<f64> = free.iter().map(|&f| if f { spec.friction } else { 0.0 }).collect();
+    let mut step_problem = lcp::FrictionProblem {
+        nn: blocks.nn,
+        nt: blocks.nt,
+        tn: blocks.tn,
+        tt: blocks.tt,
+        free_gap: candidates.initial_gap.clone(),
+        free_tangential: vec![0.0; m],
+        previous_tangential: vec![0.0; m],
+        friction,
+    };
+    // The unloaded start: no load, the obstacle where it was given.
+    let n = model.system.rhs.len();
+    let (mut load0, mut rhs0) = (vec![0.0; n], vec![0.0; n]);
+    let (mut qn0, mut qt0) = (candidates.initial_gap.clone(), vec![0.0; m]);
+    let mut accumulated = vec![0.0; m];
+    let mut records = Vec::new();
+    let mut last = None;
+    clock.run("friction", || -> Result<(), Error> {
+        for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
+            for i in 1..=end.increments {
+                let lambda = i as f64 / end.increments as f64;
+                step_problem.free_gap = lerp(&qn0, qn1, lambda);
+                step_problem.free_tangential = lerp(&qt0, qt1, lambda);
+                let step = lcp::solve_step(&step_problem)?;
+                let mut rhs = lerp(&rhs0, &end.rhs, lambda);
+                candidates.operator.add_forces(&step.normal, &mut rhs);
+                tangential.add_forces(&step.tangential, &mut rhs);
+                let u = model.factorisation.solve(&rhs)?;
+                let load = lerp(&load0, &end.load, lambda);
+                let ops = [
+                    (&candidates.operator, step.normal.as_slice()),
+                    (&tangential, step.tangential.as_slice()),
+                ];
+                let mut equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
+                // The second body (one step: its loads scale with the same factor).
+                let u2 = match (&target, &target_tangential) {
+                    (Some(tg), Some(op_t)) => {
+                        let sys = &tg.model.system;
+                        let zero = vec![0.0; sys.rhs.len()];
+                        let mut rhs2 = lerp(&zero, &sys.rhs, lambda);
+                        tg.operator.add_forces(&step.normal, &mut rhs2);
+                        op_t.add_forces(&step.tangential, &mut rhs2);
+                        let u2 = tg.model.factorisation.solve(&rhs2)?;
+                        let load2 = lerp(&zero, &sys.load, lambda);
+                        let ops2 = [
+                            (&tg.operator, step.normal.as_slice()),
+                            (op_t, step.tangential.as_slice()),
+                        ];
+                        equilibrium =
+                            equilibrium.max(solution::equilibrium_error(sys, &load2, &u2, &ops2));
+                        Some(u2)
+                    }
+                    _ => None,
+                };
+                let count = |f: &dyn Fn(&lcp::ContactState) -> bool| {
+                    step.state.iter().filter(|s| f(s)).count()
+                };
+                records.push(solution::IncrementRecord {
+                    step: k + 1,
+                    increment: i,
+                    load_factor: lambda,
+                    normal_force: step.normal.iter().sum(),
+                    tangential_force: step.tangential.iter().sum(),
+                    solver: step.method,
+                    pivots: step.pivots,
+                    iterations: step.iterations,
+                    complementarity: step.residuals.max(),
+                    equilibrium_error: equilibrium,
+                    stick: count(&|s| *s == lcp::ContactState::Stick),
+                    slip: count(&|s| s.is_slip()),
+                    open: count(&|s| *s == lcp::ContactState::Open),
+                });
+                for ((a, s), ds) in
+                    accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment)
+                {
+                    if s.is_slip() {
+                        *a += ds;
+                    }
+                }
+                step_problem.previous_tangential.clone_from(&step.tangential_displacement);
+                last = Some((step, u, u2));
+            }
+            (load0, rhs0) = (end.load.clone(), end.rhs.clone());
+            (qn0, qt0) = (qn1.clone(), qt1.clone());
+        }
+        Ok(())
+    })?;
+    let Some((step, u, u2)) = last else {
+        unreachable!("validated: at least one step with at least one increment")
+    };
+    // The normal LCP given the tangential forces, for the `lcp` section of the summary.
+    let q: Vec<f64> = (0..m)
+        .map(|i| {
+            let row = &step_problem.nt[i * m..(i + 1) * m];
+            step_problem.free_gap[i]
+                + row.iter().zip(&step.tangential).map(|(a, b)| a * b).sum::<f64>()
+        })
+        .collect();
+    let normal = lcp::Lcp::new(m, step_problem.nn.clone(), q)?;
+    let result = lcp::LcpSolution {
+        w: normal.w(&step.normal),
+        residuals: normal.residuals(&step.normal),
+        z: step.normal.clone(),
+        pivots: step.pivots,
+    };
+    // The gaps from the obstacle's final position.
+    if let Some(end) = steps.last() {
+        let dn = end.obstacle[0] * nu[0] + end.obstacle[1] * nu[1];
+        if dn != 0.0 {
+            candidates.initial_gap.iter_mut().for_each(|g| *g -= dn);
+        }
+    }
+    let gap = step.gap.clone();
+    let segment_length = candidates.segment_length.clone();
+    let target_operator = target.map(|tg| tg.operator);
+    let mut contact = ContactSolution::new(
+        spec,
+        candidates,
+        target_operator,
+        Vec::new(),
+        condensed,
+        result,
+        gap,
+        warning,
+    );
+    let mut friction =
+        solution::FrictionContact::new(spec.friction, free, tangential, step, &segment_length);
+    friction.slip = accumulated;
+    friction.increments = records;
+    friction.target_operator = target_tangential;
+    contact.friction = Some(friction);
+    Ok((u, u2, contact))
+}
