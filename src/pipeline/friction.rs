@@ -143,15 +143,7 @@ pub(super) fn solve_frictional(
         let condensed = contact::CondensedContact::combine(&candidates.initial_gap, &parts)?;
         Ok((blocks.with_initial_gap(&candidates.initial_gap), condensed))
     })?;
-    let mut warning = None;
-    if let Err(err) =
-        contact::check_compliance(&condensed, problem.discretisation.mls.support_factor)
-    {
-        if !spec.allow_indefinite {
-            return Err(err.into());
-        }
-        warning = Some(err.to_string());
-    }
+    let warning = compliance_warning(problem, spec, &condensed)?;
     let m = candidates.len();
     let (nu, t) = (candidates.normal, candidates.tangent());
     // (q_n, q_t) at the end of each step, the obstacle's displacement d shifting the gap by

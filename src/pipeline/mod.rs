@@ -321,22 +321,8 @@ fn solve_contact(
             solve_frictional(problem, spec, model, candidates, target, steps, clock)?;
         contact.paired_points = paired_points;
         contact.unpaired = unpaired;
-        let nu = contact.candidates.normal;
-        contact.gap = contact
-            .candidates
-            .initial_gap
-            .iter()
-            .zip(&contact.candidates.nodes)
-            .map(|(g0, &i)| {
-                let u = model.node_shapes.interpolate(i as usize, &u1);
-                g0 + nu[0] * u[0] + nu[1] * u[1]
-            })
-            .collect();
-        if let (Some(op), Some(u2)) = (&contact.target, &u2) {
-            for (g, d) in contact.gap.iter_mut().zip(op.gap_contribution(u2)) {
-                *g += d;
-            }
-        }
+        let second_gap = contact.target.as_ref().zip(u2.as_deref());
+        contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
     let condensed = clock.run_counted("condensation", |progress| {
@@ -348,15 +334,7 @@ fn solve_contact(
         }
         contact::CondensedContact::combine(&candidates.initial_gap, &parts)
     })?;
-    let mut warning = None;
-    if let Err(err) =
-        contact::check_compliance(&condensed, problem.discretisation.mls.support_factor)
-    {
-        if !spec.allow_indefinite {
-            return Err(err.into());
-        }
-        warning = Some(err.to_string());
-    }
+    let warning = compliance_warning(problem, spec, &condensed)?;
     let m = candidates.len();
     let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
     let result = clock.run_counted("lemke", |progress| {
@@ -365,30 +343,15 @@ fn solve_contact(
     let mut rhs = model.system.rhs.clone();
     candidates.operator.add_forces(&result.z, &mut rhs);
     let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
-    // The MLS gap g0 + ν·u^h(x_c) (also for the stiffness form, whose LCP reads nodal
-    // parameters instead; `max_gap_mismatch` in the summary shows the difference).
-    let nu = candidates.normal;
-    let mut gap: Vec<f64> = candidates
-        .initial_gap
-        .iter()
-        .zip(&candidates.nodes)
-        .map(|(g0, &i)| {
-            let u = model.node_shapes.interpolate(i as usize, &u1);
-            g0 + nu[0] * u[0] + nu[1] * u[1]
-        })
-        .collect();
     let u2 = match (&target, second) {
         (Some(op), Some((_, m2))) => {
             let mut rhs2 = m2.system.rhs.clone();
             op.add_forces(&result.z, &mut rhs2);
-            let u2 = clock.run("solve", || m2.factorisation.solve(&rhs2))?;
-            for (g, d) in gap.iter_mut().zip(op.gap_contribution(&u2)) {
-                *g += d;
-            }
-            Some(u2)
+            Some(clock.run("solve", || m2.factorisation.solve(&rhs2))?)
         }
         _ => None,
     };
+    let gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
     let mut contact = ContactSolution::new(
         spec,
         candidates,
@@ -401,6 +364,48 @@ fn solve_contact(
     );
     contact.unpaired = unpaired;
     Ok((u1, u2, contact))
+}
+
+/// The run-time checks of `M` (docs/method.md §4.1): an error, or, with
+/// `contact.allow_indefinite`, the warning to report.
+fn compliance_warning(
+    problem: &Problem,
+    spec: &ContactSpec,
+    condensed: &contact::CondensedContact,
+) -> Result<Option<String>, Error> {
+    match contact::check_compliance(condensed, problem.discretisation.mls.support_factor) {
+        Ok(()) => Ok(None),
+        Err(err) if spec.allow_indefinite => Ok(Some(err.to_string())),
+        Err(err) => Err(err.into()),
+    }
+}
+
+/// The MLS gaps from the final displacements, `g0 + ν·u^h(x_c)`, plus the second body's
+/// contribution `−ν·u_2^h(y_c)` when `second` holds its operator and displacements (also for
+/// the stiffness form, whose LCP reads nodal parameters instead; `max_gap_mismatch` in the
+/// summary shows the difference).
+fn final_gaps(
+    model: &Model,
+    candidates: &contact::Candidates,
+    u1: &[f64],
+    second: Option<(&contact::BodyOperator, &[f64])>,
+) -> Vec<f64> {
+    let nu = candidates.normal;
+    let mut gap: Vec<f64> = candidates
+        .initial_gap
+        .iter()
+        .zip(&candidates.nodes)
+        .map(|(g0, &i)| {
+            let u = model.node_shapes.interpolate(i as usize, u1);
+            g0 + nu[0] * u[0] + nu[1] * u[1]
+        })
+        .collect();
+    if let Some((op, u2)) = second {
+        for (g, d) in gap.iter_mut().zip(op.gap_contribution(u2)) {
+            *g += d;
+        }
+    }
+    gap
 }
 
 /// What a run reports: the summary and the files written.
