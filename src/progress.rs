@@ -50,13 +50,7 @@ impl<'a> Clock<'a> {
 
     /// Runs `f` as the stage `stage`.
     pub fn run<T>(&mut self, stage: &'static str, f: impl FnOnce() -> T) -> T {
-        self.progress.start(stage);
-        let t0 = Instant::now();
-        let out = f();
-        let seconds = t0.elapsed().as_secs_f64();
-        self.progress.finish(stage, seconds);
-        self.timings.push(StageTiming { stage, seconds });
-        out
+        self.run_counted(stage, |_| f())
     }
 
     /// Runs `f` as the stage `stage`, handing it a callback for `(done, total)` progress.

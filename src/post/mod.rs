@@ -72,10 +72,6 @@ impl StagedDir {
     /// earlier run (it is never replaced); [`OutputError::Io`] when the staging directory
     /// cannot be created.
     pub fn new(target: &Path) -> Result<Self, OutputError> {
-        let io = |path: &Path| {
-            let path = path.display().to_string();
-            move |source| OutputError::Io { path, source }
-        };
         let absolute = match target.canonicalize() {
             Ok(p) => p,
             Err(_) => std::env::current_dir().map_err(io(target))?.join(target),
@@ -107,10 +103,6 @@ impl StagedDir {
     /// # Errors
     /// [`OutputError::Io`] when the earlier run cannot be removed or the rename fails.
     pub fn commit(mut self, files: Vec<PathBuf>) -> Result<Vec<PathBuf>, OutputError> {
-        let io = |path: &Path| {
-            let path = path.display().to_string();
-            move |source| OutputError::Io { path, source }
-        };
         if self.target.exists() {
             std::fs::remove_dir_all(&self.target).map_err(io(&self.target))?;
         }
@@ -134,6 +126,12 @@ impl Drop for StagedDir {
     }
 }
 
+/// Maps an I/O failure on `path` to [`OutputError::Io`].
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError {
+    let path = path.display().to_string();
+    move |source| OutputError::Io { path, source }
+}
+
 fn is_empty_dir(dir: &Path) -> bool {
     std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_none())
 }
@@ -153,8 +151,7 @@ fn holds_a_run(dir: &Path) -> bool {
 /// # Errors
 /// [`OutputError::Io`].
 pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
-    std::fs::write(path, text)
-        .map_err(|source| OutputError::Io { path: path.display().to_string(), source })
+    std::fs::write(path, text).map_err(io(path))
 }
 
 /// Creates the output directory (and parents).
@@ -162,8 +159,7 @@ pub fn write_text(path: &Path, text: &str) -> Result<(), OutputError> {
 /// # Errors
 /// [`OutputError::Io`].
 pub fn create_dir(dir: &Path) -> Result<(), OutputError> {
-    std::fs::create_dir_all(dir)
-        .map_err(|source| OutputError::Io { path: dir.display().to_string(), source })
+    std::fs::create_dir_all(dir).map_err(io(dir))
 }
 
 /// Formats a float for CSV/JSON-like text: 12 significant digits, scientific.
