@@ -503,7 +503,8 @@ fn outline(domain: &Domain, h: f64, label: &str) -> plot::Overlay {
 /// The rigid obstacle line in a deformed plot magnified `m` times: its distance to the
 /// undeformed body is magnified too (it is drawn `(m − 1) g_min` farther along `−n`, with
 /// `g_min` the smallest initial gap), so that a candidate of gap `g_min` that closes touches
-/// it; it spans the plot's extent along the line.
+/// it; it spans the plot's extent along the line. On a curved edge the other closed candidates
+/// appear `(m − 1) g₀` beyond the line, and the legend says so.
 fn obstacle_line(
     line: &RigidLine,
     c: &ContactSolution,
@@ -520,10 +521,21 @@ fn obstacle_line(
     let (lo, hi) = plot::range(points.iter().map(along));
     let pad = 0.05 * (hi - lo);
     let at = |s: f64| (origin[0] + s * t[0], origin[1] + s * t[1]);
-    let label = if shift.abs() > 0.0 {
-        format!("rigid obstacle (gap drawn ×{} like u)", significant(m))
-    } else {
-        "rigid obstacle".to_string()
+    // Where the closed candidates' initial gaps differ (a curved edge), no straight line can
+    // be touched by all their magnified positions: they sit `(m − 1) g₀` beyond it. Say so
+    // rather than draw a bent "rigid" line.
+    let closed_gaps = || c.candidates.initial_gap.iter().zip(&c.closed).filter(|(_, k)| **k);
+    let g_lo = closed_gaps().map(|(g, _)| *g).fold(f64::INFINITY, f64::min);
+    let g_hi = closed_gaps().map(|(g, _)| *g).fold(f64::NEG_INFINITY, f64::max);
+    // Gaps equal to round-off (a flat edge) do not count.
+    let crossing = m > 1.0 && g_hi - g_lo > 1e-9 * g_hi.abs().max(g_lo.abs());
+    let label = match (shift.abs() > 0.0, crossing) {
+        (_, true) => format!(
+            "rigid obstacle (u drawn ×{}: closed points cross the line by (m−1)·g₀)",
+            significant(m)
+        ),
+        (true, false) => format!("rigid obstacle (gap drawn ×{} like u)", significant(m)),
+        (false, false) => "rigid obstacle".to_string(),
     };
     plot::Overlay {
         label: Some(label),
