@@ -433,9 +433,21 @@ impl Domain {
 
     /// Outward unit normal of a straight edge `k`; `None` for an arc (use
     /// [`Self::outward_normal_at`]).
+    ///
+    /// A component of at most 1e-12 is round-off of an axis-aligned edge (end points whose
+    /// shared coordinate differs in its last bits, e.g. `1.0` and `1.0000000000000002`) and is
+    /// snapped to zero, the other to ±1, as for a rigid obstacle's normal: which displacement
+    /// conditions a contact candidate meets then does not depend on the last bit of an input.
     pub fn straight_normal(&self, k: usize) -> Option<Point> {
         let c = &self.curves[k];
-        c.is_straight().then(|| c.outward_normal_at(c.start()))
+        c.is_straight().then(|| {
+            let n = c.outward_normal_at(c.start());
+            match (n[0].abs() <= 1e-12, n[1].abs() <= 1e-12) {
+                (true, false) => [0.0, n[1].signum()],
+                (false, true) => [n[0].signum(), 0.0],
+                _ => n,
+            }
+        })
     }
 
     /// Outward unit normal of edge `k` at its point nearest `p`.
@@ -586,6 +598,19 @@ mod tests {
         assert_eq!(d.straight_normal(1), Some([1.0, 0.0]));
         assert!((d.area() - 2.0).abs() < 1e-15);
         assert!(d.as_rectangle().is_some());
+    }
+
+    #[test]
+    fn straight_normal_snaps_round_off() {
+        let names = || ["a", "b", "c", "d"].map(String::from).to_vec();
+        // The top edge rises by one ulp of 1 over a length of 2: axis-aligned up to round-off.
+        let y = 1.0 + f64::EPSILON;
+        let d = Domain::polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, y], [0.0, 1.0]], names()).unwrap();
+        assert_eq!(d.straight_normal(2), Some([0.0, 1.0]));
+        // A real tilt is kept.
+        let d = Domain::polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.1], [0.0, 1.0]], names()).unwrap();
+        let n = d.straight_normal(2).unwrap();
+        assert!(n[0] < -0.04 && (n[0].hypot(n[1]) - 1.0).abs() < 1e-15, "{n:?}");
     }
 
     /// The quarter plate `[0, 4]²` minus the disk of radius 1 at the origin.
