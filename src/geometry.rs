@@ -605,10 +605,12 @@ mod tests {
         let names = || ["a", "b", "c", "d"].map(String::from).to_vec();
         // The top edge rises by one ulp of 1 over a length of 2: axis-aligned up to round-off.
         let y = 1.0 + f64::EPSILON;
-        let d = Domain::polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, y], [0.0, 1.0]], names()).unwrap();
+        let d =
+            Domain::polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, y], [0.0, 1.0]], names()).unwrap();
         assert_eq!(d.straight_normal(2), Some([0.0, 1.0]));
         // A real tilt is kept.
-        let d = Domain::polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.1], [0.0, 1.0]], names()).unwrap();
+        let d =
+            Domain::polygon(vec![[0.0, 0.0], [2.0, 0.0], [2.0, 1.1], [0.0, 1.0]], names()).unwrap();
         let n = d.straight_normal(2).unwrap();
         assert!(n[0] < -0.04 && (n[0].hypot(n[1]) - 1.0).abs() < 1e-15, "{n:?}");
     }

@@ -54,13 +54,64 @@ fn thread_pool() -> anyhow::Result<()> {
         .with_context(|| format!("cannot start {threads} worker threads (RAYON_NUM_THREADS)"))
 }
 
-fn run(args: &Args) -> anyhow::Result<()> {
+/// Longest value printed under a run-time error, in characters.
+const VALUE_WIDTH: usize = 100;
+
+/// The values a problem file gives to `keys` (comma-separated paths such as
+/// `boundary[*].displacement` or `material`, as [`mlpg_contact::Error::input_keys`] names them),
+/// as `path = value` lines, looked up at the top level and else in every `[[body]]` table; keys
+/// the file leaves at their defaults (or free text) give none.
+fn key_values(echo: &serde_json::Value, keys: &str) -> Vec<String> {
+    fn walk(v: &serde_json::Value, path: String, rest: &[&str], out: &mut Vec<String>) {
+        let Some((first, rest)) = rest.split_first() else {
+            if !v.is_null() {
+                let mut text = v.to_string();
+                if text.chars().count() > VALUE_WIDTH {
+                    text = text.chars().take(VALUE_WIDTH).collect::<String>() + "…";
+                }
+                out.push(format!("{path} = {text}"));
+            }
+            return;
+        };
+        let join =
+            |name: &str| if path.is_empty() { name.to_string() } else { format!("{path}.{name}") };
+        match first.strip_suffix("[*]") {
+            Some(name) => {
+                if let Some(list) = v.get(name).and_then(|l| l.as_array()) {
+                    for (k, item) in list.iter().enumerate() {
+                        walk(item, format!("{}[{k}]", join(name)), rest, out);
+                    }
+                }
+            }
+            None => {
+                if let Some(next) = v.get(*first) {
+                    walk(next, join(first), rest, out);
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    for key in keys.split(',').map(str::trim) {
+        let parts: Vec<&str> = key.split('.').collect();
+        if parts.iter().all(|p| !p.is_empty() && !p.contains(' ')) {
+            let found = out.len();
+            walk(echo, String::new(), &parts, &mut out);
+            if out.len() == found {
+                // With `[[body]]` tables a body's keys live under `body[k]`.
+                walk(echo, String::new(), &[&["body[*]"], &parts[..]].concat(), &mut out);
+            }
+        }
+    }
+    out
+}
+
+fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> {
     thread_pool()?;
     let text = std::fs::read_to_string(&args.problem)
         .with_context(|| format!("cannot read {}", args.problem.display()))?;
     let file = problem::ProblemFile::from_toml(&text)
         .with_context(|| format!("in {}", args.problem.display()))?;
-    let echo = serde_json::to_value(&file)?;
+    let echo = echo.insert(serde_json::to_value(&file)?).clone();
     let problem = problem::Problem::try_from(file)
         .with_context(|| format!("in {}", args.problem.display()))?;
     let mut progress = mlpg_contact::progress::StageProgress::new(args.quiet);
@@ -83,13 +134,17 @@ fn run(args: &Args) -> anyhow::Result<()> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    match run(&args) {
+    let mut echo = None;
+    match run(&args, &mut echo) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             say(format_args!("error: {e:#}"));
             if let Some(keys) = e.downcast_ref::<mlpg_contact::Error>().and_then(|e| e.input_keys())
             {
                 say(format_args!("  (decided by: {keys})"));
+                for line in echo.as_ref().map(|v| key_values(v, keys)).unwrap_or_default() {
+                    say(format_args!("    {line}"));
+                }
             }
             ExitCode::from(2)
         }

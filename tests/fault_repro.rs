@@ -49,7 +49,16 @@ fn unsafe_body_names_are_refused() {
 
 #[test]
 fn a_candidate_beside_the_target_edge_cannot_close() {
-    refused("r2_beside.toml", &["no point of contact edge `bottom` lies over edge `top`"]);
+    refused(
+        "r2_beside.toml",
+        &[
+            "no point of contact edge `bottom` lies over edge `top`",
+            // The run-time refusal prints the values of the keys that decide it.
+            "(decided by: contact.edge, contact.target_edge, geometry)",
+            "contact.edge = \"bottom\"",
+            "body[0].geometry = {\"kind\":\"rectangle\",\"x\":[3.0,5.0],\"y\":[1.0,2.0]}",
+        ],
+    );
 }
 
 #[test]
