@@ -4,11 +4,13 @@
 //! - [`mod@file`]: the raw form, as written ([`ProblemFile`]);
 //! - `validate` (private): `ProblemFile` → `Problem`, every range checked once;
 //! - [`discretisation`]: method, MLS parameters, node layout, presets and stability limits;
-//! - [`contact`]: the contact specification (rigid line or second body).
+//! - [`contact`]: the contact specification (rigid line or second body);
+//! - [`gmsh`]: a reader for Gmsh mesh files (MSH 4.1 and 2.2, ASCII).
 
 pub mod contact;
 pub mod discretisation;
 pub mod file;
+pub mod gmsh;
 mod validate;
 
 pub use contact::{Condensation, ContactSpec, ContactTarget, RigidLine};
