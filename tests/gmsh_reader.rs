@@ -117,3 +117,95 @@ fn damaged_files_are_refused_with_their_line() {
     let e = Mesh::read(&data("missing.msh")).unwrap_err();
     assert_eq!(e.line, None);
 }
+
+/// Seeded mutations of Gmsh-written files (bytes changed, lines deleted or repeated, numbers
+/// replaced by extreme values, files cut short): every one is read or refused, none panics,
+/// and a mesh that is read gives boundary loops or a typed refusal.
+#[test]
+fn mutated_files_never_panic() {
+    const NUMBERS: [&str; 9] = [
+        "-1",
+        "0",
+        "1e308",
+        "nan",
+        "18446744073709551615",
+        "-9223372036854775808",
+        "4294967297",
+        "3",
+        "2.5",
+    ];
+    let mut state = 0x5eed_u64;
+    let mut next = move || {
+        // SplitMix64.
+        state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    let (mut read_ok, mut refused, mut loops_ok) = (0, 0, 0);
+    for file in ["plate_with_hole_o1_v4.msh", "plate_with_hole_o2_v2.msh", "two_blocks_o2_v4.msh"] {
+        let text = std::fs::read_to_string(data(file)).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        for _ in 0..700 {
+            let mut bytes = text.as_bytes().to_vec();
+            match next() % 5 {
+                0 => {
+                    let k = (next() % bytes.len() as u64) as usize;
+                    bytes[k] = (next() % 256) as u8;
+                }
+                1 | 2 => {
+                    let k = (next() % lines.len() as u64) as usize;
+                    let mut l = lines.clone();
+                    if next() % 2 == 0 {
+                        l.remove(k);
+                    } else {
+                        l.insert(k, lines[k]);
+                    }
+                    bytes = l.join("\n").into_bytes();
+                }
+                3 => {
+                    let k = (next() % lines.len() as u64) as usize;
+                    let mut words: Vec<&str> = lines[k].split(' ').collect();
+                    let w = (next() % words.len() as u64) as usize;
+                    words[w] = NUMBERS[(next() % NUMBERS.len() as u64) as usize];
+                    let mut l = lines.clone();
+                    let replaced = words.join(" ");
+                    l[k] = &replaced;
+                    bytes = l.join("\n").into_bytes();
+                }
+                _ => bytes.truncate((next() % bytes.len() as u64) as usize),
+            }
+            let outcome = std::panic::catch_unwind(|| match Mesh::parse(&bytes) {
+                Ok(mesh) => {
+                    let surfaces: Vec<String> = mesh
+                        .physical_names
+                        .iter()
+                        .filter(|p| p.dimension == 2)
+                        .map(|p| p.name.clone())
+                        .collect();
+                    let ok = surfaces.iter().filter(|s| mesh.boundary(s).is_ok()).count();
+                    (true, ok)
+                }
+                Err(e) => {
+                    assert!(!e.to_string().is_empty());
+                    (false, 0)
+                }
+            });
+            match outcome {
+                Ok((true, ok)) => {
+                    read_ok += 1;
+                    loops_ok += ok;
+                }
+                Ok((false, _)) => refused += 1,
+                Err(_) => panic!(
+                    "{file}: a mutated file panicked the reader:\n{}",
+                    String::from_utf8_lossy(&bytes)
+                ),
+            }
+        }
+    }
+    eprintln!("mutated files: {read_ok} read ({loops_ok} surfaces with loops), {refused} refused");
+    assert_eq!(read_ok + refused, 2100);
+    assert!(read_ok > 0 && refused > 0, "the mutations exercise both outcomes");
+}

@@ -737,8 +737,11 @@ fn read_entities(lines: &mut Lines<'_>, raw: &mut Raw) -> Result<(), GmshError> 
                     },
                 )
             };
-            let count = *v.get(at_count).ok_or_else(syntax)? as usize;
-            let tags = v.get(at_count + 1..at_count + 1 + count).ok_or_else(syntax)?;
+            let count = *v.get(at_count).ok_or_else(syntax)?;
+            let tags = (count >= 0.0 && count <= v.len() as f64)
+                .then(|| v.get(at_count + 1..at_count + 1 + count as usize))
+                .flatten()
+                .ok_or_else(syntax)?;
             if dimension <= 2 {
                 raw.entity_physicals.insert(
                     (dimension as u8, v[0] as i32),
@@ -757,8 +760,9 @@ fn read_nodes_v4(lines: &mut Lines<'_>, raw: &mut Raw) -> Result<(), GmshError> 
     for _ in 0..header[0] {
         let (_, block) =
             lines.numbers::<u64>(S, 4, "entityDim entityTag parametric numNodesInBlock")?;
-        let count = block[3] as usize;
-        let mut tags = Vec::with_capacity(count);
+        let count = block[3];
+        // The count comes from the file: reserve no more than a modest amount up front.
+        let mut tags = Vec::with_capacity(count.min(1 << 16) as usize);
         for _ in 0..count {
             tags.push(lines.numbers::<u64>(S, 1, "a node tag")?.1[0]);
         }
@@ -798,7 +802,8 @@ fn read_elements_v4(lines: &mut Lines<'_>, raw: &mut Raw) -> Result<(), GmshErro
     for _ in 0..header[0] {
         let (n, block) =
             lines.numbers::<i64>(S, 4, "entityDim entityTag elementType numElementsInBlock")?;
-        let kind = ElementKind::from_gmsh(block[2] as u32).map_err(|k| at(n, k))?;
+        let kind = ElementKind::from_gmsh(u32::try_from(block[2]).unwrap_or(u32::MAX))
+            .map_err(|k| at(n, k))?;
         let physical = raw
             .entity_physicals
             .get(&(block[0] as u8, block[1] as i32))
@@ -827,9 +832,10 @@ fn read_elements_v2(lines: &mut Lines<'_>, raw: &mut Raw) -> Result<(), GmshErro
     let (_, count) = lines.numbers::<usize>(S, 1, "the number of elements")?;
     for _ in 0..count[0] {
         let (n, v) = lines.numbers::<i64>(S, 3, "tag type numTags tags... nodes...")?;
-        let kind = ElementKind::from_gmsh(v[1] as u32).map_err(|k| at(n, k))?;
-        let tags = v[2] as usize;
-        if v.len() != 3 + tags + kind.node_count() {
+        let kind = ElementKind::from_gmsh(u32::try_from(v[1]).unwrap_or(u32::MAX))
+            .map_err(|k| at(n, k))?;
+        let tags = usize::try_from(v[2]).unwrap_or(usize::MAX);
+        if tags.checked_add(3 + kind.node_count()) != Some(v.len()) {
             return Err(at(
                 n,
                 GmshErrorKind::Syntax {
