@@ -504,6 +504,66 @@ pub fn run(
     Ok(RunReport { summary: report.summary, files })
 }
 
+/// A solved problem held in memory: the models, the solution and the summary, ready to be
+/// inspected (for instance from the Python package) and written with [`Outcome::write`].
+pub struct Outcome {
+    /// The problem solved.
+    pub problem: Problem,
+    /// The (first) body's model.
+    pub model: Model,
+    /// The second body's model of a two-body contact.
+    pub second: Option<Model>,
+    /// The solution (the second body's inside it).
+    pub solution: Solution,
+    /// The contents of `summary.json`.
+    pub summary: Summary,
+}
+
+impl Outcome {
+    /// Solves `problem` without writing anything; `input` (the problem file as read) is echoed
+    /// into the summary, as by [`run`].
+    ///
+    /// # Errors
+    /// Any stage's error.
+    pub fn solve(
+        problem: Problem,
+        input: serde_json::Value,
+        progress: &mut dyn Progress,
+    ) -> Result<Self, Error> {
+        let (model, second) = discretise_all(&problem, progress)?;
+        let (model, second, solution) = solve_model(&problem, model, second, progress)?;
+        let summary = Summary::new(input, &problem, &model, &solution);
+        Ok(Self { problem, model, second, solution, summary })
+    }
+
+    /// Writes every output into `out`, as [`run`] does (same files, same bytes, `out`
+    /// replaced as a whole).
+    ///
+    /// # Errors
+    /// [`Error::Output`] when a file cannot be written or `out` holds something else.
+    pub fn write(&self, out: &Path) -> Result<RunReport, Error> {
+        let staged = post::StagedDir::new(out)?;
+        let files = write_outcome(staged.path(), self)?;
+        let files = staged.commit(files)?;
+        Ok(RunReport { summary: self.summary.clone(), files })
+    }
+}
+
+/// Writes the files of a solved problem into `out` (`summary.json` last).
+fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
+    let (problem, second, solution) = (&o.problem, o.second.as_ref(), &o.solution);
+    let mut files = post::write_solution(out, problem, &o.model, second, solution)?;
+    if let (Some(p2), Some(m2), Some(s2)) =
+        (problem.second_body.as_deref(), second, solution.second_body.as_deref())
+    {
+        files.extend(post::write_solution(&out.join(&p2.name), p2, m2, None, s2)?);
+    }
+    let path = out.join("summary.json");
+    post::write_text(&path, &o.summary.to_json())?;
+    files.push(path);
+    Ok(files)
+}
+
 /// [`run`], also returning the model and the solution (for [`compare`]).
 fn solve_and_write(
     problem: &Problem,
@@ -511,17 +571,8 @@ fn solve_and_write(
     input: serde_json::Value,
     progress: &mut dyn Progress,
 ) -> Result<(Model, Solution, RunReport), Error> {
-    let (model, second) = discretise_all(problem, progress)?;
-    let (model, second, solution) = solve_model(problem, model, second, progress)?;
-    let mut files = post::write_solution(out, problem, &model, second.as_ref(), &solution)?;
-    if let (Some(p2), Some(m2), Some(s2)) =
-        (problem.second_body.as_deref(), second.as_ref(), solution.second_body.as_deref())
-    {
-        files.extend(post::write_solution(&out.join(&p2.name), p2, m2, None, s2)?);
-    }
-    let summary = Summary::new(input, problem, &model, &solution);
-    let path = out.join("summary.json");
-    post::write_text(&path, &summary.to_json())?;
-    files.push(path);
+    let outcome = Outcome::solve(problem.clone(), input, progress)?;
+    let files = write_outcome(out, &outcome)?;
+    let Outcome { model, solution, summary, .. } = outcome;
     Ok((model, solution, RunReport { summary, files }))
 }

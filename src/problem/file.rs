@@ -404,6 +404,26 @@ impl ProblemFile {
     }
 }
 
+impl ProblemFile {
+    /// Parses JSON text with the same keys and tables as the TOML problem file (what the
+    /// Python package sends for a problem given as a dict).
+    ///
+    /// # Errors
+    /// [`ProblemError::Parse`] with the JSON error and the key path (`at `geometry.x``).
+    pub fn from_json(text: &str) -> Result<Self, ProblemError> {
+        let mut deserializer = serde_json::Deserializer::from_str(text);
+        serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            if path == "." {
+                ProblemError::Parse(inner.to_string())
+            } else {
+                ProblemError::Parse(format!("at `{path}`: {inner}"))
+            }
+        })
+    }
+}
+
 /// Reads `discretisation` as a table ([`DiscretisationFile`], unknown keys refused with their
 /// name) or as a preset name alone (`discretisation = "stabilised"`).
 fn table_or_preset<'de, D>(deserializer: D) -> Result<DiscretisationFile, D::Error>

@@ -214,6 +214,29 @@ poisson = 0.3
 plane = "stress"
 "#;
 
+    /// Every shipped problem file read from JSON (the TOML converted key for key) gives the
+    /// same raw form as read from TOML, and a wrong key is named by its path in JSON too.
+    #[test]
+    fn json_reads_like_toml() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+        let mut paths: Vec<_> =
+            std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+        paths.sort();
+        for path in paths.iter().filter(|p| p.extension().is_some_and(|e| e == "toml")) {
+            let text = std::fs::read_to_string(path).unwrap();
+            let value: toml::Value = toml::from_str(&text).unwrap();
+            let json = serde_json::to_string(&value).unwrap();
+            let from_toml = serde_json::to_value(ProblemFile::from_toml(&text).unwrap()).unwrap();
+            let from_json = serde_json::to_value(ProblemFile::from_json(&json).unwrap()).unwrap();
+            assert_eq!(from_toml, from_json, "{}", path.display());
+        }
+        let e = ProblemFile::from_json(
+            r#"{"name": "x", "geometry": {"kind": "rectangle", "x": "abc"}}"#,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("at `geometry.x`"), "{e}");
+    }
+
     fn discretisation(head: &str, table: &str) -> Discretisation {
         Problem::from_toml(&format!("{head}\n{BODY}\n{table}")).unwrap().discretisation
     }
