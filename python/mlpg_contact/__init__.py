@@ -1,0 +1,164 @@
+"""mlpg-contact from Python: solve 2-D elastostatic contact problems (meshless mixed MLPG finite
+volume method, or the built-in finite elements) and get numpy arrays back.
+
+    import mlpg_contact as mc
+    result = mc.solve("problems/beam_on_foundation.toml")
+    print(result.summary["contact"]["total_force"])
+    u = result.displacement          # n x 2 numpy array
+    result.write("out/beam")         # the command line's output files
+
+A problem is a path to a problem file, the text of one, or a dict with the same keys
+(`{"geometry": {"kind": "rectangle", ...}, ...}`); the keys are documented in the README.
+"""
+from __future__ import annotations
+
+import copy
+import json
+import os
+from pathlib import Path
+from typing import Any, Iterable, Mapping, Union
+
+from . import _native
+from ._native import ProblemError, SolveError
+
+__all__ = ["solve", "sweep", "with_values", "Result", "ProblemError", "SolveError"]
+
+Problem = Union[str, "os.PathLike[str]", Mapping[str, Any]]
+
+
+class Result:
+    """A solved problem: arrays of the (first) body, the contact table, the summary."""
+
+    def __init__(self, native: Any):
+        self._native = native
+        self._summary = None
+
+    @property
+    def summary(self) -> dict:
+        """The contents of ``summary.json`` as a dict."""
+        if self._summary is None:
+            self._summary = json.loads(self._native.summary_json())
+        return self._summary
+
+    @property
+    def nodes(self):
+        """Node coordinates, ``n x 2``."""
+        return self._native.nodes()
+
+    @property
+    def displacement(self):
+        """Displacement ``u^h`` at the nodes, ``n x 2``."""
+        return self._native.displacement()
+
+    @property
+    def stress(self):
+        """Stress ``(s_xx, s_yy, s_xy)`` at the nodes, ``n x 3``."""
+        return self._native.stress()
+
+    @property
+    def reactions(self) -> dict:
+        """Reactions: arrays ``node``, ``axis`` (0 = x, 1 = y) and ``force``."""
+        return self._native.reactions()
+
+    @property
+    def contact(self) -> dict | None:
+        """The columns of ``contact.csv`` as arrays, or ``None`` without contact."""
+        return self._native.contact()
+
+    def second_body(self) -> dict:
+        """Arrays of the second body of a two-body contact: ``nodes``, ``displacement``,
+        ``stress``, ``reactions``."""
+        n = self._native
+        return {
+            "nodes": n.nodes(second=True),
+            "displacement": n.displacement(second=True),
+            "stress": n.stress(second=True),
+            "reactions": n.reactions(second=True),
+        }
+
+    def write(self, out: Union[str, "os.PathLike[str]"]) -> list[Path]:
+        """Writes the command line's output files into ``out`` (replaced as a whole)."""
+        return [Path(p) for p in self._native.write(os.fspath(out))]
+
+
+def _text(problem: Problem) -> tuple[str, str]:
+    """(text, format) of a problem given as a path, TOML text or a dict."""
+    if isinstance(problem, Mapping):
+        return json.dumps(problem), "json"
+    if isinstance(problem, os.PathLike):
+        return Path(problem).read_text(encoding="utf-8"), "toml"
+    if isinstance(problem, str):
+        if "\n" not in problem and problem.endswith(".toml"):
+            return Path(problem).read_text(encoding="utf-8"), "toml"
+        return problem, "toml"
+    raise TypeError(f"a problem is a path, TOML text or a dict, not {type(problem).__name__}")
+
+
+def solve(problem: Problem) -> Result:
+    """Solves a problem (a path to a problem file, its text, or a dict of the same keys).
+
+    Raises ``ProblemError`` (a ``ValueError`` with ``field``, ``value`` and ``reason``) for
+    invalid input and ``SolveError`` (a ``RuntimeError`` with ``keys``) when the run fails.
+    The GIL is released while solving, so threads can solve in parallel.
+    """
+    text, fmt = _text(problem)
+    return Result(_native.solve(text, fmt))
+
+
+def _as_dict(problem: Problem) -> dict:
+    if isinstance(problem, Mapping):
+        return copy.deepcopy(dict(problem))
+    import tomllib
+
+    text, _ = _text(problem)
+    return tomllib.loads(text)
+
+
+def with_values(problem: Problem, values: Mapping[str, Any]) -> dict:
+    """A copy of ``problem`` as a dict with dotted keys set, e.g.
+    ``{"nodes.spacing": 0.5, "contact.obstacle_point": [0, -3.02]}``; a list index is
+    written ``boundary[1].traction.y``."""
+    out = _as_dict(problem)
+    for key, value in values.items():
+        node: Any = out
+        parts = key.split(".")
+        for k, part in enumerate(parts):
+            name, _, index = part.partition("[")
+            last = k == len(parts) - 1
+            if index:
+                i = int(index.rstrip("]"))
+                node = node[name]
+                if last:
+                    node[i] = value
+                else:
+                    node = node[i]
+            elif last:
+                node[name] = value
+            else:
+                node = node.setdefault(name, {})
+    return out
+
+
+def _summary_row(problem: dict) -> dict:
+    return solve(problem).summary
+
+
+def sweep(base: Problem, grid: Mapping[str, Iterable[Any]], client: Any = None) -> list[dict]:
+    """Solves ``base`` for every combination of the values in ``grid`` (dotted keys as in
+    :func:`with_values`) and returns one record per run: the swept values and the summary.
+
+    With a ``dask.distributed`` ``client`` the runs go to its workers (``client.map``), on a
+    ``LocalCluster`` or on a cluster of many machines alike; without one they run here, one
+    after the other. The records come back in the order of the grid either way.
+    """
+    import itertools
+
+    keys = list(grid)
+    combos = [dict(zip(keys, values)) for values in itertools.product(*(list(grid[k]) for k in keys))]
+    problems = [with_values(base, c) for c in combos]
+    if client is None:
+        summaries = [_summary_row(p) for p in problems]
+    else:
+        futures = client.map(_summary_row, problems, pure=False)
+        summaries = client.gather(futures)
+    return [{"values": c, "summary": s} for c, s in zip(combos, summaries)]
