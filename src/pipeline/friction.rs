@@ -216,7 +216,19 @@ pub(super) fn solve_frictional(
                 let lambda = i as f64 / end.increments as f64;
                 step_problem.free_gap = lerp(&qn0, qn1, lambda);
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
-                let step = lcp::solve_step(&step_problem)?;
+                // With [[step]] tables, a failure names the step and the increment.
+                let step = lcp::solve_step(&step_problem).map_err(|e| {
+                    if problem.steps.is_empty() {
+                        Error::from(e)
+                    } else {
+                        Error::Increment {
+                            step: k + 1,
+                            increment: i,
+                            increments: end.increments,
+                            cause: Box::new(e.into()),
+                        }
+                    }
+                })?;
                 let mut rhs = lerp(&rhs0, &end.rhs, lambda);
                 candidates.operator.add_forces(&step.normal, &mut rhs);
                 tangential.add_forces(&step.tangential, &mut rhs);
