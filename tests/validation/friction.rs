@@ -18,6 +18,8 @@
 //! - two identical blocks pressed and sheared: the contact forces on the bodies cancel, both
 //!   bodies are in equilibrium, and the normal forces do not depend on friction (mirrored,
 //!   elastically similar bodies uncouple);
+//! - `friction = 0` written explicitly gives the frictionless answer on every shipped contact
+//!   problem (identical);
 //! - two bodies under load steps: each body's step values reach its equations (shearing
 //!   either body gives the same contact forces), the steps are validated with key paths;
 //! - Cattaneo–Mindlin [J85 §7.1] on `problems/cattaneo_mindlin.toml` (a cylinder on a block of
@@ -900,4 +902,52 @@ fn two_body_steps_move_either_body() {
     // Body 2's own equilibrium, with the contact forces it receives.
     let s2 = b.second_body.as_deref().unwrap();
     assert!(s2.equilibrium_error <= 1e-8, "body 2 equilibrium {}", s2.equilibrium_error);
+}
+
+/// `friction = 0` written explicitly is the frictionless problem: every shipped problem file
+/// with contact and no friction of its own, solved as shipped and with `friction = 0.0` added
+/// to its `[contact]` table, gives the same contact forces, gaps and displacements (both
+/// bodies) to 1e-12 of their scale (observed: identical, difference 0), and neither answer
+/// has a frictional part. (`problems/cattaneo_mindlin.toml` ships μ = 0.3 and is skipped.)
+#[test]
+fn explicit_zero_friction_is_frictionless() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    let mut compared = 0;
+    for file in files {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        if !text.contains("\n[contact]\n") || text.contains("\nfriction = ") {
+            continue;
+        }
+        let zero = text.replacen("\n[contact]\n", "\n[contact]\nfriction = 0.0\n", 1);
+        let (a, b) = (Problem::from_toml(&text).unwrap(), Problem::from_toml(&zero).unwrap());
+        assert_eq!(b.contact.as_ref().unwrap().friction, 0.0);
+        let (a, b) = (solve(&a).unwrap(), solve(&b).unwrap());
+        let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
+        assert!(ca.friction.is_none() && cb.friction.is_none(), "{name}");
+        let worst = |x: &[f64], y: &[f64]| {
+            let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let d = x.iter().zip(y).map(|(p, q)| (p - q).abs()).fold(0.0, f64::max);
+            assert_eq!(x.len(), y.len(), "{name}");
+            if scale > 0.0 { d / scale } else { d }
+        };
+        let flat = |s: &Solution| s.displacement.iter().flatten().copied().collect::<Vec<f64>>();
+        let mut diffs =
+            vec![worst(&ca.lcp.z, &cb.lcp.z), worst(&ca.gap, &cb.gap), worst(&flat(&a), &flat(&b))];
+        if let (Some(a2), Some(b2)) = (a.second_body.as_deref(), b.second_body.as_deref()) {
+            diffs.push(worst(&flat(a2), &flat(b2)));
+        }
+        println!(
+            "{name}: friction = 0 vs as shipped, relative differences (P, g, u, u_2) {diffs:?}"
+        );
+        assert!(diffs.iter().all(|&d| d <= 1e-12), "{name}: {diffs:?}");
+        compared += 1;
+    }
+    assert!(compared >= 5, "only {compared} shipped contact problems");
 }
