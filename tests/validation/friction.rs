@@ -114,6 +114,18 @@ fn tiny_friction_gives_the_frictionless_forces() {
             f.tangentially_free.iter().filter(|&&x| !x).count()
         );
         assert!(worst <= 1e-9 * scale, "{file}: forces differ by {worst:.3e}");
+        // A closed candidate held tangentially by a support carries no friction and does not
+        // slip: it reads `stick` (its Δs is round-off), not `slip±`.
+        for (k, &free) in f.tangentially_free.iter().enumerate() {
+            if !free && f.step.normal[k] > 0.0 {
+                let ds = f.step.slip_increment[k];
+                assert_eq!(
+                    f.step.state[k],
+                    ContactState::Stick,
+                    "{file}: candidate {k}, Δs {ds:e}"
+                );
+            }
+        }
         assert!(t_max <= 1e-11 * scale, "{file}: |T| = {t_max:.3e}");
         assert!(
             f.step.residuals.cone <= 1e-12,
