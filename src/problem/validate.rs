@@ -791,7 +791,12 @@ fn load_steps(
                     &f("edge"),
                     &b.edge,
                     format!(
-                        "this edge has no condition in {prefix}boundary: a step sets the values of declared conditions (declare it there with the value 0)"
+                        "this edge has no condition in {}: a step sets the values of declared conditions (declare it there with the value 0)",
+                        if prefix.is_empty() {
+                            "[[boundary]]".to_string()
+                        } else {
+                            format!("{prefix}boundary")
+                        }
                     ),
                 ));
             }
