@@ -36,6 +36,21 @@ pub enum Error {
     /// The LCP has no solution or Lemke failed (stage 8).
     #[error(transparent)]
     Lcp(#[from] LcpError),
+    /// A load increment of a `[[step]]` path failed (docs/method.md §8): which one, and why.
+    #[error(
+        "load step {step} (`step[{index}]`), increment {increment} of {increments}: {cause}",
+        index = step - 1
+    )]
+    Increment {
+        /// The step, 1-based.
+        step: usize,
+        /// The increment within the step, 1-based.
+        increment: usize,
+        /// The step's increments.
+        increments: usize,
+        /// What failed.
+        cause: Box<Error>,
+    },
     /// The solution holds a value that is not finite.
     #[error(
         "the solution's {what} is not finite (NaN or infinite): the arithmetic overflowed or the system is singular; check the magnitudes of the loads and the material, and the displacement conditions"
@@ -94,6 +109,7 @@ impl Error {
             Error::Contact(_) => "contact.edge, boundary[*].displacement",
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
+            Error::Increment { cause, .. } => return cause.input_keys(),
             Error::NonFinite { .. } => "material.young, boundary[*] values, body_force",
             Error::Memory { .. } => "nodes.spacing, discretisation.support_factor",
             Error::Output(_) => "--out",

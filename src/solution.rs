@@ -111,6 +111,15 @@ pub struct FrictionContact {
     pub target_operator: Option<BodyOperator>,
 }
 
+/// The stick and slip zones along a contact edge ([`ContactSolution::friction_zones`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrictionZones {
+    /// `[start, end]` of each stick zone, in the coordinate `x·t` along the tangent.
+    pub stick: Vec<[f64; 2]>,
+    /// `[start, end]` of each slip zone (either sign).
+    pub slip: Vec<[f64; 2]>,
+}
+
 /// What one load increment did (`summary.json`'s `steps`; docs/method.md §8).
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct IncrementRecord {
@@ -181,6 +190,38 @@ impl FrictionContact {
 }
 
 impl ContactSolution {
+    /// The stick and the slip zones of the final increment (friction only): each maximal run
+    /// of sticking (of slipping, either sign) candidates along the edge as the interval
+    /// `[min, max]` of the candidates' coordinate `x·t` along the tangent `t`, from one outer
+    /// candidate of the run to the other (a run of one candidate is `[s, s]`), in the
+    /// candidates' order.
+    pub fn friction_zones(&self) -> Option<FrictionZones> {
+        let f = self.friction.as_ref()?;
+        let t = self.candidates.tangent();
+        let along: Vec<f64> =
+            self.candidates.points.iter().map(|x| x[0] * t[0] + x[1] * t[1]).collect();
+        let runs = |pred: &dyn Fn(lcp::ContactState) -> bool| {
+            let st = &f.step.state;
+            let mut zones = Vec::new();
+            let mut start = None;
+            for c in 0..=st.len() {
+                match (start, c < st.len() && pred(st[c])) {
+                    (None, true) => start = Some(c),
+                    (Some(first), false) => {
+                        let (a, b) = (along[first], along[c - 1]);
+                        zones.push([a.min(b), a.max(b)]);
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+            zones
+        };
+        Some(FrictionZones {
+            stick: runs(&|s| s == lcp::ContactState::Stick),
+            slip: runs(&|s| s.is_slip()),
+        })
+    }
     /// Assembles the contact solution from the LCP result: `gap` holds the MLS gaps from the
     /// final displacements; the closed set, the pressures, the onset estimates and the total
     /// force follow (the gap tolerance from `spec`, or its default, docs/method.md §6).

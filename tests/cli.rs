@@ -289,6 +289,64 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
     assert_eq!(code, Some(0), "{stderr}");
 }
 
+/// Friction and load steps: bad coefficients and steps are refused at validation with their
+/// key paths; a tangential load on a body held only by contact (frictionless or not: contact
+/// does not restrain a body) is refused before any solve, naming the free motion; a
+/// frictional step whose solver fails names the load step and the increment.
+#[test]
+fn bad_friction_and_step_input_gives_a_clear_error_and_exit_code_2() {
+    let friction =
+        |mu: &str| CONTACT.replace("[contact]\n", &format!("[contact]\nfriction = {mu}\n"));
+    // The top's traction declared 0 and set by the steps.
+    let stepped = |steps: &str| {
+        format!(
+            "{}{steps}",
+            friction("0.3").replace("traction = { y = -1.0 }", "traction = { y = 0.0 }")
+        )
+    };
+    let step = |increments: &str| {
+        format!(
+            "[[step]]\n{increments}boundary = [{{ edge = \"top\", traction = {{ y = -1.0 }} }}]\n"
+        )
+    };
+    // Held by a roller (y) only, sheared along x: nothing restrains the sliding.
+    let sliding = |mu: &str| {
+        friction(mu)
+            .replace("displacement = { x = 0.0, y = 0.0 }", "displacement = { y = 0.0 }")
+            .replace("traction = { y = -1.0 }", "traction = { x = 0.1, y = -1.0 }")
+    };
+    // An indefinite compliance accepted on purpose (support_factor 6, allow_unstable,
+    // allow_indefinite): step 1 lifts the beam off (nothing to solve), step 2 presses it and
+    // the frictional step has no solution (Lemke ends on a ray, the fallback stays at 0.27).
+    let failing = stepped(&format!(
+        "[[step]]\nincrements = 2\nboundary = [{{ edge = \"top\", traction = {{ y = 0.1 }} }}]\n{}",
+        step("increments = 2\n")
+    ))
+    .replace(
+        "[geometry]",
+        "[discretisation]\nsupport_factor = 6.0\nallow_unstable = true\n[geometry]",
+    )
+    .replace("[contact]\n", "[contact]\nallow_indefinite = true\n");
+    let cases: &[(&str, String, &str)] = &[
+        ("friction_negative", friction("-0.1"), "contact.friction"),
+        ("friction_nan", friction("nan"), "contact.friction"),
+        ("step_zero_increments", stepped(&step("increments = 0\n")), "step[0].increments"),
+        ("step_without_values", stepped("[[step]]\nincrements = 2\n"), "step[0].boundary"),
+        ("sliding_without_friction", sliding("0.0"), "rigid-body translation in x"),
+        ("sliding_with_friction", sliding("0.3"), "rigid-body translation in x"),
+        ("friction_step_fails", failing, "load step 2 (`step[1]`), increment 1 of 2"),
+    ];
+    expect_refusals(cases);
+    let (code, stderr) = run_text("friction_step_fails_again", &cases[6].1);
+    assert!(
+        stderr.contains("did not converge") && stderr.contains("decided by: contact.friction"),
+        "{code:?} {stderr}"
+    );
+    // The stepped file without the failure solves.
+    let (code, stderr) = run_text("friction_steps_ok", &stepped(&step("increments = 2\n")));
+    assert_eq!(code, Some(0), "{stderr}");
+}
+
 /// Discretisations outside the measured stability limits (docs/method.md §2, §3.8, §3.9)
 /// are refused at validation with the reason and the way out.
 #[test]
@@ -461,6 +519,45 @@ fn two_blocks_problem_total_force() {
     assert!(s["second_body"]["equilibrium_error"].as_f64().unwrap() < 1e-9);
     let csv = std::fs::read_to_string(scratch("two_blocks").join("out/lower/displacement.csv"));
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
+}
+
+/// problems/cattaneo_mindlin.toml (two bodies, load steps, friction): `summary.json` lists the
+/// final stick and slip zones as `[start, end]` intervals of x (the tangent is +x), each from
+/// outer candidate to outer candidate of a run, in agreement with `contact.csv`'s states;
+/// one central stick zone between two slip zones, and a `steps` record per increment.
+#[test]
+fn cattaneo_mindlin_summary_lists_the_zones() {
+    let s = summary_of("cattaneo_mindlin.toml", "cattaneo_mindlin");
+    let c = &s["contact"];
+    let zones = |key: &str| -> Vec<[f64; 2]> { serde_json::from_value(c[key].clone()).unwrap() };
+    let (stick, slip) = (zones("stick_zones"), zones("slip_zones"));
+    assert_eq!(c["stick_slip_zone_counts"], serde_json::json!([1, 2]));
+    assert_eq!((stick.len(), slip.len()), (1, 2), "{stick:?} {slip:?}");
+    assert!(slip[0][1] < stick[0][0] && stick[0][1] < slip[1][0], "{stick:?} {slip:?}");
+    assert!(stick[0][0] < 0.0 && stick[0][1] > 0.0, "{stick:?}");
+    assert_eq!(s["steps"].as_array().unwrap().len(), 5);
+    // The intervals' ends are candidates of the matching state in contact.csv.
+    let csv = std::fs::read_to_string(scratch("cattaneo_mindlin").join("out/contact.csv")).unwrap();
+    let col = |name: &str| csv.lines().next().unwrap().split(',').position(|h| h == name).unwrap();
+    let (x, state) = (col("x"), col("state"));
+    let rows: Vec<(f64, String)> = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (f[x].parse().unwrap(), f[state].to_string())
+        })
+        .collect();
+    // contact.csv prints 12 significant digits.
+    let state_at = |v: f64| rows.iter().find(|r| (r.0 - v).abs() <= 1e-10).unwrap().1.clone();
+    for z in &stick {
+        assert_eq!((state_at(z[0]), state_at(z[1])), ("stick".into(), "stick".into()));
+    }
+    for z in &slip {
+        assert!(state_at(z[0]).starts_with("slip") && state_at(z[1]).starts_with("slip"));
+    }
+    let sticking = rows.iter().filter(|r| r.1 == "stick").count();
+    assert_eq!(c["stick_slip_counts"][0].as_u64().unwrap() as usize, sticking);
 }
 
 /// problems/beam_on_foundation_stabilised.toml (`discretisation = "stabilised"`,

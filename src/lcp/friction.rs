@@ -246,7 +246,9 @@ impl FrictionProblem {
             .map(|c| {
                 if p[c] <= 0.0 {
                     ContactState::Open
-                } else if self.friction[c] > 0.0 && ds[c].abs() <= 1e-10 * u {
+                } else if ds[c].abs() <= 1e-10 * u {
+                    // No slip increment beyond round-off: stick, also without friction
+                    // (μ_c = 0, e.g. a candidate held tangentially by a support).
                     ContactState::Stick
                 } else if ds[c] >= 0.0 {
                     ContactState::SlipPositive

@@ -56,10 +56,12 @@ fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
 }
 
-/// The second body of a two-body frictional contact: its model and normal operator.
+/// The second body of a two-body frictional contact: its model, normal operator and the
+/// ends of its load steps (the same steps and increments as the first body's).
 pub(super) struct Target<'a> {
     pub(super) model: &'a Model,
     pub(super) operator: contact::BodyOperator,
+    pub(super) steps: Vec<StepEnd>,
 }
 
 /// Frictional contact against a rigid obstacle or a second body (`target`; one step) along
@@ -157,13 +159,23 @@ pub(super) fn solve_frictional(
                     (blocks.free_gap.clone(), blocks.free_tangential.clone())
                 } else {
                     let u = model.factorisation.solve(&end.rhs)?;
-                    let qn = candidates
+                    let mut qn: Vec<f64> = candidates
                         .initial_gap
                         .iter()
                         .zip(candidates.operator.gap_contribution(&u))
                         .map(|(g0, g)| g + g0)
                         .collect();
-                    (qn, tangential.gap_contribution(&u))
+                    let mut qt = tangential.gap_contribution(&u);
+                    // The second body's free displacements at the end of its step k.
+                    if let (Some(tg), Some(op_t)) = (&target, &target_tangential) {
+                        let u2 = tg.model.factorisation.solve(&tg.steps[k].rhs)?;
+                        let add = |a: &mut Vec<f64>, b: Vec<f64>| {
+                            a.iter_mut().zip(b).for_each(|(x, y)| *x += y)
+                        };
+                        add(&mut qn, tg.operator.gap_contribution(&u2));
+                        add(&mut qt, op_t.gap_contribution(&u2));
+                    }
+                    (qn, qt)
                 };
                 let (dn, dt) = (
                     end.obstacle[0] * nu[0] + end.obstacle[1] * nu[1],
@@ -192,6 +204,9 @@ pub(super) fn solve_frictional(
     let n = model.system.rhs.len();
     let (mut load0, mut rhs0) = (vec![0.0; n], vec![0.0; n]);
     let (mut qn0, mut qt0) = (candidates.initial_gap.clone(), vec![0.0; m]);
+    // The second body's load and right-hand side at the end of the previous step.
+    let n2 = target.as_ref().map_or(0, |tg| tg.model.system.rhs.len());
+    let (mut load20, mut rhs20) = (vec![0.0; n2], vec![0.0; n2]);
     let mut accumulated = vec![0.0; m];
     let mut records = Vec::new();
     let mut last = None;
@@ -201,7 +216,19 @@ pub(super) fn solve_frictional(
                 let lambda = i as f64 / end.increments as f64;
                 step_problem.free_gap = lerp(&qn0, qn1, lambda);
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
-                let step = lcp::solve_step(&step_problem)?;
+                // With [[step]] tables, a failure names the step and the increment.
+                let step = lcp::solve_step(&step_problem).map_err(|e| {
+                    if problem.steps.is_empty() {
+                        Error::from(e)
+                    } else {
+                        Error::Increment {
+                            step: k + 1,
+                            increment: i,
+                            increments: end.increments,
+                            cause: Box::new(e.into()),
+                        }
+                    }
+                })?;
                 let mut rhs = lerp(&rhs0, &end.rhs, lambda);
                 candidates.operator.add_forces(&step.normal, &mut rhs);
                 tangential.add_forces(&step.tangential, &mut rhs);
@@ -212,16 +239,15 @@ pub(super) fn solve_frictional(
                     (&tangential, step.tangential.as_slice()),
                 ];
                 let mut equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
-                // The second body (one step: its loads scale with the same factor).
+                // The second body: its step k, with the same load factor.
                 let u2 = match (&target, &target_tangential) {
                     (Some(tg), Some(op_t)) => {
-                        let sys = &tg.model.system;
-                        let zero = vec![0.0; sys.rhs.len()];
-                        let mut rhs2 = lerp(&zero, &sys.rhs, lambda);
+                        let (sys, end2) = (&tg.model.system, &tg.steps[k]);
+                        let mut rhs2 = lerp(&rhs20, &end2.rhs, lambda);
                         tg.operator.add_forces(&step.normal, &mut rhs2);
                         op_t.add_forces(&step.tangential, &mut rhs2);
                         let u2 = tg.model.factorisation.solve(&rhs2)?;
-                        let load2 = lerp(&zero, &sys.load, lambda);
+                        let load2 = lerp(&load20, &end2.load, lambda);
                         let ops2 = [
                             (&tg.operator, step.normal.as_slice()),
                             (op_t, step.tangential.as_slice()),
@@ -261,6 +287,9 @@ pub(super) fn solve_frictional(
                 last = Some((step, u, u2));
             }
             (load0, rhs0) = (end.load.clone(), end.rhs.clone());
+            if let Some(tg) = &target {
+                (load20, rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
+            }
             (qn0, qt0) = (qn1.clone(), qt1.clone());
         }
         Ok(())

@@ -179,7 +179,7 @@ pub fn solve(problem: &Problem) -> Result<Solution, Error> {
 pub fn solve_model(
     problem: &Problem,
     mut model: Model,
-    second: Option<Model>,
+    mut second: Option<Model>,
     progress: &mut dyn Progress,
 ) -> Result<(Model, Option<Model>, Solution), Error> {
     if second.is_some() != problem.second_body.is_some() {
@@ -199,19 +199,24 @@ pub fn solve_model(
         model.timings = clock.timings;
         return finite(solution).map(|s| (model, None, s));
     };
-    let pair = problem.second_body.as_deref().zip(second.as_ref());
-    // Load steps: the load and right-hand side at the end of each step; the model's own are
-    // those of the last (the solution is the last increment's; docs/method.md §8).
+    // Load steps: the load and right-hand side at the end of each step, per body; the models'
+    // own are those of the last (the solution is the last increment's; docs/method.md §8).
     let steps = if problem.steps.is_empty() {
         None
     } else {
-        let ends = clock.run("load_steps", || step_ends(problem, &model))?;
-        if let Some(last) = ends.last() {
-            model.system.load = last.load.clone();
-            model.system.rhs = last.rhs.clone();
+        let mut ends = vec![clock.run("load_steps", || step_ends(problem, &model))?];
+        if let (Some(p2), Some(m2)) = (problem.second_body.as_deref(), second.as_mut()) {
+            ends.push(clock.run("load_steps", || step_ends(p2, m2))?);
+        }
+        for (m, e) in std::iter::once(&mut model).chain(second.as_mut()).zip(&ends) {
+            if let Some(last) = e.last() {
+                m.system.load = last.load.clone();
+                m.system.rhs = last.rhs.clone();
+            }
         }
         Some(ends)
     };
+    let pair = problem.second_body.as_deref().zip(second.as_ref());
     let (u1, u2, contact) =
         solve_contact(problem, spec, &model, pair, steps.as_deref(), &mut clock)?;
     let mut solution = clock.run("recovery", || {
@@ -255,7 +260,7 @@ fn solve_contact(
     spec: &ContactSpec,
     model: &Model,
     second: Option<(&Problem, &Model)>,
-    steps: Option<&[StepEnd]>,
+    steps: Option<&[Vec<StepEnd>]>,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let (candidates, target, paired_points, unpaired) =
@@ -305,20 +310,27 @@ fn solve_contact(
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
     if spec.friction > 0.0 || steps.is_some() {
-        // Validated: the MFVM; steps against a rigid obstacle only (docs/dev/friction.md).
-        let one = [StepEnd {
-            increments: 1,
-            load: model.system.load.clone(),
-            rhs: model.system.rhs.clone(),
-            obstacle: [0.0, 0.0],
-        }];
-        let steps = steps.unwrap_or(&one);
+        // Validated: the MFVM (docs/dev/friction.md). Without steps, one step to the
+        // models' loads in one increment.
+        let one = |m: &Model| {
+            vec![StepEnd {
+                increments: 1,
+                load: m.system.load.clone(),
+                rhs: m.system.rhs.clone(),
+                obstacle: [0.0, 0.0],
+            }]
+        };
+        let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
         let target = match (target, second) {
-            (Some(op), Some((_, m2))) => Some(Target { model: m2, operator: op }),
+            (Some(op), Some((_, m2))) => Some(Target {
+                model: m2,
+                operator: op,
+                steps: steps.and_then(|s| s.get(1)).map_or_else(|| one(m2), Clone::clone),
+            }),
             _ => None,
         };
         let (u1, u2, mut contact) =
-            solve_frictional(problem, spec, model, candidates, target, steps, clock)?;
+            solve_frictional(problem, spec, model, candidates, target, &steps1, clock)?;
         contact.paired_points = paired_points;
         contact.unpaired = unpaired;
         let second_gap = contact.target.as_ref().zip(u2.as_deref());

@@ -210,12 +210,17 @@ pub struct ContactSummary {
     /// `Σ T_c`, the tangential contact force on the body along `t` (friction only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub total_tangential_force: Option<f64>,
-    /// Maximal runs of sticking candidates (friction only).
+    /// The stick zones of the final increment as `[start, end]` intervals of the coordinate
+    /// `x·t` along the tangent, from outer candidate to outer candidate of each maximal run
+    /// of sticking candidates (friction only; [`crate::solution::ContactSolution::friction_zones`]).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub stick_zones: Option<usize>,
-    /// Maximal runs of slipping candidates (friction only).
+    pub stick_zones: Option<Vec<[f64; 2]>>,
+    /// The slip zones (either sign), as `stick_zones` (friction only).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub slip_zones: Option<usize>,
+    pub slip_zones: Option<Vec<[f64; 2]>>,
+    /// The numbers of stick and of slip zones (friction only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stick_slip_zone_counts: Option<[usize; 2]>,
     /// Candidates that stick, that slip (friction only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stick_slip_counts: Option<[usize; 2]>,
@@ -345,8 +350,9 @@ impl Summary {
                 onset_note: ONSET_NOTE,
                 friction_coefficient: c.friction.as_ref().map(|f| f.coefficient),
                 total_tangential_force: c.friction.as_ref().map(|f| f.total_force),
-                stick_zones: c.friction.as_ref().map(|f| f.stick_zones),
-                slip_zones: c.friction.as_ref().map(|f| f.slip_zones),
+                stick_zones: c.friction_zones().map(|z| z.stick),
+                slip_zones: c.friction_zones().map(|z| z.slip),
+                stick_slip_zone_counts: c.friction.as_ref().map(|f| [f.stick_zones, f.slip_zones]),
                 stick_slip_counts: c.friction.as_ref().map(|f| {
                     let st = &f.step.state;
                     [

@@ -58,13 +58,35 @@ pub struct StepFile {
     #[serde(default)]
     pub increments: Option<usize>,
     /// End values of conditions declared in `[[boundary]]`: the same edge and the same kind
-    /// (displacement or traction per component, or pressure).
+    /// (displacement or traction per component, or pressure); with two `[[body]]` tables each
+    /// entry names its body.
     #[serde(default)]
-    pub boundary: Vec<BoundaryFile>,
+    pub boundary: Vec<StepBoundaryFile>,
     /// Total displacement `[dx, dy]` of the rigid obstacle at the end of the step (it moves
     /// as a rigid body; default: where the previous step left it, initially `[0, 0]`).
     #[serde(default, deserialize_with = "exact::optional_pair")]
     pub obstacle_displacement: Option<[f64; 2]>,
+}
+
+/// One entry of a step's `boundary`: a `[[boundary]]` entry's keys, and with two `[[body]]`
+/// tables the `body` (its `name`) whose declared condition the entry sets.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepBoundaryFile {
+    /// The body's name (two bodies only; required there).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<String>,
+    /// Edge name (of that body).
+    pub edge: String,
+    /// End values of prescribed displacement components.
+    #[serde(default)]
+    pub displacement: Option<ComponentsFile>,
+    /// End values of prescribed traction components.
+    #[serde(default)]
+    pub traction: Option<ComponentsFile>,
+    /// End value of the normal pressure.
+    #[serde(default)]
+    pub pressure: Option<ValueFile>,
 }
 
 /// `[contact]`: one edge of the body against a rigid straight line (`obstacle_point`,

@@ -128,6 +128,8 @@ pub struct Problem {
     /// The second elastic body of a two-body contact (its own `contact` is `None`).
     pub second_body: Option<Box<Problem>>,
     /// Load steps (`[[step]]`; empty: one step to the `boundary` values, as without steps).
+    /// The second body of a two-body contact holds the same steps (the same number and
+    /// increments, validated) with its own conditions; its `obstacle_displacement` is zero.
     pub steps: Vec<LoadStep>,
 }
 

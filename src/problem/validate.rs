@@ -131,7 +131,11 @@ impl TryFrom<ProblemFile> for Problem {
                 "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
             ));
         }
-        problem.steps = load_steps(&file, &problem)?;
+        let (steps, second_steps) = load_steps(&file, &problem)?;
+        problem.steps = steps;
+        if let Some(p2) = problem.second_body.as_deref_mut() {
+            p2.steps = second_steps;
+        }
         Ok(problem)
     }
 }
@@ -678,23 +682,27 @@ fn field_is_zero(f: &Field) -> bool {
     }
 }
 
-/// `[[step]]` → the load steps: each step's end state from the previous one (the
-/// `[[boundary]]` values, which must be zero, before the first; docs/method.md §8).
-fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<LoadStep>, ProblemError> {
+/// `[[step]]` → the load steps of the first body and, with two bodies, of the second (the
+/// same steps and increments, each body's own conditions): each step's end state from the
+/// previous one (the `[[boundary]]` values, which must be zero, before the first;
+/// docs/method.md §8).
+fn load_steps(
+    file: &ProblemFile,
+    problem: &Problem,
+) -> Result<(Vec<LoadStep>, Vec<LoadStep>), ProblemError> {
     if file.step.is_empty() {
-        return Ok(Vec::new());
+        return Ok((Vec::new(), Vec::new()));
     }
+    let second = problem.second_body.as_deref();
+    let body_force = problem.body_force.is_some() || second.is_some_and(|p| p.body_force.is_some());
     let why = match &problem.contact {
         None => Some(
             "load steps need contact: without it the problem is linear and one solve gives the answer",
         ),
-        Some(c) if !matches!(c.target, ContactTarget::Rigid(_)) => Some(
-            "load steps are not supported yet between two elastic bodies (only against a rigid obstacle; docs/dev/friction.md)",
-        ),
         Some(_) if problem.discretisation.method == Method::Fem => Some(
             "load steps are not supported yet with method = \"fem\" (only the MFVM; docs/dev/friction.md)",
         ),
-        Some(_) if problem.body_force.is_some() => {
+        Some(_) if body_force => {
             Some("load steps do not scale the body force yet: remove body_force or the steps")
         }
         Some(_) => None,
@@ -702,11 +710,132 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<LoadStep>, Pr
     if let Some(reason) = why {
         return Err(invalid("step", format!("{} steps", file.step.len()), reason));
     }
-    // The path starts from the unloaded body: every value of [[boundary]] is the value before
-    // step 1 and must be zero (a step sets the loads).
-    for (i, b) in file.boundary.iter().enumerate() {
-        let Some(k) = problem.domain.edge_index(&b.edge) else { continue };
-        let nonzero = match &problem.boundary[k] {
+    // Each body: its name, the key prefix of its [[boundary]], the declared entries, the
+    // validated body.
+    let bodies: Vec<(&str, String, &[BoundaryFile], &Problem)> = match second {
+        None => vec![(problem.name.as_str(), String::new(), &file.boundary, problem)],
+        Some(p2) => vec![
+            (problem.name.as_str(), "body[0].".into(), &file.body[0].boundary, problem),
+            (p2.name.as_str(), "body[1].".into(), &file.body[1].boundary, p2),
+        ],
+    };
+    // The path starts from the unloaded bodies: every value of [[boundary]] is the value
+    // before step 1 and must be zero (a step sets the loads).
+    for (_, prefix, declared, body) in &bodies {
+        starts_unloaded(prefix, declared, body)?;
+    }
+    let mut states: Vec<(Vec<EdgeCondition>, Vec<LoadStep>)> =
+        bodies.iter().map(|b| (b.3.boundary.clone(), Vec::new())).collect();
+    let mut obstacle = [0.0, 0.0];
+    for (k, step) in file.step.iter().enumerate() {
+        let field = |f: &str| format!("step[{k}].{f}");
+        let increments = step.increments.unwrap_or(1);
+        if !(1..=100_000).contains(&increments) {
+            return Err(invalid(&field("increments"), increments, "must be 1–100000"));
+        }
+        if let Some(d) = step.obstacle_displacement {
+            if second.is_some() {
+                return Err(invalid(
+                    &field("obstacle_displacement"),
+                    format!("{d:?}"),
+                    "only with a rigid obstacle; between two bodies a step moves a body through its `boundary` values",
+                ));
+            }
+            check_finite(&field("obstacle_displacement"), d[0])?;
+            check_finite(&field("obstacle_displacement"), d[1])?;
+            obstacle = d;
+        }
+        let mut named = Vec::new();
+        for (j, b) in step.boundary.iter().enumerate() {
+            let f = |g: &str| field(&format!("boundary[{j}].{g}"));
+            let names: Vec<&str> = bodies.iter().map(|b| b.0).collect();
+            let index = match (&b.body, second) {
+                (None, None) => 0,
+                (Some(name), None) => {
+                    return Err(invalid(
+                        &f("body"),
+                        name,
+                        "only with two [[body]] tables (a single body's steps name its edges only)",
+                    ));
+                }
+                (None, Some(_)) => {
+                    return Err(invalid(
+                        &f("body"),
+                        "(missing)",
+                        format!(
+                            "with two [[body]] tables each step entry names its body: one of {names:?}"
+                        ),
+                    ));
+                }
+                (Some(name), Some(_)) => names.iter().position(|n| n == name).ok_or_else(|| {
+                    invalid(&f("body"), name, format!("no such body; the bodies are {names:?}"))
+                })?,
+            };
+            let (name, prefix, declared, body) = &bodies[index];
+            let e = body.domain.edge_index(&b.edge).ok_or_else(|| {
+                invalid(
+                    &f("edge"),
+                    &b.edge,
+                    format!(
+                        "no such edge of `{name}`; its edges are {:?}",
+                        body.domain.edge_names()
+                    ),
+                )
+            })?;
+            if named.contains(&(index, e)) {
+                return Err(invalid(&f("edge"), &b.edge, "edge listed twice in one step"));
+            }
+            named.push((index, e));
+            if !declared.iter().any(|d| body.domain.edge_index(&d.edge) == Some(e)) {
+                return Err(invalid(
+                    &f("edge"),
+                    &b.edge,
+                    format!(
+                        "this edge has no condition in {}: a step sets the values of declared conditions (declare it there with the value 0)",
+                        if prefix.is_empty() {
+                            "[[boundary]]".to_string()
+                        } else {
+                            format!("{prefix}boundary")
+                        }
+                    ),
+                ));
+            }
+            set_step_values(&f, b, &mut states[index].0[e])?;
+        }
+        if step.obstacle_displacement.is_none() && step.boundary.is_empty() {
+            return Err(invalid(
+                &field("boundary"),
+                "(missing)",
+                if second.is_some() {
+                    "a step needs `boundary` values"
+                } else {
+                    "a step needs `boundary` values or `obstacle_displacement`"
+                },
+            ));
+        }
+        for (boundary, steps) in &mut states {
+            steps.push(LoadStep {
+                increments,
+                boundary: boundary.clone(),
+                obstacle_displacement: obstacle,
+            });
+        }
+    }
+    let mut states = states.into_iter().map(|s| s.1);
+    let first = states.next().unwrap_or_default();
+    Ok((first, states.next().unwrap_or_default()))
+}
+
+/// Refuses a non-zero value among a body's declared conditions `declared` (key paths under
+/// `prefix`): with steps the path starts from the unloaded body.
+fn starts_unloaded(
+    prefix: &str,
+    declared: &[BoundaryFile],
+    body: &Problem,
+) -> Result<(), ProblemError> {
+    for (i, b) in declared.iter().enumerate() {
+        let Some(k) = body.domain.edge_index(&b.edge) else { continue };
+        let nonzero = match &body.boundary[k] {
             EdgeCondition::Pressure(p) => (!field_is_zero(p)).then(|| "pressure".to_string()),
             EdgeCondition::Components(c) => (0..2).find_map(|a| {
                 let (kind, f) = match &c[a] {
@@ -718,114 +847,72 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<LoadStep>, Pr
         };
         if let Some(key) = nonzero {
             return Err(invalid(
-                &format!("boundary[{i}].{key}"),
+                &format!("{prefix}boundary[{i}].{key}"),
                 &b.edge,
                 "with [[step]] tables the loading starts from the unloaded body: [[boundary]] declares each condition with the value 0 and the steps set its values",
             ));
         }
     }
-    let declared: Vec<usize> =
-        file.boundary.iter().filter_map(|b| problem.domain.edge_index(&b.edge)).collect();
-    let mut boundary = problem.boundary.clone();
-    let mut obstacle = [0.0, 0.0];
-    let mut steps = Vec::with_capacity(file.step.len());
-    for (k, step) in file.step.iter().enumerate() {
-        let field = |f: &str| format!("step[{k}].{f}");
-        let increments = step.increments.unwrap_or(1);
-        if !(1..=100_000).contains(&increments) {
-            return Err(invalid(&field("increments"), increments, "must be 1–100000"));
-        }
-        if let Some(d) = step.obstacle_displacement {
-            check_finite(&field("obstacle_displacement"), d[0])?;
-            check_finite(&field("obstacle_displacement"), d[1])?;
-            obstacle = d;
-        }
-        let mut named = Vec::new();
-        for (j, b) in step.boundary.iter().enumerate() {
-            let f = |g: &str| field(&format!("boundary[{j}].{g}"));
-            let e = problem.domain.edge_index(&b.edge).ok_or_else(|| {
-                invalid(
-                    &f("edge"),
-                    &b.edge,
-                    format!("no such edge; the edges are {:?}", problem.domain.edge_names()),
-                )
-            })?;
-            if named.contains(&e) {
-                return Err(invalid(&f("edge"), &b.edge, "edge listed twice in one step"));
-            }
-            named.push(e);
-            if !declared.contains(&e) {
+    Ok(())
+}
+
+/// Sets the end values of one step entry `b` on its edge's declared condition (key paths by
+/// `f`): the same kind per component, or the pressure.
+fn set_step_values(
+    f: &dyn Fn(&str) -> String,
+    b: &StepBoundaryFile,
+    condition: &mut EdgeCondition,
+) -> Result<(), ProblemError> {
+    if b.pressure.is_none() && b.displacement.is_none() && b.traction.is_none() {
+        return Err(invalid(&f("edge"), &b.edge, "the step gives no value for this edge"));
+    }
+    match condition {
+        EdgeCondition::Pressure(p) => {
+            if b.displacement.is_some() || b.traction.is_some() {
                 return Err(invalid(
-                    &f("edge"),
+                    &f(if b.displacement.is_some() { "displacement" } else { "traction" }),
                     &b.edge,
-                    "this edge has no condition in [[boundary]]: a step sets the values of declared conditions (declare it there with the value 0)",
+                    "this edge has a pressure condition in [[boundary]]; a step can only set its pressure",
                 ));
             }
-            if b.pressure.is_none() && b.displacement.is_none() && b.traction.is_none() {
-                return Err(invalid(&f("edge"), &b.edge, "the step gives no value for this edge"));
+            if let Some(v) = b.pressure {
+                *p = value_field(&f("pressure"), v)?;
             }
-            match &mut boundary[e] {
-                EdgeCondition::Pressure(p) => {
-                    if b.displacement.is_some() || b.traction.is_some() {
-                        return Err(invalid(
-                            &f(if b.displacement.is_some() { "displacement" } else { "traction" }),
-                            &b.edge,
-                            "this edge has a pressure condition in [[boundary]]; a step can only set its pressure",
-                        ));
-                    }
-                    if let Some(v) = b.pressure {
-                        *p = value_field(&f("pressure"), v)?;
-                    }
-                }
-                EdgeCondition::Components(c) => {
-                    if b.pressure.is_some() {
-                        return Err(invalid(
-                            &f("pressure"),
-                            &b.edge,
-                            "this edge has no pressure condition in [[boundary]]",
-                        ));
-                    }
-                    for (axis, name) in ["x", "y"].iter().enumerate() {
-                        let pick = |c: &Option<ComponentsFile>| {
-                            c.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y })
-                        };
-                        for (kind, v) in [
-                            ("displacement", pick(&b.displacement)),
-                            ("traction", pick(&b.traction)),
-                        ] {
-                            let Some(v) = v else { continue };
-                            let key = f(&format!("{kind}.{name}"));
-                            let value = value_field(&key, v)?;
-                            match (&mut c[axis], kind) {
-                                (ComponentCondition::Displacement(old), "displacement")
-                                | (ComponentCondition::Traction(old), "traction") => *old = value,
-                                _ => {
-                                    return Err(invalid(
-                                        &key,
-                                        &b.edge,
-                                        format!(
-                                            "[[boundary]] gives this edge's {name} component no {kind} condition; a step sets the values of declared conditions only"
-                                        ),
-                                    ));
-                                }
-                            }
+        }
+        EdgeCondition::Components(c) => {
+            if b.pressure.is_some() {
+                return Err(invalid(
+                    &f("pressure"),
+                    &b.edge,
+                    "this edge has no pressure condition in [[boundary]]",
+                ));
+            }
+            for (axis, name) in ["x", "y"].iter().enumerate() {
+                let pick = |c: &Option<ComponentsFile>| {
+                    c.as_ref().and_then(|c| if axis == 0 { c.x } else { c.y })
+                };
+                for (kind, v) in
+                    [("displacement", pick(&b.displacement)), ("traction", pick(&b.traction))]
+                {
+                    let Some(v) = v else { continue };
+                    let key = f(&format!("{kind}.{name}"));
+                    let value = value_field(&key, v)?;
+                    match (&mut c[axis], kind) {
+                        (ComponentCondition::Displacement(old), "displacement")
+                        | (ComponentCondition::Traction(old), "traction") => *old = value,
+                        _ => {
+                            return Err(invalid(
+                                &key,
+                                &b.edge,
+                                format!(
+                                    "[[boundary]] gives this edge's {name} component no {kind} condition; a step sets the values of declared conditions only"
+                                ),
+                            ));
                         }
                     }
                 }
             }
         }
-        if step.obstacle_displacement.is_none() && step.boundary.is_empty() {
-            return Err(invalid(
-                &field("boundary"),
-                "(missing)",
-                "a step needs `boundary` values or `obstacle_displacement`",
-            ));
-        }
-        steps.push(LoadStep {
-            increments,
-            boundary: boundary.clone(),
-            obstacle_displacement: obstacle,
-        });
     }
-    Ok(steps)
+    Ok(())
 }
