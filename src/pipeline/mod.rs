@@ -305,7 +305,7 @@ fn solve_contact(
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
     if spec.friction > 0.0 || steps.is_some() {
-        // Validated: the MFVM; steps against a rigid obstacle only (docs/dev/friction.md).
+        // Validated: steps against a rigid obstacle only (docs/dev/friction.md).
         let one = [StepEnd {
             increments: 1,
             load: model.system.load.clone(),

@@ -514,13 +514,6 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             "the Coulomb friction coefficient must be a finite number ≥ 0",
         ));
     }
-    if friction > 0.0 && problem.discretisation.method == Method::Fem {
-        return Err(invalid(
-            "contact.friction",
-            friction,
-            "friction with method = \"fem\" is not supported yet (only the MFVM; docs/dev/friction.md)",
-        ));
-    }
     if let Some(second) = problem.second_body.as_deref() {
         if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
             return Err(invalid(
@@ -690,9 +683,6 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<LoadStep>, Pr
         ),
         Some(c) if !matches!(c.target, ContactTarget::Rigid(_)) => Some(
             "load steps are not supported yet between two elastic bodies (only against a rigid obstacle; docs/dev/friction.md)",
-        ),
-        Some(_) if problem.discretisation.method == Method::Fem => Some(
-            "load steps are not supported yet with method = \"fem\" (only the MFVM; docs/dev/friction.md)",
         ),
         Some(_) if problem.body_force.is_some() => {
             Some("load steps do not scale the body force yet: remove body_force or the steps")
