@@ -197,6 +197,7 @@ pub(super) fn solve_frictional(
     clock.run("friction", || -> Result<(), Error> {
         for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
             for i in 1..=end.increments {
+                let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
                 step_problem.free_gap = lerp(&qn0, qn1, lambda);
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
@@ -248,6 +249,7 @@ pub(super) fn solve_frictional(
                     stick: count(&|s| *s == lcp::ContactState::Stick),
                     slip: count(&|s| s.is_slip()),
                     open: count(&|s| *s == lcp::ContactState::Open),
+                    seconds: started.elapsed().as_secs_f64(),
                 });
                 for ((a, s), ds) in
                     accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment)
