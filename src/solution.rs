@@ -149,6 +149,10 @@ pub struct IncrementRecord {
     pub slip: usize,
     /// Candidates that are open.
     pub open: usize,
+    /// Wall-clock seconds of the increment (step solver, solve, equilibrium); not written
+    /// to `summary.json`, whose contents are reproducible (for benchmarks).
+    #[serde(skip)]
+    pub seconds: f64,
 }
 
 impl FrictionContact {

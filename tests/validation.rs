@@ -33,4 +33,6 @@ mod validation {
     mod static_pivoting;
     // Coulomb friction, one step: tiny μ = frictionless, huge μ = bonded, gross sliding.
     mod friction;
+    // Coulomb friction on the FE path: bonded, sliding, steps, two bodies.
+    mod fem_friction;
 }

@@ -34,18 +34,7 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
     let constraints = constraints(input);
     check_restraint(&constraints, input.body.nodes)?;
     let scale = input.body.d[0][0];
-    let n = 2 * input.body.nodes.len();
-    let mut prescribed = vec![0.0; n];
-    let mut constrained = vec![false; n];
-    for c in &constraints {
-        let r = dof(c.node as usize, c.axis);
-        prescribed[r] = c.value;
-        constrained[r] = true;
-    }
-    let lift = stiffness.mul(&prescribed);
-    let rhs: Vec<f64> = (0..n)
-        .map(|r| if constrained[r] { scale * prescribed[r] } else { load[r] - lift[r] })
-        .collect();
+    let (rhs, constrained) = eliminated_rhs(&stiffness, &load, &constraints, scale);
     let matrix = eliminated_matrix(&stiffness, &constrained, scale);
     Ok(GlobalSystem {
         interior_stiffness: stiffness,
@@ -55,6 +44,40 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
         matrix,
         rhs,
     })
+}
+
+/// The load `f` and the right-hand side of `input`'s conditions for the unconstrained
+/// stiffness `stiffness` (the `interior_stiffness` of an assembled system with the same
+/// constrained DOFs), without assembling anything else: for load steps, whose conditions
+/// differ from the assembled ones in their values only (docs/method.md §8).
+pub fn load_and_rhs(input: &FemInput<'_>, stiffness: &BlockRows) -> (Vec<f64>, Vec<f64>) {
+    let load = load(input);
+    let constraints = constraints(input);
+    let (rhs, _) = eliminated_rhs(stiffness, &load, &constraints, input.body.d[0][0]);
+    (load, rhs)
+}
+
+/// The right-hand side after symmetric elimination of `constraints` (`scale · ū_c` on a
+/// prescribed row, `f_r − Σ_c K_rc ū_c` elsewhere) and the constrained-DOF flags.
+fn eliminated_rhs(
+    stiffness: &BlockRows,
+    load: &[f64],
+    constraints: &[Constraint],
+    scale: f64,
+) -> (Vec<f64>, Vec<bool>) {
+    let n = load.len();
+    let mut prescribed = vec![0.0; n];
+    let mut constrained = vec![false; n];
+    for c in constraints {
+        let r = dof(c.node as usize, c.axis);
+        prescribed[r] = c.value;
+        constrained[r] = true;
+    }
+    let lift = stiffness.mul(&prescribed);
+    let rhs: Vec<f64> = (0..n)
+        .map(|r| if constrained[r] { scale * prescribed[r] } else { load[r] - lift[r] })
+        .collect();
+    (rhs, constrained)
 }
 
 /// One block row: column nodes and their 2 × 2 blocks.

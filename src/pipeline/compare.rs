@@ -2,16 +2,18 @@
 //!
 //! Solves the problem with the MFVM and with the Q2 finite elements ([`crate::fem`]), writes
 //! each method's full outputs to `<out>/mfvm/` and `<out>/fem/`, a side-by-side table
-//! (`compare.csv`, `compare.md`: counts, contact force, onset, deflections, times) and overlay
-//! plots of the contact pressure and of the displacement along the profile edge
-//! (`plots/compare_pressure`, `plots/compare_deflection`, SVG and PNG).
+//! (`compare.csv`, `compare.md`: counts, contact force, onset, deflections, times; with
+//! friction also the total tangential force, the stick and slip counts and the stick zone's
+//! extent) and overlay plots of the contact pressure and of the displacement along the
+//! profile edge (`plots/compare_pressure`, `plots/compare_deflection`, SVG and PNG; with
+//! friction also `plots/compare_tangential_traction`).
 
 use crate::error::Error;
 use crate::post::summary::{ContactSummary, Summary};
 use crate::post::{self, OutputError, plot};
 use crate::problem::{Method, Problem};
 use crate::progress::Progress;
-use crate::solution::Solution;
+use crate::solution::{ContactSolution, Solution};
 use serde_json::Value;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -29,6 +31,26 @@ pub struct MethodRun {
     pub deflection: Vec<(f64, f64)>,
     /// Which displacement component `deflection` holds (`"u_x"` or `"u_y"`).
     pub component: &'static str,
+    /// With friction: `(arc length, tangential traction)` along the contact edge.
+    pub tangential: Vec<(f64, f64)>,
+    /// With friction: the extent of the stick zone along the contact edge ([`stick_extent`]).
+    pub stick_extent: Option<(f64, f64)>,
+}
+
+/// The extent `(start, end)` along the contact edge (arc length) of the sticking candidates:
+/// from the first to the last sticking candidate, each widened to mid-way to its neighbour
+/// (so a zone is read to about ± half a candidate spacing per end; at an end of the edge the
+/// candidate itself). `None` without friction or when nothing sticks. Several stick zones
+/// give the span from the first zone's start to the last zone's end.
+pub fn stick_extent(contact: &ContactSolution) -> Option<(f64, f64)> {
+    let f = contact.friction.as_ref()?;
+    let s = &contact.candidates.arc_length;
+    let stick = |c: &usize| f.step.state[*c] == crate::lcp::ContactState::Stick;
+    let first = (0..s.len()).find(stick)?;
+    let last = (0..s.len()).rev().find(stick)?;
+    let start = if first == 0 { s[0] } else { 0.5 * (s[first - 1] + s[first]) };
+    let end = if last + 1 == s.len() { s[last] } else { 0.5 * (s[last] + s[last + 1]) };
+    Some((start, end))
 }
 
 /// One row of the comparison table.
@@ -85,12 +107,22 @@ fn run_one(
         .as_ref()
         .map(|c| c.candidates.arc_length.iter().copied().zip(c.pressure.iter().copied()).collect())
         .unwrap_or_default();
+    let tangential = solution
+        .contact
+        .as_ref()
+        .and_then(|c| {
+            let f = c.friction.as_ref()?;
+            Some(c.candidates.arc_length.iter().copied().zip(f.traction.iter().copied()).collect())
+        })
+        .unwrap_or_default();
     let run = MethodRun {
         method: problem.discretisation.method,
         summary: report.summary,
         pressure,
         deflection,
         component,
+        tangential,
+        stick_extent: solution.contact.as_ref().and_then(stick_extent),
     };
     Ok((run, report.files))
 }
@@ -190,6 +222,19 @@ fn table(mfvm: &MethodRun, fem: &MethodRun) -> Vec<Row> {
         push("max_contact_pressure", &|r| r.pressure.iter().map(|p| p.1).reduce(f64::max));
         push("lemke_pivots", &|r| r.summary.lcp.as_ref().map(|l| l.pivots as f64));
     }
+    if mfvm.summary.contact.as_ref().is_some_and(|c| c.friction_coefficient.is_some()) {
+        let counts =
+            |r: &MethodRun, k: usize| contact(r, &|c| c.stick_slip_counts.map(|n| n[k] as f64));
+        push("total_tangential_force", &|r| contact(r, &|c| c.total_tangential_force));
+        push("stick_candidates", &|r| counts(r, 0));
+        push("slip_candidates", &|r| counts(r, 1));
+        push("stick_zones", &|r| contact(r, &|c| c.stick_slip_zone_counts.map(|n| n[0] as f64)));
+        push("stick_zone_start", &|r| r.stick_extent.map(|e| e.0));
+        push("stick_zone_end", &|r| r.stick_extent.map(|e| e.1));
+        push("max_tangential_traction", &|r| {
+            r.tangential.iter().map(|p| p.1.abs()).reduce(f64::max)
+        });
+    }
     push("equilibrium_error", &|r| Some(r.summary.checks.equilibrium_error));
     push("total_seconds", &|r| Some(r.summary.total_seconds()));
     rows
@@ -254,6 +299,28 @@ fn overlay_plots(
                 ],
             },
         ));
+        if !mfvm.tangential.is_empty() {
+            charts.push((
+                "compare_tangential_traction",
+                plot::Chart {
+                    title: format!(
+                        "{}: tangential traction along `{edge}`, MFVM and FE",
+                        problem.name
+                    ),
+                    x_label: format!("distance along `{edge}`"),
+                    y_label: "tangential traction".into(),
+                    series: vec![
+                        series("MFVM: T_c / |segment|", &mfvm.tangential, plot::Style::Line, 1),
+                        series(
+                            "FE: T_c / tributary length",
+                            &fem.tangential,
+                            plot::Style::Dashed,
+                            4,
+                        ),
+                    ],
+                },
+            ));
+        }
     }
     let mut files = Vec::new();
     for (name, chart) in charts {

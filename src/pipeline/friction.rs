@@ -14,16 +14,9 @@ pub(super) struct StepEnd {
 }
 
 /// The ends of `problem.steps`: each step's conditions on the assembled body (the same
-/// constrained DOFs, so the same `K`; only `f` and the prescribed values change).
+/// constrained DOFs, so the same `K`; only `f` and the prescribed values change), MFVM or FE.
+/// `problem` is the problem `model` was built from (for two bodies: each body's own).
 pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>, Error> {
-    let Scheme::Mfvm(m) = &model.scheme else {
-        return Err(crate::problem::ProblemError::Invalid {
-            field: "step".into(),
-            value: "method = \"fem\"".into(),
-            reason: "load steps are not supported yet with the finite elements".into(),
-        }
-        .into());
-    };
     let d = problem.material.constitutive();
     problem
         .steps
@@ -31,16 +24,22 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
         .map(|step| {
             let mut body = assembly::Body::new(problem, &model.nodes, &d);
             body.boundary = &step.boundary;
-            let (load, rhs) = assembly::load_and_rhs(&AssemblyInput {
-                body,
-                cells: &m.cells,
-                interior_faces: &m.faces.interior,
-                boundary_faces: &m.faces.boundary,
-                face_quadrature: &m.face_quadrature,
-                face_shapes: &m.face_shapes,
-                node_shapes: &model.node_shapes,
-                beta: problem.discretisation.beta,
-            })?;
+            let (load, rhs) = match &model.scheme {
+                Scheme::Mfvm(m) => assembly::load_and_rhs(&AssemblyInput {
+                    body,
+                    cells: &m.cells,
+                    interior_faces: &m.faces.interior,
+                    boundary_faces: &m.faces.boundary,
+                    face_quadrature: &m.face_quadrature,
+                    face_shapes: &m.face_shapes,
+                    node_shapes: &model.node_shapes,
+                    beta: problem.discretisation.beta,
+                })?,
+                Scheme::Fem(f) => fem::system::load_and_rhs(
+                    &fem::system::FemInput { body, mesh: &f.mesh },
+                    &model.system.interior_stiffness,
+                ),
+            };
             Ok(StepEnd {
                 increments: step.increments,
                 load,
@@ -213,6 +212,7 @@ pub(super) fn solve_frictional(
     clock.run("friction", || -> Result<(), Error> {
         for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
             for i in 1..=end.increments {
+                let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
                 step_problem.free_gap = lerp(&qn0, qn1, lambda);
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
@@ -275,6 +275,7 @@ pub(super) fn solve_frictional(
                     stick: count(&|s| *s == lcp::ContactState::Stick),
                     slip: count(&|s| s.is_slip()),
                     open: count(&|s| *s == lcp::ContactState::Open),
+                    seconds: started.elapsed().as_secs_f64(),
                 });
                 for ((a, s), ds) in
                     accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment)

@@ -310,7 +310,7 @@ fn solve_contact(
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
     if spec.friction > 0.0 || steps.is_some() {
-        // Validated: the MFVM (docs/dev/friction.md). Without steps, one step to the
+        // MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
         // models' loads in one increment.
         let one = |m: &Model| {
             vec![StepEnd {

@@ -518,13 +518,6 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             "the Coulomb friction coefficient must be a finite number ≥ 0",
         ));
     }
-    if friction > 0.0 && problem.discretisation.method == Method::Fem {
-        return Err(invalid(
-            "contact.friction",
-            friction,
-            "friction with method = \"fem\" is not supported yet (only the MFVM; docs/dev/friction.md)",
-        ));
-    }
     if let Some(second) = problem.second_body.as_deref() {
         if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
             return Err(invalid(
@@ -698,9 +691,6 @@ fn load_steps(
     let why = match &problem.contact {
         None => Some(
             "load steps need contact: without it the problem is linear and one solve gives the answer",
-        ),
-        Some(_) if problem.discretisation.method == Method::Fem => Some(
-            "load steps are not supported yet with method = \"fem\" (only the MFVM; docs/dev/friction.md)",
         ),
         Some(_) if body_force => {
             Some("load steps do not scale the body force yet: remove body_force or the steps")
