@@ -350,7 +350,7 @@ fn bad_friction_and_step_input_gives_a_clear_error_and_exit_code_2() {
 /// Discretisations outside the measured stability limits (docs/method.md §2, §3.8, §3.9)
 /// are refused at validation with the reason and the way out.
 #[test]
-fn gh_7_unstable_discretisations_are_refused() {
+fn unstable_discretisations_are_refused() {
     let with = |keys: &str| BASE.replace("[nodes]", &format!("[discretisation]\n{keys}\n[nodes]"));
     let cases: &[(&str, String, &str)] = &[
         (
@@ -558,6 +558,14 @@ fn cattaneo_mindlin_summary_lists_the_zones() {
     }
     let sticking = rows.iter().filter(|r| r.1 == "stick").count();
     assert_eq!(c["stick_slip_counts"][0].as_u64().unwrap() as usize, sticking);
+    // The traction plot: p, q, the Coulomb limits ±μp and the stick zone shaded (only with
+    // friction: the frictionless problems' outputs list no such file).
+    let plots = scratch("cattaneo_mindlin").join("out/plots");
+    let svg = std::fs::read_to_string(plots.join("contact_traction.svg")).unwrap();
+    for text in ["stick zone", "pressure p", "tangential traction q", "±μp (μ = 0.3)"] {
+        assert!(svg.contains(text), "{text} missing from contact_traction.svg");
+    }
+    assert!(plots.join("contact_traction.png").is_file());
 }
 
 /// problems/beam_on_foundation_stabilised.toml (`discretisation = "stabilised"`,
@@ -567,7 +575,7 @@ fn cattaneo_mindlin_summary_lists_the_zones() {
 /// (`F_c = 32.3476`, `l_c = 19.810`, tests/validation/beam_on_foundation.rs; observed −2.2e-4
 /// relative and −0.017 at h = 0.25, docs/dev/beta_study.md).
 #[test]
-fn gh_7_stabilised_beam_problem() {
+fn stabilised_beam_problem() {
     let s = summary_of("beam_on_foundation_stabilised.toml", "beam_stabilised");
     let disc = &s["problem"]["discretisation"];
     assert_eq!(disc["preset"], "stabilised");

@@ -363,7 +363,85 @@ fn contact_outputs(
     plot::write_chart(&stem, &chart)?;
     written.push(stem.with_extension("svg"));
     written.push(stem.with_extension("png"));
+    if let Some(f) = &c.friction {
+        let stem = plots.join("contact_traction");
+        plot::write_chart(&stem, &traction_chart(problem, c, f, edge))?;
+        written.push(stem.with_extension("svg"));
+        written.push(stem.with_extension("png"));
+    }
     Ok(written)
+}
+
+/// With friction: the pressure `p` and the tangential traction `q` along the contact edge,
+/// the Coulomb limits `±μp`, and the stick zones shaded (after Johnson, *Contact Mechanics*,
+/// Fig. 7.7). A stick zone spans its sticking candidates and half the way to each neighbour.
+fn traction_chart(
+    problem: &Problem,
+    c: &ContactSolution,
+    f: &crate::solution::FrictionContact,
+    edge: &str,
+) -> plot::Chart {
+    let s = &c.candidates.arc_length;
+    let mu = f.coefficient;
+    let along =
+        |v: &[f64]| -> Vec<(f64, f64)> { s.iter().copied().zip(v.iter().copied()).collect() };
+    let limit = |sign: f64| c.pressure.iter().map(|p| sign * mu * p).collect::<Vec<f64>>();
+    let mut bands = Vec::new();
+    let stick = |k: usize| f.step.state[k] == crate::lcp::ContactState::Stick && c.closed[k];
+    let m = s.len();
+    let mut k = 0;
+    while k < m {
+        if !stick(k) {
+            k += 1;
+            continue;
+        }
+        let first = k;
+        while k + 1 < m && stick(k + 1) {
+            k += 1;
+        }
+        let start = if first > 0 { 0.5 * (s[first - 1] + s[first]) } else { s[first] };
+        let end = if k + 1 < m { 0.5 * (s[k] + s[k + 1]) } else { s[k] };
+        bands.extend([(start, 0.0), (end, 0.0)]);
+        k += 1;
+    }
+    let mut series = vec![
+        plot::Series {
+            label: "stick zone".into(),
+            points: bands,
+            style: plot::Style::Bands,
+            colour: 2,
+        },
+        plot::Series {
+            label: "pressure p".into(),
+            points: along(&c.pressure),
+            style: plot::Style::Line,
+            colour: 4,
+        },
+        plot::Series {
+            label: "tangential traction q".into(),
+            points: along(&f.traction),
+            style: plot::Style::Line,
+            colour: 1,
+        },
+        plot::Series {
+            label: format!("±μp (μ = {mu})"),
+            points: along(&limit(1.0)),
+            style: plot::Style::Dashed,
+            colour: 0,
+        },
+    ];
+    series.push(plot::Series {
+        label: String::new(),
+        points: along(&limit(-1.0)),
+        style: plot::Style::Dashed,
+        colour: 0,
+    });
+    plot::Chart {
+        title: format!("{}: contact tractions along `{edge}`, friction μ = {mu}", problem.name),
+        x_label: format!("distance s along `{edge}`"),
+        y_label: "traction (p normal, q tangential along t)".into(),
+        series,
+    }
 }
 
 /// `"MFVM"` or `"FE"`, for labels.

@@ -27,12 +27,15 @@ pub enum Style {
     Dashed,
     /// Markers.
     Points,
+    /// Shaded vertical bands: the points come in pairs `(x_start, _), (x_end, _)`, each pair a
+    /// band over the whole height (e.g. a stick zone); their `y` is ignored.
+    Bands,
 }
 
 /// One data series.
 #[derive(Clone, Debug)]
 pub struct Series {
-    /// Legend label.
+    /// Legend label (none when empty).
     pub label: String,
     /// `(x, y)` data.
     pub points: Vec<(f64, f64)>,
@@ -107,7 +110,8 @@ fn draw_chart<DB: DrawingBackend>(
 ) -> Result<(), String> {
     area.fill(&WHITE).map_err(|e| e.to_string())?;
     let (x0, x1) = range(chart.series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-    let (y0, y1) = range(chart.series.iter().flat_map(|s| s.points.iter().map(|p| p.1)));
+    let curves = chart.series.iter().filter(|s| !matches!(s.style, Style::Bands));
+    let (y0, y1) = range(curves.flat_map(|s| s.points.iter().map(|p| p.1)));
     let mut ctx = ChartBuilder::on(&area)
         .caption(&chart.title, ("sans-serif", 22))
         .margin(12)
@@ -124,30 +128,48 @@ fn draw_chart<DB: DrawingBackend>(
         .y_label_formatter(&tick_label(y0, y1))
         .draw()
         .map_err(|e| e.to_string())?;
-    for s in &chart.series {
+    // Bands first, under the curves.
+    let mut ordered: Vec<&Series> = chart.series.iter().collect();
+    ordered.sort_by_key(|s| !matches!(s.style, Style::Bands));
+    for s in ordered {
         let colour = Palette99::pick(s.colour).to_rgba();
         let legend_colour = colour;
         match s.style {
-            Style::Line => {
-                ctx.draw_series(LineSeries::new(s.points.iter().copied(), colour.stroke_width(2)))
-                    .map_err(|e| e.to_string())?
-                    .label(&s.label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], legend_colour.stroke_width(2))
-                    });
-            }
-            Style::Dashed => {
-                ctx.draw_series(DashedLineSeries::new(
-                    s.points.iter().copied(),
-                    8,
-                    5,
-                    colour.stroke_width(2),
-                ))
+            Style::Bands => {
+                let fill = colour.mix(0.18).filled();
+                ctx.draw_series(
+                    s.points
+                        .chunks_exact(2)
+                        .map(|p| Rectangle::new([(p[0].0, y0), (p[1].0, y1)], fill)),
+                )
                 .map_err(|e| e.to_string())?
                 .label(&s.label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], legend_colour.stroke_width(2))
-                });
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill));
+            }
+            Style::Line => {
+                let drawn = ctx
+                    .draw_series(LineSeries::new(s.points.iter().copied(), colour.stroke_width(2)))
+                    .map_err(|e| e.to_string())?;
+                if !s.label.is_empty() {
+                    drawn.label(&s.label).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], legend_colour.stroke_width(2))
+                    });
+                }
+            }
+            Style::Dashed => {
+                let drawn = ctx
+                    .draw_series(DashedLineSeries::new(
+                        s.points.iter().copied(),
+                        8,
+                        5,
+                        colour.stroke_width(2),
+                    ))
+                    .map_err(|e| e.to_string())?;
+                if !s.label.is_empty() {
+                    drawn.label(&s.label).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], legend_colour.stroke_width(2))
+                    });
+                }
             }
             Style::Points => {
                 ctx.draw_series(

@@ -148,7 +148,7 @@ fn stiffness_form_is_close_but_not_mls_exact() {
 /// symmetric part: asserted in `run_problem`), one contact interval ending at the tip, and the
 /// same `l_c` and total contact force as the default variant within their discretisation errors.
 #[test]
-fn gh_7_stabilised_beam_agrees_with_the_default_variant() {
+fn stabilised_beam_agrees_with_the_default_variant() {
     let spacings = [0.5, 0.25, 0.125];
     let default: Vec<Outcome> = spacings.iter().map(|&h| run(h)).collect();
     let stabilised: Vec<Outcome> =
@@ -191,7 +191,7 @@ fn gh_7_stabilised_beam_agrees_with_the_default_variant() {
 /// `run_problem`); F_c within 1e-2 and l_c within one spacing of the FE reference. Observed:
 /// β = 0.5, α_s = 3: F_c 32.346695, l_c 19.7500; β = 1, α_s = 2: F_c 32.341922, l_c 19.7923.
 #[test]
-fn gh_7_stabilised_beam_on_jittered_nodes() {
+fn stabilised_beam_on_jittered_nodes() {
     let h = 0.25;
     for (alpha, beta) in [(3.0, 0.5), (2.0, 1.0)] {
         let mut p = stabilised_beam(h, alpha, beta);

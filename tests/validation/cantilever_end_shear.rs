@@ -129,7 +129,7 @@ const ENERGY_BOUND_JITTERED: f64 = 3.3e-3;
 /// while the pure mixed method (`β = 0`, accepted only with `allow_unstable`) does not: its
 /// near-free checkerboard modes pollute the solution (the documented negative case).
 #[test]
-fn gh_7_cantilever_jittered_large_support() {
+fn cantilever_jittered_large_support() {
     let h = [1.0, 0.5, 0.25];
     let layout = Layout::Jittered { amplitude: 0.25, seed: 3 };
     let primal = Variant { support_factor: 3.0, beta: 1.0 };

@@ -75,7 +75,7 @@ fn near_zero_energy_modes_at_support_factor_3() {
 /// The stabilised blend `β = 0.5` at `α_s = 3` keeps exactly three rigid modes and a
 /// clear gap to the fourth.
 #[test]
-fn gh_7_stabilised_blend_removes_checkerboard_modes() {
+fn stabilised_blend_removes_checkerboard_modes() {
     for (name, layout) in layouts() {
         let s = singular_values(layout, 3.0, 0.5);
         let gap = check_rigid_modes(&s, name);
@@ -89,7 +89,7 @@ fn gh_7_stabilised_blend_removes_checkerboard_modes() {
 /// does not stabilise, which is why validation asks for `β ≥ 0.1` beyond the mixed limits
 /// (`problem::MIN_STABILISING_BETA`).
 #[test]
-fn gh_7_gap_grows_with_beta() {
+fn gap_grows_with_beta() {
     for (name, layout) in layouts() {
         let gap = |beta: f64| {
             let s = singular_values(layout, 3.0, beta);

@@ -97,7 +97,7 @@ fn with_variant(mut problem: Problem, support_factor: f64, beta: f64) -> Problem
 }
 
 #[test]
-fn gh_7_stabilised_blocks_give_uniform_pressure() {
+fn stabilised_blocks_give_uniform_pressure() {
     let exact = YOUNG * PRESS / 2.0;
     for (alpha, beta) in [(2.0, 1.0), (3.0, 0.5)] {
         for (h1, h2) in [(0.1, 0.1), (0.1, 0.125)] {
