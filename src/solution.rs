@@ -109,6 +109,30 @@ pub struct FrictionContact {
     /// Two bodies: the second body's tangential operator (direction `−t` at the paired
     /// points); its forces are `step.tangential`.
     pub target_operator: Option<BodyOperator>,
+    /// Every increment's contact state, when the problem asks for them (`[output] steps`);
+    /// empty otherwise.
+    pub snapshots: Vec<IncrementSnapshot>,
+}
+
+/// The contact state at the end of one load increment (`[output] steps`).
+#[derive(Clone, Debug)]
+pub struct IncrementSnapshot {
+    /// Load step, from 1.
+    pub step: usize,
+    /// Increment within the step, from 1.
+    pub increment: usize,
+    /// Fraction of the way from the previous step end (`i / increments`).
+    pub load_factor: f64,
+    /// Normal forces `P`.
+    pub normal: Vec<f64>,
+    /// Tangential forces `T`.
+    pub tangential: Vec<f64>,
+    /// Gaps of the step problem.
+    pub gap: Vec<f64>,
+    /// Slip accumulated up to this increment.
+    pub slip: Vec<f64>,
+    /// Open, stick or slip±.
+    pub state: Vec<lcp::ContactState>,
 }
 
 /// The stick and slip zones along a contact edge ([`ContactSolution::friction_zones`]).
@@ -189,6 +213,7 @@ impl FrictionContact {
             slip_zones,
             increments: Vec::new(),
             target_operator: None,
+            snapshots: Vec::new(),
         }
     }
 }

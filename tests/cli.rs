@@ -700,3 +700,52 @@ fn outputs_are_deterministic_across_thread_counts() {
         assert_eq!(strip(&dirs[0]), strip(&dirs[1]), "{problem}: summary.json");
     }
 }
+
+/// `[output] steps = true`: one contact table per load increment under `steps/` and an index;
+/// the last increment's table holds the final `contact.csv`'s forces, states and slips. Without
+/// steps or friction the key is refused.
+#[test]
+fn increment_tables_are_written_when_asked() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cattaneo_mindlin.toml"),
+    )
+    .unwrap()
+    .replace("[output]\n", "[output]\nsteps = true\n");
+    let (code, stderr) = run_text("increment_tables", &text);
+    assert_eq!(code, Some(0), "{stderr}");
+    let out = scratch("increment_tables").join("out");
+    let index = std::fs::read_to_string(out.join("steps/index.csv")).unwrap();
+    let rows: Vec<&str> = index.lines().skip(1).collect();
+    assert_eq!(rows.len(), 5, "1 press increment and 4 shear increments:\n{index}");
+    let last = rows[4].rsplit(',').next().unwrap();
+    assert_eq!(last, "contact_s002_i0004.csv");
+    let table = |path: &Path| -> Vec<std::collections::HashMap<String, String>> {
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut lines = text.lines();
+        let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+        lines.map(|l| head.iter().cloned().zip(l.split(',').map(String::from)).collect()).collect()
+    };
+    let (step, fin) = (table(&out.join("steps").join(last)), table(&out.join("contact.csv")));
+    assert_eq!(step.len(), fin.len());
+    for (a, b) in step.iter().zip(&fin) {
+        for key in ["x", "force", "pressure", "tangential_force", "slip", "state"] {
+            assert_eq!(a[key], b[key], "{key}");
+        }
+    }
+    // Totals of the index against the summary's increment records.
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let records = s["steps"].as_array().unwrap();
+    for (row, rec) in rows.iter().zip(records) {
+        let t: f64 = row.split(',').nth(4).unwrap().parse().unwrap();
+        let expected = rec["tangential_force"].as_f64().unwrap();
+        assert!((t - expected).abs() <= 1e-11 * expected.abs().max(1e-300) + 1e-300, "{row}");
+    }
+    // Refused without steps or friction.
+    let plain = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/beam_on_foundation.toml"),
+    )
+    .unwrap()
+    .replace("[output]\n", "[output]\nsteps = true\n");
+    expect_refusals(&[("steps_without_steps", plain, "output.steps")]);
+}

@@ -208,6 +208,7 @@ pub(super) fn solve_frictional(
     let (mut load20, mut rhs20) = (vec![0.0; n2], vec![0.0; n2]);
     let mut accumulated = vec![0.0; m];
     let mut records = Vec::new();
+    let mut snapshots = Vec::new();
     let mut last = None;
     clock.run("friction", || -> Result<(), Error> {
         for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
@@ -284,6 +285,18 @@ pub(super) fn solve_frictional(
                         *a += ds;
                     }
                 }
+                if problem.write_steps {
+                    snapshots.push(solution::IncrementSnapshot {
+                        step: k + 1,
+                        increment: i,
+                        load_factor: lambda,
+                        normal: step.normal.clone(),
+                        tangential: step.tangential.clone(),
+                        gap: step.gap.clone(),
+                        slip: accumulated.clone(),
+                        state: step.state.clone(),
+                    });
+                }
                 step_problem.previous_tangential.clone_from(&step.tangential_displacement);
                 last = Some((step, u, u2));
             }
@@ -337,6 +350,7 @@ pub(super) fn solve_frictional(
         solution::FrictionContact::new(spec.friction, free, tangential, step, &segment_length);
     friction.slip = accumulated;
     friction.increments = records;
+    friction.snapshots = snapshots;
     friction.target_operator = target_tangential;
     contact.friction = Some(friction);
     Ok((u, u2, contact))

@@ -280,6 +280,9 @@ fn contact_outputs(
         text.push('\n');
     }
     let mut written = vec![save(dir, "contact.csv", &text)?];
+    if let Some(f) = c.friction.as_ref().filter(|f| !f.snapshots.is_empty()) {
+        written.extend(increment_tables(dir, c, f)?);
+    }
     let plots = dir.join("plots");
     create_dir(&plots)?;
     let edge = &problem.domain.edge_names()[problem.contact.as_ref().map_or(0, |s| s.edge)];
@@ -369,6 +372,60 @@ fn contact_outputs(
         written.push(stem.with_extension("svg"));
         written.push(stem.with_extension("png"));
     }
+    Ok(written)
+}
+
+/// `steps/contact_s<step>_i<increment>.csv`, one per load increment (`[output] steps`): the
+/// columns of `contact.csv` at the end of that increment but `initial_gap` (`gap` is the step
+/// problem's gap; `in_contact`: not open), and `steps/index.csv` (step, increment, load
+/// factor, total normal and tangential force, file).
+fn increment_tables(
+    dir: &Path,
+    c: &ContactSolution,
+    f: &crate::solution::FrictionContact,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let steps = dir.join("steps");
+    create_dir(&steps)?;
+    let cand = &c.candidates;
+    let mut written = Vec::new();
+    let mut index = String::from("step,increment,load_factor,normal_force,tangential_force,file\n");
+    for snap in &f.snapshots {
+        let name = format!("contact_s{:03}_i{:04}.csv", snap.step, snap.increment);
+        let mut text = String::from(
+            "candidate,node,x,y,arc_length,gap,force,pressure,in_contact,tangential_force,tangential_traction,slip,state\n",
+        );
+        for k in 0..cand.len() {
+            let p = cand.points[k];
+            let l = cand.segment_length[k];
+            let _ = writeln!(
+                text,
+                "{k},{},{},{},{},{},{},{},{},{},{},{},{}",
+                cand.nodes[k],
+                num(p[0]),
+                num(p[1]),
+                num(cand.arc_length[k]),
+                num(snap.gap[k]),
+                num(snap.normal[k]),
+                num(snap.normal[k] / l),
+                u8::from(snap.state[k] != crate::lcp::ContactState::Open),
+                num(snap.tangential[k]),
+                num(snap.tangential[k] / l),
+                num(snap.slip[k]),
+                snap.state[k].label()
+            );
+        }
+        written.push(save(&steps, &name, &text)?);
+        let _ = writeln!(
+            index,
+            "{},{},{},{},{},{name}",
+            snap.step,
+            snap.increment,
+            num(snap.load_factor),
+            num(snap.normal.iter().sum()),
+            num(snap.tangential.iter().sum())
+        );
+    }
+    written.push(save(&steps, "index.csv", &index)?);
     Ok(written)
 }
 

@@ -365,6 +365,10 @@ pub struct OutputFile {
     /// Edge whose displacement profile is plotted (default: the first edge).
     #[serde(default)]
     pub profile_edge: Option<String>,
+    /// Write every load increment's contact table under `steps/` (default `false`; needs
+    /// `[[step]]` tables or friction).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<bool>,
 }
 
 /// One `[[boundary]]` entry.

@@ -123,6 +123,8 @@ pub struct Problem {
     pub body_force: Option<BodyForce>,
     /// Edge whose displacement profile is plotted (default: edge 0).
     pub profile_edge: usize,
+    /// Write every load increment's contact table (`[output] steps`).
+    pub write_steps: bool,
     /// Frictionless contact, if any.
     pub contact: Option<ContactSpec>,
     /// The second elastic body of a two-body contact (its own `contact` is `None`).

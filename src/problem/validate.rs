@@ -136,6 +136,15 @@ impl TryFrom<ProblemFile> for Problem {
         if let Some(p2) = problem.second_body.as_deref_mut() {
             p2.steps = second_steps;
         }
+        problem.write_steps = file.output.steps.unwrap_or(false);
+        let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0);
+        if problem.write_steps && problem.steps.is_empty() && !frictional {
+            return Err(invalid(
+                "output.steps",
+                "true",
+                "per-increment contact tables need [[step]] tables or friction (contact.friction > 0)",
+            ));
+        }
         Ok(problem)
     }
 }
@@ -229,6 +238,7 @@ fn validate_body(
         boundary,
         body_force,
         profile_edge: 0,
+        write_steps: false,
         contact: None,
         second_body: None,
         steps: Vec::new(),
