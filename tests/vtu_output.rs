@@ -162,6 +162,7 @@ fn patch_problem(layout: Layout) -> Problem {
         boundary: vec![condition; 4],
         body_force: None,
         profile_edge: 0,
+        write_steps: false,
         contact: None,
         second_body: None,
         steps: Vec::new(),

@@ -30,6 +30,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         boundary: vec![EdgeCondition::free(); edges],
         body_force: None,
         profile_edge: 0,
+        write_steps: false,
         contact: None,
         second_body: None,
         steps: Vec::new(),
