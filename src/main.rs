@@ -21,6 +21,9 @@ struct Args {
     /// Solve with both methods (MFVM and FE) and write a side-by-side table and overlay plots.
     #[arg(long)]
     compare: bool,
+    /// Also write report.html: one self-contained page with the problem, results and plots.
+    #[arg(long, conflicts_with = "compare")]
+    report: bool,
 }
 
 /// Writes a line to stderr; a failing stderr (closed pipe, full disk) never decides the run.
@@ -122,7 +125,13 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> 
         }
         return Ok(());
     }
-    let report = mlpg_contact::run(&problem, &args.out, echo, &mut progress)?;
+    let report = mlpg_contact::pipeline::run_with_report(
+        &problem,
+        &args.out,
+        echo,
+        &mut progress,
+        args.report,
+    )?;
     for w in &report.summary.warnings {
         say(format_args!("warning: {w}"));
     }

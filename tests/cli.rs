@@ -749,3 +749,42 @@ fn increment_tables_are_written_when_asked() {
     .replace("[output]\n", "[output]\nsteps = true\n");
     expect_refusals(&[("steps_without_steps", plain, "output.steps")]);
 }
+
+/// `--report`: report.html beside the other outputs, self-contained (every plot inline as SVG,
+/// no link out), with the result table's numbers from summary.json. (Rendering in a browser is
+/// checked by python/tests/test_report.py in headless Chromium.)
+#[test]
+fn report_page_is_written_when_asked() {
+    let dir = scratch("report").join("out");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
+    let out = Command::new(binary())
+        .arg(&file)
+        .arg("--out")
+        .arg(&dir)
+        .arg("--report")
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    // Both bodies' plots (the second body's under lower/plots).
+    let count = |d: &Path| {
+        std::fs::read_dir(d)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().path().extension().is_some_and(|x| x == "svg"))
+            .count()
+    };
+    let svgs = count(&dir.join("plots")) + count(&dir.join("lower/plots"));
+    assert_eq!(html.matches("<svg").count(), svgs, "every plot inline");
+    assert!(!html.contains("<?xml"), "XML declarations stripped");
+    assert!(!html.contains("src=\"http") && !html.contains("href=\"http"), "no link out");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let nodes = format!("{} / {}", s["counts"]["nodes"], s["counts"]["dofs"]);
+    assert!(html.contains(&nodes), "{nodes}");
+    assert!(html.contains("second body `lower`"));
+    assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
+    // --report with --compare is refused by the argument parser (exit 2).
+    let both = Command::new(binary()).arg(&file).arg("--report").arg("--compare").output().unwrap();
+    assert_eq!(both.status.code(), Some(2));
+}

@@ -76,9 +76,16 @@ class Result:
             "reactions": n.reactions(second=True),
         }
 
-    def write(self, out: Union[str, "os.PathLike[str]"]) -> list[Path]:
-        """Writes the command line's output files into ``out`` (replaced as a whole)."""
-        return [Path(p) for p in self._native.write(os.fspath(out))]
+    def write(self, out: Union[str, "os.PathLike[str]"], report: bool = False) -> list[Path]:
+        """Writes the command line's output files into ``out`` (replaced as a whole); with
+        ``report=True`` also ``report.html``."""
+        return [Path(p) for p in self._native.write(os.fspath(out), report)]
+
+    def report(self, out: Union[str, "os.PathLike[str]"]) -> Path:
+        """Writes the output files and ``report.html`` (one self-contained page: the problem,
+        the results, the plots inline) into ``out``; returns the page's path."""
+        written = self.write(out, report=True)
+        return next(p for p in written if p.name == "report.html")
 
 
 def _text(problem: Problem) -> tuple[str, str]:

@@ -163,10 +163,11 @@ impl Solved {
         self.outcome.summary.to_json()
     }
 
-    /// Writes the usual output files into `out` (replaced as a whole, as by the command line);
-    /// returns the paths written.
-    fn write(&self, py: Python<'_>, out: PathBuf) -> PyResult<Vec<PathBuf>> {
-        let written = py.detach(|| self.outcome.write(&out));
+    /// Writes the usual output files into `out` (replaced as a whole, as by the command line),
+    /// with `report=True` also `report.html`; returns the paths written.
+    #[pyo3(signature = (out, report = false))]
+    fn write(&self, py: Python<'_>, out: PathBuf, report: bool) -> PyResult<Vec<PathBuf>> {
+        let written = py.detach(|| self.outcome.write_with_report(&out, report));
         written.map(|report| report.files).map_err(|e| solve_error(py, &e))
     }
 }

@@ -510,10 +510,29 @@ pub fn run(
     input: serde_json::Value,
     progress: &mut dyn Progress,
 ) -> Result<RunReport, Error> {
+    run_with_report(problem, out, input, progress, false)
+}
+
+/// [`run`], and with `report` also `report.html` ([`post::report`]: the problem in words, the
+/// results, the warnings, the plots inline and the timings), written with the other files.
+///
+/// # Errors
+/// Any stage's error.
+pub fn run_with_report(
+    problem: &Problem,
+    out: &Path,
+    input: serde_json::Value,
+    progress: &mut dyn Progress,
+    report: bool,
+) -> Result<RunReport, Error> {
     let staged = post::StagedDir::new(out)?;
-    let (_, _, report) = solve_and_write(problem, staged.path(), input, progress)?;
-    let files = staged.commit(report.files)?;
-    Ok(RunReport { summary: report.summary, files })
+    let (_, _, mut run) = solve_and_write(problem, staged.path(), input, progress)?;
+    if report {
+        let page = post::report::write_report(staged.path(), problem, &run.summary, &run.files)?;
+        run.files.insert(run.files.len() - 1, page);
+    }
+    let files = staged.commit(run.files)?;
+    Ok(RunReport { summary: run.summary, files })
 }
 
 /// A solved problem held in memory: the models, the solution and the summary, ready to be
@@ -554,8 +573,21 @@ impl Outcome {
     /// # Errors
     /// [`Error::Output`] when a file cannot be written or `out` holds something else.
     pub fn write(&self, out: &Path) -> Result<RunReport, Error> {
+        self.write_with_report(out, false)
+    }
+
+    /// [`Outcome::write`], and with `report` also `report.html` ([`run_with_report`]).
+    ///
+    /// # Errors
+    /// [`Error::Output`] when a file cannot be written or `out` holds something else.
+    pub fn write_with_report(&self, out: &Path, report: bool) -> Result<RunReport, Error> {
         let staged = post::StagedDir::new(out)?;
-        let files = write_outcome(staged.path(), self)?;
+        let mut files = write_outcome(staged.path(), self)?;
+        if report {
+            let page =
+                post::report::write_report(staged.path(), &self.problem, &self.summary, &files)?;
+            files.insert(files.len() - 1, page);
+        }
         let files = staged.commit(files)?;
         Ok(RunReport { summary: self.summary.clone(), files })
     }

@@ -4,6 +4,7 @@
 //! field of `summary.json`.
 
 pub mod plot;
+pub mod report;
 pub mod summary;
 mod vtk;
 
