@@ -1,8 +1,8 @@
-//! Stage 2: node layouts (structured, jittered) and boundary tags.
+//! Stage 2: node layouts (structured, jittered, uniform or graded) and boundary tags.
 //!
-//! Boundary nodes are placed on the domain's edges at the nominal spacing and are never
-//! jittered, so every boundary segment of a subdomain cell belongs to a node on that edge
-//! (stage 4 relies on this for Dirichlet edges).
+//! Boundary nodes are placed on the domain's edges at the nominal spacing (graded sets: at the
+//! local spacing, docs/method.md §2.1) and are never jittered, so every boundary segment of a
+//! subdomain cell belongs to a node on that edge (stage 4 relies on this for Dirichlet edges).
 
 pub use crate::problem::Layout;
 

@@ -495,11 +495,10 @@ fn refinement(
         boxes.push(region);
     }
     // Nodes: the uniform set plus, per region, its part of the rectangle at its spacing.
-    let estimate = boxes.iter().fold(domain.area() / (h * h), |n, b| {
-        let w = (b.x[1].min(dx[1]) - b.x[0].max(dx[0])).max(0.0);
-        let d = (b.y[1].min(dy[1]) - b.y[0].max(dy[0])).max(0.0);
-        n + w * d / (b.spacing * b.spacing)
-    });
+    let refinement = Refinement { boxes };
+    let (lo, hi) = ([dx[0], dy[0]], [dx[1], dy[1]]);
+    let estimate = domain.area() / (h * h) + refinement.added_nodes(h, lo, hi);
+    let boxes = refinement.boxes;
     if estimate > 2.0e7 {
         return Err(invalid(
             "nodes.refine",
