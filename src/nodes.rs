@@ -1,8 +1,8 @@
-//! Stage 2: node layouts (structured, jittered) and boundary tags.
+//! Stage 2: node layouts (structured, jittered, uniform or graded) and boundary tags.
 //!
-//! Boundary nodes are placed on the domain's edges at the nominal spacing and are never
-//! jittered, so every boundary segment of a subdomain cell belongs to a node on that edge
-//! (stage 4 relies on this for Dirichlet edges).
+//! Boundary nodes are placed on the domain's edges at the nominal spacing (graded sets: at the
+//! local spacing, docs/method.md §2.1) and are never jittered, so every boundary segment of a
+//! subdomain cell belongs to a node on that edge (stage 4 relies on this for Dirichlet edges).
 
 pub use crate::problem::Layout;
 
@@ -119,20 +119,7 @@ pub fn generate(domain: &Domain, h: f64, layout: Layout) -> Result<Nodes, Geomet
         None if domain.is_polygon() => polygon_grid(domain, h),
         None => curved_grid(domain, h),
     };
-    let tol = 1e-9 * h;
-    let edges: Vec<EdgeSet> = points
-        .iter()
-        .map(|p| {
-            let mut set = EdgeSet::default();
-            for k in 0..domain.edge_count() {
-                let t = domain.edge_parameter(k, *p);
-                if domain.edge_distance(k, *p).abs() <= tol && (-1e-12..=1.0 + 1e-12).contains(&t) {
-                    set.insert(k);
-                }
-            }
-            set
-        })
-        .collect();
+    let edges = tag_edges(domain, &points, 1e-9 * h);
     if let Layout::Jittered { amplitude, seed } = layout {
         let curved = !domain.is_polygon();
         let mut rng = SplitMix64::new(seed);
@@ -152,6 +139,204 @@ pub fn generate(domain: &Domain, h: f64, layout: Layout) -> Result<Nodes, Geomet
     let spacing = vec![h; points.len()];
     Ok(Nodes { points, spacing, edges })
 }
+/// The domain edges each point lies on (within `tol` of the edge, inside its end points).
+fn tag_edges(domain: &Domain, points: &[Point], tol: f64) -> Vec<EdgeSet> {
+    points
+        .iter()
+        .map(|p| {
+            let mut set = EdgeSet::default();
+            for k in 0..domain.edge_count() {
+                let t = domain.edge_parameter(k, *p);
+                if domain.edge_distance(k, *p).abs() <= tol && (-1e-12..=1.0 + 1e-12).contains(&t) {
+                    set.insert(k);
+                }
+            }
+            set
+        })
+        .collect()
+}
+
+/// Generates the nodes of `problem`'s (first) body: [`generate`] at the nominal spacing, or
+/// [`generate_graded`] when the problem has `[[nodes.refine]]` regions.
+///
+/// # Errors
+/// As [`generate`] and [`generate_graded`].
+pub fn for_problem(problem: &crate::problem::Problem) -> Result<Nodes, GeometryError> {
+    let (h, refinement) = (problem.node_spacing, &problem.refinement);
+    if refinement.is_empty() {
+        generate(&problem.domain, h, problem.layout)
+    } else {
+        generate_graded(&problem.domain, h, problem.layout, |lo, hi| {
+            refinement.min_spacing_in(h, lo, hi)
+        })
+    }
+}
+
+/// Deepest quadtree level of [`generate_graded`]: cells of `h₀ / 4096`.
+pub const MAX_LEVEL: u32 = 12;
+
+/// Generates a graded node set in a rectangle from a spacing function (docs/method.md §2.1).
+///
+/// `min_spacing(lo, hi)` is the least wanted spacing `h(x)` over the box `[lo, hi]` (at most
+/// `h0`). The rectangle is first cut into the cells of the uniform grid of [`generate`]
+/// (`round(L/h0)` per side); a cell of level `L` (nominal size `h0 / 2^L`) is split into four
+/// while its nominal size exceeds `min_spacing` over it (so the spacing is never coarser than
+/// asked for: in a region asking for `s`, the cells have the largest `h0 / 2^L ≤ s`), down to
+/// [`MAX_LEVEL`]. Then the tree is balanced (a cell is split while a cell sharing an edge or a
+/// corner with it is more than one level finer), so that neighbouring cells differ by at most
+/// a factor 2. The nodes are the cell corners, row by row (the mid-side nodes where a coarse
+/// cell meets two finer ones included); boundary nodes lie on the edges at the local spacing
+/// and the corners of the rectangle are nodes.
+///
+/// Each node's spacing `h_I` is the geometric mean of the nominal sizes `h0 / 2^L` of the
+/// largest and the smallest cell it touches (the uniform generator gives every node `h0`): at
+/// most `√2` times finer than any cell it touches, so at `α_s = 2` the four corners of every
+/// cell have the whole open cell in their supports, and at most `√2` times coarser than its
+/// nearest neighbour distance, which keeps the mixed method's supports near `α_s` local
+/// spacings (the largest cell made the graded patch test's round-off 500 times larger at
+/// `β = 0`; the smallest left a top-edge point with 3 support nodes; docs/method.md §2.1). A jittered layout moves interior nodes by at most `amplitude ·` the size of the
+/// smallest cell they touch in each coordinate; the generator draws two numbers per node in
+/// node order, so the layout is deterministic for a seed. Without any split the result is the
+/// node set of [`generate`].
+///
+/// # Errors
+/// [`GeometryError::Spacing`] when the domain is not a rectangle, when `h0` is not usable (as
+/// for [`generate`]) or the graded set would have more than 50 million nodes.
+pub fn generate_graded(
+    domain: &Domain,
+    h0: f64,
+    layout: Layout,
+    min_spacing: impl Fn(Point, Point) -> f64,
+) -> Result<Nodes, GeometryError> {
+    let (lo, hi) = domain.bounding_box();
+    let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
+    let Some((x, y)) = domain.as_rectangle() else {
+        return Err(GeometryError::Spacing {
+            spacing: h0,
+            size,
+            reason: "graded node sets are implemented for rectangles only",
+        });
+    };
+    // The checks of the uniform generator, on its grid.
+    generate(domain, h0, Layout::Structured).map(|_| ())?;
+    let nx = ((x[1] - x[0]) / h0).round().max(1.0) as u64;
+    let ny = ((y[1] - y[0]) / h0).round().max(1.0) as u64;
+    let cell_box = |level: u32, i: u64, j: u64| {
+        let (cx, cy) = ((nx << level) as f64, (ny << level) as f64);
+        let at = |v: [f64; 2], k: u64, n: f64| v[0] + (v[1] - v[0]) * k as f64 / n;
+        ([at(x, i, cx), at(y, j, cy)], [at(x, i + 1, cx), at(y, j + 1, cy)])
+    };
+    // Split cells, per level: `split[L]` holds (i, j) of the level-L cells that have children.
+    let mut split: Vec<std::collections::BTreeSet<(u64, u64)>> = vec![Default::default()];
+    let mut stack: Vec<(u32, u64, u64)> =
+        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
+    let mut cells = 0u64;
+    while let Some((level, i, j)) = stack.pop() {
+        let (a, b) = cell_box(level, i, j);
+        let nominal = h0 / (1u64 << level) as f64;
+        if level < MAX_LEVEL && nominal > min_spacing(a, b) * (1.0 + 1e-9) {
+            cells += 3;
+            if cells as f64 > 5.0e7 {
+                return Err(GeometryError::Spacing {
+                    spacing: h0,
+                    size,
+                    reason: "the refinement would create more than 50 million nodes",
+                });
+            }
+            if split.len() <= level as usize {
+                split.resize_with(level as usize + 1, Default::default);
+            }
+            split[level as usize].insert((i, j));
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                stack.push((level + 1, 2 * i + di, 2 * j + dj));
+            }
+        }
+    }
+    // Balance, finest level first: a split cell at level L ≥ 1 needs the level-(L − 1) cells
+    // around it (edge and corner neighbours) split, and their ancestors.
+    for level in (1..split.len()).rev() {
+        let (cx, cy) = (nx << level, ny << level);
+        let list: Vec<(u64, u64)> = split[level].iter().copied().collect();
+        for (i, j) in list {
+            for dj in -1i64..=1 {
+                for di in -1i64..=1 {
+                    let (ni, nj) = (i as i64 + di, j as i64 + dj);
+                    if ni < 0 || nj < 0 || ni >= cx as i64 || nj >= cy as i64 {
+                        continue;
+                    }
+                    let (mut l, mut a, mut b) = (level - 1, ni as u64 / 2, nj as u64 / 2);
+                    while split[l].insert((a, b)) && l > 0 {
+                        (l, a, b) = (l - 1, a / 2, b / 2);
+                    }
+                }
+            }
+        }
+    }
+    let depth = split.iter().rposition(|s| !s.is_empty()).map_or(0, |l| l as u32 + 1);
+    // Leaves: cells whose parent is split (or roots) and which are not split themselves.
+    let mut leaves: Vec<(u32, u64, u64)> = Vec::new();
+    let mut stack: Vec<(u32, u64, u64)> =
+        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
+    while let Some((level, i, j)) = stack.pop() {
+        if split.get(level as usize).is_some_and(|s| s.contains(&(i, j))) {
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                stack.push((level + 1, 2 * i + di, 2 * j + dj));
+            }
+        } else {
+            leaves.push((level, i, j));
+        }
+    }
+    // Corners on the lattice of the deepest level; (row, column) keys give row-by-row order.
+    let (nx_f, ny_f) = (nx << depth, ny << depth);
+    let mut sizes: std::collections::BTreeMap<(u64, u64), (f64, f64)> = Default::default();
+    // Nominal sizes, as the uniform generator's `h` (the grid fits the sides within rounding).
+    let leaf_size = |level: u32| h0 / (1u64 << level) as f64;
+    for &(level, i, j) in &leaves {
+        let k = 1u64 << (depth - level);
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            sizes.insert(((j + dj) * k, (i + di) * k), (0.0, f64::INFINITY));
+        }
+    }
+    for &(level, i, j) in &leaves {
+        let k = 1u64 << (depth - level);
+        let s = leaf_size(level);
+        // Corners and (when a finer neighbour put a node there) mid-sides.
+        for (di, dj) in [(0, 0), (2, 0), (0, 2), (2, 2), (1, 0), (0, 1), (2, 1), (1, 2)] {
+            if k == 1 && (di == 1 || dj == 1) {
+                continue;
+            }
+            let key = ((2 * j + dj) * k / 2, (2 * i + di) * k / 2);
+            if let Some(e) = sizes.get_mut(&key) {
+                e.0 = e.0.max(s);
+                e.1 = e.1.min(s);
+            }
+        }
+    }
+    let coord = |v: [f64; 2], k: u64, n: u64| {
+        if k == n { v[1] } else { v[0] + (v[1] - v[0]) * k as f64 / n as f64 }
+    };
+    let mut points = Vec::with_capacity(sizes.len());
+    let mut spacing = Vec::with_capacity(sizes.len());
+    let mut smallest = Vec::with_capacity(sizes.len());
+    for (&(row, col), &(largest, least)) in &sizes {
+        points.push([coord(x, col, nx_f), coord(y, row, ny_f)]);
+        spacing.push(if largest == least { largest } else { (least * largest).sqrt() });
+        smallest.push(least);
+    }
+    let finest = smallest.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+    let edges = tag_edges(domain, &points, 1e-9 * finest);
+    if let Layout::Jittered { amplitude, seed } = layout {
+        let mut rng = SplitMix64::new(seed);
+        for ((p, on), s) in points.iter_mut().zip(&edges).zip(&smallest) {
+            let (dx, dy) = (rng.uniform_symmetric(), rng.uniform_symmetric());
+            if on.is_empty() {
+                *p = [p[0] + amplitude * s * dx, p[1] + amplitude * s * dy];
+            }
+        }
+    }
+    Ok(Nodes { points, spacing, edges })
+}
+
 fn rectangle_grid(x: [f64; 2], y: [f64; 2], h: f64) -> Vec<Point> {
     let nx = ((x[1] - x[0]) / h).round().max(1.0) as usize;
     let ny = ((y[1] - y[0]) / h).round().max(1.0) as usize;
@@ -281,6 +466,100 @@ mod tests {
         // Roughly one node per h² of area.
         let ratio = n.len() as f64 * h * h / d.area();
         assert!((0.9..1.1).contains(&ratio), "{ratio}");
+    }
+
+    /// A rectangle refined along its bottom edge and in a box (docs/method.md §2.1).
+    fn graded(layout: Layout) -> (Domain, Nodes) {
+        use crate::problem::{RefineBox, Refinement};
+        let d = Domain::rectangle([0.0, 8.0], [-1.0, 1.0]).unwrap();
+        let r = Refinement {
+            boxes: vec![
+                RefineBox { x: [0.0, 8.0], y: [-1.0, -0.8], spacing: 0.0625 },
+                RefineBox { x: [5.0, 5.5], y: [0.2, 0.4], spacing: 0.03 },
+            ],
+        };
+        let n = generate_graded(&d, 0.25, layout, |lo, hi| r.min_spacing_in(0.25, lo, hi)).unwrap();
+        (d, n)
+    }
+
+    #[test]
+    fn graded_without_refinement_is_the_uniform_set() {
+        let d = Domain::rectangle([0.0, 4.0], [0.0, 2.0]).unwrap();
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 7 }] {
+            let a = generate(&d, 0.3, layout).unwrap();
+            let b = generate_graded(&d, 0.3, layout, |_, _| 0.3).unwrap();
+            assert_eq!(a.points, b.points);
+            assert_eq!(a.spacing, b.spacing);
+            assert_eq!(a.edges, b.edges);
+        }
+    }
+
+    #[test]
+    fn graded_set_has_boundary_nodes_at_the_local_spacing_and_bounded_ratios() {
+        let (d, n) = graded(Layout::Structured);
+        // Bottom edge: 8 / 0.0625 intervals; the corners are nodes.
+        let bottom = n.edges.iter().filter(|e| e.contains(0)).count();
+        assert_eq!(bottom, 129);
+        for c in [[0.0, -1.0], [8.0, -1.0], [8.0, 1.0], [0.0, 1.0]] {
+            assert!(n.points.contains(&c), "corner {c:?}");
+        }
+        // The box asks for 0.03: cells of 0.25 / 16 = 0.015625 there.
+        let finest = n.spacing.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+        assert!((finest - 0.015625).abs() < 1e-15, "{finest}");
+        assert_eq!(n.spacing.iter().fold(0.0f64, |m, &v| m.max(v)), 0.25);
+        // h_I is the geometric mean of the largest and smallest cells touched: the nearest
+        // neighbour is at least h_I / √2 away (cells differ by at most 2) and at most h_I (a
+        // corner of the smallest cell).
+        for (i, p) in n.points.iter().enumerate() {
+            let nn = n
+                .points
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| j != i)
+                .map(|(_, q)| (p[0] - q[0]).hypot(p[1] - q[1]))
+                .fold(f64::INFINITY, f64::min);
+            assert!(nn >= n.spacing[i] / 2f64.sqrt() * (1.0 - 1e-12), "node {i} at {p:?}: {nn}");
+            assert!(nn <= n.spacing[i] * (1.0 + 1e-12), "node {i} at {p:?}: {nn}");
+        }
+        // Every node inside the rectangle; tags only on the edges.
+        for (p, e) in n.points.iter().zip(&n.edges) {
+            let on = p[1] == -1.0 || p[1] == 1.0 || p[0] == 0.0 || p[0] == 8.0;
+            assert_eq!(on, !e.is_empty(), "{p:?}");
+            assert!((0..4).all(|k| d.edge_distance(k, *p) <= 0.0));
+        }
+        // Fewer nodes than the uniform set at the finest spacing in the band.
+        assert!(n.len() < 129 * 33, "{}", n.len());
+    }
+
+    #[test]
+    fn graded_jitter_is_deterministic_local_and_keeps_boundary() {
+        let layout = Layout::Jittered { amplitude: 0.4, seed: 9 };
+        let (_, a) = graded(layout);
+        let (_, b) = graded(layout);
+        let (_, s) = graded(Layout::Structured);
+        assert_eq!(a.points, b.points);
+        assert_eq!(a.spacing, s.spacing);
+        for i in 0..a.len() {
+            let (p, q) = (a.points[i], s.points[i]);
+            if a.edges[i].is_empty() {
+                // At most 0.4 of the smallest touched cell, itself at most h_I.
+                let moved = (p[0] - q[0]).abs().max((p[1] - q[1]).abs());
+                assert!(moved <= 0.4 * s.spacing[i] + 1e-15, "{i}: {moved}");
+            } else {
+                assert_eq!(p, q);
+            }
+        }
+    }
+
+    #[test]
+    fn graded_refuses_non_rectangles() {
+        let d = Domain::polygon(
+            vec![[0.0, 0.0], [4.0, 0.0], [0.0, 3.0]],
+            vec!["a".into(), "b".into(), "c".into()],
+        )
+        .unwrap();
+        let e = generate_graded(&d, 0.25, Layout::Structured, |_, _| 0.1).unwrap_err();
+        assert!(e.to_string().contains("rectangles only"), "{e}");
     }
 
     #[test]

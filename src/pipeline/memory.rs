@@ -28,7 +28,9 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
     let body = |p: &Problem| {
         let h = p.node_spacing;
         let perimeter: f64 = p.domain.curves().iter().map(|c| c.length()).sum();
-        let mut nodes = p.domain.area() / (h * h) + perimeter / h;
+        let (lo, hi) = p.domain.bounding_box();
+        let mut nodes =
+            p.domain.area() / (h * h) + perimeter / h + p.refinement.added_nodes(h, lo, hi);
         let disc = &p.discretisation;
         let per_node = match disc.method {
             // Q2 elements of size h: about four times the nodes, a symmetric pattern of at
@@ -57,7 +59,11 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
         nodes += n;
     }
     if let Some(spec) = &problem.contact {
-        let m = problem.domain.curve(spec.edge).length() / problem.node_spacing + 1.0;
+        // A refined contact edge has more candidates: its finest spacing is taken (an upper
+        // bound when the refinement lies elsewhere).
+        let m = problem.domain.curve(spec.edge).length()
+            / problem.refinement.finest(problem.node_spacing)
+            + 1.0;
         bytes += 4.0 * 8.0 * m * m;
     }
     (bytes + BASE_BYTES, nodes)

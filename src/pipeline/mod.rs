@@ -42,8 +42,7 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
 fn discretise_mfvm(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
     let mut clock = Clock::new(progress, Vec::new());
     let disc = &problem.discretisation;
-    let nodes = clock
-        .run("nodes", || nodes::generate(&problem.domain, problem.node_spacing, problem.layout))?;
+    let nodes = clock.run("nodes", || nodes::for_problem(problem))?;
     let supports = clock.run("supports", || Supports::new(&nodes, disc.mls.support_factor));
     let cells = clock.run("cells", || weak_form::build_cells(&problem.domain, &nodes))?;
     let (faces, face_quadrature) = clock.run("faces", || {

@@ -313,6 +313,39 @@ pub struct NodesFile {
     /// Seed of the jitter (default 1).
     #[serde(default)]
     pub seed: Option<u64>,
+    /// `[[nodes.refine]]`: regions of finer spacing (rectangles only; absent: uniform).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub refine: Vec<RefineFile>,
+}
+
+/// `[[nodes.refine]]`: a region of finer node spacing, either a band along a named edge
+/// (`edge`, `width`) or a box (`x`, `y`); the spacing grows back to `nodes.spacing` outside it
+/// (docs/method.md §2.1).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct RefineFile {
+    /// Spacing asked for inside the region (`> 0`, at most `nodes.spacing`).
+    pub spacing: f64,
+    /// Edge along which to refine (with `width`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub edge: Option<String>,
+    /// Width of the band along `edge` (`> 0`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<f64>,
+    /// `[x0, x1]` of a box (with `y`).
+    #[serde(
+        default,
+        deserialize_with = "exact::optional_pair",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub x: Option<[f64; 2]>,
+    /// `[y0, y1]` of a box (with `x`).
+    #[serde(
+        default,
+        deserialize_with = "exact::optional_pair",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub y: Option<[f64; 2]>,
 }
 
 /// `[material]`.
@@ -479,7 +512,7 @@ where
 impl NodesFile {
     /// `[nodes] spacing = h` on the structured layout.
     pub fn structured(spacing: f64) -> Self {
-        Self { spacing, layout: None, jitter: None, seed: None }
+        Self { spacing, layout: None, jitter: None, seed: None, refine: Vec::new() }
     }
 }
 

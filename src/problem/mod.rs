@@ -5,12 +5,14 @@
 //! - `validate` (private): `ProblemFile` → `Problem`, every range checked once;
 //! - [`discretisation`]: method, MLS parameters, node layout, presets and stability limits;
 //! - [`contact`]: the contact specification (rigid line or second body);
-//! - [`gmsh`]: a reader for Gmsh mesh files (MSH 4.1 and 2.2, ASCII).
+//! - [`gmsh`]: a reader for Gmsh mesh files (MSH 4.1 and 2.2, ASCII);
+//! - [`refine`]: the graded spacing of `[[nodes.refine]]`.
 
 pub mod contact;
 pub mod discretisation;
 pub mod file;
 pub mod gmsh;
+pub mod refine;
 mod validate;
 
 pub use contact::{Condensation, ContactSpec, ContactTarget, RigidLine};
@@ -19,6 +21,7 @@ pub use discretisation::{
     MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Preset,
 };
 pub use file::*;
+pub use refine::{RefineBox, Refinement};
 
 use crate::geometry::{Domain, Point};
 use crate::material::Material;
@@ -113,6 +116,8 @@ pub struct Problem {
     pub node_spacing: f64,
     /// Node layout.
     pub layout: Layout,
+    /// Static refinement (`[[nodes.refine]]`; empty: uniform spacing `node_spacing`).
+    pub refinement: Refinement,
     /// Material.
     pub material: Material,
     /// Discretisation parameters.
@@ -269,5 +274,58 @@ plane = "stress"
         );
         assert_eq!(d.preset, Some(Preset::Stabilised));
         assert_eq!((d.beta, d.mls.support_factor, d.quadrature_points), (1.0, 3.0, 3));
+    }
+
+    #[test]
+    fn refinement_tables_become_boxes_and_bad_ones_name_their_key() {
+        let with = |tables: &str| {
+            Problem::from_toml(&format!(
+                "{BODY}
+{tables}"
+            ))
+        };
+        let p = with(
+            "[[nodes.refine]]\nedge = \"bottom\"\nspacing = 0.125\nwidth = 0.5\n             [[nodes.refine]]\nx = [1.0, 2.0]\ny = [0.25, 0.5]\nspacing = 0.0625",
+        )
+        .unwrap();
+        assert_eq!(
+            p.refinement.boxes,
+            vec![
+                RefineBox { x: [0.0, 4.0], y: [0.0, 0.5], spacing: 0.125 },
+                RefineBox { x: [1.0, 2.0], y: [0.25, 0.5], spacing: 0.0625 },
+            ]
+        );
+        assert!(with("").unwrap().refinement.is_empty());
+        for (tables, key) in [
+            (
+                "[[nodes.refine]]\nedge = \"bottom\"\nspacing = 0.5\nwidth = 0.5",
+                "nodes.refine[0].spacing",
+            ),
+            (
+                "[[nodes.refine]]\nedge = \"base\"\nspacing = 0.1\nwidth = 0.5",
+                "nodes.refine[0].edge",
+            ),
+            (
+                "[[nodes.refine]]\nedge = \"left\"\nspacing = 0.1\nwidth = 5.0",
+                "nodes.refine[0].width",
+            ),
+            ("[[nodes.refine]]\nedge = \"left\"\nspacing = 0.1\nx = [0.0, 1.0]", "nodes.refine[0]"),
+            (
+                "[[nodes.refine]]\nx = [1.0, 0.0]\ny = [0.0, 1.0]\nspacing = 0.1",
+                "nodes.refine[0].x",
+            ),
+            (
+                "[[nodes.refine]]\nx = [5.0, 6.0]\ny = [0.0, 1.0]\nspacing = 0.1",
+                "nodes.refine[0].x",
+            ),
+            (
+                "[[nodes.refine]]\nx = [0.0, 1.0]\ny = [0.0, 1.0]\nspacing = 1e-9",
+                "nodes.refine[0].spacing",
+            ),
+            ("[[nodes.refine]]\nx = [0.0, 1.0]\ny = [0.0, 1.0]\nspacing = 0.1\nsize = 2", "size"),
+        ] {
+            let e = with(tables).unwrap_err().to_string();
+            assert!(e.contains(key), "{tables}: {e}");
+        }
     }
 }

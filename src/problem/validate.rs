@@ -218,6 +218,7 @@ fn validate_body(
 ) -> Result<Problem, ProblemError> {
     let domain = domain(file.geometry)?;
     let (h, layout) = node_layout(&file, &domain, discretisation.method)?;
+    let refinement = refinement(file.nodes, file.geometry, &domain, h, discretisation.method)?;
     let material = material(file.material)?;
     let boundary = edge_conditions(file.boundary, &domain)?;
     let body_force = match file.body_force {
@@ -233,6 +234,7 @@ fn validate_body(
         domain,
         node_spacing: h,
         layout,
+        refinement,
         material,
         discretisation,
         boundary,
@@ -384,6 +386,141 @@ fn node_layout(
         }
     }
     Ok((h, layout))
+}
+
+/// `[[nodes.refine]]` → the refinement regions (rectangles only, MFVM only).
+fn refinement(
+    nodes: &NodesFile,
+    geometry: &GeometryFile,
+    domain: &Domain,
+    h: f64,
+    method: Method,
+) -> Result<Refinement, ProblemError> {
+    if nodes.refine.is_empty() {
+        return Ok(Refinement::default());
+    }
+    let Some((dx, dy)) =
+        domain.as_rectangle().filter(|_| matches!(geometry, GeometryFile::Rectangle { .. }))
+    else {
+        return Err(invalid(
+            "nodes.refine",
+            format!("{} table(s)", nodes.refine.len()),
+            "refinement is implemented for kind = \"rectangle\" only",
+        ));
+    };
+    if method == Method::Fem {
+        return Err(invalid(
+            "nodes.refine",
+            format!("{} table(s)", nodes.refine.len()),
+            "discretisation.method = \"fem\" meshes a uniform grid; remove [[nodes.refine]]",
+        ));
+    }
+    let mut boxes = Vec::new();
+    for (k, r) in nodes.refine.iter().enumerate() {
+        let key = |name: &str| format!("nodes.refine[{k}].{name}");
+        let s = r.spacing;
+        if !(s.is_finite() && s > 0.0 && s <= h) {
+            return Err(invalid(
+                &key("spacing"),
+                s,
+                format!("must be a positive number at most nodes.spacing ({h})"),
+            ));
+        }
+        // Each halving of a cell is one quadtree level; 2^-12 h is far below any use.
+        if s < h / 4096.0 {
+            return Err(invalid(
+                &key("spacing"),
+                s,
+                format!("must be at least nodes.spacing / 4096 ({:e})", h / 4096.0),
+            ));
+        }
+        let region = match (&r.edge, r.width, r.x, r.y) {
+            (Some(edge), Some(width), None, None) => {
+                let e = domain.edge_index(edge).ok_or_else(|| {
+                    invalid(
+                        &key("edge"),
+                        edge,
+                        format!("no such edge; the edges are {:?}", domain.edge_names()),
+                    )
+                })?;
+                let extent = match e {
+                    0 | 2 => dy[1] - dy[0],
+                    _ => dx[1] - dx[0],
+                };
+                if !(width.is_finite() && width > 0.0 && width <= extent) {
+                    return Err(invalid(
+                        &key("width"),
+                        width,
+                        format!(
+                            "must be a positive number at most the extent across the edge ({extent})"
+                        ),
+                    ));
+                }
+                // Rectangle edges: bottom, right, top, left.
+                match e {
+                    0 => RefineBox { x: dx, y: [dy[0], dy[0] + width], spacing: s },
+                    1 => RefineBox { x: [dx[1] - width, dx[1]], y: dy, spacing: s },
+                    2 => RefineBox { x: dx, y: [dy[1] - width, dy[1]], spacing: s },
+                    _ => RefineBox { x: [dx[0], dx[0] + width], y: dy, spacing: s },
+                }
+            }
+            (None, None, Some(x), Some(y)) => {
+                for (name, v) in [("x", x), ("y", y)] {
+                    check_finite(&key(name), v[0])?;
+                    check_finite(&key(name), v[1])?;
+                    if v[0] >= v[1] {
+                        return Err(invalid(
+                            &key(name),
+                            format!("[{}, {}]", v[0], v[1]),
+                            "must be [low, high] with low < high",
+                        ));
+                    }
+                }
+                if x[1] <= dx[0] || x[0] >= dx[1] || y[1] <= dy[0] || y[0] >= dy[1] {
+                    return Err(invalid(
+                        &key("x"),
+                        format!("[{}, {}] (y = [{}, {}])", x[0], x[1], y[0], y[1]),
+                        format!(
+                            "the box must overlap the rectangle x = [{}, {}], y = [{}, {}]",
+                            dx[0], dx[1], dy[0], dy[1]
+                        ),
+                    ));
+                }
+                RefineBox { x, y, spacing: s }
+            }
+            _ => {
+                let given: Vec<&str> = [
+                    ("edge", r.edge.is_some()),
+                    ("width", r.width.is_some()),
+                    ("x", r.x.is_some()),
+                    ("y", r.y.is_some()),
+                ]
+                .iter()
+                .filter(|(_, on)| *on)
+                .map(|(n, _)| *n)
+                .collect();
+                return Err(invalid(
+                    &format!("nodes.refine[{k}]"),
+                    format!("keys {given:?}"),
+                    "give either edge and width (a band along an edge) or x and y (a box), with spacing",
+                ));
+            }
+        };
+        boxes.push(region);
+    }
+    // Nodes: the uniform set plus, per region, its part of the rectangle at its spacing.
+    let refinement = Refinement { boxes };
+    let (lo, hi) = ([dx[0], dy[0]], [dx[1], dy[1]]);
+    let estimate = domain.area() / (h * h) + refinement.added_nodes(h, lo, hi);
+    let boxes = refinement.boxes;
+    if estimate > 2.0e7 {
+        return Err(invalid(
+            "nodes.refine",
+            format!("{} table(s)", boxes.len()),
+            format!("would create about {estimate:.3e} nodes, more than 20 million"),
+        ));
+    }
+    Ok(Refinement { boxes })
 }
 
 /// `[material]` → the material.

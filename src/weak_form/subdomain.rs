@@ -265,6 +265,31 @@ mod tests {
     }
 
     #[test]
+    fn graded_cells_tile_and_only_boundary_nodes_reach_the_boundary() {
+        use crate::nodes::generate_graded;
+        use crate::problem::{RefineBox, Refinement};
+        let d = Domain::rectangle([0.0, 6.0], [-1.0, 1.0]).unwrap();
+        let r = Refinement {
+            boxes: vec![
+                RefineBox { x: [0.0, 6.0], y: [-1.0, -0.9], spacing: 0.05 },
+                RefineBox { x: [2.0, 2.5], y: [0.0, 0.5], spacing: 0.02 },
+            ],
+        };
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.4, seed: 3 }] {
+            let nodes =
+                generate_graded(&d, 0.2, layout, |lo, hi| r.min_spacing_in(0.2, lo, hi)).unwrap();
+            let cells = build_cells(&d, &nodes).unwrap();
+            assert!((total_area(&cells) - 12.0).abs() < 1e-11, "{layout:?}");
+            for (i, c) in cells.iter().enumerate() {
+                assert!(c.area() > 0.0);
+                if c.labels.iter().any(|l| matches!(l, EdgeLabel::Boundary(_))) {
+                    assert!(!nodes.edges[i].is_empty(), "interior node {i} reaches the boundary");
+                }
+            }
+        }
+    }
+
+    #[test]
     fn jittered_cells_tile_and_pair_up() {
         let d = Domain::rectangle([0.0, 3.0], [-1.0, 1.0]).unwrap();
         let nodes = generate(&d, 0.2, Layout::Jittered { amplitude: 0.4, seed: 11 }).unwrap();

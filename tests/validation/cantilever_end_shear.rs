@@ -9,6 +9,7 @@
 use super::common::*;
 use mlpg_contact::geometry::Domain;
 use mlpg_contact::nodes::Layout;
+use mlpg_contact::problem::{RefineBox, Refinement};
 use std::sync::Arc;
 
 use super::end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
@@ -29,9 +30,21 @@ struct Variant {
 const DEFAULT: Variant = Variant { support_factor: 2.0, beta: 0.0 };
 
 fn run(h: f64, layout: Layout, variant: Variant) -> Errors {
+    run_refined(h, layout, variant, Refinement::default()).0
+}
+
+/// [`run`] on a graded node set; also returns the node count and where the largest nodal
+/// stress error (von Mises of the difference) sits.
+fn run_refined(
+    h: f64,
+    layout: Layout,
+    variant: Variant,
+    refinement: Refinement,
+) -> (Errors, usize, [f64; 2]) {
     let domain = Domain::rectangle([0.0, LENGTH], [-DEPTH / 2.0, DEPTH / 2.0]).unwrap();
     let material = plane_stress(YOUNG, POISSON);
     let mut problem = base_problem(domain, h, layout, material);
+    problem.refinement = refinement;
     problem.discretisation.mls.support_factor = variant.support_factor;
     problem.discretisation.beta = variant.beta;
     problem.discretisation.allow_unstable = true;
@@ -57,19 +70,25 @@ fn run(h: f64, layout: Layout, variant: Variant) -> Errors {
         let e = YOUNG;
         [(s[0] - POISSON * s[1]) / e, (s[1] - POISSON * s[0]) / e, 2.0 * (1.0 + POISSON) * s[2] / e]
     };
+    let (mut worst, mut worst_at) = (0.0f64, [0.0; 2]);
     for (i, &p) in model.nodes.points.iter().enumerate() {
         let ue = exact_displacement(p);
         let u = s.displacement[i];
         err_u = err_u.max((u[0] - ue[0]).hypot(u[1] - ue[1]));
         let se = exact_stress(p);
         let ds = [s.stress[i][0] - se[0], s.stress[i][1] - se[1], s.stress[i][2] - se[2]];
+        let dev = (ds[0] * ds[0] - ds[0] * ds[1] + ds[1] * ds[1] + 3.0 * ds[2] * ds[2]).sqrt();
+        if dev > worst {
+            (worst, worst_at) = (dev, p);
+        }
         let de = compliance(ds);
         let ee = compliance(se);
         let area = model.mfvm().expect("an MFVM model").cells[i].area();
         e_num += area * (ds[0] * de[0] + ds[1] * de[1] + ds[2] * de[2]);
         e_den += area * (se[0] * ee[0] + se[1] * ee[1] + se[2] * ee[2]);
     }
-    Errors { displacement: err_u / max_u, energy: (e_num / e_den).sqrt() }
+    let errors = Errors { displacement: err_u / max_u, energy: (e_num / e_den).sqrt() };
+    (errors, model.nodes.len(), worst_at)
 }
 
 fn study(name: &str, layout: Layout, spacings: &[f64], variant: Variant) -> (Vec<f64>, Vec<f64>) {
@@ -155,4 +174,72 @@ fn cantilever_jittered_large_support() {
         assert!(me[k] > 4.0 * de[k], "h = {}: β = 0 {} vs β = 1 {}", h[k], me[k], de[k]);
     }
     assert!(me[1] > me[0], "β = 0 energy errors {me:?}: expected no convergence");
+}
+
+/// Graded node sets (docs/method.md §2.1): bands of spacing `h₀/2` and width `2 h₀` along
+/// the top and bottom edges (where the bending stress peaks), at `h₀ = 1, 0.5, 0.25`, with the
+/// stabilised blend `β = 0.5` (the pure mixed method is not robust at the transitions);
+/// MEASURED rows are printed (the table in docs/dev/adaptive.md). The end-shear solution is
+/// smooth, its error is spread over the whole beam, and local refinement does not beat the
+/// uniform set at the fine spacing here (the contact edge of the beam is where it pays:
+/// `beam_on_foundation.rs`). Worse: the transitions cost the structured grid its second-order
+/// displacement convergence (observed rate 1.02 against 2 uniform: a 2:1 transition is not
+/// symmetric, so the O(h) truncation terms no longer cancel).
+///
+/// Asserted (observed values in brackets, bounds with the margin stated): the energy error
+/// decreases at every halving; its rate is above 1.1 structured (1.31) and 0.65 jittered
+/// (0.80; the uniform jittered rate is ~1); at each `h₀` the graded energy error is at most
+/// 1.3 times the uniform one (≤ 1.16: the transitions cost under 30 %); at `h₀ = 0.25` the
+/// graded displacement error is at most 3 times the uniform one (2.26 structured, 0.74
+/// jittered: the rate-1 loss above, bounded).
+#[test]
+fn cantilever_graded_converges() {
+    let h = [1.0, 0.5, 0.25];
+    let variant = Variant { support_factor: 2.0, beta: 0.5 };
+    let bands = |h0: f64| Refinement {
+        boxes: vec![
+            RefineBox {
+                x: [0.0, LENGTH],
+                y: [-DEPTH / 2.0, -DEPTH / 2.0 + 2.0 * h0],
+                spacing: h0 / 2.0,
+            },
+            RefineBox {
+                x: [0.0, LENGTH],
+                y: [DEPTH / 2.0 - 2.0 * h0, DEPTH / 2.0],
+                spacing: h0 / 2.0,
+            },
+        ],
+    };
+    for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.25, seed: 3 }] {
+        let (mut du, mut de) = (Vec::new(), Vec::new());
+        for &h0 in &h {
+            let (uniform, n_uniform, _) = run_refined(h0, layout, variant, Refinement::default());
+            let (e, n, _) = run_refined(h0, layout, variant, bands(h0));
+            println!(
+                "MEASURED {layout:?} h0 = {h0}: uniform {n_uniform} nodes, displacement {:.3e}, energy {:.3e}; graded {n} nodes, displacement {:.3e}, energy {:.3e}",
+                uniform.displacement, uniform.energy, e.displacement, e.energy
+            );
+            du.push(e.displacement);
+            de.push(e.energy);
+            assert!(
+                e.energy <= 1.3 * uniform.energy,
+                "h0 = {h0}: energy {:e} vs {:e}",
+                e.energy,
+                uniform.energy
+            );
+            if h0 == 0.25 {
+                assert!(
+                    e.displacement <= 3.0 * uniform.displacement,
+                    "displacement {:e} vs {:e}",
+                    e.displacement,
+                    uniform.displacement
+                );
+            }
+        }
+        let (ru, re) = (convergence_rate(&h, &du), convergence_rate(&h, &de));
+        println!("MEASURED {layout:?} graded rates: displacement {ru:.2}, energy {re:.2}");
+        assert!(de.windows(2).all(|w| w[1] < w[0]), "energy errors {de:?}");
+        let bound = if layout == Layout::Structured { 1.1 } else { 0.65 };
+        assert!(re > bound, "energy rate {re}");
+    }
 }

@@ -25,6 +25,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         domain,
         node_spacing: h,
         layout,
+        refinement: Default::default(),
         material,
         discretisation: Discretisation::default(),
         boundary: vec![EdgeCondition::free(); edges],

@@ -5,10 +5,15 @@
 //! docs/method.md §3.9 mixes two exact strains (collocated and direct MLS), so it must pass for
 //! every `β`: checked for `β ∈ {0, 0.1, 0.5, 1}` at `α_s = 2`, and for `β ∈ {0.5, 1}` at
 //! `α_s = 3` (a support the pure mixed method refuses).
+//!
+//! Graded node sets (docs/method.md §2.1) must pass too: the MLS consistency and the cell
+//! tiling do not depend on the node spacing being uniform, so the same bound holds on three
+//! gradings (a band along an edge, a box two levels finer, both), structured and jittered.
 
 use super::common::*;
 use mlpg_contact::geometry::Domain;
 use mlpg_contact::nodes::Layout;
+use mlpg_contact::problem::{RefineBox, Refinement};
 use std::sync::Arc;
 
 /// Relative max-norm error bound: round-off with a margin (condition of K ~ 1e4–1e6).
@@ -21,18 +26,17 @@ fn exact(p: [f64; 2]) -> [f64; 2] {
     [1e-3 * (1.0 + 2.0 * p[0] - 3.0 * p[1]), 1e-3 * (-0.5 + 1.5 * p[0] + 0.7 * p[1])]
 }
 
-fn run(layout: Layout, beta: f64, support_factor: f64) -> f64 {
+fn run_graded(layout: Layout, refinement: Refinement, beta: f64, support_factor: f64) -> f64 {
     let domain = Domain::rectangle([0.0, 2.0], [0.0, 2.0]).unwrap();
     let mut problem = base_problem(domain, 0.2, layout, plane_stress(1000.0, 0.3));
+    problem.refinement = refinement;
     problem.discretisation.beta = beta;
     problem.discretisation.mls.support_factor = support_factor;
     let u: VectorField = Arc::new(exact);
     problem.boundary = vec![displacement(u); 4];
     let s = mlpg_contact::solve(&problem).unwrap();
     let scale = 1e-3 * 6.0;
-    let nodes =
-        mlpg_contact::nodes::generate(&problem.domain, problem.node_spacing, problem.layout)
-            .unwrap();
+    let nodes = mlpg_contact::nodes::for_problem(&problem).unwrap();
     nodes
         .points
         .iter()
@@ -45,12 +49,28 @@ fn run(layout: Layout, beta: f64, support_factor: f64) -> f64 {
 }
 
 fn check(name: &str, layout: Layout) {
+    check_graded(name, layout, Refinement::default());
+}
+
+fn check_graded(name: &str, layout: Layout, refinement: Refinement) {
     let cases = BETAS.iter().map(|&b| (b, 2.0)).chain([(0.5, 3.0), (1.0, 3.0)]);
     for (beta, alpha) in cases {
-        let err = run(layout, beta, alpha);
+        let err = run_graded(layout, refinement.clone(), beta, alpha);
         println!("{name}, α_s = {alpha}, β = {beta}: {err:.3e}");
         assert!(err < TOLERANCE, "{name} patch test error {err:.3e} at α_s = {alpha}, β = {beta}");
     }
+}
+
+/// The gradings of the graded patch tests on the square `[0, 2]²` at `h₀ = 0.2`: a band of
+/// `h₀/2` along the bottom edge, a box of `h₀/4` off-centre (two transition levels), and both.
+fn gradings() -> [(&'static str, Refinement); 3] {
+    let band = RefineBox { x: [0.0, 2.0], y: [0.0, 0.3], spacing: 0.1 };
+    let inner = RefineBox { x: [0.7, 1.1], y: [1.2, 1.5], spacing: 0.05 };
+    [
+        ("band", Refinement { boxes: vec![band] }),
+        ("box", Refinement { boxes: vec![inner] }),
+        ("band+box", Refinement { boxes: vec![band, inner] }),
+    ]
 }
 
 #[test]
@@ -61,4 +81,19 @@ fn patch_test_structured() {
 #[test]
 fn patch_test_jittered() {
     check("jittered", Layout::Jittered { amplitude: 0.3, seed: 5 });
+}
+
+#[test]
+fn patch_test_graded_structured() {
+    for (name, refinement) in gradings() {
+        check_graded(&format!("graded {name}, structured"), Layout::Structured, refinement);
+    }
+}
+
+#[test]
+fn patch_test_graded_jittered() {
+    for (name, refinement) in gradings() {
+        let layout = Layout::Jittered { amplitude: 0.3, seed: 5 };
+        check_graded(&format!("graded {name}, jittered"), layout, refinement);
+    }
 }

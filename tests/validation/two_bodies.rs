@@ -177,3 +177,29 @@ fn mirror_image_equals_rigid_line() {
     assert!(ca.closed.iter().any(|&c| c) && ca.closed.iter().any(|&c| !c), "want partial contact");
     assert!(worst < 1e-9 * scale, "forces differ by {worst:.3e}");
 }
+
+/// Graded node sets (docs/method.md §2.1) on both blocks, refined along the contact edges
+/// (upper: 0.05 within 0.2 of its bottom, h₀ = 0.1; lower: 0.0625 within 0.25 of its top,
+/// h₀ = 0.125): the uniaxial solution is linear, so the pressure must stay uniform and exact
+/// to round-off (the patch-test argument), for the paper's `β = 0` and the blend `β = 0.5`.
+#[test]
+fn graded_blocks_give_uniform_pressure() {
+    use mlpg_contact::problem::{RefineBox, Refinement};
+    let exact = YOUNG * PRESS / 2.0;
+    for beta in [0.0, 0.5] {
+        let mut problem = with_variant(two_blocks(0.1, 0.125), 2.0, beta);
+        problem.refinement =
+            Refinement { boxes: vec![RefineBox { x: [0.0, 2.0], y: [1.0, 1.2], spacing: 0.05 }] };
+        if let Some(lower) = problem.second_body.as_deref_mut() {
+            lower.refinement = Refinement {
+                boxes: vec![RefineBox { x: [0.0, 2.0], y: [0.75, 1.0], spacing: 0.0625 }],
+            };
+        }
+        let (p, total, _) = pressures(&problem);
+        let worst = p.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+        println!("graded, β = {beta}: {} candidates, max |p/p_exact − 1| = {worst:.3e}", p.len());
+        assert_eq!(p.len(), 41, "candidates at the refined spacing 0.05");
+        assert!(worst < 1e-8, "β = {beta}: pressure not uniform: {worst:.3e}");
+        assert!((total / (2.0 * exact) - 1.0).abs() < 1e-8, "total {total}");
+    }
+}
