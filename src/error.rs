@@ -93,6 +93,7 @@ impl Error {
             Error::Contact(C::NoPartner { .. }) => "contact.edge, contact.target_edge, geometry",
             Error::Contact(_) => "contact.edge, boundary[*].displacement",
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
+            Error::Lcp(L::ActiveSet(_)) => "contact.solver",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
             Error::NonFinite { .. } => "material.young, boundary[*] values, body_force",
             Error::Memory { .. } => "nodes.spacing, discretisation.support_factor",

@@ -33,4 +33,6 @@ mod validation {
     mod static_pivoting;
     // Coulomb friction, one step: tiny μ = frictionless, huge μ = bonded, gross sliding.
     mod friction;
+    // The active-set contact solver equals Lemke on the shipped rigid-obstacle problems.
+    mod active_set;
 }

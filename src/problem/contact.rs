@@ -52,6 +52,29 @@ pub struct ContactSpec {
     /// Coulomb friction coefficient `μ ≥ 0`; 0 (the default) is frictionless contact and takes
     /// the frictionless path unchanged (docs/method.md §8).
     pub friction: f64,
+    /// Which solver takes the frictionless contact problem (docs/method.md §5).
+    #[serde(skip)]
+    pub solver: ContactSolver,
+}
+
+/// `[contact] solver`: how the frictionless contact problem is solved (docs/method.md §5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactSolver {
+    /// Lemke's method on the dense condensed compliance `M = G K⁻¹ E` (docs/method.md §5).
+    Lemke,
+    /// The primal–dual active-set method on the sparse system, without `M` (docs/method.md
+    /// §5.2); a rigid obstacle only, frictionless, one load step.
+    ActiveSet,
+    /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (and always with two bodies,
+    /// friction or load steps), the active-set method from there on.
+    #[default]
+    Auto,
+}
+
+impl ContactSolver {
+    /// Candidates from which `Auto` takes the active-set method.
+    pub const AUTO_THRESHOLD: usize = 1000;
 }
 
 /// How the problem is condensed onto the contact unknowns.

@@ -132,6 +132,15 @@ impl TryFrom<ProblemFile> for Problem {
             ));
         }
         problem.steps = load_steps(&file, &problem)?;
+        if !problem.steps.is_empty()
+            && problem.contact.is_some_and(|c| c.solver == ContactSolver::ActiveSet)
+        {
+            return Err(invalid(
+                "contact.solver",
+                "active_set",
+                "the active-set solver handles frictionless contact in one load step; with [[step]] use \"lemke\" or \"auto\"",
+            ));
+        }
         Ok(problem)
     }
 }
@@ -507,6 +516,20 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
     let allow_indefinite = c.allow_indefinite.unwrap_or(false);
     let condensation = c.condensation.unwrap_or_default();
     let friction = c.friction.unwrap_or(0.0);
+    let solver = c.solver.unwrap_or_default();
+    if solver == ContactSolver::ActiveSet {
+        let refuse = |why: &str| Err(invalid("contact.solver", "active_set", why));
+        if c.target_edge.is_some() || problem.second_body.is_some() {
+            return refuse(
+                "the active-set solver handles a rigid obstacle only (a second body spreads each contact force over several of its cells); use \"lemke\" or \"auto\"",
+            );
+        }
+        if friction > 0.0 {
+            return refuse(
+                "the active-set solver handles frictionless contact in one load step; with contact.friction or [[step]] use \"lemke\" or \"auto\"",
+            );
+        }
+    }
     if !(friction.is_finite() && friction >= 0.0) {
         return Err(invalid(
             "contact.friction",
@@ -603,6 +626,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             allow_indefinite,
             condensation,
             friction,
+            solver,
         });
     }
     if c.target_edge.is_some() {
@@ -666,6 +690,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         allow_indefinite,
         condensation,
         friction,
+        solver,
     })
 }
 

@@ -1,0 +1,148 @@
+//! The primal–dual active-set contact solver (docs/method.md §5.1, `contact.solver =
+//! "active_set"`) against Lemke's method on the condensed LCP (§5), on every shipped problem
+//! with a rigid obstacle (MFVM, stabilised MFVM, FE, the Hertz cylinder) and on a block
+//! against an inclined obstacle (the normal not along an axis: two rows change per active
+//! candidate). Both answer the same LCP exactly, so forces and gaps must agree to round-off:
+//! the tolerance 1e-10 (relative to the largest force, resp. the largest gap magnitude) leaves
+//! room for the condition of the two routes (`M`'s eigenvalue ratio is ≈ 2e-5 on the beam)
+//! times the double-precision ε. Each answer is also checked on its own: scaled
+//! complementarity residuals, and global equilibrium of the recovered solution.
+
+use mlpg_contact::Error;
+use mlpg_contact::lcp::LcpError;
+use mlpg_contact::lcp::active_set::ActiveSetError;
+use mlpg_contact::problem::{ContactSolver, Problem};
+use mlpg_contact::solution::Solution;
+
+/// Agreement of the two solvers (see the module documentation).
+const AGREEMENT: f64 = 1e-10;
+/// Scaled complementarity residuals of each answer.
+const KKT_TOLERANCE: f64 = 1e-9;
+/// Global equilibrium of each recovered solution, relative to the applied load.
+const EQUILIBRIUM_TOLERANCE: f64 = 1e-8;
+
+fn shipped(file: &str) -> Problem {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file);
+    Problem::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+fn solve_with(problem: &Problem, solver: ContactSolver) -> Solution {
+    let mut p = problem.clone();
+    p.contact.as_mut().unwrap().solver = solver;
+    mlpg_contact::solve(&p).unwrap()
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+}
+
+fn check_own(name: &str, s: &Solution) {
+    let c = s.contact.as_ref().unwrap();
+    let r = &c.lcp.residuals;
+    assert!(r.min_z >= -KKT_TOLERANCE && r.min_w >= -KKT_TOLERANCE, "{name}: {r:?}");
+    assert!(r.max_complementarity <= KKT_TOLERANCE, "{name}: {r:?}");
+    assert!(s.equilibrium_error < EQUILIBRIUM_TOLERANCE, "{name}: {}", s.equilibrium_error);
+}
+
+/// Returns (largest force difference, largest gap difference), both relative.
+fn compare(name: &str, problem: &Problem) -> (f64, f64) {
+    let lemke = solve_with(problem, ContactSolver::Lemke);
+    let active = solve_with(problem, ContactSolver::ActiveSet);
+    check_own(name, &lemke);
+    check_own(name, &active);
+    let (a, b) = (active.contact.as_ref().unwrap(), lemke.contact.as_ref().unwrap());
+    assert!(a.condensed.is_none() && a.active_set.is_some(), "{name}: not the active-set path");
+    assert!(b.condensed.is_some() && b.active_set.is_none(), "{name}: not the Lemke path");
+    let diff =
+        |x: &[f64], y: &[f64]| x.iter().zip(y).fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));
+    // The largest gap of a closed candidate (0 in exact arithmetic) measures how well each
+    // answer solves its own problem; the other's forces may differ by that gap over the
+    // smallest eigenvalue of M's symmetric part (from the Lemke run's checks of M).
+    let closed_gap = |c: &mlpg_contact::ContactSolution| {
+        c.gap.iter().zip(&c.closed).filter(|p| *p.1).fold(0.0_f64, |m, (g, _)| m.max(g.abs()))
+    };
+    let (ga, gb) = (closed_gap(a), closed_gap(b));
+    let lambda_min = b.condensed.as_ref().unwrap().min_symmetric_eigenvalue;
+    let p_max = max_abs(&b.lcp.z);
+    let conditioned = 4.0 * ga.max(gb) / lambda_min / p_max;
+    println!("{name}: closed gaps: active set {ga:.1e}, Lemke {gb:.1e}; bound {conditioned:.1e}");
+    let force = diff(&a.lcp.z, &b.lcp.z) / p_max;
+    let gap = diff(&a.gap, &b.gap) / max_abs(&b.gap).max(max_abs(&b.candidates.initial_gap));
+    assert!(
+        force < AGREEMENT.max(conditioned),
+        "{name}: forces differ by {force:e} (bound {conditioned:e})"
+    );
+    assert!(gap < AGREEMENT, "{name}: gaps differ by {gap:e}");
+    assert_eq!(a.closed, b.closed, "{name}: closed sets differ");
+    (force, gap)
+}
+
+#[test]
+fn shipped_rigid_obstacle_problems_equal_lemke() {
+    for file in [
+        "beam_on_foundation.toml",
+        "beam_on_foundation_stabilised.toml",
+        "beam_on_foundation_fem.toml",
+        "hertz_cylinder.toml",
+    ] {
+        let (force, gap) = compare(file, &shipped(file));
+        println!("{file}: forces {force:.1e}, gaps {gap:.1e}");
+    }
+}
+
+/// A 2 × 1 block, its top pushed down by 0.02 and held in x on the left, pressed onto a rigid
+/// line inclined at atan(0.1) that touches first at the left end: the normal has both
+/// components, so the gap row and the tangential combination both replace rows.
+#[test]
+fn inclined_obstacle_equals_lemke() {
+    let problem = Problem::from_toml(
+        r#"
+        name = "inclined"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 2.0]
+        y = [0.0, 1.0]
+        [nodes]
+        spacing = 0.1
+        [material]
+        young = 1000.0
+        poisson = 0.3
+        plane = "strain"
+        [[boundary]]
+        edge = "top"
+        displacement = { y = -0.02 }
+        [[boundary]]
+        edge = "left"
+        displacement = { x = 0.0 }
+        [contact]
+        edge = "bottom"
+        obstacle_point = [0.0, -0.005]
+        obstacle_normal = [0.1, 1.0]
+        "#,
+    )
+    .unwrap();
+    let (force, gap) = compare("inclined", &problem);
+    println!("inclined: forces {force:.1e}, gaps {gap:.1e}");
+    let s = solve_with(&problem, ContactSolver::ActiveSet);
+    let c = s.contact.as_ref().unwrap();
+    let closed = c.closed.iter().filter(|&&v| v).count();
+    assert!(closed > 0 && closed < c.closed.len(), "a partial contact zone: {closed}");
+}
+
+/// Two bodies: the problem file is refused with the key named; a problem built in code
+/// reaches the solver and is refused there.
+#[test]
+fn two_bodies_are_refused() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let with = text.replace("[contact]\n", "[contact]\nsolver = \"active_set\"\n");
+    assert_ne!(with, text);
+    let err = Problem::from_toml(&with).unwrap_err().to_string();
+    assert!(err.contains("contact.solver") && err.contains("rigid obstacle"), "{err}");
+    let mut p = Problem::from_toml(&text).unwrap();
+    p.contact.as_mut().unwrap().solver = ContactSolver::ActiveSet;
+    match mlpg_contact::solve(&p) {
+        Err(Error::Lcp(LcpError::ActiveSet(ActiveSetError::TwoBodies))) => {}
+        other => panic!("expected the two-body refusal, got {:?}", other.err()),
+    }
+}
