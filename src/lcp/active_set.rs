@@ -109,7 +109,8 @@ pub struct ActiveSetSolution {
     pub lcp: LcpSolution,
     /// The active set at the end.
     pub active: Vec<bool>,
-    /// The gaps without contact forces `q` ([`ActiveSetSystem::free_gap`]).
+    /// The gaps without contact forces `q` ([`ActiveSetSystem::free_gap`]), or the initial
+    /// gaps `g0` when `q` could not be computed.
     pub free_gap: Vec<f64>,
     /// Linear solves (iterations).
     pub iterations: usize,
@@ -125,11 +126,14 @@ pub struct ActiveSetSolution {
 pub trait ActiveSetSystem {
     /// Number of candidates.
     fn size(&self) -> usize;
-    /// `q`: the gaps without contact forces.
+    /// `q`: the gaps without contact forces, or `None` when the body cannot be solved without
+    /// them (held by contact alone, or too ill-conditioned for the solver's accuracy check).
     ///
     /// # Errors
-    /// A failed solve.
-    fn free_gap(&mut self) -> Result<Vec<f64>, ActiveSetError>;
+    /// A failed solve other than that.
+    fn free_gap(&mut self) -> Result<Option<Vec<f64>>, ActiveSetError>;
+    /// `g0`: the initial gaps (the scale of the gaps when `q` is unknown).
+    fn initial_gap(&self) -> Vec<f64>;
     /// Forces `P` and gaps `g` of the problem of `active` (`g_c = 0` on it, `P_c = 0` off it).
     ///
     /// # Errors
@@ -141,14 +145,6 @@ pub trait ActiveSetSystem {
     /// # Errors
     /// A failed solve.
     fn reduced_lcp(&mut self, active: &[bool], free: &[usize]) -> Result<Lcp, ActiveSetError>;
-    /// Refines the forces `p` of the final active set (the default keeps them).
-    ///
-    /// # Errors
-    /// A failed solve.
-    fn polish(&mut self, active: &[bool], p: Vec<f64>) -> Result<Vec<f64>, ActiveSetError> {
-        let _ = active;
-        Ok(p)
-    }
 }
 
 /// Solves the contact problem of `system` by the primal–dual active-set method, starting from
@@ -162,10 +158,18 @@ pub fn solve(
     params: &ActiveSetParams,
 ) -> Result<ActiveSetSolution, ActiveSetError> {
     let m = system.size();
-    let q = system.free_gap()?;
     let max_abs = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    // Start from the candidates that the free body would push through the obstacle; without
+    // a free solution, from all of them (and g0 stands in for q in the scales).
+    let (q, mut active) = match system.free_gap()? {
+        Some(q) => {
+            let q_max = max_abs(&q);
+            let active = q.iter().map(|&g| g < -params.tolerance * q_max).collect();
+            (q, active)
+        }
+        None => (system.initial_gap(), vec![true; m]),
+    };
     let q_max = max_abs(&q);
-    let mut active: Vec<bool> = q.iter().map(|&g| g < -params.tolerance * q_max).collect();
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
     seen.insert(active.clone());
     let mut ever_changed = vec![false; m];
@@ -183,7 +187,6 @@ pub fn solve(
         let changed = (0..m).filter(|&c| next[c] != active[c]).count();
         changes.push(changed);
         if changed == 0 {
-            let p = system.polish(&active, p)?;
             let z: Vec<f64> = p.iter().map(|&v| v.max(0.0)).collect();
             let residuals = residuals(&q, &z, &g);
             let end = if rescues.is_empty() {
@@ -339,8 +342,11 @@ impl ActiveSetSystem for DenseSystem<'_> {
     fn size(&self) -> usize {
         self.lcp.size()
     }
-    fn free_gap(&mut self) -> Result<Vec<f64>, ActiveSetError> {
-        Ok(self.lcp.q().to_vec())
+    fn free_gap(&mut self) -> Result<Option<Vec<f64>>, ActiveSetError> {
+        Ok(Some(self.lcp.q().to_vec()))
+    }
+    fn initial_gap(&self) -> Vec<f64> {
+        self.lcp.q().to_vec()
     }
     fn solve_active(&mut self, active: &[bool]) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
         let n = self.size();
@@ -386,6 +392,13 @@ impl ActiveSetSystem for DenseSystem<'_> {
     }
 }
 
+/// Memory for the stored update columns `K_B⁻¹ e_r` of a [`RigidObstacle`] (1 GB).
+const COLUMN_BYTES: usize = 1 << 30;
+
+/// One update column: its dots with every candidate's row changes, and the column itself
+/// when it is stored.
+type UpdateColumn = (Vec<f64>, Option<Vec<f64>>);
+
 /// A sparse row `(column, value)`.
 type Row = Vec<(usize, f64)>;
 
@@ -412,6 +425,8 @@ pub struct RigidObstacleStats {
     pub update_seconds: f64,
     /// Largest rank of a low-rank update used.
     pub max_update_rank: usize,
+    /// Solves that needed a step of iterative refinement.
+    pub refinements: usize,
 }
 
 enum Base<'a> {
@@ -442,18 +457,26 @@ pub struct RigidObstacle<'a> {
     operator: &'a BodyOperator,
     initial_gap: &'a [f64],
     points: Option<&'a [Point]>,
-    original: &'a Factorisation,
-    gap_scale: f64,
+    /// The active set last solved and its displacements.
+    last: Option<(Vec<bool>, Vec<f64>)>,
+    /// The factorisation of `K` itself.
+    model: &'a Factorisation,
+    /// `‖K‖∞`, largest row sum (the gap rows are scaled to the same size).
+    norm: f64,
     replacements: Vec<Replacement>,
     base: Base<'a>,
     base_active: Vec<bool>,
     /// `z_r = K_B⁻¹ e_r` reduced to the dot products with every candidate's row changes:
     /// `dots[r][(c, k)] = (new − old row k of c)·z_r`, keyed by the DOF `r`.
     dots: HashMap<usize, Vec<f64>>,
+    /// The columns `z_r` themselves while they fit in [`COLUMN_BYTES`] (then a solve with the
+    /// update costs one solve with `K_B` instead of two).
+    columns: HashMap<usize, Vec<f64>>,
     /// Offsets of each candidate's rows in a `dots` vector.
     slot: Vec<usize>,
     factor_seconds: f64,
     column_seconds: f64,
+    single_solve_seconds: f64,
     /// Work counters.
     pub stats: RigidObstacleStats,
 }
@@ -540,15 +563,24 @@ impl<'a> RigidObstacle<'a> {
             operator,
             initial_gap,
             points,
-            original: factorisation,
-            gap_scale: scale,
+            last: None,
+            model: factorisation,
+            norm: {
+                let mut rows = vec![0.0_f64; matrix.n];
+                for (k, &r) in matrix.row_idx.iter().enumerate() {
+                    rows[r] += matrix.values[k].abs();
+                }
+                rows.into_iter().fold(0.0, f64::max)
+            },
             replacements,
             base: Base::Borrowed(factorisation),
             base_active: vec![false; m],
             dots: HashMap::new(),
+            columns: HashMap::new(),
             slot,
             factor_seconds: stats.ordering_seconds + stats.symbolic_seconds + stats.numeric_seconds,
             column_seconds: f64::NAN,
+            single_solve_seconds: f64::NAN,
             stats: RigidObstacleStats::default(),
         })
     }
@@ -621,10 +653,23 @@ impl<'a> RigidObstacle<'a> {
             .collect();
         let missing =
             changed.iter().filter(|&&(c, k, _)| !self.dots.contains_key(&self.dof(c, k))).count();
-        // A solve costs at least a tenth of a millisecond to estimate before one was timed.
-        let per_column = if self.column_seconds.is_finite() { self.column_seconds } else { 1e-4 };
+        // Before any column was computed, the time of a single solve over 8: solving blocks of
+        // 64 right-hand sides cost 1/4 (faer's LU, 42k-node strip) to 1/9 (static pivoting,
+        // 75k-node beam) of a single solve per column.
+        let per_column = if self.column_seconds.is_finite() {
+            self.column_seconds
+        } else if self.single_solve_seconds.is_finite() {
+            self.single_solve_seconds / 8.0
+        } else {
+            1e-4
+        };
         let too_costly = missing as f64 * per_column > self.factor_seconds;
         if changed.len() > 1024 || too_costly {
+            // Drop the previous row-replaced factors (and their columns) first: at most two
+            // factorisations are alive at a time.
+            self.base = Base::Borrowed(self.model);
+            self.dots.clear();
+            self.columns.clear();
             let t = Instant::now();
             let matrix = self.matrix_of(active);
             let f = match self.points {
@@ -638,6 +683,7 @@ impl<'a> RigidObstacle<'a> {
             self.base = Base::Owned(Box::new(f));
             self.base_active = active.to_vec();
             self.dots.clear();
+            self.columns.clear();
             return Ok(Vec::new());
         }
         // New columns z_r = K_B⁻¹ e_r, reduced to their dots with every candidate's changes.
@@ -651,7 +697,8 @@ impl<'a> RigidObstacle<'a> {
             let n = self.matrix.n;
             let f = self.base.get();
             let (reps, slot) = (&self.replacements, &self.slot);
-            let blocks: Vec<Vec<Vec<f64>>> = new
+            let keep = (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
+            let blocks: Vec<Vec<UpdateColumn>> = new
                 .par_chunks(64)
                 .map(|chunk| {
                     let mut x = Mat::<f64>::zeros(n, chunk.len());
@@ -668,16 +715,19 @@ impl<'a> RigidObstacle<'a> {
                                     out[slot[c] + k] = diff.iter().map(|&(i, v)| v * z[i]).sum();
                                 }
                             }
-                            out
+                            (out, keep.then(|| z.to_vec()))
                         })
                         .collect()
                 })
                 .collect();
-            for (r, d) in new.iter().zip(blocks.into_iter().flatten()) {
+            for (r, (d, z)) in new.iter().zip(blocks.into_iter().flatten()) {
                 if d.iter().any(|v| !v.is_finite()) {
                     return Err(singular("the factorisation behind the low-rank update"));
                 }
                 self.dots.insert(*r, d);
+                if let Some(z) = z {
+                    self.columns.insert(*r, z);
+                }
             }
             self.column_seconds = t.elapsed().as_secs_f64() / new.len() as f64;
             self.stats.update_columns += new.len();
@@ -703,8 +753,8 @@ impl<'a> RigidObstacle<'a> {
         // y = K_B⁻¹ b, in parallel over blocks of 64 columns.
         let t = Instant::now();
         solve_blocks(f, x.rb_mut());
-        if cols == 1 && !self.column_seconds.is_finite() {
-            self.column_seconds = t.elapsed().as_secs_f64();
+        if cols == 1 && !self.single_solve_seconds.is_finite() {
+            self.single_solve_seconds = t.elapsed().as_secs_f64();
         }
         if changed.is_empty() {
             return Ok(());
@@ -720,6 +770,7 @@ impl<'a> RigidObstacle<'a> {
             }
         }
         let perm = dense_lu(&mut cap, k).ok_or_else(|| singular("the low-rank update"))?;
+        let stored = changed.iter().all(|&(c, kk, _)| self.columns.contains_key(&self.dof(c, kk)));
         let mut corrections = Mat::<f64>::zeros(self.matrix.n, cols);
         for col in 0..cols {
             let y = x.rb().col(col);
@@ -732,11 +783,22 @@ impl<'a> RigidObstacle<'a> {
                 .collect();
             dense_lu_solve(&cap, &perm, k, &mut t);
             for (&(c, kk, _), v) in changed.iter().zip(&t) {
-                corrections[(self.dof(c, kk), col)] = *v;
+                if stored {
+                    // K_B⁻¹ U v from the stored columns.
+                    let z = &self.columns[&self.dof(c, kk)];
+                    let mut out = corrections.col_mut(col);
+                    for (i, zi) in z.iter().enumerate() {
+                        out[i] += zi * v;
+                    }
+                } else {
+                    corrections[(self.dof(c, kk), col)] = *v;
+                }
             }
         }
         // x = y − K_B⁻¹ (U v).
-        solve_blocks(f, corrections.as_mut());
+        if !stored {
+            solve_blocks(f, corrections.as_mut());
+        }
         for col in 0..cols {
             for i in 0..self.matrix.n {
                 x[(i, col)] -= corrections[(i, col)];
@@ -760,14 +822,29 @@ impl<'a> RigidObstacle<'a> {
             .collect()
     }
 
-    /// The displacements `û` of the last solved active set are not kept; this solves for them.
+    /// The displacements `û` of the problem of `active`: those of the last
+    /// [`ActiveSetSystem::solve_active`] when it solved `active` (the final answer's, after
+    /// [`solve`]), else a new solve. They satisfy `K û = f + E P` with the forces of that
+    /// solve, so they are the displacements of the contact solution; recomputing them as
+    /// `K⁻¹(f + E P)` would carry the round-off of `P` (recovered from a row residual) into
+    /// the closed gaps, and fails where `K` alone is too ill-conditioned.
+    ///
+    /// # Errors
+    /// A failed solve.
+    pub fn final_displacements(&mut self, active: &[bool]) -> Result<Vec<f64>, ActiveSetError> {
+        match self.last.take() {
+            Some((a, u)) if a == active => Ok(u),
+            _ => self.displacements(active),
+        }
+    }
+
+    /// Solves the problem of `active` for `û`.
     ///
     /// # Errors
     /// A failed solve.
     ///
     /// One step of iterative refinement against the row-replaced matrix follows the solve
-    /// (the low-rank update and the force recovery from a row residual both lose digits
-    /// otherwise: 1e-10 relative force differences to Lemke on the FE beam without it).
+    /// when its normwise backward error is above 1e-14 (the low-rank update loses digits).
     pub fn displacements(&mut self, active: &[bool]) -> Result<Vec<f64>, ActiveSetError> {
         let b = self.rhs_of(active);
         self.solve_refined(active, &b)
@@ -778,10 +855,21 @@ impl<'a> RigidObstacle<'a> {
         let n = b.len();
         let mut u = b.to_vec();
         self.solve_columns(active, MatMut::from_column_major_slice_mut(&mut u, n, 1))?;
+        if u.iter().any(|v| !v.is_finite()) {
+            return Err(singular("the problem of the active set"));
+        }
         let mut r = self.apply(active, &u);
         for (r, b) in r.iter_mut().zip(b) {
             *r = b - *r;
         }
+        // Normwise backward error; below 1e-14 the refinement step would change nothing that
+        // matters (and it costs one or two solves).
+        let max_abs = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        let backward = max_abs(&r) / (self.norm * max_abs(&u) + max_abs(b)).max(f64::MIN_POSITIVE);
+        if backward <= 1e-14 {
+            return Ok(u);
+        }
+        self.stats.refinements += 1;
         self.solve_columns(active, MatMut::from_column_major_slice_mut(&mut r, n, 1))?;
         for (u, d) in u.iter_mut().zip(&r) {
             *u += d;
@@ -849,17 +937,27 @@ impl ActiveSetSystem for RigidObstacle<'_> {
     fn size(&self) -> usize {
         self.replacements.len()
     }
-    fn free_gap(&mut self) -> Result<Vec<f64>, ActiveSetError> {
-        let u = self.displacements(&vec![false; self.size()])?;
+    /// `None` when the solve with `K` does not pass its accuracy check (the static-pivoting
+    /// LU returns NaN then: a strip 500 × 1 clamped at one end is such a case).
+    fn free_gap(&mut self) -> Result<Option<Vec<f64>>, ActiveSetError> {
+        let u = match self.displacements(&vec![false; self.size()]) {
+            Ok(u) => u,
+            Err(ActiveSetError::Solve(_)) => return Ok(None),
+            Err(e) => return Err(e),
+        };
         let mut q = self.operator.gap_contribution(&u);
         for (g, g0) in q.iter_mut().zip(self.initial_gap) {
             *g += g0;
         }
-        Ok(q)
+        Ok(Some(q))
+    }
+    fn initial_gap(&self) -> Vec<f64> {
+        self.initial_gap.to_vec()
     }
     fn solve_active(&mut self, active: &[bool]) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
         let u = self.displacements(active)?;
         let p = self.forces(active, &u);
+        self.last = Some((active.to_vec(), u.clone()));
         let mut g = self.operator.gap_contribution(&u);
         for (c, (g, g0)) in g.iter_mut().zip(self.initial_gap).enumerate() {
             *g += g0;
@@ -869,47 +967,6 @@ impl ActiveSetSystem for RigidObstacle<'_> {
             }
         }
         Ok((p, g))
-    }
-    /// Refinement in force space: with `û = K⁻¹(f + E P)` (the original factorisation, as the
-    /// pipeline's final solve), the active gaps `g_A` should vanish; the force change that
-    /// closes them solves the row-replaced problem with right-hand side `−s g_A` in the gap
-    /// rows and 0 elsewhere, and is read from the removed rows of that (small) solution, so
-    /// its round-off is relative to the correction, not to `P`. Recovering `P` from a row
-    /// residual of `û` alone loses the digits that `K_a û` and `f_a` share (closed gaps of
-    /// 1e-12 instead of 1e-15 on the FE beam). Two rounds at most.
-    fn polish(&mut self, active: &[bool], mut p: Vec<f64>) -> Result<Vec<f64>, ActiveSetError> {
-        if !active.iter().any(|&a| a) {
-            return Ok(p);
-        }
-        for _ in 0..2 {
-            let mut b = self.rhs.to_vec();
-            self.operator.add_forces(&p, &mut b);
-            let u = self.original.solve(&b)?;
-            let g = self.operator.gap_contribution(&u);
-            let mut r = vec![0.0; b.len()];
-            for (c, rep) in self.replacements.iter().enumerate() {
-                if active[c] {
-                    // The gap row holds s ν φ; its right-hand side −s g0 became −s (g0 + G û).
-                    let s = self.gap_scale;
-                    r[rep.rows[0].0] = -s * (self.initial_gap[c] + g[c]);
-                }
-            }
-            let du = self.solve_refined(active, &r)?;
-            let mut largest = 0.0_f64;
-            for (c, rep) in self.replacements.iter().enumerate() {
-                if active[c] {
-                    let (row, _, wn) = &rep.normal_row;
-                    let dp = row.iter().map(|&(j, v)| v * du[j]).sum::<f64>() / wn;
-                    p[c] += dp;
-                    largest = largest.max(dp.abs());
-                }
-            }
-            let p_max = p.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            if largest <= 1e-15 * p_max {
-                break;
-            }
-        }
-        Ok(p)
     }
     fn reduced_lcp(&mut self, active: &[bool], free: &[usize]) -> Result<Lcp, ActiveSetError> {
         let mut held = active.to_vec();

@@ -20,7 +20,7 @@ use crate::model::{self, Model, Scheme};
 use crate::neighbours::Supports;
 use crate::nodes;
 use crate::post::{self, Summary};
-use crate::problem::{ContactSolver, ContactSpec, Method, Problem};
+use crate::problem::{ContactSpec, Method, Problem};
 use crate::progress::{Clock, Progress, Silent};
 use crate::solution::{self, ContactSolution, Solution};
 use crate::weak_form::{self, FaceQuadrature};
@@ -325,14 +325,7 @@ fn solve_contact(
         contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
-    let active_set = match spec.solver {
-        ContactSolver::Lemke => false,
-        ContactSolver::ActiveSet => true,
-        ContactSolver::Auto => {
-            target.is_none() && candidates.len() >= ContactSolver::AUTO_THRESHOLD
-        }
-    };
-    if active_set {
+    if spec.solver.is_active_set(candidates.len(), target.is_none()) {
         if target.is_some() {
             return Err(lcp::LcpError::from(lcp::active_set::ActiveSetError::TwoBodies).into());
         }
@@ -382,7 +375,8 @@ fn solve_contact(
 }
 
 /// The active-set solver against a rigid obstacle (docs/method.md §5.1): no `M`, so none of
-/// its checks; the forces, then the solve with them as on the Lemke path.
+/// its checks; the displacements are those of the final active set's problem (no solve with
+/// `K` alone, which may be too ill-conditioned where the contact is what holds the body).
 fn solve_active_set(
     spec: &ContactSpec,
     model: &Model,
@@ -393,7 +387,7 @@ fn solve_active_set(
         Scheme::Mfvm(_) => Some(model.nodes.points.as_slice()),
         Scheme::Fem(_) => None,
     };
-    let (answer, work) = clock.run("active_set", || {
+    let (answer, u1, work) = clock.run("active_set", || {
         let mut system = lcp::active_set::RigidObstacle::new(
             &model.system.matrix,
             &model.system.rhs,
@@ -405,11 +399,9 @@ fn solve_active_set(
         )?;
         let answer =
             lcp::active_set::solve(&mut system, &lcp::active_set::ActiveSetParams::default())?;
-        Ok::<_, lcp::LcpError>((answer, system.stats))
+        let u1 = system.final_displacements(&answer.active)?;
+        Ok::<_, lcp::LcpError>((answer, u1, system.stats))
     })?;
-    let mut rhs = model.system.rhs.clone();
-    candidates.operator.add_forces(&answer.lcp.z, &mut rhs);
-    let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
     let gap = final_gaps(model, &candidates, &u1, None);
     let mut contact = ContactSolution::new(
         spec,
