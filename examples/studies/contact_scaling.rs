@@ -121,6 +121,16 @@ fn main() {
     let model = discretise(&problem, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
     let t_disc = t.elapsed().as_secs_f64();
     let nodes = model.nodes.len();
+    let st = model.factorisation.stats();
+    eprintln!(
+        "K: bound_flops {:.3e}, bound_nnz {}, factor_nnz {}, numeric {:.2} s, symbolic {:.2} s, ordering {:.2} s",
+        st.bound_flops,
+        st.bound_nnz,
+        st.factor_nnz,
+        st.numeric_seconds,
+        st.symbolic_seconds,
+        st.ordering_seconds
+    );
     let (_, _, s) =
         solve_model(&problem, model, None, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
     let c = s.contact.as_ref().expect("contact");

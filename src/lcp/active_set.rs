@@ -417,11 +417,14 @@ struct Replacement {
 pub struct RigidObstacleStats {
     /// Factorisations of row-replaced matrices.
     pub factorisations: usize,
-    /// Seconds in them (assembly of the replaced matrix included).
+    /// Seconds in them (assembly of the replaced matrix included); not in `summary.json`
+    /// (its timings are the stage timings), so that the summary is reproducible.
+    #[serde(skip)]
     pub factorisation_seconds: f64,
     /// Single-column solves for the low-rank (Woodbury) updates.
     pub update_columns: usize,
-    /// Seconds in them.
+    /// Seconds in them (not in `summary.json`).
+    #[serde(skip)]
     pub update_seconds: f64,
     /// Largest rank of a low-rank update used.
     pub max_update_rank: usize,
@@ -474,9 +477,6 @@ pub struct RigidObstacle<'a> {
     columns: HashMap<usize, Vec<f64>>,
     /// Offsets of each candidate's rows in a `dots` vector.
     slot: Vec<usize>,
-    factor_seconds: f64,
-    column_seconds: f64,
-    single_solve_seconds: f64,
     /// Work counters.
     pub stats: RigidObstacleStats,
 }
@@ -556,7 +556,6 @@ impl<'a> RigidObstacle<'a> {
             replacements.push(Replacement { rows, normal_row: (old_a, rhs[ra], w * na) });
         }
         slot.push(next_slot);
-        let stats = factorisation.stats();
         Ok(Self {
             matrix,
             rhs,
@@ -578,9 +577,6 @@ impl<'a> RigidObstacle<'a> {
             dots: HashMap::new(),
             columns: HashMap::new(),
             slot,
-            factor_seconds: stats.ordering_seconds + stats.symbolic_seconds + stats.numeric_seconds,
-            column_seconds: f64::NAN,
-            single_solve_seconds: f64::NAN,
             stats: RigidObstacleStats::default(),
         })
     }
@@ -653,17 +649,13 @@ impl<'a> RigidObstacle<'a> {
             .collect();
         let missing =
             changed.iter().filter(|&&(c, k, _)| !self.dots.contains_key(&self.dof(c, k))).count();
-        // Before any column was computed, the time of a single solve over 8: solving blocks of
-        // 64 right-hand sides cost 1/4 (faer's LU, 42k-node strip) to 1/9 (static pivoting,
-        // 75k-node beam) of a single solve per column.
-        let per_column = if self.column_seconds.is_finite() {
-            self.column_seconds
-        } else if self.single_solve_seconds.is_finite() {
-            self.single_solve_seconds / 8.0
-        } else {
-            1e-4
-        };
-        let too_costly = missing as f64 * per_column > self.factor_seconds;
+        // A deterministic cost model (so that the answer's last bits do not depend on the
+        // machine's load): a factorisation costs about `bound_flops`, an update column (a
+        // solve in a block of 64) about `bound_nnz` of the current base's analysis. Measured
+        // break-even (factorisation time over time per column): 270 columns on the 42k-node
+        // strip (the model says 260), 230 on the 19k-node beam (model 595).
+        let base = self.base.get().stats();
+        let too_costly = missing as f64 * base.bound_nnz as f64 > base.bound_flops;
         if changed.len() > 1024 || too_costly {
             // Drop the previous row-replaced factors (and their columns) first: at most two
             // factorisations are alive at a time.
@@ -677,9 +669,8 @@ impl<'a> RigidObstacle<'a> {
                 None => Factorisation::new(&matrix)?,
             };
             drop(matrix);
-            self.factor_seconds = t.elapsed().as_secs_f64();
             self.stats.factorisations += 1;
-            self.stats.factorisation_seconds += self.factor_seconds;
+            self.stats.factorisation_seconds += t.elapsed().as_secs_f64();
             self.base = Base::Owned(Box::new(f));
             self.base_active = active.to_vec();
             self.dots.clear();
@@ -729,7 +720,6 @@ impl<'a> RigidObstacle<'a> {
                     self.columns.insert(*r, z);
                 }
             }
-            self.column_seconds = t.elapsed().as_secs_f64() / new.len() as f64;
             self.stats.update_columns += new.len();
             self.stats.update_seconds += t.elapsed().as_secs_f64();
         }
@@ -751,11 +741,7 @@ impl<'a> RigidObstacle<'a> {
         let f = self.base.get();
         let cols = x.ncols();
         // y = K_B⁻¹ b, in parallel over blocks of 64 columns.
-        let t = Instant::now();
         solve_blocks(f, x.rb_mut());
-        if cols == 1 && !self.single_solve_seconds.is_finite() {
-            self.single_solve_seconds = t.elapsed().as_secs_f64();
-        }
         if changed.is_empty() {
             return Ok(());
         }

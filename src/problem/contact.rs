@@ -74,8 +74,9 @@ pub enum ContactSolver {
 
 impl ContactSolver {
     /// Candidates from which `Auto` takes the active-set method: on the strip `L × 1` at
-    /// spacing 0.05 (docs/dev/active_set.md) Lemke's path took 0.7 s against 1.1 s at 500
-    /// candidates and 2.6 s against 2.2 s at 1 000; above every shipped problem (at most 384).
+    /// spacing 0.05 (docs/dev/active_set.md) Lemke's path took 0.6 s against 0.9 s at 1 000
+    /// candidates and 3.1 s against 1.7 s at 2 000; on the beam the two are even at 768.
+    /// Above every shipped problem (at most 384 candidates).
     pub const AUTO_THRESHOLD: usize = 1000;
 
     /// Whether a frictionless problem with `candidates` candidates is solved by the active-set
