@@ -199,3 +199,39 @@ fn auto_switches_at_the_threshold() {
     assert_eq!(c.candidates.len(), ContactSolver::AUTO_THRESHOLD - 1);
     assert!(c.active_set.is_none(), "auto left Lemke below the threshold");
 }
+
+/// `summary.json` of an active-set run records the solver, the iterations, the changes after
+/// each iteration (ending with 0) and the scaled residuals; the compliance checks of `M` are
+/// absent (no `M` was formed), and a Lemke run says `"lemke"`.
+#[test]
+fn summary_records_the_solver() {
+    let mut problem = shipped("beam_on_foundation.toml");
+    for solver in [ContactSolver::ActiveSet, ContactSolver::Lemke] {
+        problem.contact.as_mut().unwrap().solver = solver;
+        let out = std::env::temp_dir().join(format!("mlpg-as-{solver:?}-{}", std::process::id()));
+        let input = serde_json::Value::Null;
+        let report = mlpg_contact::run(&problem, &out, input, &mut mlpg_contact::Silent).unwrap();
+        let v: serde_json::Value = serde_json::from_str(&report.summary.to_json()).unwrap();
+        let lcp = &v["lcp"];
+        match solver {
+            ContactSolver::ActiveSet => {
+                assert_eq!(lcp["solver"], "active_set");
+                let a = &lcp["active_set"];
+                let changes = a["changes_per_iteration"].as_array().unwrap();
+                assert_eq!(changes.len() as u64, a["iterations"].as_u64().unwrap());
+                assert_eq!(changes.last().unwrap(), 0);
+                assert_eq!(lcp["pivots"], a["iterations"]);
+                assert_eq!(a["end"], "converged");
+                assert!(lcp.get("compliance_min_diagonal").is_none());
+                assert!(lcp["max_complementarity"].as_f64().unwrap() <= KKT_TOLERANCE);
+                assert!(lcp["min_z"].as_f64().unwrap() >= -KKT_TOLERANCE);
+            }
+            _ => {
+                assert_eq!(lcp["solver"], "lemke");
+                assert!(lcp.get("active_set").is_none());
+                assert!(lcp["compliance_min_diagonal"].as_f64().unwrap() > 0.0);
+            }
+        }
+        std::fs::remove_dir_all(&out).unwrap();
+    }
+}
