@@ -108,6 +108,7 @@ impl Error {
             Error::Contact(C::NoPartner { .. }) => "contact.edge, contact.target_edge, geometry",
             Error::Contact(_) => "contact.edge, boundary[*].displacement",
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
+            Error::Lcp(L::ActiveSet(_)) => "contact.solver",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
             Error::Increment { cause, .. } => return cause.input_keys(),
             Error::NonFinite { .. } => "material.young, boundary[*] values, body_force",

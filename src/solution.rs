@@ -55,8 +55,11 @@ pub struct ContactSolution {
     pub target: Option<contact::BodyOperator>,
     /// Two bodies: the closest point of the second body paired with each candidate.
     pub paired_points: Vec<geometry::Point>,
-    /// The condensed problem (`M`, `q`) and its run-time checks.
-    pub condensed: contact::CondensedContact,
+    /// The condensed problem (`M`, `q`) and its run-time checks (`None` when the active-set
+    /// solver answered without forming `M`, docs/method.md §5.1).
+    pub condensed: Option<contact::CondensedContact>,
+    /// The active-set solver's record (`None` for Lemke).
+    pub active_set: Option<ActiveSetRecord>,
     /// Lemke's result: `z` = contact forces `P`, `w` = gaps.
     pub lcp: lcp::LcpSolution,
     /// MLS gaps from the final displacements: `g0 + ν·u_1^h(x_c) (− ν·u_2^h(y_c))`.
@@ -78,6 +81,21 @@ pub struct ContactSolution {
     pub unpaired: usize,
     /// The frictional part of the answer (`μ > 0` or load steps only; docs/method.md §8).
     pub friction: Option<FrictionContact>,
+}
+
+/// What the active-set solver did (docs/method.md §5.1).
+#[derive(Clone, Debug)]
+pub struct ActiveSetRecord {
+    /// Linear solves (iterations).
+    pub iterations: usize,
+    /// Candidates whose status changed after each iteration (the last is 0).
+    pub changes: Vec<usize>,
+    /// Lemke rescues, with the candidates each handled.
+    pub rescues: Vec<usize>,
+    /// How it ended.
+    pub end: lcp::active_set::ActiveSetEnd,
+    /// Factorisations and low-rank update work.
+    pub work: lcp::active_set::RigidObstacleStats,
 }
 
 /// The frictional part of a contact solution (the last load increment, and a record of every
@@ -260,7 +278,8 @@ impl ContactSolution {
         candidates: contact::Candidates,
         target: Option<BodyOperator>,
         paired_points: Vec<geometry::Point>,
-        condensed: contact::CondensedContact,
+        condensed: Option<contact::CondensedContact>,
+        free_gap: &[f64],
         lcp: lcp::LcpSolution,
         gap: Vec<f64>,
         warning: Option<String>,
@@ -270,7 +289,7 @@ impl ContactSolution {
         // scale.
         let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
         let gap_tolerance = spec.gap_tolerance.unwrap_or_else(|| {
-            (1e-5 * max_abs(&candidates.initial_gap) + 1e-12 * max_abs(&condensed.free_gap))
+            (1e-5 * max_abs(&candidates.initial_gap) + 1e-12 * max_abs(free_gap))
                 .max(f64::MIN_POSITIVE)
         });
         let closed: Vec<bool> = lcp.w.iter().map(|&w| w <= gap_tolerance).collect();
@@ -283,6 +302,7 @@ impl ContactSolution {
             target,
             paired_points,
             condensed,
+            active_set: None,
             lcp,
             gap,
             pressure,

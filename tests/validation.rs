@@ -35,4 +35,6 @@ mod validation {
     mod friction;
     // Coulomb friction on the FE path: bonded, sliding, steps, two bodies.
     mod fem_friction;
+    // The active-set contact solver equals Lemke on the shipped rigid-obstacle problems.
+    mod active_set;
 }

@@ -106,7 +106,7 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, String> {
         ripple,
         closed: c.closed.iter().filter(|&&b| b).count(),
         intervals: c.onset.closed_intervals,
-        m_min_eig: c.condensed.min_symmetric_eigenvalue,
+        m_min_eig: c.condensed.as_ref().unwrap().min_symmetric_eigenvalue,
         times: study::stage_times(&s, total),
     })
 }

@@ -324,7 +324,7 @@ fn beam(p: &Problem) -> Result<BeamRow, String> {
         .iter()
         .position(|q| (q[0] - tip_point[0]).abs() < 1e-9 && (q[1] - tip_point[1]).abs() < 1e-9)
         .map_or(f64::NAN, |i| s.displacement[i][1]);
-    let m = &c.condensed;
+    let m = c.condensed.as_ref().unwrap();
     Ok(BeamRow {
         nodes: model.nodes.len(),
         nonzeros,

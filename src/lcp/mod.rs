@@ -20,6 +20,7 @@
 //! copositive-plus (for instance positive semidefinite), and it cannot happen for P-matrices.
 //! [`enumerate_solutions`] is an exponential brute-force reference used by the tests.
 
+pub mod active_set;
 mod enumerate;
 pub mod friction;
 mod lemke;
@@ -314,6 +315,9 @@ pub enum LcpError {
         /// Why Lemke's answer was not accepted.
         lemke: String,
     },
+    /// The active-set solver failed ([`active_set`]).
+    #[error(transparent)]
+    ActiveSet(#[from] active_set::ActiveSetError),
 }
 
 #[cfg(test)]

@@ -336,6 +336,12 @@ fn solve_contact(
         contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
+    if spec.solver.is_active_set(candidates.len(), target.is_none()) {
+        if target.is_some() {
+            return Err(lcp::LcpError::from(lcp::active_set::ActiveSetError::TwoBodies).into());
+        }
+        return solve_active_set(spec, model, candidates, clock);
+    }
     let condensed = clock.run_counted("condensation", |progress| {
         let (factors, rhs, op) = (&model.factorisation, &model.system.rhs, &candidates.operator);
         let mut parts = vec![contact::condense_observed(factors, rhs, op, progress)?];
@@ -363,18 +369,70 @@ fn solve_contact(
         _ => None,
     };
     let gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
+    let free_gap = condensed.free_gap.clone();
     let mut contact = ContactSolution::new(
         spec,
         candidates,
         target,
         paired_points,
-        condensed,
+        Some(condensed),
+        &free_gap,
         result,
         gap,
         warning,
     );
     contact.unpaired = unpaired;
     Ok((u1, u2, contact))
+}
+
+/// The active-set solver against a rigid obstacle (docs/method.md §5.1): no `M`, so none of
+/// its checks; the displacements are those of the final active set's problem (no solve with
+/// `K` alone, which may be too ill-conditioned where the contact is what holds the body).
+fn solve_active_set(
+    spec: &ContactSpec,
+    model: &Model,
+    candidates: contact::Candidates,
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let points = match model.scheme {
+        Scheme::Mfvm(_) => Some(model.nodes.points.as_slice()),
+        Scheme::Fem(_) => None,
+    };
+    let (answer, u1, work) = clock.run("active_set", || {
+        let mut system = lcp::active_set::RigidObstacle::new(
+            &model.system.matrix,
+            &model.system.rhs,
+            &model.factorisation,
+            &candidates.operator,
+            &candidates.initial_gap,
+            model.system.collocation_scale,
+            points,
+        )?;
+        let answer =
+            lcp::active_set::solve(&mut system, &lcp::active_set::ActiveSetParams::default())?;
+        let u1 = system.final_displacements(&answer.active)?;
+        Ok::<_, lcp::LcpError>((answer, u1, system.stats))
+    })?;
+    let gap = final_gaps(model, &candidates, &u1, None);
+    let mut contact = ContactSolution::new(
+        spec,
+        candidates,
+        None,
+        Vec::new(),
+        None,
+        &answer.free_gap,
+        answer.lcp,
+        gap,
+        None,
+    );
+    contact.active_set = Some(solution::ActiveSetRecord {
+        iterations: answer.iterations,
+        changes: answer.changes,
+        rescues: answer.rescues,
+        end: answer.end,
+        work,
+    });
+    Ok((u1, None, contact))
 }
 
 /// The run-time checks of `M` (docs/method.md §4.1): an error, or, with
@@ -476,15 +534,29 @@ impl std::fmt::Display for RunReport {
                     c.friction_residual.unwrap_or(f64::NAN)
                 )?;
             }
-            writeln!(
-                f,
-                "  M: min diagonal {:.3e}, eigenvalues of the symmetric part {:.3e} to {:.3e}; Lemke: {} pivots, complementarity {:.1e}",
+            if let (Some(diagonal), Some(low), Some(high)) = (
                 l.compliance_min_diagonal,
                 l.compliance_min_symmetric_eigenvalue,
                 l.compliance_max_symmetric_eigenvalue,
-                l.pivots,
-                l.max_complementarity
-            )?;
+            ) {
+                writeln!(
+                    f,
+                    "  M: min diagonal {diagonal:.3e}, eigenvalues of the symmetric part {low:.3e} to {high:.3e}; Lemke: {} pivots, complementarity {:.1e}",
+                    l.pivots, l.max_complementarity
+                )?;
+            }
+            if let Some(a) = &l.active_set {
+                writeln!(
+                    f,
+                    "  active set: {} iterations, changes {:?}, {} factorisations, {} update columns, {} Lemke rescues; complementarity {:.1e}",
+                    a.iterations,
+                    a.changes_per_iteration,
+                    a.work.factorisations,
+                    a.work.update_columns,
+                    a.rescues.len(),
+                    l.max_complementarity
+                )?;
+            }
         }
         let dir = self.files.last().and_then(|p| p.parent());
         write!(

@@ -197,20 +197,20 @@ fn results(s: &Summary) -> Vec<(String, String)> {
         }
     }
     if let Some(l) = &s.lcp {
+        if let Some(d) = l.compliance_min_diagonal {
+            rows.push(("M: smallest diagonal entry".into(), format!("{d:.3e}")));
+        }
+        if let (Some(lo), Some(hi)) =
+            (l.compliance_min_symmetric_eigenvalue, l.compliance_max_symmetric_eigenvalue)
+        {
+            rows.push((
+                "M: eigenvalues of the symmetric part".into(),
+                format!("{lo:.3e} to {hi:.3e}"),
+            ));
+        }
         rows.push((
-            "M: smallest diagonal entry".into(),
-            format!("{:.3e}", l.compliance_min_diagonal),
-        ));
-        rows.push((
-            "M: eigenvalues of the symmetric part".into(),
-            format!(
-                "{:.3e} to {:.3e}",
-                l.compliance_min_symmetric_eigenvalue, l.compliance_max_symmetric_eigenvalue
-            ),
-        ));
-        rows.push((
-            "LCP: size, pivots, complementarity".into(),
-            format!("{}, {}, {:.1e}", l.size, l.pivots, l.max_complementarity),
+            "contact solver: candidates, pivots, complementarity".into(),
+            format!("{}: {}, {}, {:.1e}", l.solver, l.size, l.pivots, l.max_complementarity),
         ));
     }
     rows

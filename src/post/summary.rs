@@ -162,16 +162,42 @@ pub struct LcpSummary {
     pub equation_residual: f64,
     /// The scale the residuals are relative to.
     pub residual_scale: f64,
-    /// Smallest diagonal entry of `M`.
-    pub compliance_min_diagonal: f64,
+    /// Smallest diagonal entry of `M` (absent when `M` was not formed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compliance_min_diagonal: Option<f64>,
     /// Smallest eigenvalue of `(M + Mᵀ)/2`.
-    pub compliance_min_symmetric_eigenvalue: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compliance_min_symmetric_eigenvalue: Option<f64>,
     /// Largest eigenvalue of `(M + Mᵀ)/2`.
-    pub compliance_max_symmetric_eigenvalue: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compliance_max_symmetric_eigenvalue: Option<f64>,
     /// How the two eigenvalues were computed.
-    pub compliance_eigenvalue_method: EigenvalueMethod,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compliance_eigenvalue_method: Option<EigenvalueMethod>,
     /// `‖M − Mᵀ‖ / ‖M + Mᵀ‖`.
-    pub compliance_skew_ratio: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub compliance_skew_ratio: Option<f64>,
+    /// `"lemke"` or `"active_set"` (`contact.solver`, with `"auto"` resolved).
+    pub solver: &'static str,
+    /// The active-set solver's record (docs/method.md §5.1); `pivots` then counts its linear
+    /// solves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub active_set: Option<ActiveSetSummary>,
+}
+
+/// What the active-set solver did (docs/method.md §5.1).
+#[derive(Clone, Debug, Serialize)]
+pub struct ActiveSetSummary {
+    /// Linear solves.
+    pub iterations: usize,
+    /// Candidates whose status changed after each iteration (the last is 0).
+    pub changes_per_iteration: Vec<usize>,
+    /// Lemke rescues of the changing candidates, with the candidates each handled.
+    pub rescues: Vec<usize>,
+    /// `"converged"` or `"converged_after_rescue"`.
+    pub end: crate::lcp::active_set::ActiveSetEnd,
+    /// Factorisations of row-replaced matrices, low-rank update columns and their times.
+    pub work: crate::lcp::active_set::RigidObstacleStats,
 }
 
 /// The contact result.
@@ -323,11 +349,25 @@ impl Summary {
                 max_complementarity: c.lcp.residuals.max_complementarity,
                 equation_residual: c.lcp.residuals.equation_residual,
                 residual_scale: c.lcp.residuals.scale,
-                compliance_min_diagonal: c.condensed.min_diagonal,
-                compliance_min_symmetric_eigenvalue: c.condensed.min_symmetric_eigenvalue,
-                compliance_max_symmetric_eigenvalue: c.condensed.max_symmetric_eigenvalue,
-                compliance_eigenvalue_method: c.condensed.eigenvalue_method,
-                compliance_skew_ratio: c.condensed.skew_ratio,
+                compliance_min_diagonal: c.condensed.as_ref().map(|m| m.min_diagonal),
+                compliance_min_symmetric_eigenvalue: c
+                    .condensed
+                    .as_ref()
+                    .map(|m| m.min_symmetric_eigenvalue),
+                compliance_max_symmetric_eigenvalue: c
+                    .condensed
+                    .as_ref()
+                    .map(|m| m.max_symmetric_eigenvalue),
+                compliance_eigenvalue_method: c.condensed.as_ref().map(|m| m.eigenvalue_method),
+                compliance_skew_ratio: c.condensed.as_ref().map(|m| m.skew_ratio),
+                solver: if c.active_set.is_some() { "active_set" } else { "lemke" },
+                active_set: c.active_set.as_ref().map(|a| ActiveSetSummary {
+                    iterations: a.iterations,
+                    changes_per_iteration: a.changes.clone(),
+                    rescues: a.rescues.clone(),
+                    end: a.end,
+                    work: a.work,
+                }),
             }),
             contact: solution.contact.as_ref().map(|c| ContactSummary {
                 candidates: c.candidates.len(),

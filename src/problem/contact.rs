@@ -52,6 +52,42 @@ pub struct ContactSpec {
     /// Coulomb friction coefficient `μ ≥ 0`; 0 (the default) is frictionless contact and takes
     /// the frictionless path unchanged (docs/method.md §8).
     pub friction: f64,
+    /// Which solver takes the frictionless contact problem (docs/method.md §5).
+    #[serde(skip)]
+    pub solver: ContactSolver,
+}
+
+/// `[contact] solver`: how the frictionless contact problem is solved (docs/method.md §5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ContactSolver {
+    /// Lemke's method on the dense condensed compliance `M = G K⁻¹ E` (docs/method.md §5).
+    Lemke,
+    /// The primal–dual active-set method on the sparse system, without `M` (docs/method.md
+    /// §5.2); a rigid obstacle only, frictionless, one load step.
+    ActiveSet,
+    /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (and always with two bodies,
+    /// friction or load steps), the active-set method from there on.
+    #[default]
+    Auto,
+}
+
+impl ContactSolver {
+    /// Candidates from which `Auto` takes the active-set method: on the strip `L × 1` at
+    /// spacing 0.05 (docs/dev/active_set.md) Lemke's path took 0.6 s against 0.9 s at 1 000
+    /// candidates and 3.1 s against 1.7 s at 2 000; on the beam the two are even at 768.
+    /// Above every shipped problem (at most 384 candidates).
+    pub const AUTO_THRESHOLD: usize = 1000;
+
+    /// Whether a frictionless problem with `candidates` candidates is solved by the active-set
+    /// method; `rigid` says the target is a rigid obstacle (the only case it handles).
+    pub fn is_active_set(self, candidates: usize, rigid: bool) -> bool {
+        match self {
+            ContactSolver::Lemke => false,
+            ContactSolver::ActiveSet => true,
+            ContactSolver::Auto => rigid && candidates >= Self::AUTO_THRESHOLD,
+        }
+    }
 }
 
 /// How the problem is condensed onto the contact unknowns.

@@ -1,7 +1,7 @@
 //! The raw problem file: TOML deserialised as written ([`ProblemFile`] and its tables), before
 //! any range check. [`super::Problem::try_from`] validates it.
 
-use super::{Basis, Condensation, Method, Preset, ProblemError};
+use super::{Basis, Condensation, ContactSolver, Method, Preset, ProblemError};
 use crate::material::PlaneState;
 use serde::{Deserialize, Serialize};
 
@@ -120,6 +120,10 @@ pub struct ContactFile {
     /// Not echoed when absent, so that frictionless summaries are unchanged.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub friction: Option<f64>,
+    /// `"lemke"`, `"active_set"` or `"auto"` (default; docs/method.md §5). Not echoed when
+    /// absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solver: Option<ContactSolver>,
 }
 
 /// One `[[body]]` table of a two-body problem.

@@ -15,7 +15,7 @@ pub mod gmsh;
 pub mod refine;
 mod validate;
 
-pub use contact::{Condensation, ContactSpec, ContactTarget, RigidLine};
+pub use contact::{Condensation, ContactSolver, ContactSpec, ContactTarget, RigidLine};
 pub use discretisation::{
     Basis, Discretisation, Layout, MIN_STABILISING_BETA, MIXED_LINEAR_MAX_SUPPORT_FACTOR,
     MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Preset,

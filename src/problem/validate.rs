@@ -136,6 +136,15 @@ impl TryFrom<ProblemFile> for Problem {
         if let Some(p2) = problem.second_body.as_deref_mut() {
             p2.steps = second_steps;
         }
+        if !problem.steps.is_empty()
+            && problem.contact.is_some_and(|c| c.solver == ContactSolver::ActiveSet)
+        {
+            return Err(invalid(
+                "contact.solver",
+                "active_set",
+                "the active-set solver handles frictionless contact in one load step; with [[step]] use \"lemke\" or \"auto\"",
+            ));
+        }
         problem.write_steps = file.output.steps.unwrap_or(false);
         let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0);
         if problem.write_steps && problem.steps.is_empty() && !frictional {
@@ -658,6 +667,20 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
     let allow_indefinite = c.allow_indefinite.unwrap_or(false);
     let condensation = c.condensation.unwrap_or_default();
     let friction = c.friction.unwrap_or(0.0);
+    let solver = c.solver.unwrap_or_default();
+    if solver == ContactSolver::ActiveSet {
+        let refuse = |why: &str| Err(invalid("contact.solver", "active_set", why));
+        if c.target_edge.is_some() || problem.second_body.is_some() {
+            return refuse(
+                "the active-set solver handles a rigid obstacle only (a second body spreads each contact force over several of its cells); use \"lemke\" or \"auto\"",
+            );
+        }
+        if friction > 0.0 {
+            return refuse(
+                "the active-set solver handles frictionless contact in one load step; with contact.friction or [[step]] use \"lemke\" or \"auto\"",
+            );
+        }
+    }
     if !(friction.is_finite() && friction >= 0.0) {
         return Err(invalid(
             "contact.friction",
@@ -747,6 +770,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             allow_indefinite,
             condensation,
             friction,
+            solver,
         });
     }
     if c.target_edge.is_some() {
@@ -810,6 +834,7 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         allow_indefinite,
         condensation,
         friction,
+        solver,
     })
 }
 

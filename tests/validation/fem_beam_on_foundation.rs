@@ -60,7 +60,7 @@ fn run(h: f64, method: Method) -> Outcome {
     assert!(balance.abs() < EQUILIBRIUM_TOLERANCE * 48.0, "h = {h}: balance {balance}");
     assert_eq!(c.onset.closed_intervals, 1, "h = {h}");
     assert!(*c.closed.last().unwrap(), "h = {h}: the tip candidate is open");
-    assert!(c.condensed.min_symmetric_eigenvalue > 0.0);
+    assert!(c.condensed.as_ref().unwrap().min_symmetric_eigenvalue > 0.0);
     let tip = model
         .nodes
         .points
@@ -84,7 +84,7 @@ fn run(h: f64, method: Method) -> Outcome {
         out.onset,
         out.onset_raw,
         out.tip,
-        c.condensed.skew_ratio
+        c.condensed.as_ref().unwrap().skew_ratio
     );
     out
 }

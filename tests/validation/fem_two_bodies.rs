@@ -38,6 +38,7 @@ fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
         allow_indefinite: false,
         condensation: Default::default(),
         friction: 0.0,
+        solver: Default::default(),
     });
     upper.second_body = Some(Box::new(lower));
     let s = mlpg_contact::solve(&upper).unwrap();

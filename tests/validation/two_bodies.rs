@@ -52,6 +52,7 @@ fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
         allow_indefinite: false,
         condensation: Default::default(),
         friction: 0.0,
+        solver: Default::default(),
     });
     let mut lower = lower;
     lower.name = "lower".into();
@@ -69,7 +70,7 @@ fn pressures(problem: &Problem) -> (Vec<f64>, f64, f64) {
     assert!(s2.equilibrium_error < 1e-9, "body 2 equilibrium {}", s2.equilibrium_error);
     // Action and reaction: the forces on the two bodies cancel.
     assert!((s.contact_force[1] + s2.contact_force[1]).abs() < 1e-12 * c.total_force);
-    (c.pressure.clone(), c.total_force, c.condensed.skew_ratio)
+    (c.pressure.clone(), c.total_force, c.condensed.as_ref().unwrap().skew_ratio)
 }
 
 #[test]
@@ -147,6 +148,7 @@ fn mirror_image_equals_rigid_line() {
         allow_indefinite: false,
         condensation: Default::default(),
         friction: 0.0,
+        solver: Default::default(),
     });
     let mut pair = upper("upper");
     let mut mirror = block([-1.0 - gap, -gap], 0.1, None, Some(bottom));
@@ -158,6 +160,7 @@ fn mirror_image_equals_rigid_line() {
         allow_indefinite: false,
         condensation: Default::default(),
         friction: 0.0,
+        solver: Default::default(),
     });
     pair.second_body = Some(Box::new(mirror));
     let a = mlpg_contact::solve(&rigid).unwrap();

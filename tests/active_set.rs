@@ -1,0 +1,142 @@
+//! The primal–dual active-set solver's dense entry point (`lcp::active_set::DenseSystem`,
+//! docs/method.md §5.1) against Lemke's method: the P-matrix cases of the external LCP suite
+//! (`tests/data/lcp-suite`), random P-matrix problems checked against brute-force
+//! enumeration, and the safeguard on a problem where the plain iteration cycles.
+
+use std::path::Path;
+
+use mlpg_contact::lcp::active_set::{
+    ActiveSetEnd, ActiveSetError, ActiveSetParams, DenseSystem, solve,
+};
+use mlpg_contact::lcp::{Lcp, LemkeParams, enumerate_solutions, lemke};
+use proptest::prelude::*;
+use serde_json::Value;
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |acc, x| acc.max(x.abs()))
+}
+
+/// `max |a − b| / max(1, ‖b‖∞)`.
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs())) / max_abs(b).max(1.0)
+}
+
+/// Every case of the suite whose M is marked a P-matrix (unique solution): the active-set
+/// answer equals Lemke's to 1e-10 (both are exact up to round-off on these n ≤ 30 problems;
+/// Lemke's own acceptance threshold is 1e-9) and passes the scaled residual test.
+#[test]
+fn p_matrix_suite_cases_equal_lemke() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/lcp-suite");
+    let mut checked = 0;
+    let mut paths: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    paths.sort();
+    for path in paths.iter().filter(|p| p.extension().is_some_and(|x| x == "json")) {
+        let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+        if v["properties"]["P_matrix"].as_bool() != Some(true) {
+            continue;
+        }
+        let num = |x: &Value| x.as_array().unwrap().iter().map(|y| y.as_f64().unwrap()).collect();
+        let rows: Vec<Vec<f64>> = v["M"].as_array().unwrap().iter().map(num).collect();
+        let lcp = Lcp::from_rows(&rows, num(&v["q"])).unwrap();
+        let reference = lemke(&lcp, &LemkeParams::default()).unwrap();
+        let answer = solve(&mut DenseSystem::new(&lcp), &ActiveSetParams::default())
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let r = lcp.residuals(&answer.lcp.z);
+        assert!(r.max_violation() < 1e-10, "{}: residuals {r:?}", path.display());
+        let d = distance(&answer.lcp.z, &reference.z);
+        assert!(d < 1e-10, "{}: |z − z_Lemke| = {d:e}", path.display());
+        checked += 1;
+    }
+    assert!(checked >= 5, "only {checked} P-matrix cases found");
+}
+
+/// A 3 × 3 P-matrix problem (integer data, found by a search over random P-matrices) on which
+/// the plain iteration from the candidates with negative `q` visits {0, 2}, {1, 2}, ∅ and
+/// comes back to {0, 2}. Without rescues the solver must say so; with them (the default) it
+/// hands the changing candidates to Lemke and returns the unique solution.
+#[test]
+fn cycling_is_detected_and_rescued_by_lemke() {
+    let lcp = Lcp::from_rows(
+        &[vec![1.0, -3.0, 3.0], vec![3.0, 2.0, 1.0], vec![0.0, -1.0, 1.0]],
+        vec![-1.0, 3.0, -1.0],
+    )
+    .unwrap();
+    let plain = ActiveSetParams { max_fallbacks: 0, ..ActiveSetParams::default() };
+    match solve(&mut DenseSystem::new(&lcp), &plain) {
+        Err(ActiveSetError::NotConverged { iterations, fallbacks, reason }) => {
+            assert_eq!((iterations, fallbacks), (3, 0));
+            assert_eq!(reason, "an active set came back");
+        }
+        other => panic!("expected a cycle, got {other:?}"),
+    }
+    let answer = solve(&mut DenseSystem::new(&lcp), &ActiveSetParams::default()).unwrap();
+    assert_eq!(answer.end, ActiveSetEnd::ConvergedAfterRescue);
+    assert_eq!(answer.rescues.len(), 1);
+    let all = enumerate_solutions(&lcp);
+    assert_eq!(all.len(), 1, "a P-matrix LCP has one solution");
+    assert!(distance(&answer.lcp.z, &all[0]) < 1e-12, "{:?} vs {:?}", answer.lcp.z, all[0]);
+    assert!(lcp.residuals(&answer.lcp.z).max_violation() < 1e-12);
+}
+
+/// The active-set answer (rescues allowed) against the unique enumerated solution.
+fn check(n: usize, m: Vec<f64>, q: Vec<f64>) -> Result<(), TestCaseError> {
+    let lcp = Lcp::new(n, m, q).map_err(|e| TestCaseError::fail(e.to_string()))?;
+    let answer = solve(&mut DenseSystem::new(&lcp), &ActiveSetParams::default())
+        .map_err(|e| TestCaseError::fail(format!("active set failed: {e}")))?;
+    let all = enumerate_solutions(&lcp);
+    prop_assert_eq!(all.len(), 1);
+    let d = distance(&answer.lcp.z, &all[0]);
+    prop_assert!(d <= 1e-9, "z {:?} vs {:?}", answer.lcp.z, all[0]);
+    prop_assert!(lcp.residuals(&answer.lcp.z).max_violation() < 1e-10);
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// M = AᵀA + δI + (S − Sᵀ): positive definite symmetric part plus a skew part (the
+    /// character of the contact compliance).
+    #[test]
+    fn matches_enumeration_positive_definite(
+        (n, a, s, delta, skew, q) in (1usize..=6).prop_flat_map(|n| (
+            Just(n),
+            prop::collection::vec(-1.0..1.0_f64, n * n),
+            prop::collection::vec(-1.0..1.0_f64, n * n),
+            0.01..1.0_f64,
+            0.0..2.0_f64,
+            prop::collection::vec(-1.0..1.0_f64, n),
+        ))
+    ) {
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let ata: f64 = (0..n).map(|k| a[k * n + i] * a[k * n + j]).sum();
+                m[i * n + j] = ata + skew * (s[i * n + j] - s[j * n + i])
+                    + if i == j { delta } else { 0.0 };
+            }
+        }
+        check(n, m, q)?;
+    }
+
+    /// M = P L Pᵀ with L lower triangular: a P-matrix far from positive definite, where the
+    /// plain iteration may cycle and the rescue must settle it.
+    #[test]
+    fn matches_enumeration_permuted_triangular(
+        (n, l, diag, perm, q) in (1usize..=6).prop_flat_map(|n| (
+            Just(n),
+            prop::collection::vec(-2.0..2.0_f64, n * n),
+            prop::collection::vec(0.5..2.0_f64, n),
+            Just((0..n).collect::<Vec<usize>>()).prop_shuffle(),
+            prop::collection::vec(-1.0..1.0_f64, n),
+        ))
+    ) {
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..=i {
+                let v = if i == j { diag[i] } else { l[i * n + j] };
+                m[perm[i] * n + perm[j]] = v;
+            }
+        }
+        check(n, m, q)?;
+    }
+}
