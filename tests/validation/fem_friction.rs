@@ -13,7 +13,7 @@
 //!   both are in equilibrium.
 
 use super::common::shipped_problem;
-use super::friction::check_frictional;
+use super::friction::{bonded_difference, check_frictional};
 use mlpg_contact::lcp::ContactState;
 use mlpg_contact::pipeline::compare::stick_extent;
 use mlpg_contact::problem::{Method, Problem};
@@ -87,27 +87,9 @@ fn fe_huge_friction_gives_the_bonded_solution() {
     let c = stuck.contact.as_ref().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert!(f.step.state.iter().all(|&s| s == ContactState::Stick), "{:?}", f.step.state);
-    let reaction = |node: u32, axis: usize| {
-        bonded
-            .reactions
-            .iter()
-            .find(|&&(n, a, _)| n == node && a as usize == axis)
-            .map(|r| r.2)
-            .unwrap_or_else(|| panic!("node {node} is not clamped in the reference"))
-    };
+    // ν = (0, 1), t = (1, 0): R_y = P, R_x = T at the same node (E = Gᵀ in the FE).
+    let (worst, du) = bonded_difference(&stuck, &bonded);
     let scale = f.step.normal.iter().fold(0.0f64, |m, p| m.max(p.abs()));
-    let mut worst = 0.0f64;
-    for (k, &node) in c.candidates.nodes.iter().enumerate() {
-        // ν = (0, 1), t = (1, 0): R_y = P, R_x = T at the same node (E = Gᵀ in the FE).
-        worst = worst.max((reaction(node, 1) - f.step.normal[k]).abs());
-        worst = worst.max((reaction(node, 0) - f.step.tangential[k]).abs());
-    }
-    let du = stuck
-        .displacement
-        .iter()
-        .zip(&bonded.displacement)
-        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
-        .fold(0.0, f64::max);
     println!(
         "FE stick: m = {}, max |force − bonded reaction| / max P = {:.2e}, max |u − u_bonded| = {du:.2e}",
         c.candidates.len(),

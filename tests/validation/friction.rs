@@ -93,6 +93,34 @@ pub(super) fn check_frictional(s: &Solution, case: &str) {
     }
 }
 
+/// A fully sticking solution on a rigid flat (`ν = (0, 1)`, `t = (1, 0)`) against the same body
+/// with its contact edge clamped: the largest difference of each candidate's forces `(T, P)`
+/// from the clamped node's reactions `(R_x, R_y)`, and of the displacements.
+pub(super) fn bonded_difference(stuck: &Solution, bonded: &Solution) -> (f64, f64) {
+    let c = stuck.contact.as_ref().unwrap();
+    let f = c.friction.as_ref().unwrap();
+    let reaction = |node: u32, axis: usize| {
+        bonded
+            .reactions
+            .iter()
+            .find(|&&(n, a, _)| n == node && a as usize == axis)
+            .map(|r| r.2)
+            .unwrap_or_else(|| panic!("node {node} is not clamped in the reference"))
+    };
+    let mut worst = 0.0f64;
+    for (k, &node) in c.candidates.nodes.iter().enumerate() {
+        worst = worst.max((reaction(node, 1) - f.step.normal[k]).abs());
+        worst = worst.max((reaction(node, 0) - f.step.tangential[k]).abs());
+    }
+    let du = stuck
+        .displacement
+        .iter()
+        .zip(&bonded.displacement)
+        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+        .fold(0.0, f64::max);
+    (worst, du)
+}
+
 #[test]
 fn tiny_friction_gives_the_frictionless_forces() {
     for (file, h) in [
@@ -148,28 +176,8 @@ fn huge_friction_gives_the_bonded_solution() {
     let f = c.friction.as_ref().unwrap();
     assert!(f.step.state.iter().all(|&s| s == ContactState::Stick), "{:?}", f.step.state);
     assert_eq!((f.stick_zones, f.slip_zones), (1, 0));
-    // Bonded reference: the reactions of the clamped bottom nodes.
-    let reaction = |node: u32, axis: usize| {
-        bonded
-            .reactions
-            .iter()
-            .find(|&&(n, a, _)| n == node && a as usize == axis)
-            .map(|r| r.2)
-            .unwrap_or_else(|| panic!("node {node} is not clamped in the reference"))
-    };
+    let (worst, du) = bonded_difference(&stuck, &bonded);
     let scale = f.step.normal.iter().fold(0.0f64, |m, p| m.max(p.abs()));
-    let mut worst = 0.0f64;
-    for (k, &node) in c.candidates.nodes.iter().enumerate() {
-        // ν = (0, 1), t = (1, 0): R_y = P, R_x = T.
-        worst = worst.max((reaction(node, 1) - f.step.normal[k]).abs());
-        worst = worst.max((reaction(node, 0) - f.step.tangential[k]).abs());
-    }
-    let du = stuck
-        .displacement
-        .iter()
-        .zip(&bonded.displacement)
-        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
-        .fold(0.0, f64::max);
     println!(
         "stick: m = {}, max |force − bonded reaction| / max P = {:.2e}, max |u − u_bonded| = {du:.2e}, ΣT / ΣP = {:.4}",
         c.candidates.len(),
