@@ -192,7 +192,14 @@ pub enum ProblemError {
 }
 
 fn invalid(field: &str, value: impl std::fmt::Display, reason: impl Into<String>) -> ProblemError {
-    ProblemError::Invalid { field: field.into(), value: value.to_string(), reason: reason.into() }
+    let mut value = value.to_string();
+    // A number whose plain form is long (1e300 prints 301 digits) is shown as `1e300`.
+    if value.len() > 16 {
+        if let Ok(v) = value.parse::<f64>() {
+            value = format!("{v:e}");
+        }
+    }
+    ProblemError::Invalid { field: field.into(), value, reason: reason.into() }
 }
 
 impl Problem {
@@ -244,6 +251,16 @@ plane = "stress"
         )
         .unwrap_err();
         assert!(e.to_string().contains("at `geometry.x`"), "{e}");
+    }
+
+    #[test]
+    fn long_numbers_in_messages_are_shown_in_scientific_form() {
+        let e = invalid("nodes.refine[0].spacing", 1e50, "too large").to_string();
+        assert!(e.contains(": 1e50 (too large)"), "{e}");
+        let e = invalid("x", 0.25, "r").to_string();
+        assert!(e.contains(": 0.25 (r)"), "{e}");
+        let e = invalid("name", "a-very-long-name-that-is-no-number", "r").to_string();
+        assert!(e.contains("a-very-long-name-that-is-no-number"), "{e}");
     }
 
     fn discretisation(head: &str, table: &str) -> Discretisation {
