@@ -1,7 +1,7 @@
 """Benchmark: a sweep of beam runs on a 2-worker dask LocalCluster against the same runs here.
 
 The runs are the paper's beam (`problems/beam_on_foundation.toml`) at node spacing `--spacing`
-(default 0.2: about 7 500 nodes, roughly 0.3 s a run on a 2-core machine) for `--runs`
+(default 0.2: 7 471 nodes, about 0.25 s a run on a 2-core machine) for `--runs`
 initial gaps (default 40: 0.001, 0.002, ..., 0.040). The script
 
 1. runs the sweep serially in this process (`mlpg_contact.sweep(base, grid)`);
