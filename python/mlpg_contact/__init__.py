@@ -95,7 +95,8 @@ def _text(problem: Problem) -> tuple[str, str]:
     if isinstance(problem, os.PathLike):
         return Path(problem).read_text(encoding="utf-8"), "toml"
     if isinstance(problem, str):
-        if "\n" not in problem and problem.endswith(".toml"):
+        # One line naming a file (or ending in .toml) is a path; anything else is TOML text.
+        if "\n" not in problem and (problem.endswith(".toml") or Path(problem).is_file()):
             return Path(problem).read_text(encoding="utf-8"), "toml"
         return problem, "toml"
     raise TypeError(f"a problem is a path, TOML text or a dict, not {type(problem).__name__}")
