@@ -15,7 +15,7 @@ l_c is `summary["contact"]["onset_x"]`: the distance from the clamped end to whe
 first touches the foundation, interpolated between the last open and the first closed
 contact candidate; the error bars show that bracket (`last_open_x`, `first_closed_x`).
 
-Needs the package (`pip install ./python`) and matplotlib; `--dask` also needs
+Needs the package (`pip install .`) and matplotlib; `--dask` also needs
 `dask[distributed]`. Run it from anywhere but the `python/` folder of the repository:
 
     python examples/python/beam_gap_sweep.py                 # spacing 0.5, beam_gap_sweep.png

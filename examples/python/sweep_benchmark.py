@@ -24,7 +24,7 @@ rayon tasks. The script prints the serial sweep's CPU time over its wall time; w
     python examples/python/sweep_benchmark.py                      # 40 runs at h = 0.2
     python examples/python/sweep_benchmark.py --runs 20 --spacing 0.25
 
-Needs the package (`pip install ./python`) and `dask[distributed]`. Run it from anywhere but
+Needs the package (`pip install .`) and `dask[distributed]`. Run it from anywhere but
 the `python/` folder of the repository.
 """
 from __future__ import annotations

@@ -1,6 +1,6 @@
 //! Python bindings of mlpg-contact: the extension module `mlpg_contact._native`, wrapped by the
 //! pure-Python package `mlpg_contact` beside it (`python/mlpg_contact/`), which is what users
-//! import. Built by maturin (`pip install ./python`); the Rust crate and its command line never
+//! import. Built by maturin (`pip install .`); the Rust crate and its command line never
 //! need it.
 //!
 //! The module has one function, [`solve`], which takes the problem as TOML or JSON text, solves
