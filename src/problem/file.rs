@@ -453,38 +453,37 @@ impl ProblemFile {
     /// # Errors
     /// [`ProblemError::Parse`] with the TOML error (line, column, unknown or missing key).
     pub fn from_toml(text: &str) -> Result<Self, ProblemError> {
-        let parse = |e: toml::de::Error| ProblemError::Parse(e.to_string());
-        let deserializer = toml::de::Deserializer::parse(text).map_err(parse)?;
-        serde_path_to_error::deserialize(deserializer).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            if path == "." {
-                parse(inner)
-            } else {
-                ProblemError::Parse(format!("at `{path}`: {inner}"))
-            }
-        })
+        let deserializer =
+            toml::de::Deserializer::parse(text).map_err(|e| ProblemError::Parse(e.to_string()))?;
+        with_key_path(deserializer)
     }
-}
 
-impl ProblemFile {
     /// Parses JSON text with the same keys and tables as the TOML problem file (what the
     /// Python package sends for a problem given as a dict).
     ///
     /// # Errors
     /// [`ProblemError::Parse`] with the JSON error and the key path (`at `geometry.x``).
     pub fn from_json(text: &str) -> Result<Self, ProblemError> {
-        let mut deserializer = serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(&mut deserializer).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            if path == "." {
-                ProblemError::Parse(inner.to_string())
-            } else {
-                ProblemError::Parse(format!("at `{path}`: {inner}"))
-            }
-        })
+        with_key_path(&mut serde_json::Deserializer::from_str(text))
     }
+}
+
+/// Deserialises a [`ProblemFile`] from any format, naming the key path of an error
+/// (`at `geometry.x`: …`) unless it is the document's root.
+fn with_key_path<'de, D>(deserializer: D) -> Result<ProblemFile, ProblemError>
+where
+    D: serde::Deserializer<'de>,
+    D::Error: std::fmt::Display,
+{
+    serde_path_to_error::deserialize(deserializer).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        if path == "." {
+            ProblemError::Parse(inner.to_string())
+        } else {
+            ProblemError::Parse(format!("at `{path}`: {inner}"))
+        }
+    })
 }
 
 /// Reads `discretisation` as a table ([`DiscretisationFile`], unknown keys refused with their
