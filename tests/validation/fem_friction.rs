@@ -13,7 +13,7 @@
 //!   both are in equilibrium.
 
 use super::common::shipped_problem;
-use super::friction::{bonded_difference, check_frictional};
+use super::friction::{block_text, bonded_difference, check_frictional, press_then_shear};
 use mlpg_contact::lcp::ContactState;
 use mlpg_contact::pipeline::compare::stick_extent;
 use mlpg_contact::problem::{Method, Problem};
@@ -24,37 +24,7 @@ use mlpg_contact::solve;
 /// (`mu = None`) is clamped. `steps`, if not empty, replaces the top's condition by zero
 /// values reached along the `[[step]]` tables given.
 fn fe_block(shift: f64, mu: Option<f64>, steps: &str) -> Problem {
-    let bottom = match mu {
-        Some(mu) => format!(
-            "[contact]\nedge = \"bottom\"\nobstacle_point = [0.0, 0.0]\nobstacle_normal = [0.0, 1.0]\nfriction = {mu:e}\n"
-        ),
-        None => "[[boundary]]\nedge = \"bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n".into(),
-    };
-    let top = if steps.is_empty() { (shift, -0.01) } else { (0.0, 0.0) };
-    Problem::from_toml(&format!(
-        r#"
-        name = "fe_block"
-        [geometry]
-        kind = "rectangle"
-        x = [0.0, 2.0]
-        y = [0.0, 1.0]
-        [nodes]
-        spacing = 0.1
-        [discretisation]
-        method = "fem"
-        [material]
-        young = 1000.0
-        poisson = 0.3
-        plane = "stress"
-        [[boundary]]
-        edge = "top"
-        displacement = {{ x = {:e}, y = {:e} }}
-        {bottom}
-        {steps}
-        "#,
-        top.0, top.1
-    ))
-    .unwrap()
+    Problem::from_toml(&block_text("fem", shift, mu, steps)).unwrap()
 }
 
 #[test]
@@ -121,14 +91,6 @@ fn fe_gross_sliding_slips_everywhere_on_the_cone() {
     // The tangential contact force reaches the reactions: Σ R_x = −Σ T.
     let rx = s.reaction_force[0];
     assert!((rx + f.total_force).abs() <= 1e-8 * c.total_force, "Σ R_x = {rx}");
-}
-
-/// Press by 0.01 in `k` increments, then shear by `shift` in `m` increments.
-fn press_then_shear(k: usize, m: usize, shift: f64) -> String {
-    format!(
-        "[[step]]\nincrements = {k}\nboundary = [{{ edge = \"top\", displacement = {{ y = -0.01 }} }}]\n\
-         [[step]]\nincrements = {m}\nboundary = [{{ edge = \"top\", displacement = {{ x = {shift:e} }} }}]\n"
-    )
 }
 
 #[test]

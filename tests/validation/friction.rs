@@ -35,13 +35,26 @@ use mlpg_contact::{Solution, solve};
 /// `(shift, −0.01)`; its bottom either touches the rigid line y = 0 with friction `mu`, or
 /// (`mu = None`) is clamped (`u = 0`, the bonded reference).
 fn block(shift: f64, mu: Option<f64>) -> Problem {
+    Problem::from_toml(&block_text("mfvm", shift, mu, "")).unwrap()
+}
+
+/// The text of the 2 × 1 block (E = 1000, ν = 0.3, plane stress, h = 0.1) on `method`
+/// (`"mfvm"` or `"fem"`): without `steps` its top is moved by `(shift, −0.01)`; with `steps`
+/// (`[[step]]` tables) the top is declared `displacement = { x = 0.0, y = 0.0 }` and the
+/// steps set its end values. Its bottom touches the rigid line y = 0 with friction `mu`, or
+/// (`mu = None`) is clamped (`u = 0`, the bonded reference).
+pub(super) fn block_text(method: &str, shift: f64, mu: Option<f64>, steps: &str) -> String {
     let bottom = match mu {
         Some(mu) => format!(
-            "[contact]\nedge = \"bottom\"\nobstacle_point = [0.0, 0.0]\nobstacle_normal = [0.0, 1.0]\nfriction = {mu:e}\n"
+            "[contact]\n        edge = \"bottom\"\n        obstacle_point = [0.0, 0.0]\n        obstacle_normal = [0.0, 1.0]\n        friction = {mu:e}\n"
         ),
-        None => "[[boundary]]\nedge = \"bottom\"\ndisplacement = { x = 0.0, y = 0.0 }\n".into(),
+        None => {
+            "[[boundary]]\n        edge = \"bottom\"\n        displacement = { x = 0.0, y = 0.0 }\n"
+                .into()
+        }
     };
-    Problem::from_toml(&format!(
+    let (x, y) = if steps.is_empty() { (shift, -0.01) } else { (0.0, 0.0) };
+    format!(
         r#"
         name = "block"
         [geometry]
@@ -50,17 +63,19 @@ fn block(shift: f64, mu: Option<f64>) -> Problem {
         y = [0.0, 1.0]
         [nodes]
         spacing = 0.1
+        [discretisation]
+        method = "{method}"
         [material]
         young = 1000.0
         poisson = 0.3
         plane = "stress"
         [[boundary]]
         edge = "top"
-        displacement = {{ x = {shift:e}, y = -0.01 }}
+        displacement = {{ x = {x:?}, y = {y:?} }}
         {bottom}
+        {steps}
         "#
-    ))
-    .unwrap()
+    )
 }
 
 /// (d): the step residual and the global equilibrium of a frictional solution.
@@ -325,7 +340,7 @@ fn stepped_block(mu: f64, steps: &str) -> Problem {
 }
 
 /// Press by 0.01 in `k` increments, shear by `shift` in `m` increments with the press held.
-fn press_then_shear(k: usize, m: usize, shift: f64) -> String {
+pub(super) fn press_then_shear(k: usize, m: usize, shift: f64) -> String {
     format!(
         "[[step]]\nincrements = {k}\nboundary = [{{ edge = \"top\", displacement = {{ y = -0.01 }} }}]\n\
          [[step]]\nincrements = {m}\nboundary = [{{ edge = \"top\", displacement = {{ x = {shift:e} }} }}]\n"
@@ -486,30 +501,7 @@ fn steps_are_validated() {
 
 /// The text of [`stepped_block`].
 fn stepped_block_text(mu: f64, steps: &str) -> String {
-    format!(
-        r#"
-        name = "block_steps"
-        [geometry]
-        kind = "rectangle"
-        x = [0.0, 2.0]
-        y = [0.0, 1.0]
-        [nodes]
-        spacing = 0.1
-        [material]
-        young = 1000.0
-        poisson = 0.3
-        plane = "stress"
-        [[boundary]]
-        edge = "top"
-        displacement = {{ x = 0.0, y = 0.0 }}
-        [contact]
-        edge = "bottom"
-        obstacle_point = [0.0, 0.0]
-        obstacle_normal = [0.0, 1.0]
-        friction = {mu:e}
-        {steps}
-        "#
-    )
+    block_text("mfvm", 0.0, Some(mu), steps)
 }
 
 /// Two identical 2 × 1 blocks (E = 1000, ν = 0.3, plane stress, h = 0.1), the upper one's top
