@@ -17,44 +17,15 @@
 //! total force, scaled complementarity, equilibrium error, peak memory. Nothing is asserted.
 
 mod args;
+mod strip;
+
+use strip::strip;
 
 use clap::Parser;
 use std::time::Instant;
 
 use mlpg_contact::problem::{ContactSolver, Problem};
 use mlpg_contact::{Silent, discretise, solve_model};
-
-fn strip(h: f64, length: f64) -> Problem {
-    let text = format!(
-        r#"
-        name = "strip"
-        [geometry]
-        kind = "rectangle"
-        x = [0.0, {length:?}]
-        y = [-0.5, 0.5]
-        [nodes]
-        spacing = {h:?}
-        [material]
-        young = 30000.0
-        poisson = 0.3
-        plane = "stress"
-        [discretisation]
-        basis = "linear"
-        support_factor = 2.0
-        [[boundary]]
-        edge = "left"
-        displacement = {{ x = 0.0, y = 0.0 }}
-        [[boundary]]
-        edge = "top"
-        traction = {{ y = -1.0 }}
-        [contact]
-        edge = "bottom"
-        obstacle_point = [0.0, -0.51]
-        obstacle_normal = [0.0, 1.0]
-        "#
-    );
-    Problem::from_toml(&text).unwrap_or_else(|e| panic!("strip problem is invalid: {e}"))
-}
 
 fn beam(h: f64) -> Problem {
     let path =

@@ -16,51 +16,16 @@
 //! Lemke (pivots, seconds). Nothing is asserted.
 
 mod args;
+mod strip;
+
+use strip::strip;
 
 use clap::Parser;
 use std::time::Instant;
 
 use mlpg_contact::contact::{self, ContactTarget};
 use mlpg_contact::lcp::{Lcp, LemkeParams, lemke};
-use mlpg_contact::problem::Problem;
 use mlpg_contact::{Silent, discretise};
-
-fn strip(h: f64, length: f64) -> Problem {
-    let text = format!(
-        r#"
-        name = "strip"
-        [geometry]
-        kind = "rectangle"
-        x = [0.0, {length:?}]
-        y = [-0.5, 0.5]
-        [nodes]
-        spacing = {h:?}
-        layout = "structured"
-        [material]
-        young = 30000.0
-        poisson = 0.3
-        plane = "stress"
-        [discretisation]
-        basis = "linear"
-        support_factor = 2.0
-        quadrature_points = 2
-        [[boundary]]
-        edge = "left"
-        displacement = {{ x = 0.0, y = 0.0 }}
-        [[boundary]]
-        edge = "top"
-        traction = {{ y = -1.0 }}
-        [contact]
-        edge = "bottom"
-        obstacle_point = [0.0, -0.51]
-        obstacle_normal = [0.0, 1.0]
-        "#
-    );
-    match Problem::from_toml(&text) {
-        Ok(p) => p,
-        Err(e) => panic!("strip problem is invalid: {e}"),
-    }
-}
 
 /// Timing of the contact stages (candidates, condensation, checks of M, Lemke) on a long strip
 /// above a rigid foundation.
