@@ -3,18 +3,14 @@
 //! (`tests/data/lcp-suite`), random P-matrix problems checked against brute-force
 //! enumeration, and the safeguard on a problem where the plain iteration cycles.
 
-use std::path::Path;
+mod lcp_support;
 
+use lcp_support::{load_suite, max_abs, permuted_triangular, positive_definite_plus_skew};
 use mlpg_contact::lcp::active_set::{
     ActiveSetEnd, ActiveSetError, ActiveSetParams, DenseSystem, solve,
 };
 use mlpg_contact::lcp::{Lcp, LemkeParams, enumerate_solutions, lemke};
 use proptest::prelude::*;
-use serde_json::Value;
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |acc, x| acc.max(x.abs()))
-}
 
 /// `max |a − b| / max(1, ‖b‖∞)`.
 fn distance(a: &[f64], b: &[f64]) -> f64 {
@@ -26,25 +22,16 @@ fn distance(a: &[f64], b: &[f64]) -> f64 {
 /// Lemke's own acceptance threshold is 1e-9) and passes the scaled residual test.
 #[test]
 fn p_matrix_suite_cases_equal_lemke() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/lcp-suite");
     let mut checked = 0;
-    let mut paths: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
-    paths.sort();
-    for path in paths.iter().filter(|p| p.extension().is_some_and(|x| x == "json")) {
-        let v: Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
-        if v["properties"]["P_matrix"].as_bool() != Some(true) {
-            continue;
-        }
-        let num = |x: &Value| x.as_array().unwrap().iter().map(|y| y.as_f64().unwrap()).collect();
-        let rows: Vec<Vec<f64>> = v["M"].as_array().unwrap().iter().map(num).collect();
-        let lcp = Lcp::from_rows(&rows, num(&v["q"])).unwrap();
-        let reference = lemke(&lcp, &LemkeParams::default()).unwrap();
-        let answer = solve(&mut DenseSystem::new(&lcp), &ActiveSetParams::default())
-            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    for case in load_suite().iter().filter(|c| c.p_matrix) {
+        let (name, lcp) = (&case.name, &case.lcp);
+        let reference = lemke(lcp, &LemkeParams::default()).unwrap();
+        let answer = solve(&mut DenseSystem::new(lcp), &ActiveSetParams::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         let r = lcp.residuals(&answer.lcp.z);
-        assert!(r.max_violation() < 1e-10, "{}: residuals {r:?}", path.display());
+        assert!(r.max_violation() < 1e-10, "{name}: residuals {r:?}");
         let d = distance(&answer.lcp.z, &reference.z);
-        assert!(d < 1e-10, "{}: |z − z_Lemke| = {d:e}", path.display());
+        assert!(d < 1e-10, "{name}: |z − z_Lemke| = {d:e}");
         checked += 1;
     }
     assert!(checked >= 5, "only {checked} P-matrix cases found");
@@ -107,14 +94,7 @@ proptest! {
             prop::collection::vec(-1.0..1.0_f64, n),
         ))
     ) {
-        let mut m = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                let ata: f64 = (0..n).map(|k| a[k * n + i] * a[k * n + j]).sum();
-                m[i * n + j] = ata + skew * (s[i * n + j] - s[j * n + i])
-                    + if i == j { delta } else { 0.0 };
-            }
-        }
+        let m = positive_definite_plus_skew(n, &a, &s, delta, skew);
         check(n, m, q)?;
     }
 
@@ -130,13 +110,7 @@ proptest! {
             prop::collection::vec(-1.0..1.0_f64, n),
         ))
     ) {
-        let mut m = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..=i {
-                let v = if i == j { diag[i] } else { l[i * n + j] };
-                m[perm[i] * n + perm[j]] = v;
-            }
-        }
+        let m = permuted_triangular(n, &l, &diag, &perm);
         check(n, m, q)?;
     }
 }

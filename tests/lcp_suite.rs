@@ -2,76 +2,16 @@
 //! README.md: 20 cases converted from Siconos under Apache-2.0 and 9 hand-made ones), plus
 //! property tests against brute-force enumeration on random P-matrix problems.
 
-use std::path::{Path, PathBuf};
-
 use mlpg_contact::lcp::{Lcp, LcpError, LemkeParams, enumerate_solutions, lemke};
 use proptest::prelude::*;
-use serde_json::Value;
+mod lcp_support;
+
+use lcp_support::{
+    load_suite, max_abs, permuted_triangular, positive_definite_plus_skew, suite_dir,
+};
 
 /// Scaled residual tolerance of the suite's README ("How a test should check a result").
 const SUITE_TOL: f64 = 1e-9;
-
-fn suite_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/lcp-suite")
-}
-
-/// One case of the suite, as read from its JSON file.
-struct Case {
-    name: String,
-    lcp: Lcp,
-    expected: String,
-    z: Option<Vec<f64>>,
-    solution_exists: bool,
-    lemke_pivots: Option<usize>,
-    p_matrix: bool,
-}
-
-fn numbers(v: &Value, what: &str, file: &str) -> Vec<f64> {
-    v.as_array()
-        .unwrap_or_else(|| panic!("{file}: {what} is not an array"))
-        .iter()
-        .map(|x| x.as_f64().unwrap_or_else(|| panic!("{file}: {what} has a non-number")))
-        .collect()
-}
-
-fn load_case(path: &Path) -> Case {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let v: Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{file}: {e}"));
-    let n = v["n"].as_u64().unwrap_or_else(|| panic!("{file}: no n")) as usize;
-    let rows: Vec<Vec<f64>> = v["M"]
-        .as_array()
-        .unwrap_or_else(|| panic!("{file}: M is not an array"))
-        .iter()
-        .map(|row| numbers(row, "a row of M", &file))
-        .collect();
-    let q = numbers(&v["q"], "q", &file);
-    let lcp = Lcp::from_rows(&rows, q).unwrap_or_else(|e| panic!("{file}: {e}"));
-    assert_eq!(lcp.size(), n, "{file}: n does not match M");
-    Case {
-        name: v["name"].as_str().unwrap_or_else(|| panic!("{file}: no name")).to_string(),
-        lcp,
-        expected: v["expected"].as_str().unwrap_or_else(|| panic!("{file}: no expected")).into(),
-        z: v.get("z").map(|z| numbers(z, "z", &file)),
-        solution_exists: v["solution_exists"].as_bool().unwrap_or(true),
-        lemke_pivots: v["lemke_pivots"].as_u64().map(|p| p as usize),
-        p_matrix: v["properties"]["P_matrix"].as_bool() == Some(true),
-    }
-}
-
-fn load_suite() -> Vec<Case> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(suite_dir())
-        .expect("tests/data/lcp-suite is missing")
-        .map(|e| e.expect("unreadable directory entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    paths.sort();
-    paths.iter().map(|p| load_case(p)).collect()
-}
-
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |acc, x| acc.max(x.abs()))
-}
 
 /// Runs every case and checks it as the suite's README prescribes; collects all failures and
 /// prints a table of outcomes (visible with `--nocapture`).
@@ -243,14 +183,7 @@ proptest! {
             prop::collection::vec(q_entry(), n),
         ))
     ) {
-        let mut m = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                let ata: f64 = (0..n).map(|k| a[k * n + i] * a[k * n + j]).sum();
-                m[i * n + j] = ata + skew * (s[i * n + j] - s[j * n + i])
-                    + if i == j { delta } else { 0.0 };
-            }
-        }
+        let m = positive_definite_plus_skew(n, &a, &s, delta, skew);
         check_against_enumeration(n, m, q)?;
     }
 
@@ -285,13 +218,7 @@ proptest! {
             prop::collection::vec(q_entry(), n),
         ))
     ) {
-        let mut m = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..=i {
-                let v = if i == j { diag[i] } else { l[i * n + j] };
-                m[perm[i] * n + perm[j]] = v;
-            }
-        }
+        let m = permuted_triangular(n, &l, &diag, &perm);
         check_against_enumeration(n, m, q)?;
     }
 }
