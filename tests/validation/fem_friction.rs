@@ -74,23 +74,7 @@ fn fe_huge_friction_gives_the_bonded_solution() {
 
 #[test]
 fn fe_gross_sliding_slips_everywhere_on_the_cone() {
-    let mu = 0.2;
-    let s = solve(&fe_block(0.05, Some(mu), "")).unwrap();
-    check_frictional(&s, "FE gross sliding");
-    let c = s.contact.as_ref().unwrap();
-    let f = c.friction.as_ref().unwrap();
-    let closed = f.step.normal.iter().filter(|&&p| p > 0.0).count();
-    assert!(closed > c.candidates.len() / 2, "only {closed} candidates closed");
-    for (k, &state) in f.step.state.iter().enumerate() {
-        if f.step.normal[k] > 0.0 {
-            assert_eq!(state, ContactState::SlipPositive, "candidate {k}");
-        }
-    }
-    let ratio = f.total_force / c.total_force;
-    assert!((ratio + mu).abs() <= 1e-10, "ΣT / ΣP = {ratio}");
-    // The tangential contact force reaches the reactions: Σ R_x = −Σ T.
-    let rx = s.reaction_force[0];
-    assert!((rx + f.total_force).abs() <= 1e-8 * c.total_force, "Σ R_x = {rx}");
+    super::friction::gross_sliding_on("fem");
 }
 
 #[test]

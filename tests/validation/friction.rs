@@ -205,9 +205,16 @@ fn huge_friction_gives_the_bonded_solution() {
 
 #[test]
 fn gross_sliding_slips_everywhere_on_the_cone() {
+    gross_sliding_on("mfvm");
+}
+
+/// The block of [`block_text`] on `method` sheared by 0.05 with μ = 0.2: every closed
+/// candidate slips forward, `ΣT/ΣP = −μ` to 1e-10, and the top's reaction carries the friction
+/// force (`Σ R_x = −Σ T`).
+pub(super) fn gross_sliding_on(method: &str) {
     let mu = 0.2;
-    let s = solve(&block(0.05, Some(mu))).unwrap();
-    check_frictional(&s, "gross sliding");
+    let s = solve(&Problem::from_toml(&block_text(method, 0.05, Some(mu), "")).unwrap()).unwrap();
+    check_frictional(&s, &format!("gross sliding ({method})"));
     let c = s.contact.as_ref().unwrap();
     let f = c.friction.as_ref().unwrap();
     let closed = f.step.normal.iter().filter(|&&p| p > 0.0).count();
@@ -219,7 +226,7 @@ fn gross_sliding_slips_everywhere_on_the_cone() {
     }
     let ratio = f.total_force / c.total_force;
     println!(
-        "gross sliding: {closed} of {} closed, ΣT = {:.6}, ΣP = {:.6}, ΣT/ΣP = {ratio:.12}",
+        "gross sliding ({method}): {closed} of {} closed, ΣT = {:.6}, ΣP = {:.6}, ΣT/ΣP = {ratio:.12}",
         c.candidates.len(),
         f.total_force,
         c.total_force
