@@ -11,6 +11,8 @@ pub(super) struct StepEnd {
     pub(super) load: Vec<f64>,
     pub(super) rhs: Vec<f64>,
     pub(super) obstacle: geometry::Point,
+    /// The Coulomb coefficient during the step.
+    pub(super) friction: f64,
 }
 
 /// The ends of `problem.steps`: each step's conditions on the assembled body (the same
@@ -45,6 +47,7 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
                 load,
                 rhs,
                 obstacle: step.obstacle_displacement,
+                friction: step.friction,
             })
         })
         .collect()
@@ -188,7 +191,10 @@ pub(super) fn solve_frictional(
             })
             .collect::<Result<_, Error>>()
     })?;
-    let friction: Vec<f64> = free.iter().map(|&f| if f { spec.friction } else { 0.0 }).collect();
+    // μ per candidate in step k: 0 where the tangential row is a displacement condition.
+    let friction_in = |k: usize| -> Vec<f64> {
+        free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect()
+    };
     let mut step_problem = lcp::FrictionProblem {
         nn: blocks.nn,
         nt: blocks.nt,
@@ -197,7 +203,7 @@ pub(super) fn solve_frictional(
         free_gap: candidates.initial_gap.clone(),
         free_tangential: vec![0.0; m],
         previous_tangential: vec![0.0; m],
-        friction,
+        friction: friction_in(0),
     };
     // The unloaded start: no load, the obstacle where it was given.
     let n = model.system.rhs.len();
@@ -212,6 +218,7 @@ pub(super) fn solve_frictional(
     let mut last = None;
     clock.run("friction", || -> Result<(), Error> {
         for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
+            step_problem.friction = friction_in(k);
             for i in 1..=end.increments {
                 let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
@@ -347,8 +354,10 @@ pub(super) fn solve_frictional(
         gap,
         warning,
     );
+    // The final step's coefficient: the one the final state's stick/slip refer to.
+    let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
     let mut friction =
-        solution::FrictionContact::new(spec.friction, free, tangential, step, &segment_length);
+        solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
     friction.slip = accumulated;
     friction.increments = records;
     friction.snapshots = snapshots;

@@ -317,6 +317,7 @@ fn solve_contact(
                 load: m.system.load.clone(),
                 rhs: m.system.rhs.clone(),
                 obstacle: [0.0, 0.0],
+                friction: spec.friction,
             }]
         };
         let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());

@@ -66,6 +66,10 @@ pub struct StepFile {
     /// as a rigid body; default: where the previous step left it, initially `[0, 0]`).
     #[serde(default, deserialize_with = "exact::optional_pair")]
     pub obstacle_displacement: Option<[f64; 2]>,
+    /// The Coulomb coefficient during this step (default: `[contact] friction`); e.g. 0 in a
+    /// press step so that pressing leaves no tangential traction (docs/method.md §8).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<f64>,
 }
 
 /// One entry of a step's `boundary`: a `[[boundary]]` entry's keys, and with two `[[body]]`

@@ -150,6 +150,9 @@ pub struct LoadStep {
     pub boundary: Vec<EdgeCondition>,
     /// Total displacement of the rigid obstacle at the end of the step.
     pub obstacle_displacement: Point,
+    /// The Coulomb coefficient `μ ≥ 0` during the step (`[[step]] friction`, default the
+    /// contact's).
+    pub friction: f64,
 }
 
 /// Body force per unit volume `b(x)`.

@@ -907,6 +907,17 @@ fn load_steps(
             check_finite(&field("obstacle_displacement"), d[1])?;
             obstacle = d;
         }
+        let friction = match step.friction {
+            None => problem.contact.as_ref().map_or(0.0, |c| c.friction),
+            Some(mu) if mu.is_finite() && mu >= 0.0 => mu,
+            Some(mu) => {
+                return Err(invalid(
+                    &field("friction"),
+                    mu,
+                    "the Coulomb friction coefficient must be a finite number ≥ 0",
+                ));
+            }
+        };
         let mut named = Vec::new();
         for (j, b) in step.boundary.iter().enumerate() {
             let f = |g: &str| field(&format!("boundary[{j}].{g}"));
@@ -980,6 +991,7 @@ fn load_steps(
                 increments,
                 boundary: boundary.clone(),
                 obstacle_displacement: obstacle,
+                friction,
             });
         }
     }
