@@ -358,3 +358,81 @@ fn long_strip_on_block_equals_lemke() {
     let (force, gap) = compare("strip on block 100 × 1", &problem);
     println!("strip on block 100 × 1: forces {force:.1e}, gaps {gap:.1e}");
 }
+
+/// The sparse two-body system against the dense LCP of the same problem (the mirror-image
+/// pair, partial contact): Lemke's run gives `M = G₁K₁⁻¹E₁ + G₂K₂⁻¹E₂` and `q`
+/// (`lcp::active_set::DenseSystem`); `TwoBodies`, built from the same models and operators,
+/// must give the same free gaps, the same forces and gaps for a guessed active set, and the
+/// same reduced LCP of the Lemke rescue (a Schur complement with some candidates held active,
+/// formed from solves with the row-replaced system). Tolerance 1e-10 relative to the largest
+/// entry, as `AGREEMENT` (observed ≤ 1e-13: both are round-off of solves with the same `K`s).
+/// Then a forced rescue (one solve allowed before Lemke takes over) ends at Lemke's answer.
+#[test]
+fn two_body_system_equals_the_dense_lcp() {
+    use mlpg_contact::lcp::Lcp;
+    use mlpg_contact::lcp::active_set::{
+        ActiveSetEnd, ActiveSetParams, ActiveSetSystem, BodyParts, DenseSystem, TwoBodies,
+    };
+    let problem = mirror_problems().1;
+    let lemke = solve_with(&problem, ContactSolver::Lemke);
+    let c = lemke.contact.as_ref().unwrap();
+    let condensed = c.condensed.as_ref().unwrap();
+    let m = c.candidates.len();
+    let dense = Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone()).unwrap();
+    let silent = &mut mlpg_contact::Silent;
+    let m1 = mlpg_contact::discretise(&problem, silent).unwrap();
+    let m2 = mlpg_contact::discretise(problem.second_body.as_deref().unwrap(), silent).unwrap();
+    fn parts<'a>(
+        model: &'a mlpg_contact::model::Model,
+        operator: &'a mlpg_contact::contact::BodyOperator,
+    ) -> BodyParts<'a> {
+        BodyParts {
+            matrix: &model.system.matrix,
+            rhs: &model.system.rhs,
+            factorisation: &model.factorisation,
+            operator,
+            points: Some(&model.nodes.points),
+        }
+    }
+    let target = c.target.as_ref().unwrap();
+    let new_system = || {
+        TwoBodies::new(
+            parts(&m1, &c.candidates.operator),
+            parts(&m2, target),
+            &c.candidates.initial_gap,
+            m1.system.collocation_scale,
+        )
+        .unwrap()
+    };
+    let mut sparse = new_system();
+    let mut reference = DenseSystem::new(&dense);
+    let close = |what: &str, x: &[f64], y: &[f64]| {
+        let scale = max_abs(y).max(1e-300);
+        let d = x.iter().zip(y).fold(0.0_f64, |a, (p, q)| a.max((p - q).abs())) / scale;
+        println!("{what}: relative difference {d:.1e}");
+        assert!(d < 1e-10, "{what}: {d:e}");
+    };
+    close("free gaps", &sparse.free_gap().unwrap().unwrap(), dense.q());
+    // A guess: every other candidate of the closed ones at Lemke's answer.
+    let closed: Vec<usize> = (0..m).filter(|&i| c.lcp.z[i] > 0.0).collect();
+    assert!(closed.len() >= 4, "{} closed", closed.len());
+    let mut guess = vec![false; m];
+    closed.iter().step_by(2).for_each(|&i| guess[i] = true);
+    let (ps, gs) = sparse.solve_active(&guess).unwrap();
+    let (pd, gd) = reference.solve_active(&guess).unwrap();
+    close("forces of a guess", &ps, &pd);
+    close("gaps of a guess", &gs, &gd);
+    let free: Vec<usize> = (0..m).filter(|&i| !guess[i]).step_by(2).collect();
+    let (ls, ld) =
+        (sparse.reduced_lcp(&guess, &free).unwrap(), reference.reduced_lcp(&guess, &free).unwrap());
+    let k = free.len();
+    let entries = |l: &Lcp| -> Vec<f64> {
+        (0..k).flat_map(|i| (0..k).map(move |j| (i, j))).map(|(i, j)| l.m(i, j)).collect()
+    };
+    close("reduced M", &entries(&ls), &entries(&ld));
+    close("reduced q", ls.q(), ld.q());
+    let params = ActiveSetParams { max_iterations: 1, ..ActiveSetParams::default() };
+    let answer = mlpg_contact::lcp::active_set::solve(&mut new_system(), &params).unwrap();
+    assert_eq!(answer.end, ActiveSetEnd::ConvergedAfterRescue, "{:?}", answer.changes);
+    close("forces after a rescue", &answer.lcp.z, &c.lcp.z);
+}
