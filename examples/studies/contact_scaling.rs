@@ -6,7 +6,9 @@
 //!   edge, rigid foundation 0.01 below its bottom edge (the beam on foundation, stretched;
 //!   `examples/studies/contact_timing.rs`); plane stress, `E = 30 000`, `ν = 0.3`, linear
 //!   basis, `α_s = 2`, the paper's operator (`β = 0`);
-//! - `beam`: `problems/beam_on_foundation.toml` at the given spacing.
+//! - `beam`: `problems/beam_on_foundation.toml` at the given spacing;
+//! - `blocks`: the strip on an elastic block `L × 1` (spacing `1.25 h`, fixed on its bottom)
+//!   instead of the rigid foundation: two bodies (`examples/studies/strip.rs`).
 //!
 //! ```text
 //! cargo run --release --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver active_set
@@ -19,7 +21,7 @@
 mod args;
 mod strip;
 
-use strip::strip;
+use strip::{strip, strip_on_block};
 
 use clap::Parser;
 use std::time::Instant;
@@ -51,7 +53,8 @@ fn peak_gb() -> f64 {
 /// One case, one solver: a row of the scaling table of docs/dev/active_set.md.
 #[derive(Parser)]
 struct Cli {
-    /// `strip` (L × 1 on a rigid foundation) or `beam` (the shipped beam problem)
+    /// `strip` (L × 1 on a rigid foundation), `blocks` (the strip on an elastic block) or
+    /// `beam` (the shipped beam problem)
     #[arg(long, default_value = "strip")]
     case: String,
     /// Node spacing h
@@ -73,7 +76,8 @@ fn main() {
     let mut problem = match cli.case.as_str() {
         "strip" => strip(cli.spacing, cli.length),
         "beam" => beam(cli.spacing),
-        other => panic!("unknown case {other}: strip or beam"),
+        "blocks" => strip_on_block(cli.spacing, cli.length),
+        other => panic!("unknown case {other}: strip, blocks or beam"),
     };
     let solver = match cli.solver.as_str() {
         "lemke" => ContactSolver::Lemke,
@@ -90,8 +94,12 @@ fn main() {
     }
     let t = Instant::now();
     let model = discretise(&problem, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
+    let second = problem
+        .second_body
+        .as_deref()
+        .map(|p2| discretise(p2, &mut Silent).unwrap_or_else(|e| panic!("{e}")));
     let t_disc = t.elapsed().as_secs_f64();
-    let nodes = model.nodes.len();
+    let nodes = model.nodes.len() + second.as_ref().map_or(0, |m| m.nodes.len());
     let st = model.factorisation.stats();
     eprintln!(
         "K: bound_flops {:.3e}, bound_nnz {}, factor_nnz {}, numeric {:.2} s, symbolic {:.2} s, ordering {:.2} s",
@@ -103,7 +111,7 @@ fn main() {
         st.ordering_seconds
     );
     let (_, _, s) =
-        solve_model(&problem, model, None, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
+        solve_model(&problem, model, second, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
     let c = s.contact.as_ref().expect("contact");
     let stages: Vec<String> = s
         .timings
@@ -132,7 +140,7 @@ fn main() {
     println!(
         "| {} {} | {} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {:.6} | {:.1e} | {:.1e} | {:.2} |",
         cli.case,
-        if cli.case == "strip" { format!("{} × 1", cli.length) } else { String::new() },
+        if cli.case == "beam" { String::new() } else { format!("{} × 1", cli.length) },
         cli.spacing,
         c.candidates.len(),
         nodes,
@@ -144,7 +152,9 @@ fn main() {
         work,
         c.total_force,
         c.lcp.residuals.max_complementarity,
-        s.equilibrium_error,
+        s.second_body
+            .as_ref()
+            .map_or(s.equilibrium_error, |s2| s.equilibrium_error.max(s2.equilibrium_error)),
         peak_gb()
     );
 }

@@ -37,3 +37,38 @@ pub fn strip(h: f64, length: f64) -> Problem {
     );
     Problem::from_toml(&text).unwrap_or_else(|e| panic!("strip problem is invalid: {e}"))
 }
+
+/// The strip of [`strip`] (spacing `h`) 0.01 above an elastic block `length × 1` (the same
+/// material, spacing `1.25 h`, fixed on its bottom edge) instead of the rigid floor: two
+/// elastic bodies with `length / h + 1` candidates and a partial contact zone.
+#[allow(dead_code)]
+pub fn strip_on_block(h: f64, length: f64) -> Problem {
+    let lower_h = 1.25 * h;
+    let text = format!(
+        r#"
+        name = "strip"
+        [discretisation]
+        basis = "linear"
+        support_factor = 2.0
+        [[body]]
+        name = "strip"
+        geometry = {{ kind = "rectangle", x = [0.0, {length:?}], y = [-0.5, 0.5] }}
+        nodes = {{ spacing = {h:?} }}
+        material = {{ young = 30000.0, poisson = 0.3, plane = "stress" }}
+        boundary = [
+          {{ edge = "left", displacement = {{ x = 0.0, y = 0.0 }} }},
+          {{ edge = "top", traction = {{ y = -1.0 }} }},
+        ]
+        [[body]]
+        name = "block"
+        geometry = {{ kind = "rectangle", x = [0.0, {length:?}], y = [-1.51, -0.51] }}
+        nodes = {{ spacing = {lower_h:?} }}
+        material = {{ young = 30000.0, poisson = 0.3, plane = "stress" }}
+        boundary = [{{ edge = "bottom", displacement = {{ x = 0.0, y = 0.0 }} }}]
+        [contact]
+        edge = "bottom"
+        target_edge = "top"
+        "#
+    );
+    Problem::from_toml(&text).unwrap_or_else(|e| panic!("strip-on-block problem is invalid: {e}"))
+}

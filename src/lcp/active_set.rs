@@ -16,10 +16,12 @@
 //! rescues the solver gives up with [`ActiveSetError::NotConverged`]: it never returns an
 //! unconverged answer.
 //!
-//! Two systems implement [`ActiveSetSystem`]: [`DenseSystem`] (an [`Lcp`] with its dense `M`;
-//! for tests and small problems) and [`RigidObstacle`] (the sparse body against a rigid
+//! Three systems implement [`ActiveSetSystem`]: [`DenseSystem`] (an [`Lcp`] with its dense `M`;
+//! for tests and small problems), [`RigidObstacle`] (the sparse body against a rigid
 //! obstacle: the gap condition of an active candidate replaces its normal equilibrium row,
-//! as a displacement condition is collocated, docs/method.md §5.1).
+//! as a displacement condition is collocated, docs/method.md §5.1) and [`TwoBodies`] (two
+//! elastic bodies: the same row replacement on the candidate body, the target body's force
+//! rows expressed through the removed row).
 
 use super::{Lcp, LcpError, LcpResiduals, LcpSolution, LemkeParams, lemke};
 use crate::assembly::SystemMatrix;
@@ -33,6 +35,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
+
+mod two_bodies;
+pub use two_bodies::{BodyParts, TwoBodies};
 
 /// Failures of the active-set solver.
 #[derive(Debug, thiserror::Error)]
@@ -49,20 +54,15 @@ pub enum ActiveSetError {
         /// Why the last attempt stopped.
         reason: &'static str,
     },
-    /// The contact forces do not enter the candidates' own rows only (two bodies, or a force
-    /// shared between nodes): the row replacement does not apply.
+    /// The contact forces do not enter the candidates' own rows only (a force shared between
+    /// nodes of the candidate body): the row replacement does not apply.
     #[error(
-        "the active-set contact solver needs each candidate's force on its own node's rows (a rigid obstacle); candidate {candidate} does not: use contact.solver = \"lemke\""
+        "the active-set contact solver needs each candidate's force on its own node's rows of the candidate body; candidate {candidate} does not: use contact.solver = \"lemke\""
     )]
     Unsupported {
         /// The first offending candidate.
         candidate: usize,
     },
-    /// A second body: each contact force is spread over several of its cells.
-    #[error(
-        "the active-set contact solver handles a rigid obstacle only, not two bodies: use contact.solver = \"lemke\""
-    )]
-    TwoBodies,
     /// A linear solve failed.
     #[error(transparent)]
     Solve(#[from] SolveError),

@@ -14,7 +14,7 @@
 //! estimate again and 1 GB.
 
 use crate::linear_solve::STATIC_PIVOTING_MIN_DOFS;
-use crate::problem::{ContactTarget, Method, Problem};
+use crate::problem::{Method, Problem};
 
 /// Bytes per node of the paper's operator at `α_s = 2` with faer's LU (measured up to 88 kB).
 const BYTES_PER_NODE_FAER: f64 = 90e3;
@@ -65,9 +65,8 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
         let m = problem.domain.curve(spec.edge).length()
             / problem.refinement.finest(problem.node_spacing)
             + 1.0;
-        let rigid = matches!(spec.target, ContactTarget::Rigid(_));
         let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
-        if frictionless && spec.solver.is_active_set(m as usize, rigid) {
+        if frictionless && spec.solver.is_active_set(m as usize) {
             // A second factorisation (of the row-replaced matrix) and at most 1 GB of stored
             // update columns (docs/method.md §5.1): 6.9 GB measured on the 210k-node strip
             // whose estimate without contact is 8.8 GB.

@@ -337,11 +337,12 @@ fn solve_contact(
         contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
-    if spec.solver.is_active_set(candidates.len(), target.is_none()) {
-        if target.is_some() {
-            return Err(lcp::LcpError::from(lcp::active_set::ActiveSetError::TwoBodies).into());
-        }
-        return solve_active_set(spec, model, candidates, clock);
+    if spec.solver.is_active_set(candidates.len()) {
+        let second = target.zip(second.map(|(_, m2)| m2));
+        let (u1, u2, mut contact) = solve_active_set(spec, model, candidates, second, clock)?;
+        contact.paired_points = paired_points;
+        contact.unpaired = unpaired;
+        return Ok((u1, u2, contact));
     }
     let condensed = clock.run_counted("condensation", |progress| {
         let (factors, rhs, op) = (&model.factorisation, &model.system.rhs, &candidates.operator);
@@ -386,39 +387,66 @@ fn solve_contact(
     Ok((u1, u2, contact))
 }
 
-/// The active-set solver against a rigid obstacle (docs/method.md §5.1): no `M`, so none of
-/// its checks; the displacements are those of the final active set's problem (no solve with
-/// `K` alone, which may be too ill-conditioned where the contact is what holds the body).
+/// The active-set solver (docs/method.md §5.1), against a rigid obstacle or, with `second`
+/// (the target's operator and model), between two bodies: no `M`, so none of its checks; the
+/// displacements are those of the final active set's problem (no solve with `K` alone, which
+/// may be too ill-conditioned where the contact is what holds the body).
 fn solve_active_set(
     spec: &ContactSpec,
     model: &Model,
     candidates: contact::Candidates,
+    second: Option<(contact::BodyOperator, &Model)>,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let points = match model.scheme {
-        Scheme::Mfvm(_) => Some(model.nodes.points.as_slice()),
-        Scheme::Fem(_) => None,
-    };
-    let (answer, u1, work) = clock.run("active_set", || {
-        let mut system = lcp::active_set::RigidObstacle::new(
-            &model.system.matrix,
-            &model.system.rhs,
-            &model.factorisation,
-            &candidates.operator,
-            &candidates.initial_gap,
-            model.system.collocation_scale,
-            points,
-        )?;
-        let answer =
-            lcp::active_set::solve(&mut system, &lcp::active_set::ActiveSetParams::default())?;
-        let u1 = system.final_displacements(&answer.active)?;
-        Ok::<_, lcp::LcpError>((answer, u1, system.stats))
+    fn points(m: &Model) -> Option<&[geometry::Point]> {
+        match m.scheme {
+            Scheme::Mfvm(_) => Some(m.nodes.points.as_slice()),
+            Scheme::Fem(_) => None,
+        }
+    }
+    fn parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> lcp::active_set::BodyParts<'a> {
+        lcp::active_set::BodyParts {
+            matrix: &m.system.matrix,
+            rhs: &m.system.rhs,
+            factorisation: &m.factorisation,
+            operator: op,
+            points: points(m),
+        }
+    }
+    let params = lcp::active_set::ActiveSetParams::default();
+    let (answer, u1, u2, work) = clock.run("active_set", || match &second {
+        None => {
+            let mut system = lcp::active_set::RigidObstacle::new(
+                &model.system.matrix,
+                &model.system.rhs,
+                &model.factorisation,
+                &candidates.operator,
+                &candidates.initial_gap,
+                model.system.collocation_scale,
+                points(model),
+            )?;
+            let answer = lcp::active_set::solve(&mut system, &params)?;
+            let u1 = system.final_displacements(&answer.active)?;
+            Ok::<_, lcp::LcpError>((answer, u1, None, system.stats))
+        }
+        Some((op, m2)) => {
+            let mut system = lcp::active_set::TwoBodies::new(
+                parts(model, &candidates.operator),
+                parts(m2, op),
+                &candidates.initial_gap,
+                model.system.collocation_scale,
+            )?;
+            let answer = lcp::active_set::solve(&mut system, &params)?;
+            let (u1, u2) = system.final_displacements(&answer.active)?;
+            Ok((answer, u1, Some(u2), system.stats))
+        }
     })?;
-    let gap = final_gaps(model, &candidates, &u1, None);
+    let target = second.map(|(op, _)| op);
+    let gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
     let mut contact = ContactSolution::new(
         spec,
         candidates,
-        None,
+        target,
         Vec::new(),
         None,
         &answer.free_gap,
@@ -433,7 +461,7 @@ fn solve_active_set(
         end: answer.end,
         work,
     });
-    Ok((u1, None, contact))
+    Ok((u1, u2, contact))
 }
 
 /// The run-time checks of `M` (docs/method.md §4.1): an error, or, with

@@ -64,10 +64,10 @@ pub enum ContactSolver {
     /// Lemke's method on the dense condensed compliance `M = G K⁻¹ E` (docs/method.md §5).
     Lemke,
     /// The primal–dual active-set method on the sparse system, without `M` (docs/method.md
-    /// §5.2); a rigid obstacle only, frictionless, one load step.
+    /// §5.1); a rigid obstacle or two bodies, frictionless, one load step.
     ActiveSet,
-    /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (and always with two bodies,
-    /// friction or load steps), the active-set method from there on.
+    /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (and always with friction or
+    /// load steps), the active-set method from there on.
     #[default]
     Auto,
 }
@@ -80,12 +80,12 @@ impl ContactSolver {
     pub const AUTO_THRESHOLD: usize = 1000;
 
     /// Whether a frictionless problem with `candidates` candidates is solved by the active-set
-    /// method; `rigid` says the target is a rigid obstacle (the only case it handles).
-    pub fn is_active_set(self, candidates: usize, rigid: bool) -> bool {
+    /// method (a rigid obstacle or two bodies).
+    pub fn is_active_set(self, candidates: usize) -> bool {
         match self {
             ContactSolver::Lemke => false,
             ContactSolver::ActiveSet => true,
-            ContactSolver::Auto => rigid && candidates >= Self::AUTO_THRESHOLD,
+            ContactSolver::Auto => candidates >= Self::AUTO_THRESHOLD,
         }
     }
 }

@@ -670,11 +670,6 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
     let solver = c.solver.unwrap_or_default();
     if solver == ContactSolver::ActiveSet {
         let refuse = |why: &str| Err(invalid("contact.solver", "active_set", why));
-        if c.target_edge.is_some() || problem.second_body.is_some() {
-            return refuse(
-                "the active-set solver handles a rigid obstacle only (a second body spreads each contact force over several of its cells); use \"lemke\" or \"auto\"",
-            );
-        }
         if friction > 0.0 {
             return refuse(
                 "the active-set solver handles frictionless contact in one load step; with contact.friction or [[step]] use \"lemke\" or \"auto\"",

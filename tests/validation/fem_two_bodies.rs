@@ -26,8 +26,8 @@ fn block(y: [f64; 2], h: f64, top: bool) -> Problem {
     p
 }
 
-/// (max |p − p_exact| / p_exact, |ΣP − exact| / exact).
-fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
+/// The two FE blocks at mesh spacings `h_upper` and `h_lower`.
+pub fn fem_two_blocks(h_upper: f64, h_lower: f64) -> Problem {
     let mut upper = block([1.0, 2.0], h_upper, true);
     let mut lower = block([0.0, 1.0], h_lower, false);
     lower.name = "lower".into();
@@ -41,6 +41,12 @@ fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
         solver: Default::default(),
     });
     upper.second_body = Some(Box::new(lower));
+    upper
+}
+
+/// (max |p − p_exact| / p_exact, |ΣP − exact| / exact).
+fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
+    let upper = fem_two_blocks(h_upper, h_lower);
     let s = mlpg_contact::solve(&upper).unwrap();
     let c = s.contact.as_ref().unwrap();
     assert!(c.lcp.residuals.max_violation() < 1e-9);

@@ -233,7 +233,8 @@ fn jittered_agrees(coarse: &Outcome, fine: &Outcome) {
 /// material (spacing 1.25 h: non-matching layouts), roller on `x = 0`, bottom held in `y`.
 /// Hertz with `1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂`; the block's finite depth is ten
 /// half-widths, which the a–P relation does not feel to first order.
-fn cylinder_on_block(h: f64) -> Problem {
+/// The cylinder (quarter disk) pressed onto an elastic block spaced `1.25 h`.
+pub fn cylinder_on_block(h: f64) -> Problem {
     let mut upper = hertz_problem(h, Layout::Structured);
     upper.boundary[2] = EdgeCondition::Components([
         ComponentCondition::Traction(Field::Constant(0.0)),

@@ -42,7 +42,9 @@ fn block(y: [f64; 2], h: f64, top_uy: Option<Field>, bottom_uy: Option<Field>) -
     p
 }
 
-fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
+/// The two blocks pressed together, spacing `h_upper` above and `h_lower` below (also solved
+/// by the active-set method in `active_set.rs`).
+pub fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
     let mut upper = block([1.0, 2.0], h_upper, Some(Field::Constant(-PRESS)), None);
     let lower = block([0.0, 1.0], h_lower, None, Some(Field::Constant(0.0)));
     upper.contact = Some(ContactSpec {
@@ -87,7 +89,7 @@ fn identical_blocks_give_uniform_pressure() {
 }
 
 /// Sets `α_s` and `β` on both bodies of a two-body problem.
-fn with_variant(mut problem: Problem, support_factor: f64, beta: f64) -> Problem {
+pub fn with_variant(mut problem: Problem, support_factor: f64, beta: f64) -> Problem {
     for p in std::iter::once(&mut problem.discretisation)
         .chain(problem.second_body.as_deref_mut().map(|b| &mut b.discretisation))
     {
@@ -129,8 +131,9 @@ fn non_matching_layouts() {
     assert!(worst < 1e-8, "pressure deviates by {worst:.3e}");
 }
 
-#[test]
-fn mirror_image_equals_rigid_line() {
+/// The block on a rigid line at `y = 0` and the same block on its mirror image (partial
+/// contact).
+pub fn mirror_problems() -> (Problem, Problem) {
     let (gap, d) = (0.01, 0.015);
     // Body 1 above y = 0; its top edge runs from x = 2 (t = 0) to x = 0 (t = 1).
     let top = Field::Linear { start: -d, end: -0.5 * d };
@@ -163,6 +166,12 @@ fn mirror_image_equals_rigid_line() {
         solver: Default::default(),
     });
     pair.second_body = Some(Box::new(mirror));
+    (rigid, pair)
+}
+
+#[test]
+fn mirror_image_equals_rigid_line() {
+    let (rigid, pair) = mirror_problems();
     let a = mlpg_contact::solve(&rigid).unwrap();
     let b = mlpg_contact::solve(&pair).unwrap();
     let (ca, cb) = (a.contact.unwrap(), b.contact.unwrap());
