@@ -23,6 +23,8 @@ mod validation {
     mod hertz;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
+    // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.
+    mod fem_curved;
     // FE oracle: Timoshenko & Goodier cantilever, errors and rates.
     mod fem_cantilever;
     // FE oracle on the paper's beam; MFVM vs FE within their discretisation errors.

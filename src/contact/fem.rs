@@ -31,19 +31,22 @@ pub fn candidates(
     normal: Point,
     initial_gap: &dyn Fn(Point) -> f64,
 ) -> Result<Candidates, ContactError> {
-    let (a, b) = domain.edge(edge);
-    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    let curve = domain.curve(edge);
+    let len = curve.length();
     let mut tributary = vec![0.0; nodes.len()];
     let mut extent = vec![[f64::INFINITY, f64::NEG_INFINITY]; nodes.len()];
     for (ids, l) in mesh.boundary_segments(domain, nodes, edge) {
         let t: Vec<f64> =
             ids.iter().map(|&i| domain.edge_parameter(edge, nodes.points[i as usize])).collect();
         let dt = (t[2] - t[0]) / 6.0;
-        let pieces = [
-            (l / 6.0, t[0], t[0] + dt),
-            (4.0 * l / 6.0, t[0] + dt, t[2] - dt),
-            (l / 6.0, t[2] - dt, t[2]),
-        ];
+        // The grid's straight sides: l/6, 4l/6, l/6; a general mesh's (possibly curved) side:
+        // ∫ N_a ds by 5-point Gauss (the same on a straight side with a centred middle node).
+        let w = match mesh.grid {
+            Some(_) => [l / 6.0, 4.0 * l / 6.0, l / 6.0],
+            None => side_weights(ids.map(|i| nodes.points[i as usize])),
+        };
+        let pieces =
+            [(w[0], t[0], t[0] + dt), (w[1], t[0] + dt, t[2] - dt), (w[2], t[2] - dt, t[2])];
         for (&i, (w, lo, hi)) in ids.iter().zip(pieces) {
             let i = i as usize;
             tributary[i] += w;
@@ -65,7 +68,7 @@ pub fn candidates(
     list.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
     let ids: Vec<u32> = list.iter().map(|&(_, i)| i as u32).collect();
     let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
-    let at = |t: f64| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+    let at = |t: f64| curve.point_at(t);
     Ok(Candidates {
         segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
         arc_length: list.iter().map(|&(t, _)| t * len).collect(),
@@ -175,6 +178,20 @@ pub fn target_operator(
     let operator =
         BodyOperator { shapes: ShapeSet::from_rows(&rows), owners, direction: [-nu[0], -nu[1]] };
     Ok((operator, gaps, paired))
+}
+
+/// `∫ N_a ds` over the quadratic side through `x` (end, middle, end), 5-point Gauss.
+fn side_weights(x: [Point; 3]) -> [f64; 3] {
+    let (xs, ws) = crate::weak_form::gauss_legendre(5);
+    let mut out = [0.0; 3];
+    for (&s, &w) in xs.iter().zip(ws) {
+        let (_, t, n) = crate::fem::side_map(x, s);
+        let ds = t[0].hypot(t[1]);
+        for a in 0..3 {
+            out[a] += w * ds * n[a];
+        }
+    }
+    out
 }
 
 /// `(node, weight)` pairs merged by node, ascending, zero weights dropped.

@@ -1,13 +1,17 @@
-//! The structured Q2 mesh of a rectangle: node grid, element connectivity, nodal strains.
+//! The FE mesh: the structured Q2 grid of a rectangle, or a general mesh of isoparametric
+//! Q2 quadrilaterals and quadratic triangles (from a Gmsh file); node grid or coordinates,
+//! element connectivity, boundary sides, nodal strains.
 
-use super::element::{self, NODES, REFERENCE_NODES};
+use super::FemError;
+use super::element::{self, NODES, Shape};
 use crate::geometry::{Domain, Point};
 use crate::nodes::{EdgeSet, Nodes};
+use crate::problem::gmsh;
+use crate::weak_form::gauss_legendre;
 
-/// A structured mesh of `nx × ny` biquadratic elements on an axis-aligned rectangle. Its
-/// `(2 nx + 1) × (2 ny + 1)` nodes are numbered row by row from the lower-left corner.
+/// The structured grid of `nx × ny` equal rectangles.
 #[derive(Clone, Debug)]
-pub struct Mesh {
+pub struct Grid {
     /// Elements along x.
     pub nx: usize,
     /// Elements along y.
@@ -16,8 +20,33 @@ pub struct Mesh {
     pub origin: Point,
     /// Element size `(h_x, h_y)`.
     pub element_size: [f64; 2],
-    /// Node indices of each element in local order `a = 3 j + i` (see [`element`]).
+}
+
+/// A mesh of quadratic elements. The structured mesh of a rectangle ([`Mesh::rectangle`]:
+/// `nx × ny` biquadratic elements, `(2 nx + 1) × (2 ny + 1)` nodes numbered row by row from
+/// the lower-left corner) or a general one ([`Mesh::general`]: isoparametric Q2
+/// quadrilaterals and T6 triangles with given node coordinates, possibly on curved sides).
+/// Elements are numbered quadrilaterals first, then triangles.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    /// The structured grid, if this is one.
+    pub grid: Option<Grid>,
+    /// Node coordinates (general meshes; empty for the grid, whose nodes
+    /// [`Mesh::nodes`] places from the domain's corners).
+    pub points: Vec<Point>,
+    /// Node indices of each quadrilateral in local order `a = 3 j + i` (see [`element`]).
     pub elements: Vec<[u32; NODES]>,
+    /// Node indices of each triangle (corners, then mid-sides; see [`element`]).
+    pub triangles: Vec<[u32; 6]>,
+}
+
+/// One element of a mesh: its shape and node indices.
+#[derive(Clone, Copy, Debug)]
+pub struct Cell<'a> {
+    /// The element shape.
+    pub shape: Shape,
+    /// Its node indices in local order.
+    pub nodes: &'a [u32],
 }
 
 impl Mesh {
@@ -33,33 +62,150 @@ impl Mesh {
                 std::array::from_fn(|a| ((2 * ey + a / 3) * row + 2 * ex + a % 3) as u32)
             })
             .collect();
-        Self {
+        let grid = Grid {
             nx,
             ny,
             origin: [x[0], y[0]],
             element_size: [(x[1] - x[0]) / nx as f64, (y[1] - y[0]) / ny as f64],
-            elements,
+        };
+        Self { grid: Some(grid), points: Vec::new(), elements, triangles: Vec::new() }
+    }
+
+    /// A general mesh from node coordinates and the quadrilaterals' and triangles' node
+    /// indices (local orders of [`element`]; either orientation).
+    ///
+    /// # Errors
+    /// The index of the first element whose isoparametric map is degenerate or folds (its
+    /// Jacobian determinant changes sign or vanishes) or that names a node out of range.
+    pub fn general(
+        points: Vec<Point>,
+        elements: Vec<[u32; NODES]>,
+        triangles: Vec<[u32; 6]>,
+    ) -> Result<Self, usize> {
+        let mesh = Self { grid: None, points, elements, triangles };
+        for k in 0..mesh.element_count() {
+            let cell = mesh.cell(k);
+            if cell.nodes.iter().any(|&i| i as usize >= mesh.points.len()) {
+                return Err(k);
+            }
+            let (lo, hi) = element::jacobian_range(cell.shape, &mesh.coordinates(k));
+            if !(lo > 0.0 || hi < 0.0) || !(lo.is_finite() && hi.is_finite()) {
+                return Err(k);
+            }
+        }
+        Ok(mesh)
+    }
+
+    /// The elements of physical surface `surface` of a Gmsh mesh as a general mesh: its
+    /// 9-node quadrilaterals (Gmsh's order — corners, mid-sides, centre — permuted to the
+    /// local order `a = 3 j + i`) and 6-node triangles (Gmsh's order is the local one), on the
+    /// nodes they use, numbered in the file's order.
+    ///
+    /// # Errors
+    /// [`FemError::Gmsh`] for a missing surface, [`FemError::ElementKind`] for an element of
+    /// another kind (first order or 8-node), [`FemError::DegenerateElement`] for a folded one;
+    /// both name the element's line.
+    pub fn from_gmsh(mesh: &gmsh::Mesh, surface: &str) -> Result<Self, FemError> {
+        /// Local node `a = 3 j + i` ← Gmsh node (corners 0–3 counter-clockwise from (−1, −1),
+        /// mid-sides 4–7 from side 0–1, centre 8).
+        const FROM_GMSH: [usize; NODES] = [0, 4, 1, 7, 8, 5, 3, 6, 2];
+        let elements = mesh.surface(surface)?;
+        let mut used: Vec<usize> = elements.iter().flat_map(|e| e.nodes.iter().copied()).collect();
+        used.sort_unstable();
+        used.dedup();
+        let index = |i: usize| used.binary_search(&i).map(|k| k as u32).unwrap_or(u32::MAX);
+        let (mut quads, mut triangles, mut lines) = (Vec::new(), Vec::new(), Vec::new());
+        for e in &elements {
+            match e.kind {
+                gmsh::ElementKind::Quad9 => {
+                    quads.push(FROM_GMSH.map(|g| index(e.nodes[g])));
+                    lines.push(e.line);
+                }
+                gmsh::ElementKind::Tri6 => {
+                    triangles.push(std::array::from_fn(|a| index(e.nodes[a])));
+                }
+                kind => return Err(FemError::ElementKind { kind, line: e.line }),
+            }
+        }
+        lines.extend(elements.iter().filter(|e| e.kind == gmsh::ElementKind::Tri6).map(|e| e.line));
+        let points = used.iter().map(|&i| mesh.points[i]).collect();
+        Self::general(points, quads, triangles)
+            .map_err(|k| FemError::DegenerateElement { line: lines[k] })
+    }
+
+    /// Number of elements.
+    pub fn element_count(&self) -> usize {
+        self.elements.len() + self.triangles.len()
+    }
+
+    /// Element `k`.
+    pub fn cell(&self, k: usize) -> Cell<'_> {
+        match k.checked_sub(self.elements.len()) {
+            None => Cell { shape: Shape::Quad9, nodes: &self.elements[k] },
+            Some(t) => Cell { shape: Shape::Tri6, nodes: &self.triangles[t] },
         }
     }
 
     /// Number of nodes.
     pub fn node_count(&self) -> usize {
-        (2 * self.nx + 1) * (2 * self.ny + 1)
+        match &self.grid {
+            Some(g) => (2 * g.nx + 1) * (2 * g.ny + 1),
+            None => self.points.len(),
+        }
     }
 
-    /// The nodes with boundary tags of `domain` (the rectangle this mesh covers). The local
-    /// spacing recorded is the node spacing, half the element size.
+    /// The node coordinates of element `k` (general meshes).
+    fn coordinates(&self, k: usize) -> Vec<Point> {
+        self.cell(k).nodes.iter().map(|&i| self.points[i as usize]).collect()
+    }
+
+    /// The nodes with boundary tags of `domain` (the region this mesh covers). The local
+    /// spacing recorded is the node spacing, half the element size (for a general mesh, half
+    /// the longest side of the elements around the node).
     pub fn nodes(&self, domain: &Domain) -> Nodes {
-        let (cols, rows) = (2 * self.nx + 1, 2 * self.ny + 1);
-        let (lo, hi) = domain.bounding_box();
-        let coord = |k: usize, n: usize, a: f64, b: f64| {
-            if k == n { b } else { a + (b - a) * k as f64 / n as f64 }
+        let (points, tol, spacing) = match &self.grid {
+            Some(g) => {
+                let (cols, rows) = (2 * g.nx + 1, 2 * g.ny + 1);
+                let (lo, hi) = domain.bounding_box();
+                let coord = |k: usize, n: usize, a: f64, b: f64| {
+                    if k == n { b } else { a + (b - a) * k as f64 / n as f64 }
+                };
+                let points: Vec<Point> = (0..rows)
+                    .flat_map(|j| (0..cols).map(move |i| (i, j)))
+                    .map(|(i, j)| {
+                        [coord(i, cols - 1, lo[0], hi[0]), coord(j, rows - 1, lo[1], hi[1])]
+                    })
+                    .collect();
+                let tol = 1e-9 * g.element_size[0].min(g.element_size[1]);
+                let h = 0.5 * g.element_size[0].max(g.element_size[1]);
+                let n = points.len();
+                (points, tol, vec![h; n])
+            }
+            None => {
+                let mut spacing = vec![0.0f64; self.points.len()];
+                for k in 0..self.element_count() {
+                    let cell = self.cell(k);
+                    let longest = cell
+                        .shape
+                        .sides()
+                        .iter()
+                        .map(|s| {
+                            let (p, q) = (
+                                self.points[cell.nodes[s[0]] as usize],
+                                self.points[cell.nodes[s[2]] as usize],
+                            );
+                            (q[0] - p[0]).hypot(q[1] - p[1])
+                        })
+                        .fold(0.0, f64::max);
+                    for &i in cell.nodes {
+                        spacing[i as usize] = spacing[i as usize].max(0.5 * longest);
+                    }
+                }
+                let smallest =
+                    spacing.iter().copied().filter(|&h| h > 0.0).fold(f64::INFINITY, f64::min);
+                (self.points.clone(), 1e-9 * smallest, spacing)
+            }
         };
-        let points: Vec<Point> = (0..rows)
-            .flat_map(|j| (0..cols).map(move |i| (i, j)))
-            .map(|(i, j)| [coord(i, cols - 1, lo[0], hi[0]), coord(j, rows - 1, lo[1], hi[1])])
-            .collect();
-        let tol = 1e-9 * self.element_size[0].min(self.element_size[1]);
         let edges = points
             .iter()
             .map(|p| {
@@ -75,29 +221,76 @@ impl Mesh {
                 set
             })
             .collect();
-        let h = 0.5 * self.element_size[0].max(self.element_size[1]);
-        Nodes { spacing: vec![h; points.len()], points, edges }
+        Nodes { spacing, points, edges }
     }
 
-    /// The element's interleaved nodal values taken from a global vector `u` (2 per node).
+    /// The element's interleaved nodal values taken from a global vector `u` (2 per node;
+    /// zero past its node count).
     pub fn gather(&self, element: usize, u: &[f64]) -> [f64; 2 * NODES] {
-        let e = &self.elements[element];
-        std::array::from_fn(|k| u[2 * e[k / 2] as usize + k % 2])
+        let e = self.cell(element).nodes;
+        std::array::from_fn(
+            |k| if k / 2 < e.len() { u[2 * e[k / 2] as usize + k % 2] } else { 0.0 },
+        )
     }
 
     /// Position of reference point `(ξ, η)` of `element`.
     pub fn point(&self, element: usize, xi: f64, eta: f64) -> Point {
-        let (ex, ey) = (element % self.nx, element / self.nx);
-        let [hx, hy] = self.element_size;
-        [
-            self.origin[0] + hx * (ex as f64 + 0.5 * (1.0 + xi)),
-            self.origin[1] + hy * (ey as f64 + 0.5 * (1.0 + eta)),
-        ]
+        match &self.grid {
+            Some(g) => {
+                let (ex, ey) = (element % g.nx, element / g.nx);
+                let [hx, hy] = g.element_size;
+                [
+                    g.origin[0] + hx * (ex as f64 + 0.5 * (1.0 + xi)),
+                    g.origin[1] + hy * (ey as f64 + 0.5 * (1.0 + eta)),
+                ]
+            }
+            None => {
+                let cell = self.cell(element);
+                let [n, _, _] = cell.shape.functions(xi, eta);
+                cell.nodes.iter().zip(n).fold([0.0, 0.0], |acc, (&i, n)| {
+                    let x = self.points[i as usize];
+                    [acc[0] + n * x[0], acc[1] + n * x[1]]
+                })
+            }
+        }
+    }
+
+    /// `|det J|` of `element`'s map at `(ξ, η)` (the area factor of its quadrature).
+    pub fn area_factor(&self, element: usize, xi: f64, eta: f64) -> f64 {
+        match &self.grid {
+            Some(g) => 0.25 * g.element_size[0] * g.element_size[1],
+            None => {
+                let shape = self.cell(element).shape;
+                element::iso_derivatives(shape, &self.coordinates(element), xi, eta).2.abs()
+            }
+        }
     }
 
     /// Strain `(ε_xx, ε_yy, γ_xy)` of the displacement `u` at `(ξ, η)` of `element`.
     pub fn strain(&self, element: usize, xi: f64, eta: f64, u: &[f64]) -> [f64; 3] {
-        element::strain(self.element_size, xi, eta, &self.gather(element, u))
+        let u_e = self.gather(element, u);
+        match &self.grid {
+            Some(g) => element::strain(g.element_size, xi, eta, &u_e),
+            None => {
+                let shape = self.cell(element).shape;
+                element::iso_strain(shape, &self.coordinates(element), xi, eta, &u_e)
+            }
+        }
+    }
+
+    /// The element stiffness `K_e` of `element` (one matrix serves every element of the grid).
+    pub fn stiffness(
+        &self,
+        element: usize,
+        d: &crate::material::Constitutive,
+    ) -> [[f64; 2 * NODES]; 2 * NODES] {
+        match &self.grid {
+            Some(g) => element::stiffness(g.element_size, d),
+            None => {
+                let shape = self.cell(element).shape;
+                element::iso_stiffness(shape, &self.coordinates(element), d)
+            }
+        }
     }
 
     /// Nodal strains: at each node, the average of the strains of the elements that share it
@@ -107,11 +300,11 @@ impl Mesh {
         let n = self.node_count();
         let mut sum = vec![[0.0; 3]; n];
         let mut count = vec![0u32; n];
-        for (k, e) in self.elements.iter().enumerate() {
-            let u_e = self.gather(k, u);
-            for (a, &node) in e.iter().enumerate() {
-                let (xi, eta) = (REFERENCE_NODES[a % 3], REFERENCE_NODES[a / 3]);
-                let s = element::strain(self.element_size, xi, eta, &u_e);
+        for k in 0..self.element_count() {
+            let cell = self.cell(k);
+            for (a, &node) in cell.nodes.iter().enumerate() {
+                let [xi, eta] = cell.shape.reference_node(a);
+                let s = self.strain(k, xi, eta, u);
                 let i = node as usize;
                 for c in 0..3 {
                     sum[i][c] += s[c];
@@ -122,25 +315,29 @@ impl Mesh {
         sum.iter().zip(&count).map(|(s, &c)| s.map(|v| v / f64::from(c.max(1)))).collect()
     }
 
-    /// The element edges on the domain edge `k` of `domain`, each as its three node indices in
-    /// order along the edge (end, middle, end) with its length.
+    /// The element sides on the domain edge `k` of `domain`, each as its three node indices in
+    /// order along the edge (end, middle, end) with its length (for a curved side, the length
+    /// of its isoparametric arc).
     pub fn boundary_segments(
         &self,
         domain: &Domain,
         nodes: &Nodes,
         k: usize,
     ) -> Vec<([u32; 3], f64)> {
-        // Local node triples of the four element sides (bottom, right, top, left).
-        const SIDES: [[usize; 3]; 4] = [[0, 1, 2], [2, 5, 8], [8, 7, 6], [6, 3, 0]];
         let mut out = Vec::new();
-        for e in &self.elements {
-            for side in SIDES {
-                let ids = side.map(|a| e[a]);
+        for e in 0..self.element_count() {
+            let cell = self.cell(e);
+            for side in cell.shape.sides() {
+                let ids = side.map(|a| cell.nodes[a]);
                 if ids.iter().all(|&i| nodes.edges[i as usize].contains(k)) {
                     let (p, q) = (nodes.points[ids[0] as usize], nodes.points[ids[2] as usize]);
                     let (tp, tq) = (domain.edge_parameter(k, p), domain.edge_parameter(k, q));
                     let ids = if tp <= tq { ids } else { [ids[2], ids[1], ids[0]] };
-                    out.push((ids, (q[0] - p[0]).hypot(q[1] - p[1])));
+                    let length = match self.grid {
+                        Some(_) => (q[0] - p[0]).hypot(q[1] - p[1]),
+                        None => side_length(ids.map(|i| nodes.points[i as usize])),
+                    };
+                    out.push((ids, length));
                 }
             }
         }
@@ -148,15 +345,38 @@ impl Mesh {
     }
 }
 
+/// The position, the tangent `dx/ds` and the Lagrange values at `s ∈ [−1, 1]` of the quadratic
+/// side through `x` (end, middle, end).
+pub fn side_map(x: [Point; 3], s: f64) -> (Point, Point, [f64; 3]) {
+    let (n, dn) = (element::lagrange(s), element::lagrange_derivative(s));
+    let mut p = [0.0; 2];
+    let mut t = [0.0; 2];
+    for a in 0..3 {
+        for d in 0..2 {
+            p[d] += n[a] * x[a][d];
+            t[d] += dn[a] * x[a][d];
+        }
+    }
+    (p, t, n)
+}
+
+/// Length of the quadratic side through `x` (5-point Gauss; exact for a straight side).
+fn side_length(x: [Point; 3]) -> f64 {
+    let (xs, ws) = gauss_legendre(5);
+    xs.iter().zip(ws).map(|(&s, &w)| w * side_map(x, s).1[0].hypot(side_map(x, s).1[1])).sum()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fem::element::REFERENCE_NODES;
 
     #[test]
     fn connectivity_matches_node_positions() {
         let domain = Domain::rectangle([1.0, 4.0], [0.0, 1.0]).unwrap();
         let mesh = Mesh::rectangle([1.0, 4.0], [0.0, 1.0], 0.5);
-        assert_eq!((mesh.nx, mesh.ny), (6, 2));
+        let g = mesh.grid.as_ref().unwrap();
+        assert_eq!((g.nx, g.ny), (6, 2));
         let nodes = mesh.nodes(&domain);
         assert_eq!(nodes.len(), mesh.node_count());
         for (k, e) in mesh.elements.iter().enumerate() {

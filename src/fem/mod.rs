@@ -5,7 +5,10 @@
 //! - Mesh: `round(L_x/h) × round(L_y/h)` biquadratic (Q2, 9-node Lagrange) elements on the
 //!   rectangle, `h` = `[nodes] spacing`, so the element corners are the MFVM's structured nodes
 //!   and the FE has about four times as many nodes. Rectangles with structured layout only
-//!   (the problem file is refused otherwise, naming the field).
+//!   (the problem file is refused otherwise, naming the field). A general mesh
+//!   ([`Mesh::general`], [`Mesh::from_gmsh`]: a Gmsh file's 9-node quadrilaterals and 6-node
+//!   triangles) takes isoparametric elements with curved sides ([`element::Shape`]); its
+//!   loads integrate along the sides' own map and normal (docs/method.md §7).
 //! - Stiffness `K = Σ_e ∫ Bᵀ D B dA` by 3 × 3 Gauss (exact on rectangles), symmetric;
 //!   consistent loads `∫ N t̄ ds`, `∫ N b dA` (`load_quadrature_points` per side/direction).
 //! - Displacement conditions are imposed strongly at the nodes by symmetric elimination
@@ -57,7 +60,7 @@ pub mod element;
 mod mesh;
 pub mod system;
 
-pub use mesh::Mesh;
+pub use mesh::{Cell, Grid, Mesh, side_map};
 
 use crate::nodes::{Layout, Nodes};
 use crate::problem::Problem;
@@ -84,6 +87,27 @@ pub enum FemError {
         "no displacement is prescribed on any edge: the body can move rigidly and K is singular (add a displacement condition)"
     )]
     NoDirichlet,
+    /// A Gmsh surface could not be taken (no such surface).
+    #[error(transparent)]
+    Gmsh(#[from] crate::problem::gmsh::GmshError),
+    /// An element the FE path does not take (it needs quadratic elements).
+    #[error(
+        "line {line}: a {kind:?} element; the finite element path takes 6-node triangles and 9-node quadrilaterals (mesh with Mesh.ElementOrder = 2 and Mesh.SecondOrderIncomplete = 0)"
+    )]
+    ElementKind {
+        /// The element's kind.
+        kind: crate::problem::gmsh::ElementKind,
+        /// Its line in the mesh file.
+        line: usize,
+    },
+    /// An element whose isoparametric map folds or is degenerate.
+    #[error(
+        "line {line}: the element's Jacobian determinant vanishes or changes sign (a folded or degenerate element)"
+    )]
+    DegenerateElement {
+        /// Its line in the mesh file.
+        line: usize,
+    },
     /// A rigid-body motion is left free.
     #[error("the displacement conditions do not prevent rigid-body {mode}: K is singular")]
     RigidBodyMotion {

@@ -2,7 +2,7 @@
 //! Dirichlet conditions by symmetric elimination.
 
 use super::FemError;
-use super::element::{self, NODES};
+use super::element;
 use super::mesh::Mesh;
 use crate::assembly::{BlockRows, Body, Constraint, GlobalSystem, SystemMatrix};
 use crate::material::Constitutive;
@@ -83,14 +83,18 @@ fn eliminated_rhs(
 /// One block row: column nodes and their 2 × 2 blocks.
 type BlockRow = (Vec<u32>, Vec<[[f64; 2]; 2]>);
 
-/// `K = Σ_e K_e` in block-row form, row-parallel: every element is a `h_x × h_y` rectangle,
-/// so one `K_e` serves all.
+/// `K = Σ_e K_e` in block-row form, row-parallel. On the grid every element is a
+/// `h_x × h_y` rectangle, so one `K_e` serves all; a general mesh computes each element's.
 fn stiffness(mesh: &Mesh, node_count: usize, d: &Constitutive) -> BlockRows {
-    let ke = element::stiffness(mesh.element_size, d);
+    let ke: Vec<_> = match mesh.grid {
+        Some(_) => vec![mesh.stiffness(0, d)],
+        None => (0..mesh.element_count()).into_par_iter().map(|k| mesh.stiffness(k, d)).collect(),
+    };
+    let ke = |k: usize| &ke[if mesh.grid.is_some() { 0 } else { k }];
     // Elements containing each node, with the node's local index.
     let mut touching: Vec<Vec<(u32, u8)>> = vec![Vec::new(); node_count];
-    for (k, e) in mesh.elements.iter().enumerate() {
-        for (a, &i) in e.iter().enumerate() {
+    for k in 0..mesh.element_count() {
+        for (a, &i) in mesh.cell(k).nodes.iter().enumerate() {
             touching[i as usize].push((k as u32, a as u8));
         }
     }
@@ -98,13 +102,13 @@ fn stiffness(mesh: &Mesh, node_count: usize, d: &Constitutive) -> BlockRows {
         .par_iter()
         .map(|list| {
             let mut cols: Vec<u32> =
-                list.iter().flat_map(|&(k, _)| mesh.elements[k as usize]).collect();
+                list.iter().flat_map(|&(k, _)| mesh.cell(k as usize).nodes).copied().collect();
             cols.sort_unstable();
             cols.dedup();
             let mut blocks = vec![[[0.0; 2]; 2]; cols.len()];
             for &(k, a) in list {
-                let a = a as usize;
-                for (b, &j) in mesh.elements[k as usize].iter().enumerate() {
+                let (a, ke) = (a as usize, ke(k as usize));
+                for (b, &j) in mesh.cell(k as usize).nodes.iter().enumerate() {
                     let pos = cols.binary_search(&j).unwrap_or_else(|_| {
                         unreachable!("column {j} was collected from the same elements")
                     });
@@ -166,15 +170,29 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
     let mut f = vec![0.0; 2 * nodes.len()];
     let (xs, ws) = gauss_legendre(input.body.load_quadrature_points);
     for (k, condition) in input.body.boundary.iter().enumerate() {
-        let normal =
-            domain.straight_normal(k).expect("FE domains are rectangles (fem::discretise checks)");
+        let straight = domain.straight_normal(k);
         for (ids, length) in mesh.boundary_segments(domain, nodes, k) {
             let (p, q) = (nodes.points[ids[0] as usize], nodes.points[ids[2] as usize]);
+            let side = ids.map(|i| nodes.points[i as usize]);
             for (&s, &w) in xs.iter().zip(ws) {
-                let x = [
-                    0.5 * (p[0] + q[0]) + 0.5 * s * (q[0] - p[0]),
-                    0.5 * (p[1] + q[1]) + 0.5 * s * (q[1] - p[1]),
-                ];
+                // The grid's straight sides by their chord (as always); a general mesh's by
+                // the isoparametric side map, whose outward normal is the tangent turned
+                // clockwise (the sides run along the edge, the body on their left).
+                let (x, ds, normal) = match (mesh.grid.is_some(), straight) {
+                    (true, Some(normal)) => (
+                        [
+                            0.5 * (p[0] + q[0]) + 0.5 * s * (q[0] - p[0]),
+                            0.5 * (p[1] + q[1]) + 0.5 * s * (q[1] - p[1]),
+                        ],
+                        0.5 * length,
+                        normal,
+                    ),
+                    _ => {
+                        let (x, t, _) = super::mesh::side_map(side, s);
+                        let norm = t[0].hypot(t[1]);
+                        (x, norm, [t[1] / norm, -t[0] / norm])
+                    }
+                };
                 let t_edge = domain.edge_parameter(k, x);
                 let t = match condition {
                     EdgeCondition::Pressure(field) => {
@@ -189,24 +207,33 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
                 let n = element::lagrange(s);
                 for (a, &i) in ids.iter().enumerate() {
                     for axis in Axis::BOTH {
-                        f[dof(i as usize, axis)] += 0.5 * length * w * n[a] * t[axis as usize];
+                        f[dof(i as usize, axis)] += ds * w * n[a] * t[axis as usize];
                     }
                 }
             }
         }
     }
     if let Some(b) = input.body.body_force {
-        let det = 0.25 * mesh.element_size[0] * mesh.element_size[1];
-        for (k, e) in mesh.elements.iter().enumerate() {
-            for (&eta, &wy) in xs.iter().zip(ws) {
-                for (&xi, &wx) in xs.iter().zip(ws) {
-                    let force = b.at(mesh.point(k, xi, eta));
-                    let n = element::shape(xi, eta);
-                    for a in 0..NODES {
-                        for axis in Axis::BOTH {
-                            f[dof(e[a] as usize, axis)] +=
-                                wx * wy * det * n[a] * force[axis as usize];
-                        }
+        // Quadrilaterals: the tensor Gauss rule of `load_quadrature_points`; triangles: their
+        // element rule.
+        let square: Vec<([f64; 2], f64)> = xs
+            .iter()
+            .zip(ws)
+            .flat_map(|(&eta, &wy)| xs.iter().zip(ws).map(move |(&xi, &wx)| ([xi, eta], wx * wy)))
+            .collect();
+        for k in 0..mesh.element_count() {
+            let cell = mesh.cell(k);
+            let rule = match cell.shape {
+                element::Shape::Quad9 => square.clone(),
+                element::Shape::Tri6 => cell.shape.quadrature(),
+            };
+            for ([xi, eta], w) in rule {
+                let force = b.at(mesh.point(k, xi, eta));
+                let det = mesh.area_factor(k, xi, eta);
+                let [n, _, _] = cell.shape.functions(xi, eta);
+                for (a, &i) in cell.nodes.iter().enumerate() {
+                    for axis in Axis::BOTH {
+                        f[dof(i as usize, axis)] += w * det * n[a] * force[axis as usize];
                     }
                 }
             }

@@ -313,7 +313,7 @@ impl Summary {
                 boundary_faces: model.mfvm().map_or(0, |m| m.faces.boundary.len()),
                 matrix_nonzeros: matrix.values.len(),
                 matrix_nonzeros_per_row: matrix.values.len() as f64 / matrix.n.max(1) as f64,
-                elements: model.mesh().map(|m| m.elements.len()),
+                elements: model.mesh().map(|m| m.element_count()),
             },
             linear_solve: LinearSolve {
                 method: f.method,

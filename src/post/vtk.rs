@@ -110,17 +110,28 @@ pub(crate) fn merge_vertices<'a>(
     (points, polygons)
 }
 
-/// The FE solution: points = nodes, cells = four sub-quads per element (VTK_QUAD).
+/// VTK's cell types used here.
+const VTK_TRIANGLE: u8 = 5;
+const VTK_QUAD: u8 = 9;
+
+/// The FE solution: points = nodes, cells = four sub-quads per Q2 element (VTK_QUAD) and four
+/// sub-triangles per T6 element (VTK_TRIANGLE).
 fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -> String {
-    // Local corner quadruples of the four sub-quads (counter-clockwise).
+    // Local corner quadruples of the four sub-quads of a Q2 element and corner triples of the
+    // four sub-triangles of a T6 element (counter-clockwise on the reference element).
     const SUB: [[usize; 4]; 4] = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-    let connectivity: Vec<Vec<usize>> = mesh
+    const SUB_T: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+    let quads = mesh
         .elements
         .iter()
-        .flat_map(|e| SUB.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()))
-        .collect();
+        .flat_map(|e| SUB.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
+    let triangles = mesh
+        .triangles
+        .iter()
+        .flat_map(|e| SUB_T.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
+    let connectivity: Vec<Vec<usize>> = quads.chain(triangles).collect();
     let point_data = field_arrays(problem, "", &solution.displacement, &solution.stress);
-    unstructured_grid(&model.nodes.points, &connectivity, 9, &point_data, &[])
+    unstructured_grid(&model.nodes.points, &connectivity, VTK_QUAD, &point_data, &[])
 }
 
 /// One data array of a VTU piece.
@@ -250,8 +261,10 @@ fn unstructured_grid(
         let _ = writeln!(s, "{end}");
     }
     let _ = writeln!(s, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
-    for _ in cells {
-        let _ = writeln!(s, "{vtk_type}");
+    for c in cells {
+        // A 3-vertex cell of a quadrilateral grid (the FE's sub-triangles) is a triangle.
+        let t = if vtk_type == VTK_QUAD && c.len() == 3 { VTK_TRIANGLE } else { vtk_type };
+        let _ = writeln!(s, "{t}");
     }
     let _ = writeln!(s, "</DataArray>\n</Cells>");
     write_arrays(&mut s, "PointData", point_data);

@@ -58,17 +58,16 @@ fn run(h: f64) -> Errors {
         .fold(0.0, f64::max);
     let mesh = model.mesh().expect("an FE model");
     let d = problem.material.constitutive();
-    let det = 0.25 * mesh.element_size[0] * mesh.element_size[1];
     let (mut num, mut den) = (0.0, 0.0);
     let (xs, ws) = gauss_points(4);
-    for e in 0..mesh.elements.len() {
+    for e in 0..mesh.element_count() {
         for (&eta, &wy) in xs.iter().zip(ws) {
             for (&xi, &wx) in xs.iter().zip(ws) {
                 let p = mesh.point(e, xi, eta);
                 let sh =
                     mlpg_contact::material::apply(&d, mesh.strain(e, xi, eta, &s.nodal_parameters));
                 let se = exact_stress(p);
-                let w = wx * wy * det;
+                let w = wx * wy * mesh.area_factor(e, xi, eta);
                 num += w * energy_density([sh[0] - se[0], sh[1] - se[1], sh[2] - se[2]]);
                 den += w * energy_density(se);
             }

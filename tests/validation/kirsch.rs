@@ -25,10 +25,10 @@ use std::sync::Arc;
 
 const A: f64 = 1.0;
 const SIDE: f64 = 5.0;
-const YOUNG: f64 = 1000.0;
-const POISSON: f64 = 0.3;
+pub(super) const YOUNG: f64 = 1000.0;
+pub(super) const POISSON: f64 = 0.3;
 
-fn exact_stress(p: Point) -> [f64; 3] {
+pub(super) fn exact_stress(p: Point) -> [f64; 3] {
     let (r, th) = (p[0].hypot(p[1]), p[1].atan2(p[0]));
     let (a2, a4) = ((A / r).powi(2), (A / r).powi(4));
     [
@@ -38,7 +38,7 @@ fn exact_stress(p: Point) -> [f64; 3] {
     ]
 }
 
-fn exact_displacement(p: Point) -> [f64; 2] {
+pub(super) fn exact_displacement(p: Point) -> [f64; 2] {
     let (r, th) = (p[0].hypot(p[1]), p[1].atan2(p[0]));
     let mu = YOUNG / (2.0 * (1.0 + POISSON));
     let kappa = (3.0 - POISSON) / (1.0 + POISSON);

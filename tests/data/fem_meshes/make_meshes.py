@@ -1,0 +1,26 @@
+"""Regenerates the .msh files of this folder (second-order meshes for the finite element tests
+on curved boundaries, tests/validation/fem_curved.rs) from their .geo files. Needs the `gmsh`
+Python package (`pip install gmsh`); the product and the tests never run Gmsh. From this folder:
+
+    python3 make_meshes.py
+
+Written with Gmsh 4.15.2: MSH 4.1 ASCII, Mesh.ElementOrder = 2 with complete (9-node)
+quadrilaterals. `tri`: 6-node triangles; `quad`: recombined, 9-node quadrilaterals (with a
+few triangles where the recombination leaves them). Size factors 2, 1, 1/2 of the .geo's."""
+import gmsh
+
+gmsh.initialize()
+gmsh.option.setNumber("General.Terminal", 0)
+for kind in ["tri", "quad"]:
+    for level, factor in enumerate([2.0, 1.0, 0.5]):
+        gmsh.clear()
+        gmsh.open("plate_with_hole.geo")
+        gmsh.option.setNumber("Mesh.MeshSizeFactor", factor)
+        gmsh.option.setNumber("Mesh.RecombineAll", 1 if kind == "quad" else 0)
+        gmsh.option.setNumber("Mesh.ElementOrder", 2)
+        gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.option.setNumber("Mesh.Binary", 0)
+        gmsh.model.mesh.generate(2)
+        gmsh.write(f"plate_with_hole_{kind}_{level}.msh")
+gmsh.finalize()
