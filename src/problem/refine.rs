@@ -90,6 +90,74 @@ impl Refinement {
     }
 }
 
+/// Which error indicator drives adaptive refinement (docs/method.md §2.2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Indicator {
+    /// Recovery (ZZ-type): the MLS smoothing of the collocated strains, `ε*_I = Σ_J φ_J(x_I)
+    /// ε̂_J`, minus `ε̂_I`, in the energy norm and weighted by the node's area `h_I²`.
+    Recovery,
+    /// Strain gradient (default): `h_I |∇ε^h(x_I)|` (the leading truncation term of a linear
+    /// basis) in the energy norm, weighted by `h_I²`.
+    #[default]
+    Gradient,
+}
+
+impl Indicator {
+    /// The name used in problem files and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Indicator::Recovery => "recovery",
+            Indicator::Gradient => "gradient",
+        }
+    }
+}
+
+/// The adaptive loop of `[refinement]` (docs/method.md §2.2): solve, estimate, mark, refine,
+/// until the estimated error is at most `tolerance`, the next node set would exceed
+/// `max_nodes`, or after `steps` refinements.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Adaptive {
+    /// Refinement steps at most (solves: `steps + 1`).
+    pub steps: usize,
+    /// Largest node count of a refined node set.
+    pub max_nodes: usize,
+    /// Relative estimated error at which to stop (`None`: run the steps).
+    pub tolerance: Option<f64>,
+    /// Dörfler bulk fraction `θ`: the marked nodes carry at least `θ` of `Σ η_I²`.
+    pub fraction: f64,
+    /// The indicator.
+    pub indicator: Indicator,
+    /// Also mark the contact candidates at open/closed (and stick/slip) transitions.
+    pub contact: bool,
+}
+
+impl Adaptive {
+    /// Default `steps`.
+    pub const STEPS: usize = 4;
+    /// Default `max_nodes`.
+    pub const MAX_NODES: usize = 100_000;
+    /// Default `fraction`.
+    pub const FRACTION: f64 = 0.7;
+}
+
+impl Refinement {
+    /// Regions that halve the spacing around the points `(x_I, h_I)`: per point, the square
+    /// of half-width `h_I` centred on it, asking for `h_I / 2` (at least `floor`), merged
+    /// into one region per point (docs/method.md §2.2).
+    pub fn around(marked: impl IntoIterator<Item = (Point, f64)>, floor: f64) -> Self {
+        let boxes = marked
+            .into_iter()
+            .map(|(p, h)| RefineBox {
+                x: [p[0] - h, p[0] + h],
+                y: [p[1] - h, p[1] + h],
+                spacing: (0.5 * h).max(floor),
+            })
+            .collect();
+        Self { boxes }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -105,5 +173,13 @@ mod tests {
         assert!((r.min_spacing_in(1.0, [2.0, 0.0], [3.0, 1.0]) - 0.6).abs() < 1e-15);
         assert_eq!(r.finest(1.0), 0.1);
         assert!((r.added_nodes(1.0, [0.0, 0.0], [2.0, 2.0]) - 0.5 * 99.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn regions_around_points_halve_their_spacing() {
+        let r = Refinement::around([([1.0, 2.0], 0.5), ([0.0, 0.0], 0.01)], 0.02);
+        assert_eq!(r.boxes[0], RefineBox { x: [0.5, 1.5], y: [1.5, 2.5], spacing: 0.25 });
+        assert_eq!(r.boxes[1].spacing, 0.02);
+        assert_eq!(r.spacing_at(1.0, [1.2, 2.3]), 0.25);
     }
 }
