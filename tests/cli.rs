@@ -788,3 +788,31 @@ fn report_page_is_written_when_asked() {
     let both = Command::new(binary()).arg(&file).arg("--report").arg("--compare").output().unwrap();
     assert_eq!(both.status.code(), Some(2));
 }
+
+/// problems/beam_on_foundation_adaptive.toml: `summary.json` holds the loop's per-step table
+/// (`refinement.steps`) and the final onset with its bracket and estimator; the other
+/// sections describe the final node set (its node count is the last row's); the node
+/// density plot is written. Values: tests/validation/beam_on_foundation.rs.
+#[test]
+fn adaptive_beam_summary_has_the_step_table() {
+    let s = summary_of("beam_on_foundation_adaptive.toml", "beam_adaptive");
+    let r = &s["refinement"];
+    let steps = r["steps"].as_array().unwrap();
+    assert!(steps.len() >= 2, "{r}");
+    let last = steps.last().unwrap();
+    assert_eq!(last["nodes"], s["counts"]["nodes"]);
+    assert_eq!(last["total_contact_force"], s["contact"]["total_force"]);
+    assert_eq!(r["onset"]["estimate"], s["contact"]["onset_x"]);
+    assert_eq!(r["onset"]["last_open_x"], s["contact"]["last_open_x"]);
+    let estimator = r["onset"]["estimator"].as_str().unwrap();
+    assert!(["gap_extrapolation", "clipped"].contains(&estimator), "{estimator}");
+    assert_eq!(r["parameters"]["max_nodes"], 20000);
+    assert!(["steps", "max_nodes", "tolerance"].contains(&r["stopped_by"].as_str().unwrap()));
+    for row in steps {
+        for key in ["nodes", "estimated_error", "total_contact_force", "onset_x", "marked"] {
+            assert!(!row[key].is_null(), "{key} in {row}");
+        }
+    }
+    let plot = scratch("beam_adaptive").join("out/plots/node_spacing.png");
+    assert!(plot.exists(), "{}", plot.display());
+}

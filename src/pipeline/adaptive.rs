@@ -157,13 +157,31 @@ pub struct AdaptiveRun {
 /// per solve.
 ///
 /// # Errors
-/// Any stage's error of any solve.
+/// [`Error::Problem`] for two bodies, the FE method or a domain that is not a rectangle (what
+/// `[refinement]`'s validation refuses); any stage's error of any solve.
 pub fn solve_adaptive(
     problem: &Problem,
     adaptive: &Adaptive,
     progress: &mut dyn Progress,
     observe: &mut dyn FnMut(&Problem, &Model, &Solution, &Estimate),
 ) -> Result<AdaptiveRun, Error> {
+    let refuse = |reason: &str| -> Result<AdaptiveRun, Error> {
+        Err(crate::problem::ProblemError::Invalid {
+            field: "refinement".into(),
+            value: problem.name.clone(),
+            reason: reason.into(),
+        }
+        .into())
+    };
+    if problem.second_body.is_some() {
+        return refuse("adaptive refinement is implemented for one body");
+    }
+    if problem.discretisation.method != crate::problem::Method::Mfvm {
+        return refuse("adaptive refinement needs method = \"mfvm\"");
+    }
+    if problem.domain.as_rectangle().is_none() {
+        return refuse("adaptive refinement is implemented for rectangles only");
+    }
     let mut current = problem.clone();
     current.adaptive = None;
     let mut rows: Vec<AdaptiveStep> = Vec::new();
@@ -254,5 +272,49 @@ pub fn solve_adaptive(
         rows.push(row);
         current = next;
         step += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dorfler_marks_the_fewest_nodes_carrying_the_fraction() {
+        let eta2 = [1.0, 4.0, 0.5, 3.0, 1.5];
+        // Σ = 10: 4 + 3 = 7 ≥ 6 (θ = 0.6); 4 + 3 + 1.5 = 8.5 ≥ 8 (θ = 0.8).
+        assert_eq!(mark(&eta2, 0.6), vec![1, 3]);
+        assert_eq!(mark(&eta2, 0.8), vec![1, 3, 4]);
+        assert_eq!(mark(&eta2, 1.0).len(), 5);
+        assert!(mark(&[0.0; 3], 0.5).is_empty());
+    }
+
+    #[test]
+    fn the_loop_refuses_what_validation_refuses() {
+        let text = |method: &str| {
+            format!(
+                "[geometry]\nkind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]\n[nodes]\nspacing = 0.25\n[material]\nyoung = 1000.0\npoisson = 0.3\nplane = \"stress\"\n[discretisation]\nmethod = \"{method}\"\n[[boundary]]\nedge = \"left\"\ndisplacement = {{ x = 0.0, y = 0.0 }}\n[[boundary]]\nedge = \"right\"\ntraction = {{ y = 1.0 }}"
+            )
+        };
+        let a = Adaptive {
+            steps: 1,
+            max_nodes: 1000,
+            tolerance: None,
+            fraction: 0.5,
+            indicator: Indicator::Gradient,
+            contact: true,
+        };
+        let fem = Problem::from_toml(&text("fem")).unwrap();
+        let mut silent = crate::Silent;
+        let Err(e) = solve_adaptive(&fem, &a, &mut silent, &mut |_, _, _, _| {}) else {
+            panic!("the FE path must be refused");
+        };
+        assert!(e.to_string().contains("`refinement`"), "{e}");
+        let mfvm = Problem::from_toml(&text("mfvm")).unwrap();
+        let run = solve_adaptive(&mfvm, &a, &mut silent, &mut |_, _, _, _| {}).unwrap();
+        assert_eq!(run.summary.steps.len(), 2);
+        assert!(run.summary.steps[1].nodes > run.summary.steps[0].nodes);
+        assert!(run.summary.onset.is_none());
+        assert_eq!(run.summary.stopped_by, "steps");
     }
 }
