@@ -816,3 +816,23 @@ fn adaptive_beam_summary_has_the_step_table() {
     let plot = scratch("beam_adaptive").join("out/plots/node_spacing.png");
     assert!(plot.exists(), "{}", plot.display());
 }
+
+/// `[refinement]`: bad values and unsupported problems are refused with the key path.
+#[test]
+fn bad_refinement_input_gives_a_clear_error_and_exit_code_2() {
+    let with = |table: &str| format!("{BASE}\n[refinement]\n{table}\n");
+    let cases: &[(&str, String, &str)] = &[
+        ("refine_steps", with("steps = 0"), "refinement.steps"),
+        ("refine_fraction", with("fraction = 2.0"), "refinement.fraction"),
+        ("refine_tolerance", with("tolerance = -1.0"), "refinement.tolerance"),
+        ("refine_max_nodes", with("max_nodes = 1"), "refinement.max_nodes"),
+        ("refine_indicator", with("indicator = \"zz\""), "refinement.indicator"),
+        ("refine_unknown", with("levels = 3"), "levels"),
+        (
+            "refine_fem",
+            with("").replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]"),
+            "`refinement`",
+        ),
+    ];
+    expect_refusals(cases);
+}
