@@ -6,14 +6,14 @@
 //!    correlation of `η_I` with `e_I` (Pearson, and Spearman's of the ranks) and the
 //!    effectivity `(Σ η_I² / Σ e_I²)^(1/2)`.
 //! 2. **Cantilever, error against nodes**: uniform spacings against the adaptive loop from
-//!    `h₀ = 2` (relative energy-norm error by nodal quadrature, `(Σ e_I² / Σ h_I² σ_Iᵀ D⁻¹
+//!    `h₀ = 2`, structured and jittered nodes (relative energy-norm error by nodal quadrature, `(Σ e_I² / Σ h_I² σ_Iᵀ D⁻¹
 //!    σ_I)^(1/2)`).
 //! 3. **Beam on the rigid foundation** (`problems/beam_on_foundation_adaptive.toml`): every
 //!    step against the FE reference, and the wall-clock time of the adaptive run (all steps)
 //!    against uniform spacings of the same blend, in one run.
 //!
-//! `cargo run --release --example adaptive_refinement` (about a minute; `--quick` leaves out
-//! the uniform beam at h = 0.0625).
+//! `cargo run --release --example adaptive_refinement` (about two minutes; `--quick` leaves
+//! out the jittered cantilever and the uniform beam at h = 0.0625).
 
 #[path = "../../tests/validation/end_shear_exact.rs"]
 mod end_shear_exact;
@@ -129,15 +129,15 @@ fn indicators() {
     println!();
 }
 
-fn cantilever_study() {
-    println!("## 2. Cantilever: relative energy-norm error against nodes (structured, β = 0.5)\n");
+fn cantilever_study(layout: Layout, name: &str) {
+    println!("## 2. Cantilever: relative energy-norm error against nodes ({name}, β = 0.5)\n");
     println!(
         "| run | step | nodes | min h_I | estimated (the run's indicator; uniform: gradient) | true energy error |"
     );
     println!("|---|---|---|---|---|---|");
     let mut finest = (0, 0.0);
     for h in [2.0, 1.0, 0.5, 0.25] {
-        let p = cantilever(h, Layout::Structured);
+        let p = cantilever(h, layout);
         let mut silent = Silent;
         let model = mlpg_contact::discretise(&p, &mut silent).expect("discretise");
         let (model, _, s) = mlpg_contact::solve_model(&p, model, None, &mut silent).expect("solve");
@@ -148,7 +148,7 @@ fn cantilever_study() {
     }
     for ind in [Indicator::Recovery, Indicator::Gradient] {
         for fraction in [0.5, 0.7] {
-            let p = cantilever(2.0, Layout::Structured);
+            let p = cantilever(2.0, layout);
             let a = Adaptive {
                 steps: 12,
                 max_nodes: finest.0,
@@ -244,6 +244,9 @@ fn beam_study(quick: bool) {
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     indicators();
-    cantilever_study();
+    cantilever_study(Layout::Structured, "structured");
+    if !quick {
+        cantilever_study(Layout::Jittered { amplitude: 0.25, seed: 1 }, "jittered 0.25");
+    }
     beam_study(quick);
 }
