@@ -166,9 +166,8 @@ pub fn for_problem(problem: &crate::problem::Problem) -> Result<Nodes, GeometryE
     if refinement.is_empty() {
         generate(&problem.domain, h, problem.layout)
     } else {
-        generate_graded(&problem.domain, h, problem.layout, |lo, hi| {
-            refinement.min_spacing_in(h, lo, hi)
-        })
+        let index = refinement.index(h);
+        generate_graded(&problem.domain, h, problem.layout, |lo, hi| index.min_spacing_in(lo, hi))
     }
 }
 

@@ -788,3 +788,51 @@ fn report_page_is_written_when_asked() {
     let both = Command::new(binary()).arg(&file).arg("--report").arg("--compare").output().unwrap();
     assert_eq!(both.status.code(), Some(2));
 }
+
+/// problems/beam_on_foundation_adaptive.toml: `summary.json` holds the loop's per-step table
+/// (`refinement.steps`) and the final onset with its bracket and estimator; the other
+/// sections describe the final node set (its node count is the last row's); the node
+/// density plot is written. Values: tests/validation/beam_on_foundation.rs.
+#[test]
+fn adaptive_beam_summary_has_the_step_table() {
+    let s = summary_of("beam_on_foundation_adaptive.toml", "beam_adaptive");
+    let r = &s["refinement"];
+    let steps = r["steps"].as_array().unwrap();
+    assert!(steps.len() >= 2, "{r}");
+    let last = steps.last().unwrap();
+    assert_eq!(last["nodes"], s["counts"]["nodes"]);
+    assert_eq!(last["total_contact_force"], s["contact"]["total_force"]);
+    assert_eq!(r["onset"]["estimate"], s["contact"]["onset_x"]);
+    assert_eq!(r["onset"]["last_open_x"], s["contact"]["last_open_x"]);
+    let estimator = r["onset"]["estimator"].as_str().unwrap();
+    assert!(["gap_extrapolation", "clipped"].contains(&estimator), "{estimator}");
+    assert_eq!(r["parameters"]["max_nodes"], 20000);
+    assert!(["steps", "max_nodes", "tolerance"].contains(&r["stopped_by"].as_str().unwrap()));
+    for row in steps {
+        for key in ["nodes", "estimated_error", "total_contact_force", "onset_x", "marked"] {
+            assert!(!row[key].is_null(), "{key} in {row}");
+        }
+    }
+    let plot = scratch("beam_adaptive").join("out/plots/node_spacing.png");
+    assert!(plot.exists(), "{}", plot.display());
+}
+
+/// `[refinement]`: bad values and unsupported problems are refused with the key path.
+#[test]
+fn bad_refinement_input_gives_a_clear_error_and_exit_code_2() {
+    let with = |table: &str| format!("{BASE}\n[refinement]\n{table}\n");
+    let cases: &[(&str, String, &str)] = &[
+        ("refine_steps", with("steps = 0"), "refinement.steps"),
+        ("refine_fraction", with("fraction = 2.0"), "refinement.fraction"),
+        ("refine_tolerance", with("tolerance = -1.0"), "refinement.tolerance"),
+        ("refine_max_nodes", with("max_nodes = 1"), "refinement.max_nodes"),
+        ("refine_indicator", with("indicator = \"zz\""), "refinement.indicator"),
+        ("refine_unknown", with("levels = 3"), "levels"),
+        (
+            "refine_fem",
+            with("").replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]"),
+            "`refinement`",
+        ),
+    ];
+    expect_refusals(cases);
+}

@@ -158,6 +158,7 @@ fn patch_problem(layout: Layout) -> Problem {
         node_spacing: 0.2,
         layout,
         refinement: Default::default(),
+        adaptive: None,
         material: Material { young: 1000.0, poisson: 0.3, plane: PlaneState::Stress },
         discretisation: Discretisation::default(),
         boundary: vec![condition; 4],

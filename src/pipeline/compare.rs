@@ -84,10 +84,14 @@ impl std::fmt::Display for Comparison {
     }
 }
 
-/// A copy of `problem` (and its second body) discretised by `method`.
+/// A copy of `problem` (and its second body) discretised by `method` (the finite elements on
+/// their uniform mesh: without `[refinement]`'s loop, as without `[[nodes.refine]]`).
 fn with_method(problem: &Problem, method: Method) -> Problem {
     let mut p = problem.clone();
     p.discretisation.method = method;
+    if method == Method::Fem {
+        p.adaptive = None;
+    }
     if let Some(second) = p.second_body.as_deref_mut() {
         second.discretisation.method = method;
     }

@@ -4,6 +4,7 @@
 //! every output, the command-line program's job). [`compare`] runs both discretisations on
 //! one problem.
 
+pub mod adaptive;
 pub mod compare;
 mod friction;
 pub mod memory;
@@ -156,12 +157,17 @@ fn discretise_all(
     Ok((model, second))
 }
 
-/// Solves `problem` end to end (stages 1–11; both bodies of a two-body contact).
+/// Solves `problem` end to end (stages 1–11; both bodies of a two-body contact; with
+/// `[refinement]` the adaptive loop, [`adaptive::solve_adaptive`], and its last solution).
 ///
 /// # Errors
 /// Any stage's error, wrapped in [`Error`].
 pub fn solve(problem: &Problem) -> Result<Solution, Error> {
     let mut silent = Silent;
+    if let Some(a) = &problem.adaptive {
+        let run = adaptive::solve_adaptive(problem, a, &mut silent, &mut |_, _, _, _| {})?;
+        return Ok(run.solution);
+    }
     let (model, second) = discretise_all(problem, &mut silent)?;
     solve_model(problem, model, second, &mut silent).map(|(_, _, s)| s)
 }
@@ -587,6 +593,33 @@ impl std::fmt::Display for RunReport {
                 )?;
             }
         }
+        if let Some(r) = &s.refinement {
+            writeln!(
+                f,
+                "  adaptive refinement ({} indicator, stopped by {}):",
+                r.parameters.indicator.name(),
+                r.stopped_by
+            )?;
+            writeln!(
+                f,
+                "    step    nodes   min h_I  est. error  marked  contact force      onset  bracket"
+            )?;
+            for row in &r.steps {
+                writeln!(
+                    f,
+                    "    {:>4} {:>8} {:>9.3e} {:>11.3e} {:>7} {:>14} {:>10} [{}, {}]",
+                    row.step,
+                    row.nodes,
+                    row.min_spacing,
+                    row.estimated_error,
+                    row.marked,
+                    opt(row.total_contact_force),
+                    opt(row.onset_x),
+                    opt(row.last_open_x),
+                    opt(row.first_closed_x)
+                )?;
+            }
+        }
         let dir = self.files.last().and_then(|p| p.parent());
         write!(
             f,
@@ -661,6 +694,14 @@ impl Outcome {
         input: serde_json::Value,
         progress: &mut dyn Progress,
     ) -> Result<Self, Error> {
+        if let Some(a) = problem.adaptive {
+            let run = adaptive::solve_adaptive(&problem, &a, progress, &mut |_, _, _, _| {})?;
+            let mut summary = Summary::new(input, &run.problem, &run.model, &run.solution);
+            summary.refinement = Some(run.summary);
+            let adaptive::AdaptiveRun { mut problem, model, solution, .. } = run;
+            problem.adaptive = Some(a);
+            return Ok(Self { problem, model, second: None, solution, summary });
+        }
         let (model, second) = discretise_all(&problem, progress)?;
         let (model, second, solution) = solve_model(&problem, model, second, progress)?;
         let summary = Summary::new(input, &problem, &model, &solution);
@@ -697,6 +738,9 @@ impl Outcome {
 fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
     let (problem, second, solution) = (&o.problem, o.second.as_ref(), &o.solution);
     let mut files = post::write_solution(out, problem, &o.model, second, solution)?;
+    if o.summary.refinement.is_some() {
+        files.extend(post::write_node_spacing(out, problem, &o.model.nodes)?);
+    }
     if let (Some(p2), Some(m2), Some(s2)) =
         (problem.second_body.as_deref(), second, solution.second_body.as_deref())
     {

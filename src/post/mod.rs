@@ -612,6 +612,44 @@ fn solution_plots(
     ])
 }
 
+/// `plots/node_spacing.{svg,png}`: the nodes of an adaptively refined set coloured by
+/// `log₂(h₀ / h_I)`, the number of halvings of the nominal spacing (docs/method.md §2.2).
+///
+/// # Errors
+/// [`OutputError`] when the directory or a plot cannot be written.
+pub fn write_node_spacing(
+    dir: &Path,
+    problem: &Problem,
+    nodes: &crate::nodes::Nodes,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let plots = dir.join("plots");
+    create_dir(&plots)?;
+    let min_spacing = nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
+    let h0 = problem.node_spacing;
+    let mut map = plot::ColourMap {
+        title: format!(
+            "{}: {} nodes, spacing h₀ = {} to {}",
+            problem.name,
+            nodes.len(),
+            significant(h0),
+            significant(min_spacing)
+        ),
+        value_label: "log₂(h₀ / h_I)".into(),
+        x_label: "x".into(),
+        y_label: "y".into(),
+        points: nodes.points.iter().map(|p| (p[0], p[1])).collect(),
+        values: nodes.spacing.iter().map(|h| (h0 / h).log2()).collect(),
+        lines: Vec::new(),
+        labels: Vec::new(),
+    };
+    let mut edge = outline(&problem.domain, min_spacing, "");
+    edge.label = None;
+    map.lines.push(edge);
+    let stem = plots.join("node_spacing");
+    plot::write_colour_map(&stem, &map)?;
+    Ok(vec![stem.with_extension("svg"), stem.with_extension("png")])
+}
+
 /// `v` with four significant digits, without an exponent when it is between 0.01 and 1e5.
 fn significant(v: f64) -> String {
     if (1e-2..1e5).contains(&v.abs()) {

@@ -43,11 +43,71 @@ pub struct Summary {
     /// frictionless summaries are unchanged; docs/method.md §8).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub steps: Option<Vec<IncrementRecord>>,
+    /// The adaptive loop (`[refinement]` only; absent otherwise, so that other summaries are
+    /// unchanged; docs/method.md §2.2). The other sections describe the final node set.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<AdaptiveSummary>,
     /// What the run proceeded past (an unstable discretisation or an indefinite `M` accepted on
     /// request).
     pub warnings: Vec<String>,
     /// Seconds per stage (a stage run twice, such as `solve` for two bodies, keeps the last).
     pub timings: BTreeMap<&'static str, f64>,
+}
+
+/// The adaptive loop of `[refinement]` (docs/method.md §2.2).
+#[derive(Clone, Debug, Serialize)]
+pub struct AdaptiveSummary {
+    /// The parameters of the loop.
+    pub parameters: crate::problem::Adaptive,
+    /// Why the loop stopped: `"tolerance"`, `"steps"`, `"max_nodes"` (the next node set would
+    /// have exceeded it; the last solved set is reported) or `"no_marks"`.
+    pub stopped_by: &'static str,
+    /// One row per solve, the first on the initial node set.
+    pub steps: Vec<AdaptiveStep>,
+    /// How the final onset estimate (`contact.onset_x`) is made, with its bracket.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub onset: Option<OnsetEstimate>,
+}
+
+/// One solve of the adaptive loop.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdaptiveStep {
+    /// Solve number, from 0 (the initial node set).
+    pub step: usize,
+    /// Nodes.
+    pub nodes: usize,
+    /// Smallest node spacing `h_I`.
+    pub min_spacing: f64,
+    /// The relative estimated error `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`.
+    pub estimated_error: f64,
+    /// Nodes marked for refinement after this solve (bulk and contact; 0 after the last).
+    pub marked: usize,
+    /// Of those, marked at contact transitions.
+    pub marked_contact: usize,
+    /// `Σ P_c` (contact problems).
+    pub total_contact_force: Option<f64>,
+    /// The onset estimate and its bracket (contact problems).
+    pub onset_x: Option<f64>,
+    /// Last open candidate before the first closed one.
+    pub last_open_x: Option<f64>,
+    /// First closed candidate.
+    pub first_closed_x: Option<f64>,
+}
+
+/// The final onset estimate, its bracket and its estimator.
+#[derive(Clone, Debug, Serialize)]
+pub struct OnsetEstimate {
+    /// The estimate (`contact.onset_x`).
+    pub estimate: Option<f64>,
+    /// Which estimator gave it: `"gap_extrapolation"` (inside the bracket) or `"clipped"`
+    /// (the extrapolation left the bracket and was clipped to its end).
+    pub estimator: &'static str,
+    /// Last open candidate.
+    pub last_open_x: Option<f64>,
+    /// First closed candidate.
+    pub first_closed_x: Option<f64>,
+    /// `first_closed_x − last_open_x`: the bracket the onset lies in.
+    pub bracket_width: Option<f64>,
 }
 
 /// The program that wrote the summary.
@@ -423,6 +483,7 @@ impl Summary {
                 .as_ref()
                 .and_then(|c| c.friction.as_ref())
                 .map(|f| f.increments.clone()),
+            refinement: None,
             warnings: warnings(problem, solution),
             timings: solution.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
         }

@@ -45,6 +45,34 @@ pub struct ProblemFile {
     /// Not echoed when absent, so that summaries without steps are unchanged.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub step: Vec<StepFile>,
+    /// Adaptive refinement (`[refinement]`, docs/method.md §2.2). Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub refinement: Option<AdaptiveFile>,
+}
+
+/// `[refinement]`: the solve–estimate–mark–refine loop (rectangles, one body, MFVM). Every
+/// key is optional.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct AdaptiveFile {
+    /// Refinement steps at most (default 4; 1–30).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps: Option<usize>,
+    /// Largest node count of a refined node set (default 100 000).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_nodes: Option<usize>,
+    /// Stop when the relative estimated error is at most this (in `(0, 1)`; default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+    /// Dörfler bulk fraction `θ ∈ (0, 1]` (default 0.7).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fraction: Option<f64>,
+    /// `"gradient"` (default) or `"recovery"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub indicator: Option<super::Indicator>,
+    /// Also refine around the contact transitions (default `true`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact: Option<bool>,
 }
 
 /// One `[[step]]`: the end values of named boundary conditions and of the rigid obstacle's

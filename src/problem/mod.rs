@@ -21,7 +21,7 @@ pub use discretisation::{
     MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Preset,
 };
 pub use file::*;
-pub use refine::{RefineBox, Refinement};
+pub use refine::{Adaptive, Indicator, RefineBox, Refinement, SpacingIndex};
 
 use crate::geometry::{Domain, Point};
 use crate::material::Material;
@@ -118,6 +118,8 @@ pub struct Problem {
     pub layout: Layout,
     /// Static refinement (`[[nodes.refine]]`; empty: uniform spacing `node_spacing`).
     pub refinement: Refinement,
+    /// Adaptive refinement (`[refinement]`; `None`: one solve on the given node set).
+    pub adaptive: Option<Adaptive>,
     /// Material.
     pub material: Material,
     /// Discretisation parameters.
@@ -294,6 +296,59 @@ plane = "stress"
         );
         assert_eq!(d.preset, Some(Preset::Stabilised));
         assert_eq!((d.beta, d.mls.support_factor, d.quadrature_points), (1.0, 3.0, 3));
+    }
+
+    #[test]
+    fn adaptive_table_is_validated_with_key_paths() {
+        let with = |table: &str| Problem::from_toml(&format!("{BODY}\n[refinement]\n{table}"));
+        let a = with("").unwrap().adaptive.unwrap();
+        assert_eq!(
+            (a.steps, a.max_nodes, a.tolerance),
+            (Adaptive::STEPS, Adaptive::MAX_NODES, None)
+        );
+        assert_eq!(
+            (a.fraction, a.indicator, a.contact),
+            (Adaptive::FRACTION, Indicator::Gradient, true)
+        );
+        let a = with("steps = 3\nmax_nodes = 5000\ntolerance = 0.01\nfraction = 0.4\nindicator = \"recovery\"\ncontact = false")
+            .unwrap()
+            .adaptive
+            .unwrap();
+        assert_eq!((a.steps, a.max_nodes, a.tolerance), (3, 5000, Some(0.01)));
+        assert_eq!((a.fraction, a.indicator, a.contact), (0.4, Indicator::Recovery, false));
+        assert!(Problem::from_toml(BODY).unwrap().adaptive.is_none());
+        for (table, key) in [
+            ("steps = 0", "refinement.steps"),
+            ("steps = 31", "refinement.steps"),
+            ("max_nodes = 2", "refinement.max_nodes"),
+            ("tolerance = 0.0", "refinement.tolerance"),
+            ("tolerance = 1.5", "refinement.tolerance"),
+            ("fraction = 0.0", "refinement.fraction"),
+            ("fraction = 1.1", "refinement.fraction"),
+            ("indicator = \"residual\"", "refinement.indicator"),
+            ("size = 2", "size"),
+        ] {
+            let e = with(table).unwrap_err().to_string();
+            assert!(e.contains(key), "{table}: {e}");
+        }
+        let fem = Problem::from_toml(&format!(
+            "{BODY}\n[discretisation]\nmethod = \"fem\"\n[refinement]\nsteps = 2"
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(fem.contains("`refinement`") && fem.contains("mfvm"), "{fem}");
+        let disk = Problem::from_toml(&(BODY.replace(
+            "kind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]",
+            "kind = \"polygon\"\nvertices = [[0.0, 0.0], [4.0, 0.0], [0.0, 1.0]]\nedges = [\"a\", \"b\", \"c\"]",
+        ) + "\n[refinement]\n"))
+        .unwrap_err()
+        .to_string();
+        assert!(disk.contains("`refinement`") && disk.contains("rectangle"), "{disk}");
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
+        let two = std::fs::read_to_string(path).unwrap();
+        let e = Problem::from_toml(&format!("{two}\n[refinement]\n")).unwrap_err().to_string();
+        assert!(e.contains("`refinement`") && e.contains("one body"), "{e}");
     }
 
     #[test]

@@ -64,6 +64,44 @@ impl Refinement {
         self.boxes.iter().fold(h0, |h, b| h.min(b.spacing + Self::GROWTH * b.distance(p)))
     }
 
+    /// The bin index of the regions for the nominal spacing `h0` ([`SpacingIndex`]).
+    pub fn index(&self, h0: f64) -> SpacingIndex<'_> {
+        let reach =
+            |b: &RefineBox| (h0 - b.spacing).max(0.0) / Self::GROWTH * (1.0 + 1e-9) + 1e-12 * h0;
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for b in &self.boxes {
+            let r = reach(b);
+            lo = [lo[0].min(b.x[0] - r), lo[1].min(b.y[0] - r)];
+            hi = [hi[0].max(b.x[1] + r), hi[1].max(b.y[1] + r)];
+        }
+        if self.boxes.is_empty() {
+            (lo, hi) = ([0.0; 2], [0.0; 2]);
+        }
+        let extent = [(hi[0] - lo[0]).max(h0), (hi[1] - lo[1]).max(h0)];
+        let bin = h0.max((extent[0] * extent[1] / SpacingIndex::MAX_BINS).sqrt());
+        let dims = [(extent[0] / bin).ceil() as usize + 1, (extent[1] / bin).ceil() as usize + 1];
+        let mut index = SpacingIndex {
+            refinement: self,
+            h0,
+            origin: lo,
+            bin,
+            dims,
+            bins: vec![Vec::new(); dims[0] * dims[1]],
+        };
+        for (k, b) in self.boxes.iter().enumerate() {
+            let r = reach(b);
+            if let Some([rx, ry]) = index.range([b.x[0] - r, b.y[0] - r], [b.x[1] + r, b.y[1] + r])
+            {
+                for j in ry[0]..=ry[1] {
+                    for i in rx[0]..=rx[1] {
+                        index.bins[j * dims[0] + i].push(k as u32);
+                    }
+                }
+            }
+        }
+        index
+    }
+
     /// The least `h` over the box `[lo, hi]` (exact: the distance between boxes is).
     pub fn min_spacing_in(&self, h0: f64, lo: Point, hi: Point) -> f64 {
         self.boxes.iter().fold(h0, |h, b| h.min(b.spacing + Self::GROWTH * b.box_distance(lo, hi)))
@@ -90,6 +128,124 @@ impl Refinement {
     }
 }
 
+/// [`Refinement::min_spacing_in`] through a bin grid: each region is listed in the bins its
+/// reach (the distance `(h₀ − s_r)/g` beyond which it asks for no less than `h₀`) overlaps, and
+/// a query looks only at the regions listed in the bins its box overlaps. Returns exactly the
+/// value of the plain loop (a region left out cannot lower the minimum below `h₀`); it makes
+/// the graded generator linear in the number of regions instead of cells × regions.
+#[derive(Clone, Debug)]
+pub struct SpacingIndex<'a> {
+    refinement: &'a Refinement,
+    h0: f64,
+    origin: Point,
+    bin: f64,
+    dims: [usize; 2],
+    bins: Vec<Vec<u32>>,
+}
+
+impl SpacingIndex<'_> {
+    /// Largest number of bins (the bin size grows to stay below it).
+    const MAX_BINS: f64 = 4.0e6;
+
+    fn range(&self, lo: Point, hi: Point) -> Option<[[usize; 2]; 2]> {
+        let mut r = [[0; 2]; 2];
+        for a in 0..2 {
+            let (l, h) = ((lo[a] - self.origin[a]) / self.bin, (hi[a] - self.origin[a]) / self.bin);
+            let n = self.dims[a] as f64;
+            if h < 0.0 || l >= n {
+                return None;
+            }
+            r[a] =
+                [l.max(0.0).floor() as usize, (h.floor().max(0.0) as usize).min(self.dims[a] - 1)];
+        }
+        Some(r)
+    }
+
+    /// The least `h` over the box `[lo, hi]`, as [`Refinement::min_spacing_in`].
+    pub fn min_spacing_in(&self, lo: Point, hi: Point) -> f64 {
+        let Some([rx, ry]) = self.range(lo, hi) else { return self.h0 };
+        let boxes = &self.refinement.boxes;
+        let mut h = self.h0;
+        for j in ry[0]..=ry[1] {
+            for i in rx[0]..=rx[1] {
+                for &k in &self.bins[j * self.dims[0] + i] {
+                    let b = &boxes[k as usize];
+                    h = h.min(b.spacing + Refinement::GROWTH * b.box_distance(lo, hi));
+                }
+            }
+        }
+        h
+    }
+}
+
+/// Which error indicator drives adaptive refinement (docs/method.md §2.2).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Indicator {
+    /// Recovery (ZZ-type): the MLS smoothing of the collocated strains, `ε*_I = Σ_J φ_J(x_I)
+    /// ε̂_J`, minus `ε̂_I`, in the energy norm and weighted by the node's area `h_I²`.
+    Recovery,
+    /// Strain gradient (default): `h_I |∇ε^h(x_I)|` (the leading truncation term of a linear
+    /// basis) in the energy norm, weighted by `h_I²`.
+    #[default]
+    Gradient,
+}
+
+impl Indicator {
+    /// The name used in problem files and `summary.json`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Indicator::Recovery => "recovery",
+            Indicator::Gradient => "gradient",
+        }
+    }
+}
+
+/// The adaptive loop of `[refinement]` (docs/method.md §2.2): solve, estimate, mark, refine,
+/// until the estimated error is at most `tolerance`, the next node set would exceed
+/// `max_nodes`, or after `steps` refinements.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Adaptive {
+    /// Refinement steps at most (solves: `steps + 1`).
+    pub steps: usize,
+    /// Largest node count of a refined node set.
+    pub max_nodes: usize,
+    /// Relative estimated error at which to stop (`None`: run the steps).
+    pub tolerance: Option<f64>,
+    /// Dörfler bulk fraction `θ`: the marked nodes carry at least `θ` of `Σ η_I²`.
+    pub fraction: f64,
+    /// The indicator.
+    pub indicator: Indicator,
+    /// Also mark the contact candidates at open/closed (and stick/slip) transitions.
+    pub contact: bool,
+}
+
+impl Adaptive {
+    /// Default `steps`.
+    pub const STEPS: usize = 4;
+    /// Default `max_nodes`.
+    pub const MAX_NODES: usize = 100_000;
+    /// Default `fraction`.
+    pub const FRACTION: f64 = 0.7;
+}
+
+impl Refinement {
+    /// Regions that halve the spacing around the points `(x_I, h_I)`: per point, the square
+    /// of half-width `h_I` centred on it, asking for `h_I / 2` (at least `floor`), merged
+    /// into one region per point (docs/method.md §2.2).
+    pub fn around(marked: impl IntoIterator<Item = (Point, f64)>, floor: f64) -> Self {
+        let boxes = marked
+            .into_iter()
+            .map(|(p, h)| RefineBox {
+                x: [p[0] - h, p[0] + h],
+                y: [p[1] - h, p[1] + h],
+                spacing: (0.5 * h).max(floor),
+            })
+            .collect();
+        Self { boxes }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -105,5 +261,35 @@ mod tests {
         assert!((r.min_spacing_in(1.0, [2.0, 0.0], [3.0, 1.0]) - 0.6).abs() < 1e-15);
         assert_eq!(r.finest(1.0), 0.1);
         assert!((r.added_nodes(1.0, [0.0, 0.0], [2.0, 2.0]) - 0.5 * 99.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_index_gives_the_plain_minimum() {
+        let mut boxes = Vec::new();
+        let mut seed = 7u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..300 {
+            let (x, y, w) = (10.0 * next(), 3.0 * next(), 0.3 * next());
+            boxes.push(RefineBox { x: [x, x + w], y: [y, y + w], spacing: 0.01 + 0.4 * next() });
+        }
+        let r = Refinement { boxes };
+        let index = r.index(0.5);
+        for _ in 0..2000 {
+            let (x, y, w) = (12.0 * next() - 1.0, 5.0 * next() - 1.0, 0.5 * next());
+            let (lo, hi) = ([x, y], [x + w, y + w]);
+            assert_eq!(index.min_spacing_in(lo, hi), r.min_spacing_in(0.5, lo, hi), "{lo:?}");
+        }
+        assert_eq!(Refinement::default().index(0.5).min_spacing_in([0.0; 2], [1.0; 2]), 0.5);
+    }
+
+    #[test]
+    fn regions_around_points_halve_their_spacing() {
+        let r = Refinement::around([([1.0, 2.0], 0.5), ([0.0, 0.0], 0.01)], 0.02);
+        assert_eq!(r.boxes[0], RefineBox { x: [0.5, 1.5], y: [1.5, 2.5], spacing: 0.25 });
+        assert_eq!(r.boxes[1].spacing, 0.02);
+        assert_eq!(r.spacing_at(1.0, [1.2, 2.3]), 0.25);
     }
 }

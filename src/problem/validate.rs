@@ -145,6 +145,10 @@ impl TryFrom<ProblemFile> for Problem {
                 "the active-set solver handles frictionless contact in one load step; with [[step]] use \"lemke\" or \"auto\"",
             ));
         }
+        problem.adaptive = match &file.refinement {
+            None => None,
+            Some(r) => Some(adaptive(r, &problem)?),
+        };
         problem.write_steps = file.output.steps.unwrap_or(false);
         let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0);
         if problem.write_steps && problem.steps.is_empty() && !frictional {
@@ -244,6 +248,7 @@ fn validate_body(
         node_spacing: h,
         layout,
         refinement,
+        adaptive: None,
         material,
         discretisation,
         boundary,
@@ -395,6 +400,64 @@ fn node_layout(
         }
     }
     Ok((h, layout))
+}
+
+/// `[refinement]` → the adaptive loop's parameters (rectangles, one body, MFVM only).
+fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
+    if problem.second_body.is_some() {
+        return Err(invalid(
+            "refinement",
+            "(two [[body]] tables)",
+            "adaptive refinement is implemented for one body; refine two bodies statically with [[body]] nodes.refine tables",
+        ));
+    }
+    if problem.domain.as_rectangle().is_none() {
+        return Err(invalid(
+            "refinement",
+            "(not a rectangle)",
+            "adaptive refinement is implemented for geometry kind = \"rectangle\" only",
+        ));
+    }
+    if problem.discretisation.method == Method::Fem {
+        return Err(invalid(
+            "refinement",
+            "(method = \"fem\")",
+            "the FE path meshes a uniform grid; adaptive refinement needs method = \"mfvm\"",
+        ));
+    }
+    let steps = file.steps.unwrap_or(Adaptive::STEPS);
+    if !(1..=30).contains(&steps) {
+        return Err(invalid("refinement.steps", steps, "must be 1–30"));
+    }
+    let max_nodes = file.max_nodes.unwrap_or(Adaptive::MAX_NODES);
+    if !(4..=20_000_000).contains(&max_nodes) {
+        return Err(invalid("refinement.max_nodes", max_nodes, "must be 4 to 20 000 000"));
+    }
+    if let Some(t) = file.tolerance {
+        if !(t.is_finite() && t > 0.0 && t < 1.0) {
+            return Err(invalid(
+                "refinement.tolerance",
+                t,
+                "must be in (0, 1): the relative estimated error at which to stop",
+            ));
+        }
+    }
+    let fraction = file.fraction.unwrap_or(Adaptive::FRACTION);
+    if !(fraction.is_finite() && fraction > 0.0 && fraction <= 1.0) {
+        return Err(invalid(
+            "refinement.fraction",
+            fraction,
+            "must be in (0, 1]: the share of the squared estimate the marked nodes carry",
+        ));
+    }
+    Ok(Adaptive {
+        steps,
+        max_nodes,
+        tolerance: file.tolerance,
+        fraction,
+        indicator: file.indicator.unwrap_or_default(),
+        contact: file.contact.unwrap_or(true),
+    })
 }
 
 /// `[[nodes.refine]]` → the refinement regions (rectangles only, MFVM only).

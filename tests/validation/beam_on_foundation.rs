@@ -263,3 +263,42 @@ fn refined_contact_edge_matches_the_fine_uniform_beam() {
     };
     assert!(err.to_string().contains("not trustworthy"), "{err}");
 }
+
+/// The adaptive loop (docs/method.md §2.2) on `problems/beam_on_foundation_adaptive.toml`:
+/// from the uniform spacing 0.5 to at most 20 000 nodes. Target (the FE reference above, an
+/// independent method): `|l_c − 19.810| ≤ 0.01` and `ΣP` within `1e-5` relative of
+/// `32.3476`, with the KKT and equilibrium checks of `run_problem` on the final node set.
+/// Measured: 12 567 nodes, `ΣP` 32.347709 (`+3.4e-6`), `l_c` 19.8050 in [19.781, 19.8125]
+/// (uniform `β = 0.5`: 74 593 nodes for `ΣP` −1.5e-5, `l_c` 19.8089; docs/dev/adaptive.md).
+#[test]
+fn adaptive_beam_meets_the_fe_reference() {
+    let problem = shipped_problem("beam_on_foundation_adaptive.toml", 0.5);
+    let adaptive = problem.adaptive.unwrap();
+    let mut rows = Vec::new();
+    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
+        &problem,
+        &adaptive,
+        &mut mlpg_contact::Silent,
+        &mut |_, m, s, e| {
+            let c = s.contact.as_ref().unwrap();
+            rows.push((m.nodes.len(), e.relative, c.total_force, c.onset.from_gap.unwrap()));
+        },
+    )
+    .unwrap();
+    for (n, e, f, l) in &rows {
+        println!("{n:>6} nodes: estimate {e:.3e}, F_c {f:.6}, l_c {l:.4}");
+    }
+    assert!(rows.len() >= 3, "{} solves", rows.len());
+    assert!(rows.windows(2).all(|w| w[1].0 > w[0].0 && w[1].1 < w[0].1), "{rows:?}");
+    assert!(run.model.nodes.len() < 20_000, "{} nodes", run.model.nodes.len());
+    assert_eq!(run.summary.steps.len(), rows.len());
+    // The final node set solved on its own: the same answer, and every check of run_problem.
+    let mut last = run.problem.clone();
+    last.adaptive = None;
+    let o = run_problem(0.5, &last);
+    let c = run.solution.contact.as_ref().unwrap();
+    assert_eq!(o.total_force, c.total_force);
+    assert!((o.total_force / FE_CONTACT_FORCE - 1.0).abs() <= 1e-5, "F_c {}", o.total_force);
+    assert!((o.onset - FE_ONSET).abs() <= 0.01, "l_c {}", o.onset);
+    assert!(o.last_open <= o.onset && o.onset <= o.first_closed);
+}

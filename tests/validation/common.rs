@@ -26,6 +26,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         node_spacing: h,
         layout,
         refinement: Default::default(),
+        adaptive: None,
         material,
         discretisation: Discretisation::default(),
         boundary: vec![EdgeCondition::free(); edges],

@@ -8,7 +8,8 @@
 //!
 //! Graded node sets (docs/method.md §2.1) must pass too: the MLS consistency and the cell
 //! tiling do not depend on the node spacing being uniform, so the same bound holds on three
-//! gradings (a band along an edge, a box two levels finer, both), structured and jittered.
+//! gradings (a band along an edge, a box two levels finer, both), structured and jittered;
+//! and on a node set refined by the adaptive loop (docs/method.md §2.2).
 
 use super::common::*;
 use mlpg_contact::geometry::Domain;
@@ -95,5 +96,44 @@ fn patch_test_graded_jittered() {
     for (name, refinement) in gradings() {
         let layout = Layout::Jittered { amplitude: 0.3, seed: 5 };
         check_graded(&format!("graded {name}, jittered"), layout, refinement);
+    }
+}
+
+/// The refinement regions the adaptive loop (docs/method.md §2.2) builds on the square
+/// clamped on the left and sheared on the right (corner singularities at the clamp): three
+/// steps, gradient indicator, `θ = 0.5`, `β = 0.5`. The patch test then runs on that grading.
+fn adaptive_grading(layout: Layout) -> Refinement {
+    let domain = Domain::rectangle([0.0, 2.0], [0.0, 2.0]).unwrap();
+    let mut problem = base_problem(domain, 0.2, layout, plane_stress(1000.0, 0.3));
+    problem.discretisation.beta = 0.5;
+    problem.boundary[3] = displacement(Arc::new(|_| [0.0, 0.0]));
+    problem.boundary[1] = traction(Arc::new(|_| [0.0, 1.0]));
+    let adaptive = mlpg_contact::problem::Adaptive {
+        steps: 3,
+        max_nodes: 100_000,
+        tolerance: None,
+        fraction: 0.5,
+        indicator: mlpg_contact::problem::Indicator::Gradient,
+        contact: false,
+    };
+    let mut silent = mlpg_contact::Silent;
+    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
+        &problem,
+        &adaptive,
+        &mut silent,
+        &mut |_, _, _, _| {},
+    )
+    .unwrap();
+    assert_eq!(run.summary.steps.len(), 4);
+    let levels = run.summary.steps[0].min_spacing / run.summary.steps[3].min_spacing;
+    assert!(levels >= 4.0, "finest spacing only {levels} times finer");
+    run.problem.refinement
+}
+
+#[test]
+fn patch_test_adaptively_refined() {
+    for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 5 }] {
+        let refinement = adaptive_grading(layout);
+        check_graded(&format!("adaptive, {layout:?}"), layout, refinement);
     }
 }
