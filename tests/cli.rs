@@ -916,6 +916,12 @@ fn gmsh_geometry_runs_and_bad_meshes_name_the_file_and_line() {
             vec!["nodes.spacing".into()],
         ),
         (
+            "gmsh_coarse_boundary",
+            &plate,
+            GMSH.replace("spacing = 0.25", "spacing = 0.1"),
+            vec!["nodes.spacing".into(), "edge `hole`".into()],
+        ),
+        (
             "gmsh_from_mesh_rectangle",
             &plate,
             BASE.replace("spacing = 0.25", "from = \"mesh\""),

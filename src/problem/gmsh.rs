@@ -1030,6 +1030,42 @@ mod tests {
     /// The same square in MSH 4.1, the second triangle clockwise.
     const SQUARE_V4: &str = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 1 \"bottom\"\n1 2 \"left\"\n2 3 \"plate\"\n$EndPhysicalNames\n$Entities\n0 2 1 0\n1 0 0 0 1 0 0 1 1 2 1 -2\n4 0 0 0 0 1 0 1 2 2 4 -1\n1 0 0 0 1 1 0 1 3 0\n$EndEntities\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n$Elements\n3 4 1 4\n1 1 1 1\n1 1 2\n1 4 1 1\n2 4 1\n2 1 2 2\n3 1 2 3\n4 1 4 3\n$EndElements\n";
 
+    /// [`SQUARE_V2`] with its right and top sides on physical curves too (`right_tag` 4 names
+    /// "right"; 2 makes it a second piece of "left").
+    fn named_square(right_tag: u32) -> Mesh {
+        let text = SQUARE_V2
+            .replace("3\n1 1 \"bottom\"", "5\n1 4 \"right\"\n1 5 \"top\"\n1 1 \"bottom\"")
+            .replace(
+                "4\n1 1 2 1 1 1 2\n",
+                &format!("6\n1 1 2 1 1 1 2\n5 1 2 {right_tag} 2 2 3\n6 1 2 5 3 3 4\n"),
+            );
+        Mesh::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn bodies_take_one_edge_per_physical_curve() {
+        let body = named_square(4).body("plate").unwrap();
+        let d = &body.domain;
+        assert_eq!(d.edge_names(), ["bottom", "right", "top", "left"]);
+        assert!(d.is_polygon(), "straight runs are segments");
+        assert_eq!(d.as_rectangle(), Some(([0.0, 1.0], [0.0, 1.0])));
+        assert_eq!(body.points.len(), 4);
+        // Two right triangles of area 1/2: the equilateral triangle of that area.
+        let side = (2.0 / 3f64.sqrt()).sqrt();
+        assert!(body.spacing.iter().all(|&h| (h - side).abs() < 1e-15), "{:?}", body.spacing);
+        // Unnamed boundary pieces, a curve in two pieces, a missing surface.
+        let kind = |m: &Mesh| m.body("plate").unwrap_err().kind;
+        let square = Mesh::parse(SQUARE_V2.as_bytes()).unwrap();
+        assert!(
+            matches!(kind(&square), GmshErrorKind::UnnamedBoundary { from: 2, to: 4, .. }),
+            "{:?}",
+            kind(&square)
+        );
+        assert!(matches!(kind(&named_square(2)), GmshErrorKind::SplitCurve { runs: 2, .. }));
+        assert!(matches!(square.body("disk").unwrap_err().kind, GmshErrorKind::NoSurface { .. }));
+        assert_eq!(square.surface_names(), ["plate"]);
+    }
+
     fn err(text: &str) -> GmshError {
         Mesh::parse(text.as_bytes()).unwrap_err()
     }
