@@ -15,7 +15,8 @@
 //!   against Hertz within the twin's own errors, the resultant within the twin's distance from
 //!   its finest value, and the Hertz bounds of `hertz.rs`; the LCP residuals and equilibrium are
 //!   checked by `hertz.rs`'s measurement.
-//! - Nodes from the mesh (`nodes.from = "mesh"`): the Kirsch plate on the mesh's own nodes.
+//! - Nodes from the mesh (`nodes.from = "mesh"`): the Kirsch plate and the Hertz cylinder on
+//!   the meshes' own nodes.
 
 use super::hertz::{Outcome, hertz_problem, hertz_problem_on, run_problem};
 use super::kirsch::{errors, kirsch_problem, quarter_plate, run_on, study_on};
@@ -137,4 +138,24 @@ fn kirsch_on_the_mesh_nodes() {
     assert!(out[1].energy < 0.5 * out[0].energy);
     assert!((out[1].concentration - 3.0).abs() < (out[0].concentration - 3.0).abs());
     assert!(out[1].displacement < 0.01 && out[1].energy < 0.025, "finest errors");
+}
+
+/// The Hertz cylinder on the nodes of its h = 0.01 mesh (0.01 along the arcs, graded to 0.1
+/// at the centre: 2068 nodes, about a quarter of the twin's): the Hertz bounds of `hertz.rs`
+/// (3 % on `a`, 1 % on `p₀`, both against Hertz for the computed resultant), with the LCP
+/// residuals and equilibrium checked by the measurement.
+// Observed: a error +6.3e-3, p₀ error −5.8e-3 (twin at h = 0.01: +1.25e-2, −3.3e-3); the
+// resultant P = 7.9933e-3 is 0.21 % below the twin's 8.0105e-3 (the coarse interior: the
+// twin at h = 0.02 gives 7.9930e-3), not asserted.
+#[test]
+fn hertz_on_the_mesh_nodes() {
+    let mesh = Mesh::read(&data("hertz_cylinder_h0.01_v4.msh")).unwrap();
+    let body = mesh.body("cylinder").unwrap();
+    let n = body.points.len();
+    let mean = body.spacing.iter().sum::<f64>() / n as f64;
+    let mut problem = hertz_problem_on(body.domain, mean, Layout::Structured);
+    problem.mesh_nodes = Some(Arc::new(MeshNodes { points: body.points, spacing: body.spacing }));
+    let m = run_problem(problem, &format!("mesh nodes ({n})"));
+    assert!(m.half_width.abs() < 0.03, "half-width error {}", m.half_width);
+    assert!(m.peak.abs() < 0.01, "peak error {}", m.peak);
 }
