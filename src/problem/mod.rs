@@ -105,6 +105,16 @@ impl EdgeCondition {
     }
 }
 
+/// Given nodes (the nodes of a mesh): positions and local spacing, the boundary nodes exactly on
+/// the domain's boundary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshNodes {
+    /// Node positions.
+    pub points: Vec<Point>,
+    /// Local spacing `h_I` of each node.
+    pub spacing: Vec<f64>,
+}
+
 /// A validated problem: everything the solver needs, with all ranges checked.
 #[derive(Clone, Debug)]
 pub struct Problem {
@@ -134,6 +144,9 @@ pub struct Problem {
     pub contact: Option<ContactSpec>,
     /// The second elastic body of a two-body contact (its own `contact` is `None`).
     pub second_body: Option<Box<Problem>>,
+    /// The nodes of a Gmsh body read with `nodes.from = "mesh"` (absent: the nodes are
+    /// generated from `node_spacing` and `layout`).
+    pub mesh_nodes: Option<Arc<MeshNodes>>,
     /// Load steps (`[[step]]`; empty: one step to the `boundary` values, as without steps).
     /// The second body of a two-body contact holds the same steps (the same number and
     /// increments, validated) with its own conditions; its `obstacle_displacement` is zero.
