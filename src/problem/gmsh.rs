@@ -333,6 +333,9 @@ pub struct MeshBody {
     /// size (the side of the equilateral triangle or the square of the element's area), halved
     /// for second-order elements (their nodes are half a side apart).
     pub spacing: Vec<f64>,
+    /// The surface's elements, their nodes numbered as `points` (for the finite element path,
+    /// which takes the mesh's own elements).
+    pub elements: Vec<Element>,
 }
 
 /// A reading error: what went wrong and the line (1-based) where it was found.
@@ -845,7 +848,11 @@ impl Mesh {
             }
         }
         let spacing = sums.iter().map(|&(sum, n)| sum / n as f64).collect();
-        Ok(MeshBody { domain, points, spacing })
+        let elements = elements
+            .iter()
+            .map(|e| Element { nodes: e.nodes.iter().map(|&i| index[i]).collect(), ..(*e).clone() })
+            .collect();
+        Ok(MeshBody { domain, points, spacing, elements })
     }
 }
 

@@ -113,6 +113,9 @@ pub struct MeshNodes {
     pub points: Vec<Point>,
     /// Local spacing `h_I` of each node.
     pub spacing: Vec<f64>,
+    /// The mesh's elements on these nodes (`nodes` index `points`): the finite element path
+    /// (`method = "fem"`) takes them as its elements.
+    pub elements: Vec<gmsh::Element>,
 }
 
 /// A validated problem: everything the solver needs, with all ranges checked.

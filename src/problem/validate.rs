@@ -393,16 +393,10 @@ fn node_layout(
                 ));
             }
         }
-        if method == Method::Fem {
-            return Err(invalid(
-                "nodes.from",
-                "mesh",
-                "discretisation.method = \"fem\" meshes rectangles only (kind = \"rectangle\")",
-            ));
-        }
         // The nominal spacing (for the checks that compare lengths with it): the mean.
         let h = mesh.spacing.iter().sum::<f64>() / mesh.spacing.len() as f64;
-        let nodes = MeshNodes { points: mesh.points, spacing: mesh.spacing };
+        let nodes =
+            MeshNodes { points: mesh.points, spacing: mesh.spacing, elements: mesh.elements };
         return Ok((h, Layout::Structured, Some(Arc::new(nodes))));
     }
     let Some(h) = file.nodes.spacing else {
@@ -475,11 +469,18 @@ fn node_layout(
     };
 
     if method == Method::Fem {
+        if matches!(file.geometry, GeometryFile::Gmsh { .. }) {
+            return Err(invalid(
+                "nodes.from",
+                "(missing)",
+                "discretisation.method = \"fem\" on a Gmsh geometry takes the mesh's own elements: set nodes.from = \"mesh\"",
+            ));
+        }
         if !matches!(file.geometry, GeometryFile::Rectangle { .. }) {
             return Err(invalid(
                 "geometry.kind",
                 "polygon",
-                "discretisation.method = \"fem\" meshes rectangles only (kind = \"rectangle\")",
+                "discretisation.method = \"fem\" meshes rectangles (kind = \"rectangle\") and Gmsh meshes (kind = \"gmsh\" with nodes.from = \"mesh\")",
             ));
         }
         if layout != Layout::Structured {

@@ -62,7 +62,7 @@ fn solve_on(problem: &Problem, mesh: &Mesh) -> (Nodes, Vec<f64>) {
 
 /// The traction `σ·n` of a stress field on edge `k` of the plate (outward normal).
 fn stress_traction(domain: &Domain, k: usize, stress: fn(Point) -> [f64; 3]) -> EdgeCondition {
-    let curve = *domain.curve(k);
+    let curve = domain.curve(k).clone();
     traction(Arc::new(move |p| {
         let (s, n) = (stress(p), curve.outward_normal_at(p));
         [s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]]

@@ -123,8 +123,11 @@ fn kirsch_on_the_mesh_nodes() {
         let n = body.points.len();
         let mean = body.spacing.iter().sum::<f64>() / n as f64;
         let mut problem = kirsch_problem(body.domain.clone(), mean, Layout::Structured);
-        problem.mesh_nodes =
-            Some(Arc::new(MeshNodes { points: body.points.clone(), spacing: body.spacing }));
+        problem.mesh_nodes = Some(Arc::new(MeshNodes {
+            points: body.points.clone(),
+            spacing: body.spacing,
+            elements: body.elements,
+        }));
         let e = errors(problem);
         println!(
             "kirsch mesh nodes o{order} ({n} nodes, mean spacing {mean:.3}): displacement {:.3e} energy {:.3e} sigma_xx(0,a) = {:.4}",
@@ -154,7 +157,11 @@ fn hertz_on_the_mesh_nodes() {
     let n = body.points.len();
     let mean = body.spacing.iter().sum::<f64>() / n as f64;
     let mut problem = hertz_problem_on(body.domain, mean, Layout::Structured);
-    problem.mesh_nodes = Some(Arc::new(MeshNodes { points: body.points, spacing: body.spacing }));
+    problem.mesh_nodes = Some(Arc::new(MeshNodes {
+        points: body.points,
+        spacing: body.spacing,
+        elements: body.elements,
+    }));
     let m = run_problem(problem, &format!("mesh nodes ({n})"));
     assert!(m.half_width.abs() < 0.03, "half-width error {}", m.half_width);
     assert!(m.peak.abs() < 0.01, "peak error {}", m.peak);
