@@ -1,13 +1,15 @@
-//! Stage 0: the domain — a closed loop of named boundary curves (straight segments and
-//! circular arcs) with the body on its left (counter-clockwise outer boundary).
+//! Stage 0: the domain — a closed loop of named boundary curves (straight segments, circular
+//! arcs and polylines) with the body on its left (counter-clockwise outer boundary).
 //!
 //! The discretisation works on a polygonal approximation of the loop
 //! ([`Domain::boundary_polygon`]): straight edges are kept, arcs are replaced by the chords
-//! between their boundary nodes (which lie on the exact arc). The area lost to the chords is
-//! `O(h²)` per unit arc length; the Kirsch and Hertz validation cases
-//! (`tests/validation/kirsch.rs`, `hertz.rs`) run on such boundaries and converge.
+//! between their boundary nodes (which lie on the exact arc), polylines (a physical curve of a
+//! Gmsh mesh: the chords through its nodes) are kept as they are. The area lost to the chords
+//! is `O(h²)` per unit arc length; the Kirsch and Hertz validation cases
+//! (`tests/validation/kirsch.rs`, `hertz.rs`, `gmsh.rs`) run on such boundaries and converge.
 
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// A point or vector in the plane.
 pub type Point = [f64; 2];
@@ -57,8 +59,8 @@ pub enum GeometryError {
     },
 }
 
-/// One piece of the boundary loop.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// One piece of the boundary loop (one named edge).
+#[derive(Clone, Debug, PartialEq)]
 pub enum Curve {
     /// The straight segment from `a` to `b`.
     Segment {
@@ -80,6 +82,49 @@ pub enum Curve {
         /// Signed angle swept.
         sweep: f64,
     },
+    /// The chain of straight pieces through `points` (at least two, consecutive points
+    /// distinct), parametrised by arc length: a curve of a mesh, given by its boundary nodes.
+    /// Its boundary nodes and the vertices of its polygonal approximation are its points,
+    /// whatever the spacing.
+    Polyline {
+        /// The points, in order.
+        points: Arc<[Point]>,
+    },
+}
+
+/// The piece of a polyline nearest to `p`: `(index, u, q)` with `u ∈ [0, 1]` the position
+/// along the piece and `q` the nearest point (an end point exactly when `u` is 0 or 1).
+fn nearest_piece(points: &[Point], p: Point) -> (usize, f64, Point) {
+    let mut best = (0, 0.0, points[0], f64::INFINITY);
+    for (i, w) in points.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1]);
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let u = (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        let q = if u == 0.0 {
+            a
+        } else if u == 1.0 {
+            b
+        } else {
+            [a[0] + u * dx, a[1] + u * dy]
+        };
+        let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+        if d < best.3 {
+            best = (i, u, q, d);
+        }
+    }
+    (best.0, best.1, best.2)
+}
+
+/// Outward unit normal (body on the left) of the straight piece from `a` to `b`.
+fn piece_normal(a: Point, b: Point) -> Point {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let len = dx.hypot(dy);
+    [dy / len, -dx / len]
+}
+
+/// Lengths of the pieces of a polyline.
+fn piece_lengths(points: &[Point]) -> impl Iterator<Item = f64> + '_ {
+    points.windows(2).map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
 }
 
 impl Curve {
@@ -113,6 +158,20 @@ impl Curve {
                 let (s, c) = (start + t * sweep).sin_cos();
                 [center[0] + radius * c, center[1] + radius * s]
             }
+            Curve::Polyline { ref points } => {
+                // Beyond the ends along the end pieces.
+                let m = points.len() - 1;
+                let mut s = t * self.length();
+                for (i, len) in piece_lengths(points).enumerate() {
+                    if (s <= len || i == m - 1) && (s >= 0.0 || i == 0) {
+                        let (a, b) = (points[i], points[i + 1]);
+                        let u = s / len;
+                        return [a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1])];
+                    }
+                    s -= len;
+                }
+                points[m]
+            }
         }
     }
 
@@ -121,6 +180,7 @@ impl Curve {
         match *self {
             Curve::Segment { a, .. } => a,
             Curve::Arc { .. } => self.point_at(0.0),
+            Curve::Polyline { ref points } => points[0],
         }
     }
 
@@ -129,6 +189,7 @@ impl Curve {
         match *self {
             Curve::Segment { b, .. } => b,
             Curve::Arc { .. } => self.point_at(1.0),
+            Curve::Polyline { ref points } => points[points.len() - 1],
         }
     }
 
@@ -137,13 +198,15 @@ impl Curve {
         match *self {
             Curve::Segment { a, b } => (b[0] - a[0]).hypot(b[1] - a[1]),
             Curve::Arc { radius, sweep, .. } => radius * sweep.abs(),
+            Curve::Polyline { ref points } => piece_lengths(points).sum(),
         }
     }
 
     /// Parameter `t` of the point of the curve's line or circle closest to `p` (`0` at the
     /// start, `1` at the end; outside `[0, 1]` beyond the ends; for an arc the angular
     /// position measured in the sweep direction, beyond-the-end angles split at the middle of
-    /// the missing part of the circle).
+    /// the missing part of the circle; for a polyline the arc length to the nearest point, on
+    /// the end pieces' lines beyond the ends).
     pub fn parameter(&self, p: Point) -> f64 {
         match *self {
             Curve::Segment { a, b } => {
@@ -159,6 +222,22 @@ impl Curve {
                     d -= 2.0 * PI;
                 }
                 d / full
+            }
+            Curve::Polyline { ref points } => {
+                let (i, u, _) = nearest_piece(points, p);
+                let m = points.len() - 1;
+                let lengths: Vec<f64> = piece_lengths(points).collect();
+                let total: f64 = lengths.iter().sum();
+                let before: f64 = lengths[..i].iter().sum();
+                let (a, b) = (points[i], points[i + 1]);
+                let along = |a: Point, b: Point| {
+                    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                    ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy)
+                };
+                // Unclamped on the end pieces, so that the parameter leaves [0, 1] there.
+                let u =
+                    if (i == 0 && u == 0.0) || (i == m - 1 && u == 1.0) { along(a, b) } else { u };
+                (before + u * lengths[i]) / total
             }
         }
     }
@@ -176,11 +255,34 @@ impl Curve {
                 let s = sweep.signum();
                 [s * (q[0] - center[0]) / radius, s * (q[1] - center[1]) / radius]
             }
+            Curve::Polyline { ref points } => {
+                // At an inner vertex the mean of the two pieces' normals (the radial direction
+                // for a regular polygon inscribed in a circle).
+                let (i, u, _) = nearest_piece(points, p);
+                let n = piece_normal(points[i], points[i + 1]);
+                // (Within round-off of the vertex: 1e-9 of the piece.)
+                let other = if u <= 1e-9 && i > 0 {
+                    Some(piece_normal(points[i - 1], points[i]))
+                } else if u >= 1.0 - 1e-9 && i + 2 < points.len() {
+                    Some(piece_normal(points[i + 1], points[i + 2]))
+                } else {
+                    None
+                };
+                match other {
+                    Some(m) => {
+                        let s = [n[0] + m[0], n[1] + m[1]];
+                        let len = s[0].hypot(s[1]);
+                        if len > 1e-12 { [s[0] / len, s[1] / len] } else { n }
+                    }
+                    None => n,
+                }
+            }
         }
     }
 
     /// Signed distance of `p` to the curve's supporting line or circle (negative on the
-    /// body's side).
+    /// body's side); for a polyline the distance to its nearest point (on the end pieces'
+    /// lines beyond the ends), signed by the outward normal there.
     pub fn signed_distance(&self, p: Point) -> f64 {
         match *self {
             Curve::Segment { a, .. } => {
@@ -189,6 +291,18 @@ impl Curve {
             }
             Curve::Arc { center, radius, sweep, .. } => {
                 sweep.signum() * ((p[0] - center[0]).hypot(p[1] - center[1]) - radius)
+            }
+            Curve::Polyline { ref points } => {
+                let (i, u, q) = nearest_piece(points, p);
+                let m = points.len() - 1;
+                if (i == 0 && u == 0.0) || (i == m - 1 && u == 1.0) {
+                    let n = piece_normal(points[i], points[i + 1]);
+                    let a = points[i];
+                    return (p[0] - a[0]) * n[0] + (p[1] - a[1]) * n[1];
+                }
+                let n = self.outward_normal_at(p);
+                let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+                if (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] < 0.0 { -d } else { d }
             }
         }
     }
@@ -206,12 +320,26 @@ impl Curve {
 
     /// Number of intervals the curve is divided into at nominal spacing `h` (boundary nodes
     /// and the chords of the polygonal approximation): `round(length / h)`, at least 1 for a
-    /// segment and at least one per 45° of an arc.
+    /// segment and at least one per 45° of an arc; a polyline's pieces, whatever `h`.
     pub fn divisions(&self, h: f64) -> usize {
         let n = (self.length() / h).round().max(1.0) as usize;
         match *self {
             Curve::Segment { .. } => n,
             Curve::Arc { sweep, .. } => n.max((sweep.abs() / (0.25 * PI)).ceil() as usize),
+            Curve::Polyline { ref points } => points.len() - 1,
+        }
+    }
+
+    /// The `divisions(h) + 1` points dividing the curve at nominal spacing `h`, start and end
+    /// included: equally spaced along a segment or an arc (`point_at(i / n)`), a polyline's
+    /// own points.
+    pub fn division_points(&self, h: f64) -> Vec<Point> {
+        match self {
+            Curve::Polyline { points } => points.to_vec(),
+            _ => {
+                let n = self.divisions(h);
+                (0..=n).map(|i| self.point_at(i as f64 / n as f64)).collect()
+            }
         }
     }
 
@@ -250,6 +378,13 @@ impl Curve {
                     })
                     .sum()
             }
+            Curve::Polyline { ref points } => points
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    crosses(a, b, &|| a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]))
+                })
+                .sum(),
         }
     }
 }
@@ -337,6 +472,9 @@ impl Domain {
                         && start.is_finite()
                         && sweep.is_finite()
                 }
+                Curve::Polyline { ref points } => {
+                    points.len() >= 2 && points.iter().flatten().all(|v| v.is_finite())
+                }
             };
             if !finite {
                 return Err(GeometryError::Loop {
@@ -346,6 +484,14 @@ impl Domain {
             }
             if c.length() <= 1e-12 * scale {
                 return Err(GeometryError::Loop { curve: k, reason: "has zero length".into() });
+            }
+            if let Curve::Polyline { points } = c {
+                if let Some(i) = piece_lengths(points).position(|l| l <= 1e-12 * scale) {
+                    return Err(GeometryError::Loop {
+                        curve: k,
+                        reason: format!("piece {i} of the polyline has zero length"),
+                    });
+                }
             }
             if let Curve::Arc { sweep, .. } = *c {
                 if sweep.abs() > 2.0 * PI * (1.0 + 1e-12) {
@@ -468,6 +614,9 @@ impl Domain {
         for c in &self.curves {
             add(c.start());
             add(c.end());
+            if let Curve::Polyline { points } = c {
+                points.iter().for_each(|&p| add(p));
+            }
             if let Curve::Arc { center, radius, start, sweep } = *c {
                 for k in -8..=8 {
                     let t = (k as f64 * 0.5 * PI - start) / sweep;
@@ -494,6 +643,10 @@ impl Domain {
                         let th = sweep.abs();
                         chord + sweep.signum() * 0.5 * radius * radius * (th - th.sin())
                     }
+                    Curve::Polyline { ref points } => points
+                        .windows(2)
+                        .map(|w| 0.5 * (w[0][0] * w[1][1] - w[1][0] * w[0][1]))
+                        .sum(),
                 }
             })
             .sum()
@@ -505,9 +658,12 @@ impl Domain {
         let pts: Vec<Point> = self
             .curves
             .iter()
-            .flat_map(|c| {
-                let n = if c.is_straight() { 1 } else { 256 };
-                (0..n).map(move |i| c.point_at(i as f64 / n as f64))
+            .flat_map(|c| match c {
+                Curve::Polyline { points } => points[..points.len() - 1].to_vec(),
+                _ => {
+                    let n = if c.is_straight() { 1 } else { 256 };
+                    (0..n).map(|i| c.point_at(i as f64 / n as f64)).collect()
+                }
             })
             .collect();
         let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
@@ -548,15 +704,18 @@ impl Domain {
     /// vertices counter-clockwise, and for each polygon edge (from vertex `i` to `i + 1`) the
     /// domain edge it approximates. Straight edges are kept whole; an arc becomes the chords
     /// between its [`Curve::divisions`]`(h)` equally spaced points, which are exactly the
-    /// arc's boundary nodes.
+    /// arc's boundary nodes; a polyline is kept (its points are its boundary nodes).
     pub fn boundary_polygon(&self, h: f64) -> (Vec<Point>, Vec<u32>) {
         let mut vertices = Vec::new();
         let mut labels = Vec::new();
         for (k, c) in self.curves.iter().enumerate() {
-            let n = if c.is_straight() { 1 } else { c.divisions(h) };
-            for i in 0..n {
-                vertices.push(c.point_at(i as f64 / n as f64));
+            if c.is_straight() {
+                vertices.push(c.start());
                 labels.push(k as u32);
+            } else {
+                let points = c.division_points(h);
+                labels.extend(std::iter::repeat_n(k as u32, points.len() - 1));
+                vertices.extend_from_slice(&points[..points.len() - 1]);
             }
         }
         (vertices, labels)
@@ -686,6 +845,72 @@ mod tests {
         )
         .unwrap();
         assert!((half_disk.area() - PI / 2.0).abs() < 1e-13);
+    }
+
+    /// The quarter plate with the hole's arc replaced by the polyline through `n + 1` points
+    /// on it (a mesh's boundary nodes).
+    fn polyline_plate(n: usize) -> Domain {
+        let hole: Vec<Point> = (0..=n)
+            .map(|i| {
+                let th = 0.5 * PI * (1.0 - i as f64 / n as f64);
+                [th.cos(), th.sin()]
+            })
+            .collect();
+        Domain::from_curves(
+            vec![
+                Curve::Segment { a: [1.0, 0.0], b: [4.0, 0.0] },
+                Curve::Segment { a: [4.0, 0.0], b: [4.0, 4.0] },
+                Curve::Segment { a: [4.0, 4.0], b: [0.0, 4.0] },
+                Curve::Segment { a: [0.0, 4.0], b: [0.0, 1.0] },
+                Curve::Polyline { points: hole.into() },
+            ],
+            ["bottom", "right", "top", "left", "hole"].iter().map(|s| s.to_string()).collect(),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn polyline_edges_follow_their_points() {
+        let n = 8;
+        let d = polyline_plate(n);
+        let c = d.curve(4);
+        // The chords' area: the exact region plus the n circular segments.
+        let th = 0.5 * PI / n as f64;
+        let chords = 16.0 - PI / 4.0 + n as f64 * 0.5 * (th - th.sin());
+        assert!((d.area() - chords).abs() < 1e-13, "{}", d.area());
+        // Length, parameter and point: arc-length parametrised, vertices at i / n.
+        let chord = 2.0 * (0.5 * th).sin();
+        assert!((c.length() - n as f64 * chord).abs() < 1e-14);
+        for i in 0..=n {
+            let t = i as f64 / n as f64;
+            let p = c.point_at(t);
+            let th_i = 0.5 * PI * (1.0 - t);
+            assert!((p[0] - th_i.cos()).abs() < 1e-14 && (p[1] - th_i.sin()).abs() < 1e-14);
+            assert!((d.edge_parameter(4, p) - t).abs() < 1e-14);
+            assert!(d.edge_distance(4, p).abs() < 1e-15);
+            // Inner vertices: the mean of the pieces' normals, the radial direction inwards.
+            if i > 0 && i < n {
+                let nrm = d.outward_normal_at(4, p);
+                assert!((nrm[0] + p[0]).abs() < 1e-14 && (nrm[1] + p[1]).abs() < 1e-14);
+            }
+        }
+        // Beyond the ends, along the end pieces' lines.
+        assert!(d.edge_parameter(4, [-0.1, 1.0]) < 0.0 && d.edge_parameter(4, [1.0, -0.1]) > 1.0);
+        // The body side is negative; the division points are the polyline's points.
+        assert!(d.edge_distance(4, [0.8, 0.8]) < 0.0 && d.edge_distance(4, [0.5, 0.5]) > 0.0);
+        assert!(d.contains([0.75, 0.75]) && !d.contains([0.6, 0.6]) && d.contains([2.0, 2.0]));
+        assert_eq!(c.division_points(0.01).len(), n + 1);
+        assert_eq!(c.divisions(0.01), n);
+        let (poly, labels) = d.boundary_polygon(1.0);
+        assert_eq!(poly.len(), 4 + n);
+        assert_eq!(labels.iter().filter(|&&l| l == 4).count(), n);
+        assert_eq!(d.bounding_box(), ([0.0, 0.0], [4.0, 4.0]));
+        // A repeated point is a zero-length piece.
+        let bad = Curve::Polyline { points: vec![[0.0, 1.0], [0.0, 1.0], [1.0, 0.0]].into() };
+        let mut curves = d.curves().to_vec();
+        curves[4] = bad;
+        let e = Domain::from_curves(curves, d.edge_names().to_vec()).unwrap_err();
+        assert!(e.to_string().contains("piece 0"), "{e}");
     }
 
     #[test]

@@ -115,6 +115,8 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> 
     let file = problem::ProblemFile::from_toml(&text)
         .with_context(|| format!("in {}", args.problem.display()))?;
     let echo = echo.insert(serde_json::to_value(&file)?).clone();
+    let mut file = file;
+    file.resolve_paths(args.problem.parent().unwrap_or(std::path::Path::new("")));
     let problem = problem::Problem::try_from(file)
         .with_context(|| format!("in {}", args.problem.display()))?;
     let mut progress = mlpg_contact::progress::StageProgress::new(args.quiet);

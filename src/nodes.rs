@@ -156,13 +156,20 @@ fn tag_edges(domain: &Domain, points: &[Point], tol: f64) -> Vec<EdgeSet> {
         .collect()
 }
 
-/// Generates the nodes of `problem`'s (first) body: [`generate`] at the nominal spacing, or
-/// [`generate_graded`] when the problem has `[[nodes.refine]]` regions.
+/// Generates the nodes of `problem`'s (first) body: the mesh's nodes when it has them
+/// (`nodes.from = "mesh"`; tagged with the edges they lie on, to `1e-9` of the smallest
+/// spacing), else [`generate`] at the nominal spacing, or [`generate_graded`] when the problem
+/// has `[[nodes.refine]]` regions.
 ///
 /// # Errors
 /// As [`generate`] and [`generate_graded`].
 pub fn for_problem(problem: &crate::problem::Problem) -> Result<Nodes, GeometryError> {
     let (h, refinement) = (problem.node_spacing, &problem.refinement);
+    if let Some(mesh) = &problem.mesh_nodes {
+        let finest = mesh.spacing.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+        let edges = tag_edges(&problem.domain, &mesh.points, 1e-9 * finest);
+        return Ok(Nodes { points: mesh.points.clone(), spacing: mesh.spacing.clone(), edges });
+    }
     if refinement.is_empty() {
         generate(&problem.domain, h, problem.layout)
     } else {
@@ -387,8 +394,9 @@ fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
         .curves()
         .iter()
         .flat_map(|c| {
-            let n = c.divisions(h);
-            (0..n).map(move |i| c.point_at(i as f64 / n as f64))
+            let mut p = c.division_points(h);
+            p.pop();
+            p
         })
         .collect();
     // One layer of nodes a spacing inside each arc, along the normals of its boundary
@@ -397,11 +405,11 @@ fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
         |p: Point| domain.contains(p) && domain.boundary_distance(p) >= CURVED_CLEARANCE * h;
     let curves = domain.curves();
     for (k, c) in curves.iter().enumerate().filter(|(_, c)| !c.is_straight()) {
-        let n = c.divisions(h);
+        let division = c.division_points(h);
+        let n = division.len() - 1;
         // The end's layer node belongs to the next curve when that is an arc too.
         let last = if curves[(k + 1) % curves.len()].is_straight() { n } else { n - 1 };
-        for i in 0..=last {
-            let b = c.point_at(i as f64 / n as f64);
+        for &b in &division[..=last] {
             let nrm = c.outward_normal_at(b);
             let p = [b[0] - h * nrm[0], b[1] - h * nrm[1]];
             if clear(p) {

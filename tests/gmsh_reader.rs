@@ -209,3 +209,40 @@ fn mutated_files_never_panic() {
     assert_eq!(read_ok + refused, 2100);
     assert!(read_ok > 0 && refused > 0, "the mutations exercise both outcomes");
 }
+
+/// The quarter plate as a body: one edge per physical curve, the straight ones segments, the
+/// hole the polygon through its nodes (second order: through the middle nodes too). The area
+/// exceeds the exact one by the circular segments of the polygon's chords, `(θ − sin θ)/2` each
+/// for a chord of angle `θ` on the unit circle: about four times less with the middle nodes.
+#[test]
+fn quarter_plate_bodies_have_polygonal_holes() {
+    use mlpg_contact::geometry::Curve;
+    let exact = 100.0 - PI / 4.0;
+    let mut excess = Vec::new();
+    for order in [1, 2] {
+        let body = read(&format!("plate_with_hole_o{order}_v4.msh")).body("plate").unwrap();
+        let d = &body.domain;
+        assert_eq!(d.edge_names(), ["bottom", "right", "top", "left", "hole"]);
+        assert_eq!(d.curves().iter().filter(|c| c.is_straight()).count(), 4);
+        let Curve::Polyline { points } = d.curve(4) else { panic!("{:?}", d.curve(4)) };
+        assert!(points.iter().all(|p| (p[0].hypot(p[1]) - 1.0).abs() < 1e-12));
+        let segments: f64 = points
+            .windows(2)
+            .map(|w| {
+                let theta = 2.0 * (0.5 * (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1])).asin();
+                0.5 * (theta - theta.sin())
+            })
+            .sum();
+        let e = d.area() - exact;
+        assert!(
+            (e - segments).abs() < 1e-12,
+            "order {order}: area excess {e}, segments {segments}"
+        );
+        assert_eq!(
+            body.points.len(),
+            read(&format!("plate_with_hole_o{order}_v4.msh")).points.len()
+        );
+        excess.push(e);
+    }
+    assert!(excess[1] < excess[0] / 3.0, "{excess:?}");
+}

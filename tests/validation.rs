@@ -21,6 +21,8 @@ mod validation {
     mod kirsch;
     // Hertz: elastic cylinder (quarter disk) on a rigid flat; half-width, peak, profile.
     mod hertz;
+    // Kirsch and Hertz from Gmsh .msh files against their TOML-built twins; mesh nodes.
+    mod gmsh;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.

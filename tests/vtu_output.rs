@@ -167,6 +167,7 @@ fn patch_problem(layout: Layout) -> Problem {
         write_steps: false,
         contact: None,
         second_body: None,
+        mesh_nodes: None,
         steps: Vec::new(),
     }
 }

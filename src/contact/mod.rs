@@ -388,7 +388,7 @@ pub fn candidates(
         return Err(ContactError::NoCandidates { edge: domain.edge_names()[k].clone() });
     }
     list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let curve = *domain.curve(k);
+    let curve = domain.curve(k);
     let len = curve.length();
     let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
     let shapes = match condensation {

@@ -96,41 +96,58 @@ impl Mesh {
         Ok(mesh)
     }
 
-    /// The elements of physical surface `surface` of a Gmsh mesh as a general mesh: its
-    /// 9-node quadrilaterals (Gmsh's order — corners, mid-sides, centre — permuted to the
-    /// local order `a = 3 j + i`) and 6-node triangles (Gmsh's order is the local one), on the
-    /// nodes they use, numbered in the file's order.
+    /// The elements of physical surface `surface` of a Gmsh mesh as a general mesh, on the
+    /// nodes they use, numbered in the file's order ([`Mesh::from_elements`]).
     ///
     /// # Errors
-    /// [`FemError::Gmsh`] for a missing surface, [`FemError::ElementKind`] for an element of
-    /// another kind (first order or 8-node), [`FemError::DegenerateElement`] for a folded one;
-    /// both name the element's line.
+    /// [`FemError::Gmsh`] for a missing surface; those of [`Mesh::from_elements`].
     pub fn from_gmsh(mesh: &gmsh::Mesh, surface: &str) -> Result<Self, FemError> {
-        /// Local node `a = 3 j + i` ← Gmsh node (corners 0–3 counter-clockwise from (−1, −1),
-        /// mid-sides 4–7 from side 0–1, centre 8).
-        const FROM_GMSH: [usize; NODES] = [0, 4, 1, 7, 8, 5, 3, 6, 2];
         let elements = mesh.surface(surface)?;
         let mut used: Vec<usize> = elements.iter().flat_map(|e| e.nodes.iter().copied()).collect();
         used.sort_unstable();
         used.dedup();
-        let index = |i: usize| used.binary_search(&i).map(|k| k as u32).unwrap_or(u32::MAX);
-        let (mut quads, mut triangles, mut lines) = (Vec::new(), Vec::new(), Vec::new());
-        for e in &elements {
+        let index = |i: usize| used.binary_search(&i).unwrap_or(usize::MAX);
+        let elements: Vec<gmsh::Element> = elements
+            .iter()
+            .map(|e| gmsh::Element {
+                nodes: e.nodes.iter().map(|&i| index(i)).collect(),
+                ..(*e).clone()
+            })
+            .collect();
+        let points = used.iter().map(|&i| mesh.points[i]).collect();
+        Self::from_elements(points, &elements)
+    }
+
+    /// A general mesh from a Gmsh surface's elements on `points` (their `nodes` index
+    /// `points`): 9-node quadrilaterals (Gmsh's order — corners, mid-sides, centre — permuted
+    /// to the local order `a = 3 j + i`) and 6-node triangles (Gmsh's order is the local one).
+    ///
+    /// # Errors
+    /// [`FemError::ElementKind`] for an element of another kind (first order or 8-node),
+    /// [`FemError::DegenerateElement`] for a folded one; both name the element's line.
+    pub fn from_elements(points: Vec<Point>, elements: &[gmsh::Element]) -> Result<Self, FemError> {
+        /// Local node `a = 3 j + i` ← Gmsh node (corners 0–3 counter-clockwise from (−1, −1),
+        /// mid-sides 4–7 from side 0–1, centre 8).
+        const FROM_GMSH: [usize; NODES] = [0, 4, 1, 7, 8, 5, 3, 6, 2];
+        let (mut quads, mut triangles) = (Vec::new(), Vec::new());
+        let (mut quad_lines, mut triangle_lines) = (Vec::new(), Vec::new());
+        for e in elements {
+            let n = |a: usize| u32::try_from(e.nodes[a]).unwrap_or(u32::MAX);
             match e.kind {
                 gmsh::ElementKind::Quad9 => {
-                    quads.push(FROM_GMSH.map(|g| index(e.nodes[g])));
-                    lines.push(e.line);
+                    quads.push(FROM_GMSH.map(n));
+                    quad_lines.push(e.line);
                 }
                 gmsh::ElementKind::Tri6 => {
-                    triangles.push(std::array::from_fn(|a| index(e.nodes[a])));
+                    triangles.push(std::array::from_fn(n));
+                    triangle_lines.push(e.line);
                 }
                 kind => return Err(FemError::ElementKind { kind, line: e.line }),
             }
         }
-        lines.extend(elements.iter().filter(|e| e.kind == gmsh::ElementKind::Tri6).map(|e| e.line));
-        let points = used.iter().map(|&i| mesh.points[i]).collect();
+        quad_lines.extend(triangle_lines);
         Self::general(points, quads, triangles)
-            .map_err(|k| FemError::DegenerateElement { line: lines[k] })
+            .map_err(|k| FemError::DegenerateElement { line: quad_lines[k] })
     }
 
     /// Number of elements.

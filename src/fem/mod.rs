@@ -116,11 +116,17 @@ pub enum FemError {
     },
 }
 
-/// The mesh of `problem`'s rectangle at element size `nodes.spacing`, and its nodes.
+/// The mesh of `problem`'s rectangle at element size `nodes.spacing`, or of its Gmsh body's
+/// elements (`nodes.from = "mesh"`), and its nodes.
 ///
 /// # Errors
 /// [`FemError::NotRectangle`] or [`FemError::NotStructured`] for a problem the FE cannot mesh.
 pub fn mesh(problem: &Problem) -> Result<(Mesh, Nodes), FemError> {
+    if let Some(given) = &problem.mesh_nodes {
+        let mesh = Mesh::from_elements(given.points.clone(), &given.elements)?;
+        let nodes = mesh.nodes(&problem.domain);
+        return Ok((mesh, nodes));
+    }
     let Some((x, y)) = problem.domain.as_rectangle() else {
         return Err(FemError::NotRectangle { edges: problem.domain.edge_count() });
     };

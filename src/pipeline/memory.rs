@@ -37,7 +37,8 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
             // Q2 elements of size h: about four times the nodes, a symmetric pattern of at
             // most 25 nodes per row.
             Method::Fem => {
-                nodes *= 4.0;
+                // A Gmsh body's own elements: its nodes as they are.
+                nodes = p.mesh_nodes.as_ref().map_or(4.0 * nodes, |m| m.points.len() as f64);
                 0.5 * BYTES_PER_NODE_FAER
             }
             Method::Mfvm => {

@@ -215,6 +215,16 @@ pub enum GeometryFile {
         /// Radius (> 0).
         radius: f64,
     },
+    /// `kind = "gmsh"`: a physical surface of a Gmsh mesh file (MSH 4.1 or 2.2, ASCII); its
+    /// edges are the physical curves along its boundary ([`crate::problem::gmsh::MeshBody`]).
+    Gmsh {
+        /// The mesh file; a relative path is relative to the problem file's folder (the
+        /// command line resolves it; [`super::ProblemFile::resolve_paths`]).
+        file: String,
+        /// The physical surface (required when the file has several).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        surface: Option<String>,
+    },
 }
 
 /// The `kind` of a `[geometry]` table.
@@ -229,6 +239,8 @@ pub enum GeometryKind {
     Curves,
     /// `center`, `radius`.
     Disk,
+    /// `file`, `surface`.
+    Gmsh,
 }
 
 /// `[geometry]` as written: `kind` and the union of every kind's keys. Converted into
@@ -262,6 +274,12 @@ pub struct GeometryTable {
     /// Disk: the radius.
     #[serde(default)]
     pub radius: Option<f64>,
+    /// Gmsh: the mesh file.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// Gmsh: the physical surface.
+    #[serde(default)]
+    pub surface: Option<String>,
 }
 
 impl TryFrom<GeometryTable> for GeometryFile {
@@ -273,6 +291,7 @@ impl TryFrom<GeometryTable> for GeometryFile {
             GeometryKind::Polygon => ("polygon", &["vertices", "edges"]),
             GeometryKind::Curves => ("curves", &["start", "curves"]),
             GeometryKind::Disk => ("disk", &["center", "radius"]),
+            GeometryKind::Gmsh => ("gmsh", &["file", "surface"]),
         };
         let given = [
             ("x", g.x.is_some()),
@@ -283,6 +302,8 @@ impl TryFrom<GeometryTable> for GeometryFile {
             ("curves", g.curves.is_some()),
             ("center", g.center.is_some()),
             ("radius", g.radius.is_some()),
+            ("file", g.file.is_some()),
+            ("surface", g.surface.is_some()),
         ];
         for (key, present) in given {
             if present && !keys.contains(&key) {
@@ -309,6 +330,10 @@ impl TryFrom<GeometryTable> for GeometryFile {
             GeometryKind::Disk => GeometryFile::Disk {
                 center: g.center.ok_or_else(|| missing("center"))?,
                 radius: g.radius.ok_or_else(|| missing("radius"))?,
+            },
+            GeometryKind::Gmsh => GeometryFile::Gmsh {
+                file: g.file.ok_or_else(|| missing("file"))?,
+                surface: g.surface,
             },
         })
     }
@@ -338,8 +363,14 @@ pub struct CurveFile {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct NodesFile {
-    /// Nominal spacing `h` (> 0).
-    pub spacing: f64,
+    /// Where the nodes come from: `"layout"` (default; our own layouts inside the boundary)
+    /// or `"mesh"` (the nodes of a `kind = "gmsh"` geometry's mesh, each with its local element
+    /// size as spacing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub from: Option<NodesFrom>,
+    /// Nominal spacing `h` (> 0); required unless `from = "mesh"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub spacing: Option<f64>,
     /// `"structured"` (default) or `"jittered"`.
     #[serde(default)]
     pub layout: Option<LayoutKind>,
@@ -498,6 +529,20 @@ impl ProblemFile {
     pub fn from_json(text: &str) -> Result<Self, ProblemError> {
         with_key_path(&mut serde_json::Deserializer::from_str(text))
     }
+
+    /// Makes the relative paths of the file (`kind = "gmsh"` geometries' `file`) relative to
+    /// `folder`, the problem file's folder; absolute paths are kept.
+    pub fn resolve_paths(&mut self, folder: &std::path::Path) {
+        let geometries =
+            self.geometry.iter_mut().chain(self.body.iter_mut().map(|b| &mut b.geometry));
+        for g in geometries {
+            if let GeometryFile::Gmsh { file, .. } = g {
+                if std::path::Path::new(file.as_str()).is_relative() {
+                    *file = folder.join(file.as_str()).to_string_lossy().into_owned();
+                }
+            }
+        }
+    }
 }
 
 /// Deserialises a [`ProblemFile`] from any format, naming the key path of an error
@@ -547,7 +592,14 @@ where
 impl NodesFile {
     /// `[nodes] spacing = h` on the structured layout.
     pub fn structured(spacing: f64) -> Self {
-        Self { spacing, layout: None, jitter: None, seed: None, refine: Vec::new() }
+        Self {
+            from: None,
+            spacing: Some(spacing),
+            layout: None,
+            jitter: None,
+            seed: None,
+            refine: Vec::new(),
+        }
     }
 }
 
@@ -627,6 +679,17 @@ pub enum Turn {
     Ccw,
     /// Clockwise: the body outside the circle (around a hole).
     Cw,
+}
+
+/// `[nodes] from`: where the nodes come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NodesFrom {
+    /// Our own layouts inside the boundary (`spacing`, `layout`; default).
+    #[default]
+    Layout,
+    /// The nodes of the geometry's mesh (`kind = "gmsh"` only).
+    Mesh,
 }
 
 /// `[nodes] layout`: the node layout's name (its parameters are the table's other keys).

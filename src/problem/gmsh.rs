@@ -11,8 +11,9 @@
 //! its "Legacy formats" appendix (version 2.2). Binary files are refused with the way out (save
 //! as ASCII); every error names the line of the file where it was found.
 
-use crate::geometry::Point;
+use crate::geometry::{Curve, Domain, Point};
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 /// An element kind of a 2-D mesh (Gmsh element type numbers in brackets).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -271,6 +272,70 @@ pub enum GmshErrorKind {
         /// Line of the element.
         element_line: usize,
     },
+    /// The surface has holes (several boundary loops).
+    #[error(
+        "surface `{name}` has {loops} boundary loops: bodies with holes are not supported yet (cut the body so that its boundary is one loop, as the quarter plate's hole is)"
+    )]
+    Holes {
+        /// The surface name.
+        name: String,
+        /// Number of loops.
+        loops: usize,
+    },
+    /// Boundary edges on no physical curve.
+    #[error(
+        "the boundary of surface `{name}` from node {from} to node {to} lies on no physical curve: every boundary curve needs a Physical Curve (its edge name)"
+    )]
+    UnnamedBoundary {
+        /// The surface name.
+        name: String,
+        /// Tag of the first node of the unnamed run.
+        from: u64,
+        /// Tag of its last node.
+        to: u64,
+    },
+    /// A physical curve in several separate pieces along the boundary.
+    #[error(
+        "physical curve `{curve}` appears in {runs} separate pieces along the boundary of surface `{name}`: an edge must be one connected piece (give each piece its own Physical Curve)"
+    )]
+    SplitCurve {
+        /// The surface name.
+        name: String,
+        /// The curve name.
+        curve: String,
+        /// Number of pieces.
+        runs: usize,
+    },
+    /// The boundary loop is not a valid domain.
+    #[error("the boundary of surface `{name}` is not a valid domain: {reason}")]
+    Domain {
+        /// The surface name.
+        name: String,
+        /// Why.
+        reason: String,
+    },
+}
+
+/// A body read from a mesh: the domain bounded by the surface's boundary loop, and the nodes of
+/// the surface's elements with their local spacing (for `nodes.from = "mesh"`).
+#[derive(Clone, Debug)]
+pub struct MeshBody {
+    /// The domain: one edge per physical curve along the loop. A run of boundary edges whose
+    /// nodes are collinear (to 1e-10 of its length) is a [`Curve::Segment`]; any other is a
+    /// [`Curve::Polyline`] through its nodes, middle nodes of second-order edges included (the
+    /// body's boundary is the polygon through the boundary nodes; for a curved edge its area
+    /// error is the circular segments of the chords, `≈ L h² / (12 R)` for chords of length
+    /// `h` on an arc of length `L` and radius `R`, four times less with middle nodes).
+    pub domain: Domain,
+    /// The nodes of the surface's elements (corner, edge and centre nodes), in file order.
+    pub points: Vec<Point>,
+    /// The local spacing of each node: the mean over the elements that hold it of the element
+    /// size (the side of the equilateral triangle or the square of the element's area), halved
+    /// for second-order elements (their nodes are half a side apart).
+    pub spacing: Vec<f64>,
+    /// The surface's elements, their nodes numbered as `points` (for the finite element path,
+    /// which takes the mesh's own elements).
+    pub elements: Vec<Element>,
 }
 
 /// A reading error: what went wrong and the line (1-based) where it was found.
@@ -691,6 +756,106 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// The physical surfaces' names, in file order.
+    pub fn surface_names(&self) -> Vec<&str> {
+        self.physical_names.iter().filter(|p| p.dimension == 2).map(|p| p.name.as_str()).collect()
+    }
+
+    /// The body of physical surface `name` ([`MeshBody`]): its boundary loop as a [`Domain`]
+    /// whose edges are the physical curves along it, and its nodes.
+    ///
+    /// # Errors
+    /// As [`Self::boundary`]; [`GmshErrorKind::Holes`] for several loops,
+    /// [`GmshErrorKind::UnnamedBoundary`], [`GmshErrorKind::SplitCurve`], and
+    /// [`GmshErrorKind::Domain`] when the loop is not a valid domain.
+    pub fn body(&self, name: &str) -> Result<MeshBody, GmshError> {
+        let fail = |kind| GmshError { line: None, kind };
+        let loops = self.boundary(name)?;
+        if loops.len() != 1 {
+            return Err(fail(GmshErrorKind::Holes { name: name.into(), loops: loops.len() }));
+        }
+        let edges = &loops[0].edges;
+        // Runs of equally named edges (the loop starts where the names change).
+        let mut runs: Vec<(Option<String>, Vec<usize>)> = Vec::new();
+        for e in edges {
+            let nodes = [e.middle, Some(e.b)].into_iter().flatten();
+            match runs.last_mut() {
+                Some((n, list)) if *n == e.name => list.extend(nodes),
+                _ => runs.push((e.name.clone(), std::iter::once(e.a).chain(nodes).collect())),
+            }
+        }
+        let mut curves = Vec::with_capacity(runs.len());
+        let mut names = Vec::with_capacity(runs.len());
+        for (curve, list) in &runs {
+            let Some(curve) = curve else {
+                return Err(fail(GmshErrorKind::UnnamedBoundary {
+                    name: name.into(),
+                    from: self.node_tags[list[0]],
+                    to: self.node_tags[list[list.len() - 1]],
+                }));
+            };
+            let count = runs.iter().filter(|(n, _)| n.as_ref() == Some(curve)).count();
+            if count > 1 {
+                return Err(fail(GmshErrorKind::SplitCurve {
+                    name: name.into(),
+                    curve: curve.clone(),
+                    runs: count,
+                }));
+            }
+            let points: Vec<Point> = list.iter().map(|&i| self.points[i]).collect();
+            let (a, b) = (points[0], points[points.len() - 1]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            let len = dx.hypot(dy);
+            let straight = len > 0.0
+                && points.iter().all(|p| {
+                    ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() <= 1e-10 * len * len
+                        && (p[0] - a[0]) * dx + (p[1] - a[1]) * dy >= -1e-10 * len * len
+                        && (p[0] - b[0]) * dx + (p[1] - b[1]) * dy <= 1e-10 * len * len
+                });
+            curves.push(if straight {
+                Curve::Segment { a, b }
+            } else {
+                Curve::Polyline { points: Arc::from(points) }
+            });
+            names.push(curve.clone());
+        }
+        let domain = Domain::from_curves(curves, names).map_err(|e| {
+            fail(GmshErrorKind::Domain { name: name.into(), reason: e.to_string() })
+        })?;
+        // The surface's nodes and their spacing.
+        let elements = self.surface(name)?;
+        let mut index = vec![usize::MAX; self.points.len()];
+        let mut sums: Vec<(f64, usize)> = Vec::new();
+        let mut points = Vec::new();
+        let mut used: Vec<usize> = elements.iter().flat_map(|e| e.nodes.iter().copied()).collect();
+        used.sort_unstable();
+        used.dedup();
+        for &i in &used {
+            index[i] = points.len();
+            points.push(self.points[i]);
+            sums.push((0.0, 0));
+        }
+        for e in &elements {
+            let c = e.kind.corners();
+            let area = polygon_area(e.nodes[..c].iter().map(|&i| self.points[i])).abs();
+            let side = if c == 3 { (4.0 * area / 3f64.sqrt()).sqrt() } else { area.sqrt() };
+            let size = if e.kind.has_edge_nodes() { 0.5 * side } else { side };
+            for &i in &e.nodes {
+                let s = &mut sums[index[i]];
+                s.0 += size;
+                s.1 += 1;
+            }
+        }
+        let spacing = sums.iter().map(|&(sum, n)| sum / n as f64).collect();
+        let elements = elements
+            .iter()
+            .map(|e| Element { nodes: e.nodes.iter().map(|&i| index[i]).collect(), ..(*e).clone() })
+            .collect();
+        Ok(MeshBody { domain, points, spacing, elements })
+    }
+}
+
 /// Signed area of the polygon through `points` (positive counter-clockwise).
 fn polygon_area(points: impl Iterator<Item = Point>) -> f64 {
     let p: Vec<Point> = points.collect();
@@ -871,6 +1036,42 @@ mod tests {
 
     /// The same square in MSH 4.1, the second triangle clockwise.
     const SQUARE_V4: &str = "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n3\n1 1 \"bottom\"\n1 2 \"left\"\n2 3 \"plate\"\n$EndPhysicalNames\n$Entities\n0 2 1 0\n1 0 0 0 1 0 0 1 1 2 1 -2\n4 0 0 0 0 1 0 1 2 2 4 -1\n1 0 0 0 1 1 0 1 3 0\n$EndEntities\n$Nodes\n1 4 1 4\n2 1 0 4\n1\n2\n3\n4\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n$EndNodes\n$Elements\n3 4 1 4\n1 1 1 1\n1 1 2\n1 4 1 1\n2 4 1\n2 1 2 2\n3 1 2 3\n4 1 4 3\n$EndElements\n";
+
+    /// [`SQUARE_V2`] with its right and top sides on physical curves too (`right_tag` 4 names
+    /// "right"; 2 makes it a second piece of "left").
+    fn named_square(right_tag: u32) -> Mesh {
+        let text = SQUARE_V2
+            .replace("3\n1 1 \"bottom\"", "5\n1 4 \"right\"\n1 5 \"top\"\n1 1 \"bottom\"")
+            .replace(
+                "4\n1 1 2 1 1 1 2\n",
+                &format!("6\n1 1 2 1 1 1 2\n5 1 2 {right_tag} 2 2 3\n6 1 2 5 3 3 4\n"),
+            );
+        Mesh::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn bodies_take_one_edge_per_physical_curve() {
+        let body = named_square(4).body("plate").unwrap();
+        let d = &body.domain;
+        assert_eq!(d.edge_names(), ["bottom", "right", "top", "left"]);
+        assert!(d.is_polygon(), "straight runs are segments");
+        assert_eq!(d.as_rectangle(), Some(([0.0, 1.0], [0.0, 1.0])));
+        assert_eq!(body.points.len(), 4);
+        // Two right triangles of area 1/2: the equilateral triangle of that area.
+        let side = (2.0 / 3f64.sqrt()).sqrt();
+        assert!(body.spacing.iter().all(|&h| (h - side).abs() < 1e-15), "{:?}", body.spacing);
+        // Unnamed boundary pieces, a curve in two pieces, a missing surface.
+        let kind = |m: &Mesh| m.body("plate").unwrap_err().kind;
+        let square = Mesh::parse(SQUARE_V2.as_bytes()).unwrap();
+        assert!(
+            matches!(kind(&square), GmshErrorKind::UnnamedBoundary { from: 2, to: 4, .. }),
+            "{:?}",
+            kind(&square)
+        );
+        assert!(matches!(kind(&named_square(2)), GmshErrorKind::SplitCurve { runs: 2, .. }));
+        assert!(matches!(square.body("disk").unwrap_err().kind, GmshErrorKind::NoSurface { .. }));
+        assert_eq!(square.surface_names(), ["plate"]);
+    }
 
     fn err(text: &str) -> GmshError {
         Mesh::parse(text.as_bytes()).unwrap_err()

@@ -105,6 +105,19 @@ impl EdgeCondition {
     }
 }
 
+/// Given nodes (the nodes of a mesh): positions and local spacing, the boundary nodes exactly on
+/// the domain's boundary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshNodes {
+    /// Node positions.
+    pub points: Vec<Point>,
+    /// Local spacing `h_I` of each node.
+    pub spacing: Vec<f64>,
+    /// The mesh's elements on these nodes (`nodes` index `points`): the finite element path
+    /// (`method = "fem"`) takes them as its elements.
+    pub elements: Vec<gmsh::Element>,
+}
+
 /// A validated problem: everything the solver needs, with all ranges checked.
 #[derive(Clone, Debug)]
 pub struct Problem {
@@ -136,6 +149,9 @@ pub struct Problem {
     pub contact: Option<ContactSpec>,
     /// The second elastic body of a two-body contact (its own `contact` is `None`).
     pub second_body: Option<Box<Problem>>,
+    /// The nodes of a Gmsh body read with `nodes.from = "mesh"` (absent: the nodes are
+    /// generated from `node_spacing` and `layout`).
+    pub mesh_nodes: Option<Arc<MeshNodes>>,
     /// Load steps (`[[step]]`; empty: one step to the `boundary` values, as without steps).
     /// The second body of a two-body contact holds the same steps (the same number and
     /// increments, validated) with its own conditions; its `obstacle_displacement` is zero.

@@ -35,6 +35,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         write_steps: false,
         contact: None,
         second_body: None,
+        mesh_nodes: None,
         steps: Vec::new(),
     }
 }

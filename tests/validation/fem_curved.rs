@@ -62,7 +62,7 @@ fn solve_on(problem: &Problem, mesh: &Mesh) -> (Nodes, Vec<f64>) {
 
 /// The traction `σ·n` of a stress field on edge `k` of the plate (outward normal).
 fn stress_traction(domain: &Domain, k: usize, stress: fn(Point) -> [f64; 3]) -> EdgeCondition {
-    let curve = *domain.curve(k);
+    let curve = domain.curve(k).clone();
     traction(Arc::new(move |p| {
         let (s, n) = (stress(p), curve.outward_normal_at(p));
         [s[0] * n[0] + s[2] * n[1], s[2] * n[0] + s[1] * n[1]]
@@ -222,4 +222,32 @@ fn kirsch_on_curved_meshes_converges() {
         assert!(finest[0] < 6e-5 && finest[1] < 1.25e-3, "{kind}: {finest:?}");
         assert!(finest[2] < 1.2e-2, "{kind}: σ_xx(0, 1) off by {}", finest[2]);
     }
+}
+
+/// The FE path on a Gmsh body: without `nodes.from = "mesh"` it is refused naming the key;
+/// a first-order mesh is refused at the discretisation naming the element's line; the
+/// second-order mesh solves.
+#[test]
+fn gmsh_bodies_on_the_fe_path() {
+    let text = |file: &str, nodes: &str| {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(file);
+        format!(
+            "[geometry]\nkind = \"gmsh\"\nfile = \"{}\"\nsurface = \"plate\"\n[nodes]\n{nodes}\n[discretisation]\nmethod = \"fem\"\n[material]\nyoung = 1000.0\npoisson = 0.3\nplane = \"stress\"\n[[boundary]]\nedge = \"bottom\"\ndisplacement = {{ y = 0.0 }}\n[[boundary]]\nedge = \"left\"\ndisplacement = {{ x = 0.0 }}\n[[boundary]]\nedge = \"right\"\ntraction = {{ x = 1.0 }}\n",
+            path.display()
+        )
+    };
+    let e = Problem::from_toml(&text("tests/data/gmsh/plate_with_hole_o2_v4.msh", "spacing = 0.5"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("nodes.from"), "{e}");
+    let first =
+        Problem::from_toml(&text("tests/data/gmsh/plate_with_hole_o1_v4.msh", "from = \"mesh\""))
+            .unwrap();
+    let e = mlpg_contact::solve(&first).unwrap_err().to_string();
+    assert!(e.contains("line ") && e.contains("Tri3"), "{e}");
+    let second =
+        Problem::from_toml(&text("tests/data/gmsh/plate_with_hole_o2_v4.msh", "from = \"mesh\""))
+            .unwrap();
+    let s = mlpg_contact::solve(&second).unwrap();
+    assert!(s.equilibrium_error < 1e-9, "{}", s.equilibrium_error);
 }

@@ -355,7 +355,7 @@ pub(super) fn press_then_shear(k: usize, m: usize, shift: f64) -> String {
 }
 
 /// Every increment of a stepped solution: complementarity ≤ 1e-9, equilibrium ≤ 1e-8.
-fn check_increments(s: &Solution, case: &str) -> Vec<f64> {
+pub(super) fn check_increments(s: &Solution, case: &str) -> Vec<f64> {
     let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
     let mut worst = (0.0f64, 0.0f64);
     for r in &f.increments {
@@ -670,7 +670,7 @@ fn two_blocks_pressed_and_sheared() {
 /// The shipped `problems/cattaneo_mindlin.toml` (a cylinder cap pressed onto a block of the
 /// same material, μ = 0.3) at spacing `h` on both bodies, its `[[step]]` tables replaced by
 /// `steps` and its friction coefficient by `mu`.
-fn cattaneo_mindlin(h: f64, mu: f64, steps: &str) -> Problem {
+pub(super) fn cattaneo_mindlin(h: f64, mu: f64, steps: &str) -> Problem {
     let text = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cattaneo_mindlin.toml"),
     )
@@ -687,7 +687,7 @@ fn cattaneo_mindlin(h: f64, mu: f64, steps: &str) -> Problem {
 /// The cylinder's top pressed down by 0.01 (one increment, without friction as in the shipped
 /// problem), then moved along +x to each of `shifts` in turn, in `increments` increments per
 /// step, the press held.
-fn cylinder_path(shifts: &[f64], increments: usize) -> String {
+pub(super) fn cylinder_path(shifts: &[f64], increments: usize) -> String {
     let mut t = "[[step]]\nfriction = 0.0\nboundary = [{ body = \"cylinder\", edge = \"top\", displacement = { y = -0.01 } }]\n".to_string();
     for x in shifts {
         t += &format!(
@@ -703,7 +703,7 @@ fn cylinder_path(shifts: &[f64], increments: usize) -> String {
 /// pressure (`p² ∝ a² − x²`, Hertz) and of the stick-zone slack (`(μp − |q|)² ∝ c² − x²`,
 /// Cattaneo) make `f²` quadratic, so the ends are interpolated from the whole profile instead
 /// of being quantised to the candidates (±h/2 per end).
-fn zone_from_fit(x: &[f64], f: &[f64], mask: &[bool]) -> (f64, f64, f64) {
+pub(super) fn zone_from_fit(x: &[f64], f: &[f64], mask: &[bool]) -> (f64, f64, f64) {
     let (mut a, mut b) = ([[0.0f64; 3]; 3], [0.0f64; 3]);
     for ((&xi, &fi), _) in x.iter().zip(f).zip(mask).filter(|(_, m)| **m) {
         let pw = [1.0, xi, xi * xi];
@@ -739,19 +739,19 @@ fn zone_from_fit(x: &[f64], f: &[f64], mask: &[bool]) -> (f64, f64, f64) {
 /// What the Cattaneo–Mindlin tests read from a solution: `x` along the edge, `p`, `q` (the
 /// tangential traction on the cylinder, which opposes the +x shear: negative), the states,
 /// `P`, `Q = −ΣT`, and the contact zone (centre, `a`, `p0`) from the pressure fit.
-struct Contact {
-    x: Vec<f64>,
-    p: Vec<f64>,
-    q: Vec<f64>,
-    state: Vec<ContactState>,
-    total_p: f64,
-    total_q: f64,
-    centre: f64,
-    a: f64,
-    p0: f64,
+pub(super) struct Contact {
+    pub(super) x: Vec<f64>,
+    pub(super) p: Vec<f64>,
+    pub(super) q: Vec<f64>,
+    pub(super) state: Vec<ContactState>,
+    pub(super) total_p: f64,
+    pub(super) total_q: f64,
+    pub(super) centre: f64,
+    pub(super) a: f64,
+    pub(super) p0: f64,
 }
 
-fn read_contact(s: &Solution) -> Contact {
+pub(super) fn read_contact(s: &Solution) -> Contact {
     let c = s.contact.as_ref().unwrap();
     let f = c.friction.as_ref().unwrap();
     // The target is the block's top, ν = (0, 1), so t = (1, 0): x is the coordinate along t.

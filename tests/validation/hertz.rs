@@ -47,19 +47,27 @@ fn quarter_disk() -> Domain {
 }
 
 pub fn hertz_problem(h: f64, layout: Layout) -> Problem {
+    hertz_problem_on(quarter_disk(), h, layout)
+}
+
+/// The Hertz problem on `domain` (a quarter disk with edges named `arc`, `rim`, `top` and
+/// `axis`, in any order).
+pub fn hertz_problem_on(domain: Domain, h: f64, layout: Layout) -> Problem {
+    let edge = |name: &str| domain.edge_index(name).unwrap();
+    let [arc, top, axis] = ["arc", "top", "axis"].map(edge);
     let material = Material { young: YOUNG, poisson: POISSON, plane: PlaneState::Strain };
-    let mut p = base_problem(quarter_disk(), h, layout, material);
+    let mut p = base_problem(domain, h, layout, material);
     let zero = || Field::Constant(0.0);
-    p.boundary[2] = EdgeCondition::Components([
+    p.boundary[top] = EdgeCondition::Components([
         ComponentCondition::Traction(zero()),
         ComponentCondition::Displacement(Field::Constant(-INDENT)),
     ]);
-    p.boundary[3] = EdgeCondition::Components([
+    p.boundary[axis] = EdgeCondition::Components([
         ComponentCondition::Displacement(zero()),
         ComponentCondition::Traction(zero()),
     ]);
     p.contact = Some(ContactSpec {
-        edge: 0,
+        edge: arc,
         target: ContactTarget::Rigid(RigidLine { point: [0.0, 0.0], normal: [0.0, 1.0] }),
         gap_tolerance: None,
         allow_indefinite: false,
@@ -70,30 +78,34 @@ pub fn hertz_problem(h: f64, layout: Layout) -> Problem {
     p
 }
 
-struct Outcome {
+pub struct Outcome {
     /// `a` fitted / `a` Hertz − 1.
-    half_width: f64,
+    pub half_width: f64,
     /// `p₀` fitted / `p₀` Hertz − 1.
-    peak: f64,
+    pub peak: f64,
     /// `max |p_c − p(x_c)| / p₀` over the closed candidates.
-    profile: f64,
+    pub profile: f64,
     /// The same over the closed candidates with `|x_c| ≤ 0.8 a`.
-    profile_interior: f64,
-    a_over_r: f64,
+    pub profile_interior: f64,
+    pub a_over_r: f64,
     /// Resultant per unit length of the whole cylinder.
-    load: f64,
+    pub load: f64,
     /// Fitted half-width.
-    half_width_fit: f64,
+    pub half_width_fit: f64,
 }
 
 fn run(h: f64, layout: Layout) -> Outcome {
-    let problem = hertz_problem(h, layout);
+    run_problem(hertz_problem(h, layout), &format!("h = {h}"))
+}
+
+/// Solves a Hertz problem (rigid flat), checks its equilibrium and measures it.
+pub fn run_problem(problem: Problem, label: &str) -> Outcome {
     let s = mlpg_contact::solve(&problem).unwrap();
     let c = s.contact.as_ref().unwrap();
     let balance = s.reaction_force[1] + c.total_force;
-    assert!(balance.abs() < 1e-8 * c.total_force, "h = {h}: balance {balance}");
+    assert!(balance.abs() < 1e-8 * c.total_force, "{label}: balance {balance}");
     let e_star = YOUNG / (1.0 - POISSON * POISSON);
-    measure(&format!("h = {h}"), &s, e_star)
+    measure(label, &s, e_star)
 }
 
 /// Checks the LCP and equilibrium and measures the Hertz quantities for the combined modulus

@@ -20,7 +20,7 @@
 use super::common::*;
 use mlpg_contact::geometry::{Curve, Domain, Point};
 use mlpg_contact::nodes::Layout;
-use mlpg_contact::problem::{ComponentCondition, EdgeCondition, Field};
+use mlpg_contact::problem::{ComponentCondition, EdgeCondition, Field, Problem};
 use std::sync::Arc;
 
 const A: f64 = 1.0;
@@ -68,10 +68,10 @@ pub fn quarter_plate() -> Domain {
     .unwrap()
 }
 
-struct Errors {
-    displacement: f64,
-    energy: f64,
-    concentration: f64,
+pub struct Errors {
+    pub displacement: f64,
+    pub energy: f64,
+    pub concentration: f64,
 }
 
 fn roller(axis: usize) -> EdgeCondition {
@@ -81,18 +81,33 @@ fn roller(axis: usize) -> EdgeCondition {
     EdgeCondition::Components(c)
 }
 
-fn run(h: f64, layout: Layout) -> Errors {
-    let mut problem = base_problem(quarter_plate(), h, layout, plane_stress(YOUNG, POISSON));
-    problem.boundary[0] = roller(1);
-    problem.boundary[1] = traction(Arc::new(|p| {
+/// The errors on `domain` (a quarter plate with edges named `bottom`, `right`, `top`, `left`
+/// and `hole`, in any order) at spacing `h`.
+pub fn run_on(domain: Domain, h: f64, layout: Layout) -> Errors {
+    errors(kirsch_problem(domain, h, layout))
+}
+
+/// The Kirsch problem on `domain` (as [`run_on`]): rollers on `bottom` and `left`, the exact
+/// traction on `right` and `top`.
+pub fn kirsch_problem(domain: Domain, h: f64, layout: Layout) -> Problem {
+    let edge = |name: &str| domain.edge_index(name).unwrap();
+    let [bottom, right, top, left] = ["bottom", "right", "top", "left"].map(edge);
+    let mut problem = base_problem(domain, h, layout, plane_stress(YOUNG, POISSON));
+    problem.boundary[bottom] = roller(1);
+    problem.boundary[right] = traction(Arc::new(|p| {
         let s = exact_stress(p);
         [s[0], s[2]]
     }));
-    problem.boundary[2] = traction(Arc::new(|p| {
+    problem.boundary[top] = traction(Arc::new(|p| {
         let s = exact_stress(p);
         [s[2], s[1]]
     }));
-    problem.boundary[3] = roller(0);
+    problem.boundary[left] = roller(0);
+    problem
+}
+
+/// Solves a Kirsch problem and measures its errors.
+pub fn errors(problem: Problem) -> Errors {
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
     let (model, _, s) = mlpg_contact::solve_model(&problem, model, None, &mut silent).unwrap();
@@ -149,10 +164,21 @@ fn closed_form_checks() {
 }
 
 fn study(name: &str, layout: Layout, h: &[f64]) -> ([f64; 3], [f64; 3]) {
+    study_on(name, &|_| quarter_plate(), layout, h)
+}
+
+/// Errors and observed rates (displacement, energy, concentration) on `domain(h)` at each
+/// spacing of `h`: the rates and the finest errors.
+pub fn study_on(
+    name: &str,
+    domain: &dyn Fn(f64) -> Domain,
+    layout: Layout,
+    h: &[f64],
+) -> ([f64; 3], [f64; 3]) {
     let mut rows = Vec::new();
     let (mut du, mut de, mut dk) = (Vec::new(), Vec::new(), Vec::new());
     for &hi in h {
-        let e = run(hi, layout);
+        let e = run_on(domain(hi), hi, layout);
         println!(
             "kirsch {name}: h = {hi:<5} displacement {:.3e}  energy {:.3e}  sigma_xx(0,a) = {:.5}",
             e.displacement, e.energy, e.concentration

@@ -3,20 +3,37 @@ package: `pip install gmsh`; the product never runs Gmsh). Run from this folder:
 
     python3 make_meshes.py
 
-Written with Gmsh 4.15.2. Versions 4.1 and 2.2, first and second order."""
+Written with Gmsh 4.15.2. `plate_with_hole` and `two_blocks`: versions 4.1 and 2.2, first and
+second order. `kirsch` and `hertz_cylinder` (first order) at the node spacings of their TOML
+twins in tests/validation (the .geo's `h`): kirsch in both versions, hertz_cylinder in 4.1.
+Also problems/plate_with_hole_gmsh.msh (plate_with_hole at h = 0.4, version 4.1)."""
 import gmsh
+
+
+def mesh(geo, out, order=1, version=4.1, h=None):
+    gmsh.clear()
+    if h is not None:
+        gmsh.parser.setNumber("h", [h])
+    # `merge` keeps the parser variable set above (`open` would reset it).
+    gmsh.merge(f"{geo}.geo")
+    gmsh.option.setNumber("Mesh.ElementOrder", order)
+    gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
+    gmsh.option.setNumber("Mesh.MshFileVersion", version)
+    gmsh.option.setNumber("Mesh.Binary", 0)
+    gmsh.model.mesh.generate(2)
+    gmsh.write(out)
+
 
 gmsh.initialize()
 gmsh.option.setNumber("General.Terminal", 0)
 for geo in ["plate_with_hole", "two_blocks"]:
     for order in [1, 2]:
         for version in [4.1, 2.2]:
-            gmsh.clear()
-            gmsh.open(f"{geo}.geo")
-            gmsh.option.setNumber("Mesh.ElementOrder", order)
-            gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
-            gmsh.option.setNumber("Mesh.MshFileVersion", version)
-            gmsh.option.setNumber("Mesh.Binary", 0)
-            gmsh.model.mesh.generate(2)
-            gmsh.write(f"{geo}_o{order}_v{'4' if version > 3 else '2'}.msh")
+            mesh(geo, f"{geo}_o{order}_v{'4' if version > 3 else '2'}.msh", order, version)
+for h in [0.2, 0.1, 0.05]:
+    for version in [4.1, 2.2]:
+        mesh("kirsch", f"kirsch_h{h}_v{'4' if version > 3 else '2'}.msh", 1, version, h)
+for h in [0.02, 0.01, 0.005]:
+    mesh("hertz_cylinder", f"hertz_cylinder_h{h}_v4.msh", 1, 4.1, h)
+mesh("plate_with_hole", "../../../problems/plate_with_hole_gmsh.msh", 1, 4.1, 0.4)
 gmsh.finalize()

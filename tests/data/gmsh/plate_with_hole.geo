@@ -1,7 +1,10 @@
 // The quarter plate of problems/plate_with_hole.toml: [0, 10]^2 outside the hole of radius 1
 // centred at the origin. Physical curves carry the edge names of the TOML twin.
-// Meshes in this folder: see make_meshes.py.
-h = 1.0;
+// Meshes in this folder: see make_meshes.py (h = 1; problems/plate_with_hole_gmsh.msh: h = 0.4,
+// the hole at 0.1, the node spacing of problems/plate_with_hole.toml).
+If (!Exists(h))
+  h = 1.0;
+EndIf
 Point(1) = {1, 0, 0, h / 4};
 Point(2) = {10, 0, 0, h};
 Point(3) = {10, 10, 0, h};
