@@ -65,7 +65,7 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
         let m = problem.domain.curve(spec.edge).length()
             / problem.refinement.finest(problem.node_spacing)
             + 1.0;
-        let rigid = matches!(spec.target, ContactTarget::Rigid(_));
+        let rigid = matches!(spec.target, ContactTarget::Rigid(_) | ContactTarget::Obstacles);
         let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
         if frictionless && spec.solver.is_active_set(m as usize, rigid) {
             // A second factorisation (of the row-replaced matrix) and at most 1 GB of stored
