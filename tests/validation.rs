@@ -21,6 +21,10 @@ mod validation {
     mod kirsch;
     // Hertz: elastic cylinder (quarter disk) on a rigid flat; half-width, peak, profile.
     mod hertz;
+    // Hertz: rigid cylinder (a circle obstacle) pressed into an elastic block.
+    mod cylinder_indenter;
+    // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
+    mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE oracle: Timoshenko & Goodier cantilever, errors and rates.

@@ -109,19 +109,21 @@ fn cross(a: Point, b: Point) -> f64 {
 }
 
 impl Piece {
-    /// The closest point of the piece to `x`, the distance and the normal into the body there
-    /// (for a closest point at an end of the piece, the normal of the piece at that end).
-    fn closest(&self, x: Point) -> (Point, f64, Point) {
+    /// The closest point of the piece to `x`, the distance, the normal into the body there
+    /// (for a closest point at an end of the piece, the normal of the piece at that end) and
+    /// whether the closest point is an end of the piece (`x` beyond it).
+    fn closest(&self, x: Point) -> (Point, f64, Point, bool) {
         match *self {
             Piece::Segment { a, b } => {
                 let d = sub(b, a);
                 let len2 = dot(d, d);
-                let t = (dot(sub(x, a), d) / len2).clamp(0.0, 1.0);
+                let raw = dot(sub(x, a), d) / len2;
+                let t = raw.clamp(0.0, 1.0);
                 let y = [a[0] + t * d[0], a[1] + t * d[1]];
                 let len = len2.sqrt();
                 let n = [d[1] / len, -d[0] / len];
                 let r = sub(x, y);
-                (y, r[0].hypot(r[1]), n)
+                (y, r[0].hypot(r[1]), n, raw != t)
             }
             Piece::Arc { centre, radius, a, b, convex } => {
                 let (ua, ub, u) = (sub(a, centre), sub(b, centre), sub(x, centre));
@@ -138,7 +140,7 @@ impl Piece {
                 let s = if convex { 1.0 } else { -1.0 };
                 let n = [s * (y[0] - centre[0]) / radius, s * (y[1] - centre[1]) / radius];
                 let r = sub(x, y);
-                (y, r[0].hypot(r[1]), n)
+                (y, r[0].hypot(r[1]), n, !(inside && len > 0.0))
             }
         }
     }
@@ -212,32 +214,33 @@ impl Polyline {
     }
 
     /// The closest point of the polyline to `x`, its signed distance (positive on the body's
-    /// side) and the normal into the body there. Where the closest point is a sharp corner or
-    /// an end point, the normal is the direction from it to `x` (the piece's normal when `x`
-    /// is on the polyline).
+    /// side) and the normal into the body there. Where `x` projects inside a piece, that
+    /// piece's normal and `gap = (x − y)·ν`; where the closest point is a sharp corner or an
+    /// end point (the projection falls beyond every piece there), the direction from it to
+    /// `x` (the piece's normal when `x` is on the polyline).
     pub fn closest(&self, x: Point) -> Closest {
-        let mut best: Option<(Point, f64, Point)> = None;
+        let mut best: Option<(Point, f64, Point, bool)> = None;
         for piece in &self.pieces {
             let c = piece.closest(x);
-            if best.is_none_or(|b| c.1 < b.1) {
+            // On a tie (a point over the joint of two pieces), the piece it projects inside.
+            let better = best.is_none_or(|b| c.1 < b.1 || (c.1 == b.1 && b.3 && !c.3));
+            if better {
                 best = Some(c);
             }
         }
-        let (y, dist, n) = best.expect("a polyline has at least one piece");
+        let (y, dist, n, at_end) = best.expect("a polyline has at least one piece");
         let r = sub(x, y);
         let along = dot(r, n);
-        if dist == 0.0 {
+        if !at_end {
+            return Closest { gap: along, normal: n, point: y };
+        }
+        // Off the piece's normal line: x lies in the wedge of a sharp corner or beyond an end.
+        let scale = x[0].abs().max(x[1].abs()).max(1.0);
+        if dist <= 1e-12 * scale {
             return Closest { gap: 0.0, normal: n, point: y };
         }
         let sign = if along >= 0.0 { 1.0 } else { -1.0 };
-        // On the piece's normal line (the usual case) the normal is the piece's; off it (a
-        // sharp corner or an end), the direction to x.
-        let normal = if (along.abs() - dist).abs() <= 1e-12 * dist {
-            n
-        } else {
-            [sign * r[0] / dist, sign * r[1] / dist]
-        };
-        Closest { gap: sign * dist, normal, point: y }
+        Closest { gap: sign * dist, normal: [sign * r[0] / dist, sign * r[1] / dist], point: y }
     }
 
     /// Points along the polyline, arcs divided into pieces of at most `step` radians.
