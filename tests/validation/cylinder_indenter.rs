@@ -132,3 +132,111 @@ fn bad_obstacles_are_refused() {
         "obstacle[0].points",
     );
 }
+
+/// The indenter as an initial overlap instead of a load step (the circle's centre at
+/// `1 − δ`; one Lemke solve, no increments): the active-set method (§5.1), which replaces
+/// each candidate's row of its larger normal component, with normals that differ per
+/// candidate and have both components, equals Lemke to the tolerance of
+/// `validation/active_set.rs`; and the overlap answers the same problem as the step to the
+/// frozen-normal linearisation: `g0 = |x − c + δ e_y| − R` against `|x − c| − R − δ ν_y`, which
+/// differ by `δ (1 − ν_y)`-sized terms, `O(δ a²/R²)` (the resultants agree to 1e-3; observed:
+/// active set against Lemke 2e-13 on the forces, overlap against step 1.3e-4).
+#[test]
+fn curved_obstacle_active_set_equals_lemke() {
+    let text = TOML
+        .replace("centre = [0.0, 1.0]", "centre = [0.0, 0.985]")
+        .replace("[[step]]\nobstacle_displacement = [0.0, -0.015]\n", "");
+    assert!(!text.contains("\n[[step]]\n"));
+    let overlap = Problem::from_toml(&text.replace("0.00625", "0.0125")).unwrap();
+    let (force, gap) = super::active_set::compare("indenter (overlap)", &overlap);
+    println!("indenter: forces {force:.1e}, gaps {gap:.1e}");
+    let stepped = problem(0.0125, 2.0);
+    let (a, b) = (mlpg_contact::solve(&overlap).unwrap(), mlpg_contact::solve(&stepped).unwrap());
+    let (fa, fb) = (a.contact_force[1], b.contact_force[1]);
+    println!("vertical resultant: overlap {fa:.6e}, step {fb:.6e}");
+    assert!((fa / fb - 1.0).abs() < 1e-3, "overlap {fa} vs step {fb}");
+}
+
+/// Two rigid circles (`target` a list) pressed into one block `[−2, 2] × [−2, 0]` at
+/// `x = ±0.5`, mirror images of each other: every candidate pairs with the circle on its side,
+/// each circle carries half the load, and the pressures are mirror images (to 1e-6 of the
+/// largest: the node layout is symmetric, the arithmetic is not).
+#[test]
+fn two_circles_share_the_load_symmetrically() {
+    let problem = Problem::from_toml(
+        r#"
+        name = "two_indenters"
+        [geometry]
+        kind = "rectangle"
+        x = [-2.0, 2.0]
+        y = [-2.0, 0.0]
+        [nodes]
+        spacing = 0.1
+        layout = "structured"
+        [[nodes.refine]]
+        x = [-0.75, -0.25]
+        y = [-0.25, 0.0]
+        spacing = 0.0125
+        [[nodes.refine]]
+        x = [0.25, 0.75]
+        y = [-0.25, 0.0]
+        spacing = 0.0125
+        [material]
+        young = 1.0
+        poisson = 0.3
+        plane = "strain"
+        [discretisation]
+        beta = 0.5
+        [[boundary]]
+        edge = "bottom"
+        displacement = { x = 0.0, y = 0.0 }
+        [[obstacle]]
+        name = "left"
+        kind = "circle"
+        centre = [-0.5, 0.99]
+        radius = 1.0
+        [[obstacle]]
+        name = "right"
+        kind = "circle"
+        centre = [0.5, 0.99]
+        radius = 1.0
+        [contact]
+        edge = "top"
+        target = ["left", "right"]
+        "#,
+    )
+    .unwrap();
+    assert_eq!(problem.obstacles.len(), 2);
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let c = s.contact.as_ref().unwrap();
+    let r = &c.lcp.residuals;
+    assert!(r.min_z >= -1e-9 && r.min_w >= -1e-9 && r.max_complementarity <= 1e-9, "{r:?}");
+    assert!(s.equilibrium_error < 1e-8, "equilibrium {}", s.equilibrium_error);
+    assert_eq!(c.onset.closed_intervals, 2);
+    let x = |k: usize| c.candidates.points[k][0];
+    let mut sides = [0.0; 2];
+    for k in 0..c.closed.len() {
+        let (which, _) =
+            mlpg_contact::problem::closest_obstacle(&problem.obstacles, c.candidates.points[k])
+                .unwrap();
+        if x(k) != 0.0 {
+            assert_eq!(which, usize::from(x(k) > 0.0), "candidate at x = {}", x(k));
+        }
+        // The normal points from the circle's centre to the candidate: into the body.
+        let nu = c.candidates.normal(k);
+        let centre = if which == 0 { -0.5 } else { 0.5 };
+        assert!(nu[1] < 0.0 && (nu[0] * (x(k) - centre)) >= 0.0, "{k}: {nu:?}");
+        if c.closed[k] {
+            sides[which] += c.lcp.z[k];
+        }
+    }
+    let total: f64 = sides.iter().sum();
+    println!("two circles: forces {sides:?}");
+    assert!((sides[0] - sides[1]).abs() < 1e-6 * total, "{sides:?}");
+    let pmax = c.pressure.iter().fold(0.0f64, |m, p| m.max(*p));
+    for k in 0..c.closed.len() {
+        let mirror =
+            (0..c.closed.len()).find(|&j| (x(j) + x(k)).abs() < 1e-12).expect("a mirror candidate");
+        assert!((c.pressure[k] - c.pressure[mirror]).abs() < 1e-6 * pmax, "x = {}", x(k));
+    }
+}
