@@ -241,12 +241,17 @@ impl ContactSolution {
     /// of sticking (of slipping, either sign) candidates along the edge as the interval
     /// `[min, max]` of the candidates' coordinate `x·t` along the tangent `t`, from one outer
     /// candidate of the run to the other (a run of one candidate is `[s, s]`), in the
-    /// candidates' order.
+    /// candidates' order. Against a curved obstacle (normals differing between candidates)
+    /// the coordinate is the arc length along the edge instead.
     pub fn friction_zones(&self) -> Option<FrictionZones> {
         let f = self.friction.as_ref()?;
-        let t = self.candidates.tangent();
-        let along: Vec<f64> =
-            self.candidates.points.iter().map(|x| x[0] * t[0] + x[1] * t[1]).collect();
+        let along: Vec<f64> = match self.candidates.operator.uniform_direction() {
+            Some(nu) => {
+                let t = contact::tangent(nu);
+                self.candidates.points.iter().map(|x| x[0] * t[0] + x[1] * t[1]).collect()
+            }
+            None => self.candidates.arc_length.clone(),
+        };
         let runs = |pred: &dyn Fn(lcp::ContactState) -> bool| {
             let st = &f.step.state;
             let mut zones = Vec::new();

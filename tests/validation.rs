@@ -23,6 +23,10 @@ mod validation {
     mod hertz;
     // Kirsch and Hertz from Gmsh .msh files against their TOML-built twins; mesh nodes.
     mod gmsh;
+    // Hertz: rigid cylinder (a circle obstacle) pressed into an elastic block.
+    mod cylinder_indenter;
+    // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
+    mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.

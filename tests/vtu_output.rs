@@ -166,6 +166,7 @@ fn patch_problem(layout: Layout) -> Problem {
         profile_edge: 0,
         write_steps: false,
         contact: None,
+        obstacles: Vec::new(),
         second_body: None,
         mesh_nodes: None,
         steps: Vec::new(),

@@ -72,8 +72,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &problem,
         &model,
         spec.edge,
-        line.normal,
-        &|x| line.gap(x),
+        &|x| (line.gap(x), line.normal),
         spec.condensation,
     )?;
     println!("{} candidates in {:.3} s", cand.len(), t.elapsed().as_secs_f64());

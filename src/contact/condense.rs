@@ -108,13 +108,13 @@ fn condense_with(
     let free_solution = factorisation.solve(rhs)?;
     let free_gap = operator.gap_contribution(&free_solution);
     let starts: Vec<usize> = (0..m).step_by(block).collect();
-    let d = operator.direction;
     // Column blocks of M (column c = G K⁻¹ E e_c), each `m × width` column-major.
     let column_block = |&start: &usize| {
         let width = block.min(m - start);
         let mut x = Mat::<f64>::zeros(n, width);
         for j in 0..width {
-            // E e_c: the force d on the owners' rows (as `BodyOperator::add_forces`).
+            // E e_c: the force d_c on the owners' rows (as `BodyOperator::add_forces`).
+            let d = operator.direction(start + j);
             for &(i, w) in &operator.owners[start + j] {
                 x[(dof(i as usize, Axis::X), j)] += d[0] * w;
                 x[(dof(i as usize, Axis::Y), j)] += d[1] * w;
@@ -268,7 +268,7 @@ pub fn condense_blocks(
             for j in 0..width {
                 let col = start + j;
                 let op = ops[col / m];
-                let d = op.direction;
+                let d = op.direction(col % m);
                 for &(i, w) in &op.owners[col % m] {
                     x[(dof(i as usize, Axis::X), j)] += d[0] * w;
                     x[(dof(i as usize, Axis::Y), j)] += d[1] * w;

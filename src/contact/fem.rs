@@ -11,8 +11,9 @@ use crate::geometry::{Domain, Point};
 use crate::mls::ShapeSet;
 use crate::nodes::{Axis, Nodes, dof};
 
-/// The candidates of domain edge `edge`: its nodes whose DOFs along the normal `normal` (into
-/// the body) are free, sorted along the edge, with initial gaps `initial_gap(x)`.
+/// The candidates of domain edge `edge`: its nodes whose DOFs along the contact normal (into
+/// the body) are free, sorted along the edge; `target(x)` gives the initial gap and that
+/// normal at a point `x`.
 ///
 /// `segment_length` is the node's consistent tributary length: of each element side of length
 /// `l` on the edge, `l/6` goes to each end node and `4l/6` to the middle node (the nodal forces
@@ -28,8 +29,7 @@ pub fn candidates(
     nodes: &Nodes,
     system: &GlobalSystem,
     edge: usize,
-    normal: Point,
-    initial_gap: &dyn Fn(Point) -> f64,
+    target: &dyn Fn(Point) -> (f64, Point),
 ) -> Result<Candidates, ContactError> {
     let curve = domain.curve(edge);
     let len = curve.length();
@@ -56,6 +56,7 @@ pub fn candidates(
     let mut list: Vec<(f64, usize)> = (0..nodes.len())
         .filter(|&i| tributary[i] > 0.0)
         .filter(|&i| {
+            let normal = target(nodes.points[i]).1;
             Axis::BOTH
                 .iter()
                 .all(|&ax| normal[ax as usize] == 0.0 || !system.is_constrained(dof(i, ax)))
@@ -69,17 +70,18 @@ pub fn candidates(
     let ids: Vec<u32> = list.iter().map(|&(_, i)| i as u32).collect();
     let points: Vec<Point> = list.iter().map(|&(_, i)| nodes.points[i]).collect();
     let at = |t: f64| curve.point_at(t);
+    let (initial_gap, normals): (Vec<f64>, Vec<Point>) = points.iter().map(|&p| target(p)).unzip();
     Ok(Candidates {
         segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
         arc_length: list.iter().map(|&(t, _)| t * len).collect(),
         segment_length: list.iter().map(|&(_, i)| tributary[i]).collect(),
-        initial_gap: points.iter().map(|&p| initial_gap(p)).collect(),
-        normal,
+        initial_gap,
         operator: BodyOperator {
             shapes: ShapeSet::nodal(&ids),
             owners: ids.iter().map(|&i| vec![(i, 1.0)]).collect(),
-            direction: normal,
+            directions: normals.clone(),
         },
+        normals,
         nodes: ids,
         points,
     })
@@ -175,8 +177,11 @@ pub fn target_operator(
         rows.push(point_row);
         owners.push(owner_row);
     }
-    let operator =
-        BodyOperator { shapes: ShapeSet::from_rows(&rows), owners, direction: [-nu[0], -nu[1]] };
+    let operator = BodyOperator {
+        shapes: ShapeSet::from_rows(&rows),
+        directions: vec![[-nu[0], -nu[1]]; owners.len()],
+        owners,
+    };
     Ok((operator, gaps, paired))
 }
 

@@ -3,7 +3,9 @@
 //!
 //! Unknown per candidate `c`: the normal contact force `P_c ≥ 0` (the pressure integrated over
 //! the boundary segment the candidate's cell owns on the contact edge). With `ν_c` the unit
-//! normal of the obstacle pointing into the body:
+//! normal of the obstacle at the candidate's closest point, pointing into the body (one
+//! vector for a line or a second body's straight edge; per candidate for a curved obstacle,
+//! frozen at the initial closest point, docs/method.md §4.4):
 //!
 //! - gap `g_c = g0_c + ν_cᵀ u^h(x_c) = g0_c + G_c û` with `G_c = ν_cᵀ[φ_1(x_c) … φ_N(x_c)]`
 //!   (MLS-evaluated: MLS is not interpolating);
@@ -15,7 +17,9 @@ mod condense;
 pub mod fem;
 pub mod spectrum;
 
-pub use crate::problem::{Condensation, ContactSpec, ContactTarget, RigidLine};
+pub use crate::problem::{
+    Closest, Condensation, ContactSpec, ContactTarget, Obstacle, RigidLine, Shape, closest_obstacle,
+};
 pub use condense::{
     CondensedBlocks, CondensedContact, CondensedPart, condense, condense_blocked, condense_blocks,
     condense_observed,
@@ -96,7 +100,8 @@ pub enum ContactError {
 
 /// The candidates on `edge` of a discretised body, whichever discretisation built it: the
 /// MFVM's owned boundary segments with MLS gap rows ([`candidates`]), or the FE edge nodes
-/// ([`fem::candidates`]). `problem` is the problem `model` was built from.
+/// ([`fem::candidates`]). `problem` is the problem `model` was built from; `target(x)` is
+/// the initial gap and the contact normal at a point `x` of the edge.
 ///
 /// # Errors
 /// As [`candidates`] and [`fem::candidates`].
@@ -104,23 +109,27 @@ pub fn candidates_on(
     problem: &Problem,
     model: &Model,
     edge: usize,
-    normal: Point,
-    initial_gap: &dyn Fn(Point) -> f64,
+    target: &dyn Fn(Point) -> (f64, Point),
     condensation: Condensation,
 ) -> Result<Candidates, ContactError> {
     match &model.scheme {
-        Scheme::Mfvm(m) => {
-            candidates(BodyView::new(problem, model, m), edge, normal, initial_gap, condensation)
+        Scheme::Mfvm(m) => candidates(BodyView::new(problem, model, m), edge, target, condensation),
+        Scheme::Fem(f) => {
+            fem::candidates(&f.mesh, &problem.domain, &model.nodes, &model.system, edge, target)
         }
-        Scheme::Fem(f) => fem::candidates(
-            &f.mesh,
-            &problem.domain,
-            &model.nodes,
-            &model.system,
-            edge,
-            normal,
-            initial_gap,
-        ),
+    }
+}
+
+/// The initial gap and contact normal at `x` against the rigid target of `spec`
+/// (docs/method.md §4.4): the line of [`ContactTarget::Rigid`], or the closest of
+/// `problem.obstacles` for [`ContactTarget::Obstacles`]; `None` for a second body.
+pub fn rigid_target(problem: &Problem, spec: &ContactSpec, x: Point) -> Option<(f64, Point)> {
+    match spec.target {
+        ContactTarget::Rigid(line) => Some((line.gap(x), line.normal)),
+        ContactTarget::Obstacles => {
+            closest_obstacle(&problem.obstacles, x).map(|(_, c)| (c.gap, c.normal))
+        }
+        ContactTarget::Body { .. } => None,
     }
 }
 
@@ -178,18 +187,23 @@ pub fn check_compliance(
 /// How one body enters the contact constraint: its displacement at the contact points adds
 /// `d·u^h(x_c)` to the gap (the `G` rows) and the contact force adds `d P_c` to the owner
 /// cell's equilibrium rows (the `E` columns). `d = +ν` for the candidate body and `−ν` for
-/// the target body of a two-body contact (docs/method.md §4.3).
+/// the target body of a two-body contact (docs/method.md §4.3); `d` is per contact point
+/// (a curved obstacle's normal differs from point to point, docs/method.md §4.4).
 #[derive(Clone, Debug)]
 pub struct BodyOperator {
     /// MLS shape functions at the contact points on this body (one row per candidate).
     pub shapes: ShapeSet,
     /// Nodes whose cells receive each contact force, with weights summing to 1.
     pub owners: Vec<Vec<(u32, f64)>>,
-    /// `d`: `+ν` or `−ν`.
-    pub direction: Point,
+    /// `d_c` per contact point: `+ν_c` or `−ν_c`.
+    pub directions: Vec<Point>,
 }
 
 impl BodyOperator {
+    /// `d_c` of contact point `c`.
+    pub fn direction(&self, c: usize) -> Point {
+        self.directions[c]
+    }
     /// Number of contact points.
     pub fn len(&self) -> usize {
         self.owners.len()
@@ -203,23 +217,38 @@ impl BodyOperator {
         (0..self.len())
             .map(|c| {
                 let u = self.shapes.interpolate(c, u_hat);
-                self.direction[0] * u[0] + self.direction[1] * u[1]
+                let d = self.directions[c];
+                d[0] * u[0] + d[1] * u[1]
             })
             .collect()
     }
     /// Adds `E P` (force `d P_c` on each owner's rows) to `rhs`.
     pub fn add_forces(&self, forces: &[f64], rhs: &mut [f64]) {
-        for (owners, &p) in self.owners.iter().zip(forces) {
+        for ((owners, &p), d) in self.owners.iter().zip(forces).zip(&self.directions) {
             for &(i, w) in owners {
-                rhs[dof(i as usize, Axis::X)] += self.direction[0] * w * p;
-                rhs[dof(i as usize, Axis::Y)] += self.direction[1] * w * p;
+                rhs[dof(i as usize, Axis::X)] += d[0] * w * p;
+                rhs[dof(i as usize, Axis::Y)] += d[1] * w * p;
             }
         }
     }
-    /// Resultant `Σ d P_c` of the contact forces on this body.
+    /// Resultant `Σ d_c P_c` of the contact forces on this body (with one direction `d`,
+    /// `d Σ P_c`).
     pub fn resultant(&self, forces: &[f64]) -> [f64; 2] {
-        let total: f64 = forces.iter().sum();
-        [self.direction[0] * total, self.direction[1] * total]
+        match self.uniform_direction() {
+            Some(d) => {
+                let total: f64 = forces.iter().sum();
+                [d[0] * total, d[1] * total]
+            }
+            None => forces
+                .iter()
+                .zip(&self.directions)
+                .fold([0.0, 0.0], |r, (p, d)| [r[0] + d[0] * p, r[1] + d[1] * p]),
+        }
+    }
+    /// The direction when every contact point has the same one.
+    pub fn uniform_direction(&self) -> Option<Point> {
+        let first = *self.directions.first()?;
+        self.directions.iter().all(|d| *d == first).then_some(first)
     }
 }
 
@@ -238,8 +267,9 @@ pub struct Candidates {
     pub segment_ends: Vec<(Point, Point)>,
     /// Initial gaps `g0_c`.
     pub initial_gap: Vec<f64>,
-    /// The contact normal `ν` (pointing into the candidate body).
-    pub normal: Point,
+    /// The contact normal `ν_c` of each candidate (pointing into the candidate body; the
+    /// same for all against a line or a straight target edge).
+    pub normals: Vec<Point>,
     /// The candidate body's operator (`d = +ν`, owners = the candidate nodes).
     pub operator: BodyOperator,
 }
@@ -258,6 +288,8 @@ impl Candidates {
         self.segment_length = pick(&self.segment_length, &rows);
         self.segment_ends = pick(&self.segment_ends, &rows);
         self.initial_gap = pick(&self.initial_gap, &rows);
+        self.normals = pick(&self.normals, &rows);
+        self.operator.directions = pick(&self.operator.directions, &rows);
         self.operator.shapes = self.operator.shapes.select_rows(&rows);
         self.operator.owners = pick(&self.operator.owners, &rows);
         dropped
@@ -271,10 +303,15 @@ impl Candidates {
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
-    /// The contact tangent `t = (ν_y, −ν_x)`: `ν` turned clockwise by a right angle
-    /// (docs/method.md §8). A positive tangential force pushes the body along `+t`.
-    pub fn tangent(&self) -> Point {
-        tangent(self.normal)
+    /// The contact tangent `t_c = (ν_y, −ν_x)` of candidate `c`: `ν_c` turned clockwise by a
+    /// right angle (docs/method.md §8). A positive tangential force pushes the body along
+    /// `+t_c`.
+    pub fn tangent(&self, c: usize) -> Point {
+        tangent(self.normals[c])
+    }
+    /// The contact normal `ν_c` of candidate `c`.
+    pub fn normal(&self, c: usize) -> Point {
+        self.normals[c]
     }
     /// The tangential operator of the candidate body (docs/method.md §8): the same contact
     /// points and owners as [`Candidates::operator`], direction `t` instead of `ν`. A
@@ -282,12 +319,13 @@ impl Candidates {
     /// displacement condition of `system`) gets no tangential force: its owner list is empty
     /// and its flag in the returned vector is `false` (such candidates are frictionless).
     pub fn tangential_operator(&self, system: &GlobalSystem) -> (BodyOperator, Vec<bool>) {
-        let t = self.tangent();
+        let tangents: Vec<Point> = (0..self.len()).map(|c| self.tangent(c)).collect();
         let free: Vec<bool> = self
             .operator
             .owners
             .iter()
-            .map(|owners| {
+            .zip(&tangents)
+            .map(|(owners, &t)| {
                 owners.iter().all(|&(i, _)| {
                     Axis::BOTH.iter().all(|&a| {
                         t[a as usize] == 0.0 || !system.is_constrained(dof(i as usize, a))
@@ -302,7 +340,7 @@ impl Candidates {
             .zip(&free)
             .map(|(o, &f)| if f { o.clone() } else { Vec::new() })
             .collect();
-        (BodyOperator { shapes: self.operator.shapes.clone(), owners, direction: t }, free)
+        (BodyOperator { shapes: self.operator.shapes.clone(), owners, directions: tangents }, free)
     }
 }
 
@@ -345,8 +383,8 @@ impl<'a> BodyView<'a> {
 
 /// Collects the candidates of `edge`: the nodes on that edge whose cells own a boundary
 /// segment on it and whose equilibrium rows carrying the normal force are not replaced by
-/// displacement conditions, sorted along the edge. `normal` is the contact normal `ν` (into
-/// the body) and `initial_gap(x)` the gap before deformation. With
+/// displacement conditions, sorted along the edge. `target(x)` is the gap before deformation
+/// and the contact normal `ν` (into the body) at a point `x` of the edge. With
 /// [`Condensation::Stiffness`] the gap rows read the candidates' nodal parameters instead of
 /// the MLS displacement.
 ///
@@ -355,8 +393,7 @@ impl<'a> BodyView<'a> {
 pub fn candidates(
     body: BodyView<'_>,
     edge: usize,
-    normal: Point,
-    initial_gap: &dyn Fn(Point) -> f64,
+    target: &dyn Fn(Point) -> (f64, Point),
     condensation: Condensation,
 ) -> Result<Candidates, ContactError> {
     let (domain, nodes) = (body.domain, body.nodes);
@@ -374,10 +411,10 @@ pub fn candidates(
             }
         }
     }
-    let nu = normal;
     let mut list: Vec<(f64, usize)> = (0..nodes.len())
         .filter(|&i| nodes.edges[i].contains(k) && segment[i] > 0.0)
         .filter(|&i| {
+            let nu = target(nodes.points[i]).1;
             Axis::BOTH
                 .iter()
                 .all(|&a| nu[a as usize] == 0.0 || !body.system.is_constrained(dof(i, a)))
@@ -401,14 +438,15 @@ pub fn candidates(
     };
     let owners: Vec<Vec<(u32, f64)>> = list.iter().map(|&(_, i)| vec![(i as u32, 1.0)]).collect();
     let at = |t: f64| curve.point_at(t);
+    let (initial_gap, normals): (Vec<f64>, Vec<Point>) = points.iter().map(|&p| target(p)).unzip();
     Ok(Candidates {
         nodes: list.iter().map(|&(_, i)| i as u32).collect(),
         segment_ends: list.iter().map(|&(_, i)| (at(extent[i][0]), at(extent[i][1]))).collect(),
         arc_length: list.iter().map(|&(t, _)| t * len).collect(),
         segment_length: list.iter().map(|&(_, i)| segment[i]).collect(),
-        initial_gap: points.iter().map(|&p| initial_gap(p)).collect(),
-        normal: nu,
-        operator: BodyOperator { shapes, owners, direction: nu },
+        initial_gap,
+        operator: BodyOperator { shapes, owners, directions: normals.clone() },
+        normals,
         points,
     })
 }
@@ -499,7 +537,8 @@ pub fn target_operator(
         owners.push(share);
     }
     let shapes = mls::shape_functions(&paired, body.nodes, body.supports, body.mls, false)?;
-    Ok((BodyOperator { shapes, owners, direction: [-nu[0], -nu[1]] }, gaps, paired))
+    let directions = vec![[-nu[0], -nu[1]]; owners.len()];
+    Ok((BodyOperator { shapes, owners, directions }, gaps, paired))
 }
 
 fn segment_distance(p: Point, a: Point, b: Point) -> f64 {

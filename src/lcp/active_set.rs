@@ -501,9 +501,12 @@ impl<'a> RigidObstacle<'a> {
         points: Option<&'a [Point]>,
     ) -> Result<Self, ActiveSetError> {
         let m = operator.len();
-        let nu = operator.direction;
-        let (a, b) =
-            if nu[0].abs() >= nu[1].abs() { (Axis::X, Axis::Y) } else { (Axis::Y, Axis::X) };
+        // Per candidate: its normal ν_c and the axis `a` of its larger component (the row
+        // the gap condition replaces) and the other axis `b`.
+        let axes = |c: usize| {
+            let nu = operator.direction(c);
+            if nu[0].abs() >= nu[1].abs() { (Axis::X, Axis::Y) } else { (Axis::Y, Axis::X) }
+        };
         let mut owner_of = Vec::with_capacity(m);
         let mut used = HashSet::new();
         for (c, owners) in operator.owners.iter().enumerate() {
@@ -515,8 +518,8 @@ impl<'a> RigidObstacle<'a> {
         // The candidates' original rows, from the compressed columns.
         let mut wanted: HashMap<usize, Row> = HashMap::new();
         for &(i, _) in &owner_of {
-            wanted.insert(dof(i, a), Vec::new());
-            wanted.insert(dof(i, b), Vec::new());
+            wanted.insert(dof(i, Axis::X), Vec::new());
+            wanted.insert(dof(i, Axis::Y), Vec::new());
         }
         for col in 0..matrix.n {
             for k in matrix.col_ptr[col]..matrix.col_ptr[col + 1] {
@@ -525,12 +528,14 @@ impl<'a> RigidObstacle<'a> {
                 }
             }
         }
-        let (na, nb) = (nu[a as usize], nu[b as usize]);
-        let ratio = nb / na;
         let mut replacements = Vec::with_capacity(m);
         let mut slot = Vec::with_capacity(m + 1);
         let mut next_slot = 0;
         for (c, &(i, w)) in owner_of.iter().enumerate() {
+            let nu = operator.direction(c);
+            let (a, b) = axes(c);
+            let (na, nb) = (nu[a as usize], nu[b as usize]);
+            let ratio = nb / na;
             let (ra, rb) = (dof(i, a), dof(i, b));
             let old_a = wanted[&ra].clone();
             let mut gap_row: Row = Vec::new();
@@ -965,8 +970,8 @@ impl ActiveSetSystem for RigidObstacle<'_> {
         for (i, v) in self.rhs_of(&held).into_iter().enumerate() {
             x[(i, 0)] = v;
         }
-        let d = self.operator.direction;
         for (j, &c) in free.iter().enumerate() {
+            let d = self.operator.direction(c);
             for &(i, w) in &self.operator.owners[c] {
                 x[(dof(i as usize, Axis::X), j + 1)] += d[0] * w;
                 x[(dof(i as usize, Axis::Y), j + 1)] += d[1] * w;
@@ -976,6 +981,7 @@ impl ActiveSetSystem for RigidObstacle<'_> {
         let shapes = &self.operator.shapes;
         let gap_of = |col: &[f64], c: usize| {
             let u = shapes.interpolate(c, col);
+            let d = self.operator.direction(c);
             d[0] * u[0] + d[1] * u[1]
         };
         let q: Vec<f64> =

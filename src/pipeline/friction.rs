@@ -89,11 +89,16 @@ pub(super) fn solve_frictional(
     // The second body: direction −t at the paired points; a candidate whose partner's
     // tangential row is a displacement condition is frictionless too.
     let target_tangential = target.as_ref().map(|tg| {
-        let t = candidates.tangent();
         let mut op = tg.operator.clone();
-        op.direction = [-t[0], -t[1]];
+        op.directions = (0..candidates.len())
+            .map(|c| {
+                let t = candidates.tangent(c);
+                [-t[0], -t[1]]
+            })
+            .collect();
         let sys = &tg.model.system;
         for (c, owners) in op.owners.iter().enumerate() {
+            let t = candidates.tangent(c);
             let fixed = owners.iter().any(|&(i, _)| {
                 crate::nodes::Axis::BOTH.iter().any(|&a| {
                     t[a as usize] != 0.0 && sys.is_constrained(crate::nodes::dof(i as usize, a))
@@ -149,9 +154,8 @@ pub(super) fn solve_frictional(
     })?;
     let warning = compliance_warning(problem, spec, &condensed)?;
     let m = candidates.len();
-    let (nu, t) = (candidates.normal, candidates.tangent());
     // (q_n, q_t) at the end of each step, the obstacle's displacement d shifting the gap by
-    // −d·ν and the tangential displacement relative to it by −d·t.
+    // −d·ν_c and the tangential displacement relative to it by −d·t_c.
     let ends: Vec<(Vec<f64>, Vec<f64>)> = clock.run("load_steps", || {
         steps
             .iter()
@@ -179,13 +183,13 @@ pub(super) fn solve_frictional(
                     }
                     (qn, qt)
                 };
-                let (dn, dt) = (
-                    end.obstacle[0] * nu[0] + end.obstacle[1] * nu[1],
-                    end.obstacle[0] * t[0] + end.obstacle[1] * t[1],
-                );
-                if dn != 0.0 || dt != 0.0 {
-                    qn.iter_mut().for_each(|q| *q -= dn);
-                    qt.iter_mut().for_each(|q| *q -= dt);
+                if end.obstacle != [0.0, 0.0] {
+                    let d = end.obstacle;
+                    for c in 0..m {
+                        let (nu, t) = (candidates.normal(c), candidates.tangent(c));
+                        qn[c] -= d[0] * nu[0] + d[1] * nu[1];
+                        qt[c] -= d[0] * t[0] + d[1] * t[1];
+                    }
                 }
                 Ok((qn, qt))
             })
@@ -335,9 +339,12 @@ pub(super) fn solve_frictional(
     };
     // The gaps from the obstacle's final position.
     if let Some(end) = steps.last() {
-        let dn = end.obstacle[0] * nu[0] + end.obstacle[1] * nu[1];
-        if dn != 0.0 {
-            candidates.initial_gap.iter_mut().for_each(|g| *g -= dn);
+        let d = end.obstacle;
+        for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
+            let dn = d[0] * nu[0] + d[1] * nu[1];
+            if dn != 0.0 {
+                *g -= dn;
+            }
         }
     }
     let gap = step.gap.clone();

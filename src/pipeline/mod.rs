@@ -270,15 +270,12 @@ fn solve_contact(
 ) -> Result<ContactOutcome, Error> {
     let (candidates, target, paired_points, unpaired) =
         clock.run("contact_candidates", || match (&spec.target, second) {
-            (ContactTarget::Rigid(line), _) => {
-                let c = contact::candidates_on(
-                    problem,
-                    model,
-                    spec.edge,
-                    line.normal,
-                    &|x| line.gap(x),
-                    spec.condensation,
-                )?;
+            (ContactTarget::Rigid(_) | ContactTarget::Obstacles, _) => {
+                let target = |x| {
+                    contact::rigid_target(problem, spec, x).expect("a rigid target has obstacles")
+                };
+                let c =
+                    contact::candidates_on(problem, model, spec.edge, &target, spec.condensation)?;
                 Ok((c, None, Vec::new(), 0))
             }
             (ContactTarget::Body { edge }, Some((p2, m2))) => {
@@ -291,8 +288,7 @@ fn solve_contact(
                     problem,
                     model,
                     spec.edge,
-                    normal,
-                    &|_| 0.0,
+                    &|_| (0.0, normal),
                     spec.condensation,
                 )?;
                 // A candidate whose projection falls beside the target edge has no partner:
@@ -494,12 +490,12 @@ fn final_gaps(
     u1: &[f64],
     second: Option<(&contact::BodyOperator, &[f64])>,
 ) -> Vec<f64> {
-    let nu = candidates.normal;
     let mut gap: Vec<f64> = candidates
         .initial_gap
         .iter()
         .zip(&candidates.nodes)
-        .map(|(g0, &i)| {
+        .zip(&candidates.normals)
+        .map(|((g0, &i), nu)| {
             let u = model.node_shapes.interpolate(i as usize, u1);
             g0 + nu[0] * u[0] + nu[1] * u[1]
         })

@@ -287,10 +287,10 @@ fn contact_outputs(
     let plots = dir.join("plots");
     create_dir(&plots)?;
     let edge = &problem.domain.edge_names()[problem.contact.as_ref().map_or(0, |s| s.edge)];
-    let nu = cand.normal;
-    // Deflection of the contact edge along the normal, and the obstacle at −g0.
+    // Deflection of the contact edge along each candidate's normal, and the obstacle at −g0.
     let deflection: Vec<(f64, f64)> = (0..cand.len())
         .map(|k| {
+            let nu = cand.normal(k);
             let u = solution.displacement[cand.nodes[k] as usize];
             (cand.arc_length[k], nu[0] * u[0] + nu[1] * u[1])
         })
@@ -544,6 +544,9 @@ fn solution_plots(
         (Some(ContactTarget::Rigid(line)), Some(c)) => {
             lines.push(obstacle_line(&line, c, magnification, &points));
         }
+        (Some(ContactTarget::Obstacles), Some(c)) => {
+            lines.extend(obstacle_shapes(problem, c, magnification, &points));
+        }
         (Some(ContactTarget::Body { .. }), _) => {
             if let (Some(p2), Some(s2)) =
                 (problem.second_body.as_deref(), solution.second_body.as_deref())
@@ -716,6 +719,102 @@ fn obstacle_line(
         points: vec![at(lo - pad), at(hi + pad)],
         kind: plot::OverlayKind::Obstacle,
     }
+}
+
+/// The rigid obstacles of `problem` (`[[obstacle]]`) in a deformed plot magnified `m` times,
+/// drawn as what they are (a circle, a polyline with its rounded corners, a line): each at its
+/// final position (moved by the last step's obstacle displacement `d`) and shifted by
+/// `(1 − m) g′ ν` with `g′` and `ν` the final initial gap and normal of the candidate closest
+/// to it, so that this candidate, once closed, touches it (as for the line). The drawing is
+/// clipped to the body's plot window grown by half its size on each side.
+fn obstacle_shapes(
+    problem: &Problem,
+    c: &ContactSolution,
+    m: f64,
+    points: &[(f64, f64)],
+) -> Vec<plot::Overlay> {
+    use crate::problem::Shape;
+    let d = problem.steps.last().map_or([0.0, 0.0], |s| s.obstacle_displacement);
+    let (xlo, xhi) = plot::range(points.iter().map(|p| p.0));
+    let (ylo, yhi) = plot::range(points.iter().map(|p| p.1));
+    let pad = 0.5 * (xhi - xlo).max(yhi - ylo);
+    let inside = |p: &(f64, f64)| {
+        p.0 >= xlo - pad && p.0 <= xhi + pad && p.1 >= ylo - pad && p.1 <= yhi + pad
+    };
+    let cand = &c.candidates;
+    let mut out = Vec::new();
+    for (k, o) in problem.obstacles.iter().enumerate() {
+        // The candidate of this obstacle with the smallest gap.
+        let closest = (0..cand.len())
+            .filter(|&i| {
+                crate::problem::closest_obstacle(&problem.obstacles, cand.points[i])
+                    .is_some_and(|(j, _)| j == k)
+            })
+            .min_by(|&a, &b| cand.initial_gap[a].total_cmp(&cand.initial_gap[b]));
+        let shift = closest.map_or([0.0, 0.0], |i| {
+            let (g, nu) = (cand.initial_gap[i], cand.normal(i));
+            [(1.0 - m) * g * nu[0], (1.0 - m) * g * nu[1]]
+        });
+        let shape = o.shape.translated([d[0] + shift[0], d[1] + shift[1]]);
+        let outline: Vec<(f64, f64)> = match &shape {
+            Shape::Line(l) => {
+                let t = [-l.normal[1], l.normal[0]];
+                let r = 2.0 * (xhi - xlo).hypot(yhi - ylo) + 2.0 * pad;
+                let (cx, cy) = (0.5 * (xlo + xhi), 0.5 * (ylo + yhi));
+                let s0 = (cx - l.point[0]) * t[0] + (cy - l.point[1]) * t[1];
+                (0..=200)
+                    .map(|i| {
+                        let s = s0 - r + 2.0 * r * i as f64 / 200.0;
+                        (l.point[0] + s * t[0], l.point[1] + s * t[1])
+                    })
+                    .collect()
+            }
+            Shape::Circle { centre, radius } => (0..=720)
+                .map(|i| {
+                    let a = std::f64::consts::TAU * i as f64 / 720.0;
+                    (centre[0] + radius * a.cos(), centre[1] + radius * a.sin())
+                })
+                .collect(),
+            Shape::Polyline(p) => {
+                // Long segments split so that clipping keeps their visible part.
+                let raw = p.outline(std::f64::consts::PI / 90.0);
+                let mut fine = Vec::new();
+                for w in raw.windows(2) {
+                    let n = 50;
+                    for i in 0..n {
+                        let s = i as f64 / n as f64;
+                        fine.push((
+                            w[0][0] + s * (w[1][0] - w[0][0]),
+                            w[0][1] + s * (w[1][1] - w[0][1]),
+                        ));
+                    }
+                }
+                if let Some(last) = raw.last() {
+                    fine.push((last[0], last[1]));
+                }
+                fine
+            }
+        };
+        let label =
+            format!("rigid {} `{}` (gap drawn ×{} like u)", shape.kind(), o.name, significant(m));
+        let mut first = true;
+        let mut run: Vec<(f64, f64)> = Vec::new();
+        for p in outline.iter().chain(std::iter::once(&(f64::NAN, f64::NAN))) {
+            if p.0.is_finite() && inside(p) {
+                run.push(*p);
+            } else if run.len() >= 2 {
+                out.push(plot::Overlay {
+                    label: first.then(|| label.clone()),
+                    points: std::mem::take(&mut run),
+                    kind: plot::OverlayKind::Obstacle,
+                });
+                first = false;
+            } else {
+                run.clear();
+            }
+        }
+    }
+    out
 }
 
 /// A body's name at the centre of its (deformed) points.

@@ -110,6 +110,10 @@ fn in_words(problem: &Problem) -> String {
                 g(line.normal[0]),
                 g(line.normal[1])
             ),
+            ContactTarget::Obstacles => {
+                let each: Vec<String> = problem.obstacles.iter().map(obstacle_text).collect();
+                format!("the rigid obstacle(s) {}", each.join("; "))
+            }
             ContactTarget::Body { edge: e2 } => match problem.second_body.as_deref() {
                 Some(p2) => format!(
                     "edge `{}` of body `{}` (E = {}, ν = {}, node spacing {})",
@@ -290,6 +294,46 @@ pub fn write_report(
     let path = dir.join("report.html");
     write_text(&path, &html)?;
     Ok(path)
+}
+
+/// One rigid obstacle in words (the report's problem statement).
+fn obstacle_text(o: &crate::problem::Obstacle) -> String {
+    use crate::problem::{Piece, Shape};
+    let shape = match &o.shape {
+        Shape::Line(l) => format!(
+            "a straight line through ({}, {}) with normal ({}, {})",
+            g(l.point[0]),
+            g(l.point[1]),
+            g(l.normal[0]),
+            g(l.normal[1])
+        ),
+        Shape::Circle { centre, radius } => format!(
+            "a disk of radius {} about ({}, {}), the body outside it",
+            g(*radius),
+            g(centre[0]),
+            g(centre[1])
+        ),
+        Shape::Polyline(p) => {
+            let arcs: Vec<f64> = p
+                .pieces
+                .iter()
+                .filter_map(|q| match q {
+                    Piece::Arc { radius, .. } => Some(*radius),
+                    Piece::Segment { .. } => None,
+                })
+                .collect();
+            let segments = p.pieces.len() - arcs.len();
+            match arcs.first() {
+                Some(r) => format!(
+                    "a polyline of {segments} segments with {} corners rounded to radius {}",
+                    arcs.len(),
+                    g(*r)
+                ),
+                None => format!("a polyline of {segments} segments with sharp corners"),
+            }
+        }
+    };
+    format!("`{}`, {shape}", o.name)
 }
 
 #[cfg(test)]

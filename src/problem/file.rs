@@ -48,6 +48,10 @@ pub struct ProblemFile {
     /// Adaptive refinement (`[refinement]`, docs/method.md §2.2). Not echoed when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refinement: Option<AdaptiveFile>,
+    /// Rigid obstacles (`[[obstacle]]`, docs/method.md §4.4), touched by the contact edge when
+    /// `[contact] target` names them. Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub obstacle: Vec<ObstacleFile>,
 }
 
 /// `[refinement]`: the solve–estimate–mark–refine loop (rectangles, one body, MFVM). Every
@@ -73,6 +77,73 @@ pub struct AdaptiveFile {
     /// Also refine around the contact transitions (default `true`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<bool>,
+}
+
+/// One `[[obstacle]]`: a named rigid obstacle of kind `"line"` (`point`, `normal` into the
+/// body), `"circle"` (`centre`, `radius`; the body outside the disk) or `"polyline"`
+/// (`points`, the obstacle on their left; optional `corner_radius` rounding the interior
+/// corners).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObstacleFile {
+    /// Name, for `[contact] target`.
+    pub name: String,
+    /// `"line"`, `"circle"` or `"polyline"`.
+    pub kind: String,
+    /// Line: a point of it.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exact::optional_pair"
+    )]
+    pub point: Option<[f64; 2]>,
+    /// Line: its normal, pointing into the body (normalised on reading).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exact::optional_pair"
+    )]
+    pub normal: Option<[f64; 2]>,
+    /// Circle: its centre.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exact::optional_pair"
+    )]
+    pub centre: Option<[f64; 2]>,
+    /// Circle: its radius.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Polyline: its points `[[x, y], …]`, the obstacle on the left when walked in order.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "exact::optional_pairs"
+    )]
+    pub points: Option<Vec<[f64; 2]>>,
+    /// Polyline: radius of the arcs that round its interior corners (default 0: sharp).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corner_radius: Option<f64>,
+}
+
+/// `[contact] target`: one obstacle name or a list of names.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum TargetFile {
+    /// One name.
+    One(String),
+    /// Several names.
+    Many(Vec<String>),
+}
+
+impl TargetFile {
+    /// The names.
+    pub fn names(&self) -> Vec<&str> {
+        match self {
+            TargetFile::One(s) => vec![s.as_str()],
+            TargetFile::Many(v) => v.iter().map(String::as_str).collect(),
+        }
+    }
 }
 
 /// One `[[step]]`: the end values of named boundary conditions and of the rigid obstacle's
@@ -122,8 +193,8 @@ pub struct StepBoundaryFile {
 }
 
 /// `[contact]`: one edge of the body against a rigid straight line (`obstacle_point`,
-/// `obstacle_normal`), or, with two `[[body]]` tables, against an edge of the second body
-/// (`target_edge`).
+/// `obstacle_normal`), against `[[obstacle]]` tables (`target`), or, with two `[[body]]`
+/// tables, against an edge of the second body (`target_edge`).
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
@@ -138,6 +209,10 @@ pub struct ContactFile {
     /// Two bodies: the edge of the second body that `edge` (of the first) touches.
     #[serde(default)]
     pub target_edge: Option<String>,
+    /// The `[[obstacle]]` (a name) or obstacles (a list of names) the edge may touch; each
+    /// candidate pairs with the closest. Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target: Option<TargetFile>,
     /// Absolute gap below which a candidate counts as closed (default 1e-5 · max |g0|).
     #[serde(default)]
     pub gap_tolerance: Option<f64>,

@@ -15,7 +15,10 @@ pub mod gmsh;
 pub mod refine;
 mod validate;
 
-pub use contact::{Condensation, ContactSolver, ContactSpec, ContactTarget, RigidLine};
+pub use contact::{
+    Closest, Condensation, ContactSolver, ContactSpec, ContactTarget, Obstacle, Piece, Polyline,
+    RigidLine, Shape, closest_obstacle,
+};
 pub use discretisation::{
     Basis, Discretisation, Layout, MIN_STABILISING_BETA, MIXED_LINEAR_MAX_SUPPORT_FACTOR,
     MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Preset,
@@ -147,6 +150,10 @@ pub struct Problem {
     pub write_steps: bool,
     /// Frictionless contact, if any.
     pub contact: Option<ContactSpec>,
+    /// The rigid obstacles the contact edge touches when its target is
+    /// [`ContactTarget::Obstacles`] (`[[obstacle]]` named by `[contact] target`; otherwise
+    /// empty).
+    pub obstacles: Vec<Obstacle>,
     /// The second elastic body of a two-body contact (its own `contact` is `None`).
     pub second_body: Option<Box<Problem>>,
     /// The nodes of a Gmsh body read with `nodes.from = "mesh"` (absent: the nodes are

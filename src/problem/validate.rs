@@ -122,8 +122,19 @@ impl TryFrom<ProblemFile> for Problem {
         problem.profile_edge = profile_edge;
         problem.contact = match &file.contact {
             None => None,
-            Some(c) => Some(contact_spec(c, &problem)?),
+            Some(c) => {
+                let (spec, obstacles) = contact_spec(c, &file.obstacle, &problem)?;
+                problem.obstacles = obstacles;
+                Some(spec)
+            }
         };
+        if file.contact.is_none() && !file.obstacle.is_empty() {
+            return Err(invalid(
+                "obstacle",
+                format!("{} obstacles", file.obstacle.len()),
+                "obstacles need a [contact] table naming the edge that touches them",
+            ));
+        }
         if problem.second_body.is_some() && problem.contact.is_none() {
             return Err(invalid(
                 "contact",
@@ -256,6 +267,7 @@ fn validate_body(
         profile_edge: 0,
         write_steps: false,
         contact: None,
+        obstacles: Vec::new(),
         second_body: None,
         mesh_nodes,
         steps: Vec::new(),
@@ -803,7 +815,11 @@ fn prefixed(prefix: &str, e: ProblemError) -> ProblemError {
     }
 }
 
-fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, ProblemError> {
+fn contact_spec(
+    c: &ContactFile,
+    obstacles: &[ObstacleFile],
+    problem: &Problem,
+) -> Result<(ContactSpec, Vec<Obstacle>), ProblemError> {
     let (domain, boundary) = (&problem.domain, &problem.boundary);
     let edge = domain.edge_index(&c.edge).ok_or_else(|| {
         invalid(
@@ -844,6 +860,13 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
         ));
     }
     if let Some(second) = problem.second_body.as_deref() {
+        if !obstacles.is_empty() || c.target.is_some() {
+            return Err(invalid(
+                if c.target.is_some() { "contact.target" } else { "obstacle" },
+                "",
+                "two bodies touch each other: give `target_edge`, not obstacles",
+            ));
+        }
         if c.obstacle_point.is_some() || c.obstacle_normal.is_some() {
             return Err(invalid(
                 "contact.obstacle_point",
@@ -918,15 +941,18 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
                 ),
             ));
         }
-        return Ok(ContactSpec {
-            edge,
-            target: ContactTarget::Body { edge: target },
-            gap_tolerance: c.gap_tolerance,
-            allow_indefinite,
-            condensation,
-            friction,
-            solver,
-        });
+        return Ok((
+            ContactSpec {
+                edge,
+                target: ContactTarget::Body { edge: target },
+                gap_tolerance: c.gap_tolerance,
+                allow_indefinite,
+                condensation,
+                friction,
+                solver,
+            },
+            Vec::new(),
+        ));
     }
     if c.target_edge.is_some() {
         return Err(invalid(
@@ -935,8 +961,33 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             "only for two bodies ([[body]] tables); a rigid obstacle takes obstacle_point and obstacle_normal",
         ));
     }
+    let legacy = c.obstacle_point.is_some() || c.obstacle_normal.is_some();
+    if legacy && (c.target.is_some() || !obstacles.is_empty()) {
+        return Err(invalid(
+            "contact.obstacle_point",
+            "",
+            "give either obstacle_point and obstacle_normal (one line) or [[obstacle]] tables named by `target`, not both",
+        ));
+    }
+    if !legacy && (c.target.is_some() || !obstacles.is_empty()) {
+        let chosen = rigid_obstacles(c, obstacles, domain, edge)?;
+        let spec = ContactSpec {
+            edge,
+            target: ContactTarget::Obstacles,
+            gap_tolerance: c.gap_tolerance,
+            allow_indefinite,
+            condensation,
+            friction,
+            solver,
+        };
+        return Ok((spec, chosen));
+    }
     let missing = |f: &str| {
-        invalid(f, "(missing)", "a rigid obstacle needs obstacle_point and obstacle_normal")
+        invalid(
+            f,
+            "(missing)",
+            "a rigid obstacle needs obstacle_point and obstacle_normal (or [[obstacle]] tables named by `target`)",
+        )
     };
     let obstacle_point = c.obstacle_point.ok_or_else(|| missing("contact.obstacle_point"))?;
     let obstacle_normal = c.obstacle_normal.ok_or_else(|| missing("contact.obstacle_normal"))?;
@@ -982,15 +1033,166 @@ fn contact_spec(c: &ContactFile, problem: &Problem) -> Result<ContactSpec, Probl
             ),
         ));
     }
-    Ok(ContactSpec {
-        edge,
-        target: ContactTarget::Rigid(obstacle),
-        gap_tolerance: c.gap_tolerance,
-        allow_indefinite,
-        condensation,
-        friction,
-        solver,
-    })
+    Ok((
+        ContactSpec {
+            edge,
+            target: ContactTarget::Rigid(obstacle),
+            gap_tolerance: c.gap_tolerance,
+            allow_indefinite,
+            condensation,
+            friction,
+            solver,
+        },
+        Vec::new(),
+    ))
+}
+
+/// `[[obstacle]]` → the validated obstacles named by `[contact] target` (all of them when it
+/// is absent), checked against the body: its centroid outside every obstacle, the contact
+/// edge `edge` penetrating none by more than 10 % of the body's smallest extent.
+fn rigid_obstacles(
+    c: &ContactFile,
+    files: &[ObstacleFile],
+    domain: &Domain,
+    edge: usize,
+) -> Result<Vec<Obstacle>, ProblemError> {
+    let mut all: Vec<Obstacle> = Vec::with_capacity(files.len());
+    for (k, o) in files.iter().enumerate() {
+        let key = |f: &str| format!("obstacle[{k}].{f}");
+        if o.name.is_empty() {
+            return Err(invalid(&key("name"), "\"\"", "an obstacle needs a non-empty name"));
+        }
+        if all.iter().any(|a| a.name == o.name) {
+            return Err(invalid(&key("name"), &o.name, "two obstacles have this name"));
+        }
+        let given = |f: &str, present: bool| -> Result<(), ProblemError> {
+            if present {
+                Err(invalid(&key(f), "", format!("not a key of kind \"{}\"", o.kind)))
+            } else {
+                Ok(())
+            }
+        };
+        let need = |f: &str| invalid(&key(f), "(missing)", format!("kind \"{}\" needs it", o.kind));
+        let pair = |f: &str, v: Option<[f64; 2]>| -> Result<[f64; 2], ProblemError> {
+            let v = v.ok_or_else(|| need(f))?;
+            check_finite(&key(f), v[0])?;
+            check_finite(&key(f), v[1])?;
+            Ok(v)
+        };
+        let shape = match o.kind.as_str() {
+            "line" => {
+                given("centre", o.centre.is_some())?;
+                given("radius", o.radius.is_some())?;
+                given("points", o.points.is_some())?;
+                given("corner_radius", o.corner_radius.is_some())?;
+                let point = pair("point", o.point)?;
+                let [nx, ny] = pair("normal", o.normal)?;
+                let len = nx.hypot(ny);
+                if len == 0.0 {
+                    return Err(invalid(&key("normal"), "[0, 0]", "must be a non-zero vector"));
+                }
+                let snap = |c: f64| if c.abs() <= 1e-12 * len { 0.0 } else { c };
+                let (nx, ny) = (snap(nx), snap(ny));
+                let len = nx.hypot(ny);
+                Shape::Line(RigidLine { point, normal: [nx / len, ny / len] })
+            }
+            "circle" => {
+                given("point", o.point.is_some())?;
+                given("normal", o.normal.is_some())?;
+                given("points", o.points.is_some())?;
+                given("corner_radius", o.corner_radius.is_some())?;
+                let centre = pair("centre", o.centre)?;
+                let radius = o.radius.ok_or_else(|| need("radius"))?;
+                if !(radius.is_finite() && radius > 0.0) {
+                    return Err(invalid(&key("radius"), radius, "must be a positive number"));
+                }
+                Shape::Circle { centre, radius }
+            }
+            "polyline" => {
+                given("point", o.point.is_some())?;
+                given("normal", o.normal.is_some())?;
+                given("centre", o.centre.is_some())?;
+                given("radius", o.radius.is_some())?;
+                let points = o.points.as_ref().ok_or_else(|| need("points"))?;
+                for p in points {
+                    check_finite(&key("points"), p[0])?;
+                    check_finite(&key("points"), p[1])?;
+                }
+                let r = o.corner_radius.unwrap_or(0.0);
+                if !(r.is_finite() && r >= 0.0) {
+                    return Err(invalid(&key("corner_radius"), r, "must be a number ≥ 0"));
+                }
+                let line = Polyline::new(points, r).map_err(|why| {
+                    invalid(&key("points"), format!("{} points", points.len()), why)
+                })?;
+                Shape::Polyline(line)
+            }
+            other => {
+                return Err(invalid(
+                    &key("kind"),
+                    other,
+                    "one of \"line\", \"circle\", \"polyline\"",
+                ));
+            }
+        };
+        all.push(Obstacle { name: o.name.clone(), shape });
+    }
+    let names: Vec<String> = all.iter().map(|o| o.name.clone()).collect();
+    let chosen: Vec<Obstacle> = match &c.target {
+        None => all,
+        Some(t) => {
+            let mut out: Vec<Obstacle> = Vec::new();
+            let wanted = t.names();
+            if wanted.is_empty() {
+                return Err(invalid("contact.target", "[]", "name at least one [[obstacle]]"));
+            }
+            for name in wanted {
+                let o = all.iter().find(|o| o.name == name).ok_or_else(|| {
+                    invalid(
+                        "contact.target",
+                        name,
+                        format!("no [[obstacle]] of that name; the obstacles are {names:?}"),
+                    )
+                })?;
+                if out.iter().any(|p| p.name == name) {
+                    return Err(invalid("contact.target", name, "named twice"));
+                }
+                out.push(o.clone());
+            }
+            out
+        }
+    };
+    let centroid = domain.centroid();
+    for o in &chosen {
+        if o.shape.closest(centroid).gap <= 0.0 {
+            return Err(invalid(
+                "contact.target",
+                &o.name,
+                format!(
+                    "the body's centroid is inside this {} obstacle (or on its side of it): the obstacle would cross the body",
+                    o.shape.kind()
+                ),
+            ));
+        }
+    }
+    let curve = domain.curve(edge);
+    let worst = (0..=1024)
+        .filter_map(|i| closest_obstacle(&chosen, curve.point_at(i as f64 / 1024.0)))
+        .map(|(_, c)| c.gap)
+        .fold(f64::INFINITY, f64::min);
+    let (lo, hi) = domain.bounding_box();
+    let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
+    if worst < -0.1 * size {
+        return Err(invalid(
+            "contact.target",
+            format!("{:?}", chosen.iter().map(|o| o.name.as_str()).collect::<Vec<_>>()),
+            format!(
+                "the obstacles penetrate the contact edge by {:.3e}, more than 10 % of the body's smallest extent: not a small-strain indentation",
+                -worst
+            ),
+        ));
+    }
+    Ok(chosen)
 }
 
 /// Whether a field is identically zero (a constant 0 or a linear field from 0 to 0).

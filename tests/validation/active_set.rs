@@ -54,7 +54,7 @@ fn check_own(name: &str, s: &Solution) {
 }
 
 /// Returns (largest force difference, largest gap difference), both relative.
-fn compare(name: &str, problem: &Problem) -> (f64, f64) {
+pub(super) fn compare(name: &str, problem: &Problem) -> (f64, f64) {
     let lemke = solve_with(problem, ContactSolver::Lemke);
     let active = solve_with(problem, ContactSolver::ActiveSet);
     check_own(name, &lemke);

@@ -78,20 +78,21 @@ pub fn hertz_problem_on(domain: Domain, h: f64, layout: Layout) -> Problem {
     p
 }
 
-pub struct Outcome {
+/// The Hertz quantities measured from a solution (also for `cylinder_indenter.rs`).
+pub(super) struct Outcome {
     /// `a` fitted / `a` Hertz − 1.
-    pub half_width: f64,
+    pub(super) half_width: f64,
     /// `p₀` fitted / `p₀` Hertz − 1.
-    pub peak: f64,
+    pub(super) peak: f64,
     /// `max |p_c − p(x_c)| / p₀` over the closed candidates.
-    pub profile: f64,
+    pub(super) profile: f64,
     /// The same over the closed candidates with `|x_c| ≤ 0.8 a`.
-    pub profile_interior: f64,
-    pub a_over_r: f64,
+    pub(super) profile_interior: f64,
+    pub(super) a_over_r: f64,
     /// Resultant per unit length of the whole cylinder.
-    pub load: f64,
+    pub(super) load: f64,
     /// Fitted half-width.
-    pub half_width_fit: f64,
+    pub(super) half_width_fit: f64,
 }
 
 fn run(h: f64, layout: Layout) -> Outcome {
@@ -99,18 +100,25 @@ fn run(h: f64, layout: Layout) -> Outcome {
 }
 
 /// Solves a Hertz problem (rigid flat), checks its equilibrium and measures it.
-pub fn run_problem(problem: Problem, label: &str) -> Outcome {
+pub(super) fn run_problem(problem: Problem, label: &str) -> Outcome {
     let s = mlpg_contact::solve(&problem).unwrap();
     let c = s.contact.as_ref().unwrap();
     let balance = s.reaction_force[1] + c.total_force;
     assert!(balance.abs() < 1e-8 * c.total_force, "{label}: balance {balance}");
     let e_star = YOUNG / (1.0 - POISSON * POISSON);
-    measure(label, &s, e_star)
+    measure(label, &s, e_star, RADIUS, 2.0 * c.total_force)
 }
 
 /// Checks the LCP and equilibrium and measures the Hertz quantities for the combined modulus
-/// `e_star`.
-fn measure(label: &str, s: &mlpg_contact::Solution, e_star: f64) -> Outcome {
+/// `e_star`, the cylinder radius `radius` and the resultant `load` per unit length of the
+/// whole cylinder (the candidates' `x` is the distance from the symmetry axis `x = 0`).
+pub(super) fn measure(
+    label: &str,
+    s: &mlpg_contact::Solution,
+    e_star: f64,
+    radius: f64,
+    load: f64,
+) -> Outcome {
     let c = s.contact.as_ref().unwrap();
     let r = &c.lcp.residuals;
     for (what, v) in [
@@ -128,8 +136,7 @@ fn measure(label: &str, s: &mlpg_contact::Solution, e_star: f64) -> Outcome {
     assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
     assert_eq!(c.onset.closed_intervals, 1, "{label}");
 
-    let load = 2.0 * c.total_force;
-    let a = (4.0 * load * RADIUS / (std::f64::consts::PI * e_star)).sqrt();
+    let a = (4.0 * load * radius / (std::f64::consts::PI * e_star)).sqrt();
     let p0 = 2.0 * load / (std::f64::consts::PI * a);
     // Least squares p² = α + β x² over the closed candidates.
     let pts: Vec<(f64, f64)> = (0..c.closed.len())
@@ -167,7 +174,7 @@ fn measure(label: &str, s: &mlpg_contact::Solution, e_star: f64) -> Outcome {
         half_width: a_fit / a - 1.0,
         peak: p0_fit / p0 - 1.0,
         profile,
-        a_over_r: a / RADIUS,
+        a_over_r: a / radius,
         load,
         half_width_fit: a_fit,
     };
@@ -301,7 +308,8 @@ fn hertz_two_elastic_bodies() {
         assert!(s2.equilibrium_error < 1e-8, "block equilibrium {}", s2.equilibrium_error);
         let c = s.contact.as_ref().unwrap();
         assert!((s.contact_force[1] + s2.contact_force[1]).abs() < 1e-12 * c.total_force);
-        out.push(measure(&format!("two bodies, h = {h}"), &s, e_star));
+        let load = 2.0 * c.total_force;
+        out.push(measure(&format!("two bodies, h = {h}"), &s, e_star, RADIUS, load));
     }
     for o in &out {
         assert!(o.half_width.abs() < 0.03, "half-width error {}", o.half_width);

@@ -99,10 +99,12 @@ impl<'a> TwoBodies<'a> {
         let (op1, op2) = (first.operator, second.operator);
         let m = op1.len();
         let n1 = first.matrix.n;
-        let d1 = op1.direction;
-        let d2 = op2.direction;
-        let (a, b) =
-            if d1[0].abs() >= d1[1].abs() { (Axis::X, Axis::Y) } else { (Axis::Y, Axis::X) };
+        // Each candidate's replaced row: its own larger normal component (the normals are the
+        // target edge's, the same for all on a straight edge).
+        let axes = |c: usize| {
+            let d = op1.direction(c);
+            if d[0].abs() >= d[1].abs() { (Axis::X, Axis::Y) } else { (Axis::Y, Axis::X) }
+        };
         let mut owner_of = Vec::with_capacity(m);
         let mut used = HashSet::new();
         for (c, owners) in op1.owners.iter().enumerate() {
@@ -117,8 +119,8 @@ impl<'a> TwoBodies<'a> {
             return Err(ActiveSetError::Unsupported { candidate: m.min(op2.len()) });
         }
         let mut wanted: HashMap<usize, Row> = HashMap::new();
-        for &(i, _) in &owner_of {
-            wanted.insert(dof(i, a), Vec::new());
+        for (c, &(i, _)) in owner_of.iter().enumerate() {
+            wanted.insert(dof(i, axes(c).0), Vec::new());
         }
         let k1 = first.matrix;
         for col in 0..k1.n {
@@ -128,20 +130,20 @@ impl<'a> TwoBodies<'a> {
                 }
             }
         }
-        let na = d1[a as usize];
-        let ratio = d1[b as usize] / na;
         let f1 = first.rhs;
         let mut changes = Vec::with_capacity(m);
         let mut rhs_changes = Vec::with_capacity(m);
         let mut force_rows = Vec::with_capacity(m);
         for (c, &(i, w)) in owner_of.iter().enumerate() {
+            let ((a, b), d1, d2) = (axes(c), op1.direction(c), op2.direction(c));
+            let (na, ratio) = (d1[a as usize], d1[b as usize] / d1[a as usize]);
             let (ra, rb) = (dof(i, a), dof(i, b));
             let old_a = wanted[&ra].clone();
             let mut gap_row: Row = Vec::new();
             for (op, offset) in [(op1, 0), (op2, n1)] {
                 for (&j, &phi) in op.shapes.support(c).iter().zip(op.shapes.phi(c)) {
                     for ax in Axis::BOTH {
-                        let v = scale * op.direction[ax as usize] * phi;
+                        let v = scale * op.direction(c)[ax as usize] * phi;
                         if v != 0.0 {
                             gap_row.push((offset + dof(j as usize, ax), v));
                         }
@@ -533,7 +535,7 @@ impl ActiveSetSystem for TwoBodies<'_> {
         }
         for (j, &c) in free.iter().enumerate() {
             for (body, offset) in [(&self.bodies[0], 0), (&self.bodies[1], self.n1)] {
-                let d = body.operator.direction;
+                let d = body.operator.direction(c);
                 for &(i, w) in &body.operator.owners[c] {
                     x[(offset + dof(i as usize, Axis::X), j + 1)] += d[0] * w;
                     x[(offset + dof(i as usize, Axis::Y), j + 1)] += d[1] * w;
