@@ -476,9 +476,15 @@ fn node_layout(
 
     if method == Method::Fem {
         if !matches!(file.geometry, GeometryFile::Rectangle { .. }) {
+            let kind = match file.geometry {
+                GeometryFile::Rectangle { .. } | GeometryFile::Polygon { .. } => "polygon",
+                GeometryFile::Curves { .. } => "curves",
+                GeometryFile::Disk { .. } => "disk",
+                GeometryFile::Gmsh { .. } => "gmsh",
+            };
             return Err(invalid(
                 "geometry.kind",
-                "polygon",
+                kind,
                 "discretisation.method = \"fem\" meshes rectangles only (kind = \"rectangle\")",
             ));
         }
