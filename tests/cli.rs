@@ -970,6 +970,12 @@ fn gmsh_geometry_runs_and_bad_meshes_name_the_file_and_line() {
             vec!["nodes.spacing".into(), "edge `hole`".into()],
         ),
         (
+            "gmsh_fem",
+            &plate,
+            GMSH.replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]"),
+            vec!["nodes.from".into(), "mesh's own elements".into()],
+        ),
+        (
             "gmsh_from_mesh_rectangle",
             &plate,
             BASE.replace("spacing = 0.25", "from = \"mesh\""),

@@ -321,7 +321,8 @@ pub enum GmshErrorKind {
 #[derive(Clone, Debug)]
 pub struct MeshBody {
     /// The domain: one edge per physical curve along the loop. A run of boundary edges whose
-    /// nodes are collinear (to 1e-10 of its length) is a [`Curve::Segment`]; any other is a
+    /// nodes are collinear to 1e-12 of its length (well within the 1e-9 spacings to which
+    /// mesh nodes are tagged to their edges) is a [`Curve::Segment`]; any other is a
     /// [`Curve::Polyline`] through its nodes, middle nodes of second-order edges included (the
     /// body's boundary is the polygon through the boundary nodes; for a curved edge its area
     /// error is the circular segments of the chords, `≈ L h² / (12 R)` for chords of length
@@ -809,9 +810,9 @@ impl Mesh {
             let len = dx.hypot(dy);
             let straight = len > 0.0
                 && points.iter().all(|p| {
-                    ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() <= 1e-10 * len * len
-                        && (p[0] - a[0]) * dx + (p[1] - a[1]) * dy >= -1e-10 * len * len
-                        && (p[0] - b[0]) * dx + (p[1] - b[1]) * dy <= 1e-10 * len * len
+                    ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() <= 1e-12 * len * len
+                        && (p[0] - a[0]) * dx + (p[1] - a[1]) * dy >= -1e-12 * len * len
+                        && (p[0] - b[0]) * dx + (p[1] - b[1]) * dy <= 1e-12 * len * len
                 });
             curves.push(if straight {
                 Curve::Segment { a, b }

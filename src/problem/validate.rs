@@ -274,36 +274,36 @@ fn validate_body(
     })
 }
 
-/// `[geometry]` → the domain, and for a Gmsh geometry the nodes of its mesh.
-fn domain(geometry: &GeometryFile) -> Result<(Domain, Option<gmsh::MeshBody>), ProblemError> {
-    if let GeometryFile::Gmsh { file, surface } = geometry {
-        let mesh = gmsh::Mesh::read(std::path::Path::new(file))
-            .map_err(|e| invalid("geometry.file", file, e.to_string()))?;
-        let names = mesh.surface_names();
-        let listed = || names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
-        let surface = match surface {
-            Some(s) => s.as_str(),
-            None if names.len() == 1 => names[0],
-            None => {
-                return Err(invalid(
-                    "geometry.surface",
-                    "(missing)",
-                    format!("{file} has several physical surfaces, name one: {}", listed()),
-                ));
-            }
-        };
-        if !names.contains(&surface) {
+/// `kind = "gmsh"`: the mesh file's body `surface` (the only surface when not named).
+fn gmsh_body(file: &str, surface: Option<&str>) -> Result<gmsh::MeshBody, ProblemError> {
+    let mesh = gmsh::Mesh::read(std::path::Path::new(file))
+        .map_err(|e| invalid("geometry.file", file, e.to_string()))?;
+    let names = mesh.surface_names();
+    let listed = || names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+    let surface = match surface {
+        Some(s) => s,
+        None if names.len() == 1 => names[0],
+        None => {
             return Err(invalid(
                 "geometry.surface",
-                surface,
-                format!("{file} has no such physical surface; it has: {}", listed()),
+                "(missing)",
+                format!("{file} has several physical surfaces, name one: {}", listed()),
             ));
         }
-        let body = mesh
-            .body(surface)
-            .map_err(|e| invalid("geometry.file", file, format!("surface `{surface}`: {e}")))?;
-        return Ok((body.domain.clone(), Some(body)));
+    };
+    if !names.contains(&surface) {
+        return Err(invalid(
+            "geometry.surface",
+            surface,
+            format!("{file} has no such physical surface; it has: {}", listed()),
+        ));
     }
+    mesh.body(surface)
+        .map_err(|e| invalid("geometry.file", file, format!("surface `{surface}`: {e}")))
+}
+
+/// `[geometry]` → the domain, and for a Gmsh geometry the nodes of its mesh.
+fn domain(geometry: &GeometryFile) -> Result<(Domain, Option<gmsh::MeshBody>), ProblemError> {
     match geometry {
         GeometryFile::Rectangle { x, y } => {
             for (name, v) in [("geometry.x", x), ("geometry.y", y)] {
@@ -374,7 +374,10 @@ fn domain(geometry: &GeometryFile) -> Result<(Domain, Option<gmsh::MeshBody>), P
             let p = [center[0] + radius, center[1]];
             Domain::from_curves(vec![Curve::arc_between(p, p, *center, true)], vec!["rim".into()])
         }
-        GeometryFile::Gmsh { .. } => unreachable!("read above"),
+        GeometryFile::Gmsh { file, surface } => {
+            let body = gmsh_body(file, surface.as_deref())?;
+            return Ok((body.domain.clone(), Some(body)));
+        }
     }
     .map(|d| (d, None))
     .map_err(|e| invalid("geometry", "", e.to_string()))
@@ -494,9 +497,15 @@ fn node_layout(
             ));
         }
         if !matches!(file.geometry, GeometryFile::Rectangle { .. }) {
+            let kind = match file.geometry {
+                GeometryFile::Rectangle { .. } | GeometryFile::Polygon { .. } => "polygon",
+                GeometryFile::Curves { .. } => "curves",
+                GeometryFile::Disk { .. } => "disk",
+                GeometryFile::Gmsh { .. } => "gmsh",
+            };
             return Err(invalid(
                 "geometry.kind",
-                "polygon",
+                kind,
                 "discretisation.method = \"fem\" meshes rectangles (kind = \"rectangle\") and Gmsh meshes (kind = \"gmsh\" with nodes.from = \"mesh\")",
             ));
         }
