@@ -246,3 +246,47 @@ impl LemkeRefusal {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The refusal's residual is the worst scaled violation of the terminated run; errors that
+    /// are not numerical failures are handed back; the message carries the numbers and the
+    /// advice, or the active-set solver's failure.
+    #[test]
+    fn lemke_refusal_from_lemke_errors() {
+        let inaccurate = LcpError::InaccurateSolution {
+            pivots: 7,
+            min_z: -3e-4,
+            min_w: -1e-5,
+            max_complementarity: 2e-7,
+            threshold: 1e-6,
+        };
+        let mut r = LemkeRefusal::new(inaccurate, 5, [1e-6, 1e4], true).unwrap();
+        assert_eq!((r.pivots, r.candidates, r.residual), (7, 5, Some(3e-4)));
+        assert_eq!(r.eigenvalue_ratio(), 1e-6 / 1e4);
+        let text = r.to_string();
+        for part in [
+            "(5 candidates)",
+            "after 7 pivots with a scaled residual of 3.0e-4",
+            "from 1.000e-6 to 1.000e4 (ratio 1.0e-10",
+            "solver = \"active_set\"",
+        ] {
+            assert!(text.contains(part), "`{part}` missing: {text}");
+        }
+        assert!(text.starts_with(&r.diagnosis_text()) && !r.diagnosis_text().contains("Set"));
+        r.active_set_failure = Some("it failed".into());
+        assert!(r.to_string().contains("failed too (it failed)"));
+        assert!(!r.to_string().contains("solver = \"active_set\""));
+        let limit = LemkeRefusal::new(LcpError::PivotLimit { limit: 3 }, 2, [1.0, 2.0], false);
+        let limit = limit.unwrap();
+        assert_eq!((limit.pivots, limit.residual), (3, None));
+        assert!(!limit.to_string().contains("active_set"));
+        let other = LcpError::DimensionMismatch { what: "q", expected: 2, found: 1 };
+        assert!(matches!(
+            LemkeRefusal::new(other, 2, [1.0, 2.0], true),
+            Err(LcpError::DimensionMismatch { .. })
+        ));
+    }
+}
