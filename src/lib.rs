@@ -112,6 +112,8 @@ pub mod weak_form;
 
 pub use error::Error;
 pub use model::Model;
-pub use pipeline::{RunReport, compare, discretise, run, solve, solve_model};
+pub use pipeline::{
+    RunReport, compare, discretise, run, solve, solve_model, solve_model_with, solve_with_lemke,
+};
 pub use progress::{Progress, Silent, StageTiming};
 pub use solution::{ContactSolution, Solution};

@@ -81,6 +81,9 @@ pub struct ContactSolution {
     pub unpaired: usize,
     /// The frictional part of the answer (`μ > 0` or load steps only; docs/method.md §8).
     pub friction: Option<FrictionContact>,
+    /// Why Lemke failed before the active-set solver answered instead (`contact.solver =
+    /// "auto"` only; `None` when the answering solver was the first one tried).
+    pub fallback_from: Option<String>,
 }
 
 /// What the active-set solver did (docs/method.md §5.1).
@@ -318,6 +321,7 @@ impl ContactSolution {
             warning,
             unpaired: 0,
             friction: None,
+            fallback_from: None,
         }
     }
 }

@@ -1025,3 +1025,65 @@ fn plate_with_hole_gmsh_problem_matches_its_twin() {
     assert_eq!(n_msh, n_twin);
     assert!((s_msh / s_twin - 1.0).abs() < 1e-8, "sigma_xx(0, 1): {s_msh} vs twin {s_twin}");
 }
+
+/// Lemke's numerical failure through the binary (the strip 249 × 1 at spacing 0.25, 996
+/// candidates, where Lemke's run fails its verification; `tests/validation/lemke_fallback.rs`):
+/// `solver = "lemke"` exits with code 2 and a message naming the conditioning of `M`, the
+/// pivots, the residual and the advice; the default `"auto"` falls back to the active-set
+/// solver, prints a warning and records both in `summary.json`.
+#[test]
+fn lemke_failure_is_explained_or_falls_back() {
+    let strip = |solver: &str| {
+        format!(
+            r#"
+name = "strip"
+[geometry]
+kind = "rectangle"
+x = [0.0, 249.0]
+y = [-0.5, 0.5]
+[nodes]
+spacing = 0.25
+[material]
+young = 30000.0
+poisson = 0.3
+plane = "stress"
+[discretisation]
+basis = "linear"
+support_factor = 2.0
+[[boundary]]
+edge = "left"
+displacement = {{ x = 0.0, y = 0.0 }}
+[[boundary]]
+edge = "top"
+traction = {{ y = -1.0 }}
+[contact]
+edge = "bottom"
+obstacle_point = [0.0, -0.51]
+obstacle_normal = [0.0, 1.0]
+{solver}
+"#
+        )
+    };
+    let (code, stderr) = run_text("lemke-refusal", &strip(r#"solver = "lemke""#));
+    assert_eq!(code, Some(2), "{stderr}");
+    for part in [
+        "Lemke's method could not solve the contact problem (996 candidates)",
+        "pivots with a scaled residual of",
+        "eigenvalues of its symmetric part run from",
+        r#"solver = "active_set""#,
+        "(decided by: contact.solver, nodes.spacing)",
+        r#"contact.solver = "lemke""#,
+    ] {
+        assert!(stderr.contains(part), "`{part}` missing: {stderr}");
+    }
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let (code, stderr) = run_text("lemke-fallback", &strip(""));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(stderr.contains("warning: contact: Lemke's method could not solve"), "{stderr}");
+    assert!(stderr.contains("the active-set solver answered instead"), "{stderr}");
+    let summary = scratch("lemke-fallback").join("out/summary.json");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(summary).unwrap()).unwrap();
+    assert_eq!(v["lcp"]["solver"], "active_set");
+    assert!(v["lcp"]["fallback_from"].as_str().unwrap().contains("fails verification"));
+}

@@ -45,4 +45,6 @@ mod validation {
     mod fem_friction;
     // The active-set contact solver equals Lemke on the shipped rigid-obstacle problems.
     mod active_set;
+    // Lemke's numerical failure: a refusal naming M's conditioning; "auto" falls back to the active set.
+    mod lemke_fallback;
 }

@@ -163,13 +163,23 @@ fn discretise_all(
 /// # Errors
 /// Any stage's error, wrapped in [`Error`].
 pub fn solve(problem: &Problem) -> Result<Solution, Error> {
+    solve_with_lemke(problem, &lcp::LemkeParams::default())
+}
+
+/// [`solve`] with Lemke's parameters given (the frictionless path's; for instance a low
+/// pivot limit, to provoke Lemke's failure and the refusal or the `"auto"` fallback to the
+/// active-set solver in tests). With the default parameters it is [`solve`].
+///
+/// # Errors
+/// As [`solve`].
+pub fn solve_with_lemke(problem: &Problem, lemke: &lcp::LemkeParams) -> Result<Solution, Error> {
     let mut silent = Silent;
     if let Some(a) = &problem.adaptive {
         let run = adaptive::solve_adaptive(problem, a, &mut silent, &mut |_, _, _, _| {})?;
         return Ok(run.solution);
     }
     let (model, second) = discretise_all(problem, &mut silent)?;
-    solve_model(problem, model, second, &mut silent).map(|(_, _, s)| s)
+    solve_model_with(problem, model, second, &mut silent, lemke).map(|(_, _, s)| s)
 }
 
 /// Solves a discretised model (with contact when the problem has it; `second` is the model of
@@ -180,12 +190,27 @@ pub fn solve(problem: &Problem) -> Result<Solution, Error> {
 /// [`Error::Solve`] when `K` is numerically singular; [`Error::Contact`] and [`Error::Lcp`]
 /// when the contact problem cannot be solved or its compliance fails the run-time checks;
 /// [`Error::Problem`] when `second` is given without `problem.second_body`, or the other way
-/// round.
+/// round; [`Error::LemkeRefused`] when Lemke fails numerically on a frictionless problem
+/// (with `contact.solver = "auto"` only when the active-set solver then fails too).
 pub fn solve_model(
+    problem: &Problem,
+    model: Model,
+    second: Option<Model>,
+    progress: &mut dyn Progress,
+) -> Result<(Model, Option<Model>, Solution), Error> {
+    solve_model_with(problem, model, second, progress, &lcp::LemkeParams::default())
+}
+
+/// [`solve_model`] with Lemke's parameters given (see [`solve_with_lemke`]).
+///
+/// # Errors
+/// As [`solve_model`].
+pub fn solve_model_with(
     problem: &Problem,
     mut model: Model,
     mut second: Option<Model>,
     progress: &mut dyn Progress,
+    lemke: &lcp::LemkeParams,
 ) -> Result<(Model, Option<Model>, Solution), Error> {
     if second.is_some() != problem.second_body.is_some() {
         return Err(crate::problem::ProblemError::Invalid {
@@ -223,7 +248,7 @@ pub fn solve_model(
     };
     let pair = problem.second_body.as_deref().zip(second.as_ref());
     let (u1, u2, contact) =
-        solve_contact(problem, spec, &model, pair, steps.as_deref(), &mut clock)?;
+        solve_contact(problem, spec, &model, pair, steps.as_deref(), lemke, &mut clock)?;
     let mut solution = clock.run("recovery", || {
         let forces = &contact.lcp.z;
         let mut ops = vec![(&contact.candidates.operator, forces.as_slice())];
@@ -259,13 +284,16 @@ fn finite(solution: Solution) -> Result<Solution, Error> {
 type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
 
 /// Candidates, condensation `M = G K⁻¹ E`, the checks of `M`, Lemke, and the solves with the
-/// contact forces (docs/method.md §4–§5).
+/// contact forces (docs/method.md §4–§5). When Lemke fails numerically, `"auto"` hands the
+/// problem to the active-set solver and records why; `"lemke"` refuses with the conditioning
+/// of `M` ([`crate::error::LemkeRefusal`]).
 fn solve_contact(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     second: Option<(&Problem, &Model)>,
     steps: Option<&[Vec<StepEnd>]>,
+    lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let (candidates, target, paired_points, unpaired) =
@@ -358,9 +386,37 @@ fn solve_contact(
     let warning = compliance_warning(problem, spec, &condensed)?;
     let m = candidates.len();
     let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
-    let result = clock.run_counted("lemke", |progress| {
-        lcp::lemke_observed(&lcp_problem, &lcp::LemkeParams::default(), progress)
-    })?;
+    let result =
+        clock.run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
+    let result = match result {
+        Ok(result) => result,
+        // A ray is a numerical failure only when M passed its checks (positive definite
+        // symmetric part: the LCP has a solution); else it may prove that none exists, and
+        // stays Lemke's own error.
+        Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
+            return Err(cause.into());
+        }
+        Err(cause) => {
+            let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
+            // Frictionless and one step here: the active-set solver takes the problem.
+            let mut refusal = crate::error::LemkeRefusal::new(cause, m, extremes, true)?;
+            if spec.solver == crate::problem::ContactSolver::Auto {
+                drop((lcp_problem, condensed));
+                let pair = target.zip(second.map(|(_, m2)| m2));
+                match solve_active_set(spec, model, candidates, pair, clock) {
+                    Ok((u1, u2, mut contact)) => {
+                        contact.paired_points = paired_points;
+                        contact.unpaired = unpaired;
+                        contact.warning = warning;
+                        contact.fallback_from = Some(refusal.diagnosis_text());
+                        return Ok((u1, u2, contact));
+                    }
+                    Err(e) => refusal.active_set_failure = Some(e.to_string()),
+                }
+            }
+            return Err(Error::LemkeRefused(Box::new(refusal)));
+        }
+    };
     let mut rhs = model.system.rhs.clone();
     candidates.operator.add_forces(&result.z, &mut rhs);
     let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;

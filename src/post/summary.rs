@@ -237,8 +237,14 @@ pub struct LcpSummary {
     /// `‖M − Mᵀ‖ / ‖M + Mᵀ‖`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub compliance_skew_ratio: Option<f64>,
-    /// `"lemke"` or `"active_set"` (`contact.solver`, with `"auto"` resolved).
+    /// `"lemke"` or `"active_set"` (`contact.solver`, with `"auto"` resolved): the solver
+    /// that produced the answer.
     pub solver: &'static str,
+    /// With `contact.solver = "auto"`, why Lemke failed before the active-set solver answered
+    /// (its pivots, residual and the conditioning of `M`); absent when the first solver
+    /// tried answered.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fallback_from: Option<String>,
     /// The active-set solver's record (docs/method.md §5.1); `pivots` then counts its linear
     /// solves.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -421,6 +427,7 @@ impl Summary {
                 compliance_eigenvalue_method: c.condensed.as_ref().map(|m| m.eigenvalue_method),
                 compliance_skew_ratio: c.condensed.as_ref().map(|m| m.skew_ratio),
                 solver: if c.active_set.is_some() { "active_set" } else { "lemke" },
+                fallback_from: c.fallback_from.clone(),
                 active_set: c.active_set.as_ref().map(|a| ActiveSetSummary {
                     iterations: a.iterations,
                     changes_per_iteration: a.changes.clone(),
@@ -504,7 +511,8 @@ impl Summary {
 }
 
 /// Everything the run proceeded past: an unstable discretisation accepted with
-/// `allow_unstable`, a contact compliance accepted with `allow_indefinite`.
+/// `allow_unstable`, a contact compliance accepted with `allow_indefinite`, Lemke's failure
+/// that `contact.solver = "auto"` answered with the active-set solver.
 fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
     let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
     let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
@@ -514,5 +522,12 @@ fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
             c.unpaired
         )
     });
-    disc.into_iter().chain(contact.map(|w| format!("contact: {w}"))).chain(unpaired).collect()
+    let fallback = solution.contact.as_ref().and_then(|c| c.fallback_from.as_ref()).map(|w| {
+        format!("contact: {w}; the active-set solver answered instead (contact.solver = \"auto\")")
+    });
+    disc.into_iter()
+        .chain(contact.map(|w| format!("contact: {w}")))
+        .chain(unpaired)
+        .chain(fallback)
+        .collect()
 }

@@ -22,7 +22,7 @@ const KKT_TOLERANCE: f64 = 1e-9;
 /// Global equilibrium of each recovered solution, relative to the applied load.
 const EQUILIBRIUM_TOLERANCE: f64 = 1e-8;
 
-fn shipped(file: &str) -> Problem {
+pub(super) fn shipped(file: &str) -> Problem {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file);
     Problem::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -33,11 +33,11 @@ fn solve_with(problem: &Problem, solver: ContactSolver) -> Solution {
     mlpg_contact::solve(&p).unwrap()
 }
 
-fn max_abs(v: &[f64]) -> f64 {
+pub(super) fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
 }
 
-fn check_own(name: &str, s: &Solution) {
+pub(super) fn check_own(name: &str, s: &Solution) {
     let c = s.contact.as_ref().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.min_z >= -KKT_TOLERANCE && r.min_w >= -KKT_TOLERANCE, "{name}: {r:?}");
@@ -285,7 +285,7 @@ fn summary_records_the_solver() {
 /// left, load 1 on top, linear basis) 0.01 above an elastic block `length × 1` (spacing
 /// `1.25 h`, fixed on its bottom) instead of the rigid floor: two long elastic bodies with
 /// `length / h` candidates and a partial contact zone (as `examples/studies/strip.rs`).
-fn strip_on_block(h: f64, length: f64) -> Problem {
+pub(super) fn strip_on_block(h: f64, length: f64) -> Problem {
     let lower_h = 1.25 * h;
     Problem::from_toml(&format!(
         r#"
