@@ -88,17 +88,27 @@ class Result:
         return next(p for p in written if p.name == "report.html")
 
 
-def _text(problem: Problem) -> tuple[str, str]:
-    """(text, format) of a problem given as a path, TOML text or a dict."""
-    if isinstance(problem, Mapping):
-        return json.dumps(problem), "json"
+def _path(problem: Problem) -> Path | None:
+    """The problem file's path, if ``problem`` names one."""
     if isinstance(problem, os.PathLike):
-        return Path(problem).read_text(encoding="utf-8"), "toml"
-    if isinstance(problem, str):
+        return Path(problem)
+    if isinstance(problem, str) and "\n" not in problem:
         # One line naming a file (or ending in .toml) is a path; anything else is TOML text.
-        if "\n" not in problem and (problem.endswith(".toml") or Path(problem).is_file()):
-            return Path(problem).read_text(encoding="utf-8"), "toml"
-        return problem, "toml"
+        if problem.endswith(".toml") or Path(problem).is_file():
+            return Path(problem)
+    return None
+
+
+def _text(problem: Problem) -> tuple[str, str, str | None]:
+    """(text, format, folder) of a problem given as a path, TOML text or a dict; ``folder`` is
+    the problem file's folder (relative mesh paths are taken from there), else ``None``."""
+    if isinstance(problem, Mapping):
+        return json.dumps(problem), "json", None
+    path = _path(problem)
+    if path is not None:
+        return path.read_text(encoding="utf-8"), "toml", str(path.resolve().parent)
+    if isinstance(problem, str):
+        return problem, "toml", None
     raise TypeError(f"a problem is a path, TOML text or a dict, not {type(problem).__name__}")
 
 
@@ -109,8 +119,8 @@ def solve(problem: Problem) -> Result:
     invalid input and ``SolveError`` (a ``RuntimeError`` with ``keys``) when the run fails.
     The GIL is released while solving, so threads can solve in parallel.
     """
-    text, fmt = _text(problem)
-    return Result(_native.solve(text, fmt))
+    text, fmt, folder = _text(problem)
+    return Result(_native.solve(text, fmt, folder))
 
 
 def _as_dict(problem: Problem) -> dict:
@@ -118,8 +128,14 @@ def _as_dict(problem: Problem) -> dict:
         return copy.deepcopy(dict(problem))
     import tomllib
 
-    text, _ = _text(problem)
-    return tomllib.loads(text)
+    text, _, folder = _text(problem)
+    out = tomllib.loads(text)
+    if folder is not None:
+        # A dict has no folder: a relative mesh path becomes the file's own, absolute.
+        for geometry in [out.get("geometry")] + [b.get("geometry") for b in out.get("body", [])]:
+            if isinstance(geometry, dict) and "file" in geometry and not Path(geometry["file"]).is_absolute():
+                geometry["file"] = str(Path(folder) / geometry["file"])
+    return out
 
 
 def with_values(problem: Problem, values: Mapping[str, Any]) -> dict:

@@ -173,10 +173,12 @@ impl Solved {
 }
 
 /// Solves a problem given as text: `format` is `"toml"` (a problem file's contents) or
-/// `"json"` (the same keys as JSON). The GIL is released while solving.
+/// `"json"` (the same keys as JSON); relative mesh paths (`geometry.file`) are taken relative
+/// to `folder` when given (the problem file's folder, as the binary does), else to the working
+/// directory. The GIL is released while solving.
 #[pyfunction]
-#[pyo3(signature = (text, format = "toml"))]
-fn solve(py: Python<'_>, text: &str, format: &str) -> PyResult<Solved> {
+#[pyo3(signature = (text, format = "toml", folder = None))]
+fn solve(py: Python<'_>, text: &str, format: &str, folder: Option<&str>) -> PyResult<Solved> {
     let file = match format {
         "toml" => ProblemFile::from_toml(text),
         "json" => ProblemFile::from_json(text),
@@ -188,6 +190,10 @@ fn solve(py: Python<'_>, text: &str, format: &str) -> PyResult<Solved> {
     }
     .map_err(|e| problem_error(py, &e))?;
     let echo = serde_json::to_value(&file).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let mut file = file;
+    if let Some(folder) = folder {
+        file.resolve_paths(std::path::Path::new(folder));
+    }
     let problem = Problem::try_from(file).map_err(|e| problem_error(py, &e))?;
     let outcome = py.detach(|| Outcome::solve(problem, echo, &mut mlpg_contact::Silent));
     outcome.map(|outcome| Solved { outcome }).map_err(|e| solve_error(py, &e))

@@ -71,6 +71,20 @@ def test_a_dict_solves_like_the_file():
         assert np.array_equal(other.contact["force"], from_file.contact["force"])
 
 
+def test_a_relative_mesh_path_is_the_problem_files(monkeypatch, tmp_path):
+    # geometry.file = "plate_with_hole_gmsh.msh" sits beside the problem file: a path finds it
+    # from any working directory, and with_values turns it into an absolute path in the dict.
+    monkeypatch.chdir(tmp_path)
+    path = ROOT / "problems" / "plate_with_hole_gmsh.toml"
+    from_path = mc.solve(path)
+    from_dict = mc.solve(mc.with_values(path, {"name": "plate_with_hole_gmsh"}))
+    assert np.array_equal(from_dict.displacement, from_path.displacement)
+    assert mc.with_values(path, {})["geometry"]["file"] == str(path.parent / "plate_with_hole_gmsh.msh")
+    with pytest.raises(mc.ProblemError) as e:
+        mc.solve(path.read_text())  # text has no folder: relative to the working directory
+    assert e.value.field == "geometry.file"
+
+
 def test_errors_name_the_field():
     base = tomllib.loads((ROOT / "problems" / "cantilever.toml").read_text())
     with pytest.raises(mc.ProblemError) as e:
