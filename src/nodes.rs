@@ -190,9 +190,11 @@ pub const MAX_LEVEL: u32 = 12;
 /// asked for: in a region asking for `s`, the cells have the largest `h0 / 2^L ≤ s`), down to
 /// [`MAX_LEVEL`]. Then the tree is balanced (a cell is split while a cell sharing an edge or a
 /// corner with it is more than one level finer), so that neighbouring cells differ by at most
-/// a factor 2. The nodes are the cell corners, row by row (the mid-side nodes where a coarse
-/// cell meets two finer ones included); boundary nodes lie on the edges at the local spacing
-/// and the corners of the rectangle are nodes.
+/// a factor 2; a leaf at a corner of the rectangle whose diagonal neighbour is split while its
+/// two side neighbours are not is split as well and the tree balanced again (else the corner
+/// has 3 support nodes at `α_s = 2`, docs/method.md §2.1). The nodes are the cell corners,
+/// row by row (the mid-side nodes where a coarse cell meets two finer ones included); boundary
+/// nodes lie on the edges at the local spacing and the corners of the rectangle are nodes.
 ///
 /// Each node's spacing `h_I` is the geometric mean of the nominal sizes `h0 / 2^L` of the
 /// largest and the smallest cell it touches (the uniform generator gives every node `h0`): at
@@ -258,25 +260,15 @@ pub fn generate_graded(
             }
         }
     }
-    // Balance, finest level first: a split cell at level L ≥ 1 needs the level-(L − 1) cells
-    // around it (edge and corner neighbours) split, and their ancestors.
-    for level in (1..split.len()).rev() {
-        let (cx, cy) = (nx << level, ny << level);
-        let list: Vec<(u64, u64)> = split[level].iter().copied().collect();
-        for (i, j) in list {
-            for dj in -1i64..=1 {
-                for di in -1i64..=1 {
-                    let (ni, nj) = (i as i64 + di, j as i64 + dj);
-                    if ni < 0 || nj < 0 || ni >= cx as i64 || nj >= cy as i64 {
-                        continue;
-                    }
-                    let (mut l, mut a, mut b) = (level - 1, ni as u64 / 2, nj as u64 / 2);
-                    while split[l].insert((a, b)) && l > 0 {
-                        (l, a, b) = (l - 1, a / 2, b / 2);
-                    }
-                }
-            }
-        }
+    balance(&mut split, nx, ny);
+    // Corner cells: a leaf at a corner of the rectangle whose cell across its inner vertex is
+    // split while its two side neighbours are not gives that vertex `h_I = size/√2`, a support
+    // radius equal to the corner cell's diagonal, which leaves the domain corner with 3 support
+    // nodes at `α_s = 2` (itself and its two edge neighbours; no mid-side node on the corner
+    // cell's inner sides). Such a corner cell is split (and the tree balanced again); its inner
+    // vertex then touches only cells of its own size.
+    while split_corner_cells(&mut split, nx, ny) {
+        balance(&mut split, nx, ny);
     }
     let depth = split.iter().rposition(|s| !s.is_empty()).map_or(0, |l| l as u32 + 1);
     // Leaves: cells whose parent is split (or roots) and which are not split themselves.
@@ -341,6 +333,58 @@ pub fn generate_graded(
         }
     }
     Ok(Nodes { points, spacing, edges })
+}
+
+/// Balances the quadtree of [`generate_graded`], finest level first: a split cell at level
+/// `L ≥ 1` needs the level-`(L − 1)` cells around it (edge and corner neighbours) split, and
+/// their ancestors. `split[L]` holds the split cells of level `L` of an `nx × ny` root grid.
+fn balance(split: &mut [std::collections::BTreeSet<(u64, u64)>], nx: u64, ny: u64) {
+    for level in (1..split.len()).rev() {
+        let (cx, cy) = (nx << level, ny << level);
+        let list: Vec<(u64, u64)> = split[level].iter().copied().collect();
+        for (i, j) in list {
+            for dj in -1i64..=1 {
+                for di in -1i64..=1 {
+                    let (ni, nj) = (i as i64 + di, j as i64 + dj);
+                    if ni < 0 || nj < 0 || ni >= cx as i64 || nj >= cy as i64 {
+                        continue;
+                    }
+                    let (mut l, mut a, mut b) = (level - 1, ni as u64 / 2, nj as u64 / 2);
+                    while split[l].insert((a, b)) && l > 0 {
+                        (l, a, b) = (l - 1, a / 2, b / 2);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Splits each leaf at a corner of the rectangle whose diagonal neighbour (the cell across its
+/// inner vertex) is split and whose two side neighbours are not (see [`generate_graded`]);
+/// whether any was split. The tree must be balanced before and after.
+fn split_corner_cells(
+    split: &mut [std::collections::BTreeSet<(u64, u64)>],
+    nx: u64,
+    ny: u64,
+) -> bool {
+    let mut changed = false;
+    for (right, top) in [(false, false), (true, false), (false, true), (true, true)] {
+        // The leaf holding the corner.
+        let (mut l, mut i, mut j) =
+            (0usize, if right { nx - 1 } else { 0 }, if top { ny - 1 } else { 0 });
+        while split.get(l).is_some_and(|s| s.contains(&(i, j))) {
+            (l, i, j) = (l + 1, 2 * i + u64::from(right), 2 * j + u64::from(top));
+        }
+        // Inner neighbours (the root grid has at least two cells per side).
+        let (ii, jj) = (if right { i - 1 } else { i + 1 }, if top { j - 1 } else { j + 1 });
+        let is_split = |c: (u64, u64)| split.get(l).is_some_and(|s| s.contains(&c));
+        if l < MAX_LEVEL as usize && is_split((ii, jj)) && !is_split((ii, j)) && !is_split((i, jj))
+        {
+            split[l].insert((i, j));
+            changed = true;
+        }
+    }
+    changed
 }
 
 fn rectangle_grid(x: [f64; 2], y: [f64; 2], h: f64) -> Vec<Point> {
@@ -554,6 +598,44 @@ mod tests {
                 assert!(moved <= 0.4 * s.spacing[i] + 1e-15, "{i}: {moved}");
             } else {
                 assert_eq!(p, q);
+            }
+        }
+    }
+
+    /// Nodes whose support `|x − x_J|² < (α_s h_J)² (1 − 10⁻¹⁰)` at `α_s = 2` holds `x`
+    /// (docs/method.md §2).
+    fn support_size(n: &Nodes, x: Point) -> usize {
+        (0..n.len())
+            .filter(|&j| {
+                let (p, r) = (n.points[j], 2.0 * n.spacing[j]);
+                (p[0] - x[0]).powi(2) + (p[1] - x[1]).powi(2) < r * r * (1.0 - 1e-10)
+            })
+            .count()
+    }
+
+    /// The cantilever's rectangle at `h₀ = 2` with a point region of spacing 1 diagonally off
+    /// each corner cell: the cell across each corner cell's inner vertex is split, the corner
+    /// cell and its two side neighbours are not. That inner vertex then touches a cell of size
+    /// 1 and takes `h_I = √2`: its support radius `2√2` is the corner cell's diagonal, so the
+    /// domain corner had only 3 support nodes (itself and its two edge neighbours), on
+    /// structured and jittered layouts alike (the adaptive loop's jittered cantilever stopped
+    /// there). The generator splits such a corner cell.
+    #[test]
+    fn graded_corner_cell_next_to_a_finer_diagonal_cell_keeps_four_support_nodes() {
+        use crate::problem::{RefineBox, Refinement};
+        let d = Domain::rectangle([0.0, 48.0], [-6.0, 6.0]).unwrap();
+        let point = |x: f64, y: f64| RefineBox { x: [x, x], y: [y, y], spacing: 1.0 };
+        let r = Refinement {
+            boxes: vec![point(4.0, -1.0), point(44.0, -1.0), point(4.0, 1.0), point(44.0, 1.0)],
+        };
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.4, seed: 1 }] {
+            let n =
+                generate_graded(&d, 2.0, layout, |lo, hi| r.min_spacing_in(2.0, lo, hi)).unwrap();
+            // The regions did refine next to the corners (the cells across their inner vertices).
+            assert!(n.spacing.iter().any(|&h| h < 2.0));
+            for c in [[0.0, -6.0], [48.0, -6.0], [48.0, 6.0], [0.0, 6.0]] {
+                let k = support_size(&n, c);
+                assert!(k >= 4, "{layout:?}: corner {c:?} has {k} support nodes");
             }
         }
     }
