@@ -4,6 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+// The long strip of the contact studies (the problem text for the binary).
+#[path = "../examples/studies/strip.rs"]
+mod strip;
+
 fn binary() -> &'static str {
     env!("CARGO_BIN_EXE_mlpg-contact")
 }
@@ -1033,37 +1037,8 @@ fn plate_with_hole_gmsh_problem_matches_its_twin() {
 /// solver, prints a warning and records both in `summary.json`.
 #[test]
 fn lemke_failure_is_explained_or_falls_back() {
-    let strip = |solver: &str| {
-        format!(
-            r#"
-name = "strip"
-[geometry]
-kind = "rectangle"
-x = [0.0, 249.0]
-y = [-0.5, 0.5]
-[nodes]
-spacing = 0.25
-[material]
-young = 30000.0
-poisson = 0.3
-plane = "stress"
-[discretisation]
-basis = "linear"
-support_factor = 2.0
-[[boundary]]
-edge = "left"
-displacement = {{ x = 0.0, y = 0.0 }}
-[[boundary]]
-edge = "top"
-traction = {{ y = -1.0 }}
-[contact]
-edge = "bottom"
-obstacle_point = [0.0, -0.51]
-obstacle_normal = [0.0, 1.0]
-{solver}
-"#
-        )
-    };
+    // The contact studies' strip, 249 × 1 at spacing 0.25 (996 candidates).
+    let strip = |solver: &str| format!("{}{solver}\n", strip::strip_text(0.25, 249.0));
     let (code, stderr) = run_text("lemke-refusal", &strip(r#"solver = "lemke""#));
     assert_eq!(code, Some(2), "{stderr}");
     for part in [

@@ -1,6 +1,9 @@
 //! Validation suite: one self-contained file per case under `tests/validation/`.
 mod validation {
     mod common;
+    // The long strip (and strip on a block) of the contact studies, shared with them.
+    #[path = "../../examples/studies/strip.rs"]
+    mod strip;
     // Linear field reproduced to round-off, structured and jittered nodes.
     mod patch_test;
     // Timoshenko & Goodier cantilever: the closed form (also used by examples/studies/param_study.rs).

@@ -6,8 +6,17 @@
 use mlpg_contact::problem::Problem;
 
 /// The strip of length `length` at node spacing `h`.
+#[allow(dead_code)]
 pub fn strip(h: f64, length: f64) -> Problem {
-    let text = format!(
+    Problem::from_toml(&strip_text(h, length))
+        .unwrap_or_else(|e| panic!("strip problem is invalid: {e}"))
+}
+
+/// The problem file of [`strip`] (its `[contact]` table last, so that keys such as
+/// `solver = "lemke"` can be appended to it).
+#[allow(dead_code)]
+pub fn strip_text(h: f64, length: f64) -> String {
+    format!(
         r#"
         name = "strip"
         [geometry]
@@ -34,8 +43,7 @@ pub fn strip(h: f64, length: f64) -> Problem {
         obstacle_point = [0.0, -0.51]
         obstacle_normal = [0.0, 1.0]
         "#
-    );
-    Problem::from_toml(&text).unwrap_or_else(|e| panic!("strip problem is invalid: {e}"))
+    )
 }
 
 /// The strip of [`strip`] (spacing `h`) 0.01 above an elastic block `length × 1` (the same

@@ -11,6 +11,7 @@
 
 use super::fem_two_bodies::fem_two_blocks;
 use super::hertz::cylinder_on_block;
+use super::strip::strip_on_block;
 use super::two_bodies::{mirror_problems, two_blocks, with_variant};
 use mlpg_contact::problem::{ContactSolver, Problem};
 use mlpg_contact::solution::Solution;
@@ -279,41 +280,6 @@ fn summary_records_the_solver() {
             std::fs::remove_dir_all(&out).unwrap();
         }
     }
-}
-
-/// The strip of `auto_switches_at_the_threshold` (`length × 1`, spacing `h`, clamped on the
-/// left, load 1 on top, linear basis) 0.01 above an elastic block `length × 1` (spacing
-/// `1.25 h`, fixed on its bottom) instead of the rigid floor: two long elastic bodies with
-/// `length / h` candidates and a partial contact zone (as `examples/studies/strip.rs`).
-pub(super) fn strip_on_block(h: f64, length: f64) -> Problem {
-    let lower_h = 1.25 * h;
-    Problem::from_toml(&format!(
-        r#"
-        name = "strip"
-        [discretisation]
-        basis = "linear"
-        support_factor = 2.0
-        [[body]]
-        name = "strip"
-        geometry = {{ kind = "rectangle", x = [0.0, {length:?}], y = [-0.5, 0.5] }}
-        nodes = {{ spacing = {h:?} }}
-        material = {{ young = 30000.0, poisson = 0.3, plane = "stress" }}
-        boundary = [
-          {{ edge = "left", displacement = {{ x = 0.0, y = 0.0 }} }},
-          {{ edge = "top", traction = {{ y = -1.0 }} }},
-        ]
-        [[body]]
-        name = "block"
-        geometry = {{ kind = "rectangle", x = [0.0, {length:?}], y = [-1.51, -0.51] }}
-        nodes = {{ spacing = {lower_h:?} }}
-        material = {{ young = 30000.0, poisson = 0.3, plane = "stress" }}
-        boundary = [{{ edge = "bottom", displacement = {{ x = 0.0, y = 0.0 }} }}]
-        [contact]
-        edge = "bottom"
-        target_edge = "top"
-        "#
-    ))
-    .unwrap()
 }
 
 /// Solves `problem` with `"auto"`, which must take the active-set solver, and checks the

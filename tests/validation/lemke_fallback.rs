@@ -17,7 +17,8 @@
 //! `M`'s symmetric part is down to 1e-10) take minutes and are ignored tests; their timings
 //! are in docs/dev/active_set.md.
 
-use super::active_set::{check_own, max_abs, shipped, strip_on_block};
+use super::active_set::{check_own, max_abs, shipped};
+use super::strip::{strip, strip_on_block};
 use mlpg_contact::error::LemkeRefusal;
 use mlpg_contact::lcp::{LcpError, LemkeParams};
 use mlpg_contact::problem::{ContactSolver, Problem};
@@ -136,41 +137,6 @@ fn summary_records_the_fallback() {
     assert_eq!(v["lcp"]["solver"], "lemke");
     assert!(v["lcp"].get("fallback_from").is_none());
     assert!(v["warnings"].as_array().unwrap().is_empty());
-}
-
-/// The long strip of the contact studies (`examples/studies/strip.rs`): `length × 1`
-/// (E = 30 000, ν = 0.3, plane stress, linear basis, α_s = 2), clamped on the left, load 1 on
-/// top, a rigid floor 0.01 below; `length / h + 1` candidates.
-fn strip(h: f64, length: f64) -> Problem {
-    Problem::from_toml(&format!(
-        r#"
-        name = "strip"
-        [geometry]
-        kind = "rectangle"
-        x = [0.0, {length:?}]
-        y = [-0.5, 0.5]
-        [nodes]
-        spacing = {h:?}
-        [material]
-        young = 30000.0
-        poisson = 0.3
-        plane = "stress"
-        [discretisation]
-        basis = "linear"
-        support_factor = 2.0
-        [[boundary]]
-        edge = "left"
-        displacement = {{ x = 0.0, y = 0.0 }}
-        [[boundary]]
-        edge = "top"
-        traction = {{ y = -1.0 }}
-        [contact]
-        edge = "bottom"
-        obstacle_point = [0.0, -0.51]
-        obstacle_normal = [0.0, 1.0]
-        "#
-    ))
-    .unwrap()
 }
 
 /// Checks a refusal from Lemke's own verification (`InaccurateSolution`): the residual
