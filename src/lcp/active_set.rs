@@ -838,37 +838,7 @@ impl<'a> RigidObstacle<'a> {
     /// when its normwise backward error is above 1e-14 (the low-rank update loses digits).
     pub fn displacements(&mut self, active: &[bool]) -> Result<Vec<f64>, ActiveSetError> {
         let b = self.rhs_of(active);
-        self.solve_refined(active, &b)
-    }
-
-    /// `K_A⁻¹ b` with one step of iterative refinement.
-    fn solve_refined(&mut self, active: &[bool], b: &[f64]) -> Result<Vec<f64>, ActiveSetError> {
-        let n = b.len();
-        let mut u = b.to_vec();
-        self.solve_columns(active, MatMut::from_column_major_slice_mut(&mut u, n, 1))?;
-        if u.iter().any(|v| !v.is_finite()) {
-            return Err(singular("the problem of the active set"));
-        }
-        let mut r = self.apply(active, &u);
-        for (r, b) in r.iter_mut().zip(b) {
-            *r = b - *r;
-        }
-        // Normwise backward error; below 1e-14 the refinement step would change nothing that
-        // matters (and it costs one or two solves).
-        let max_abs = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-        let backward = max_abs(&r) / (self.norm * max_abs(&u) + max_abs(b)).max(f64::MIN_POSITIVE);
-        if backward <= 1e-14 {
-            return Ok(u);
-        }
-        self.stats.refinements += 1;
-        self.solve_columns(active, MatMut::from_column_major_slice_mut(&mut r, n, 1))?;
-        for (u, d) in u.iter_mut().zip(&r) {
-            *u += d;
-        }
-        if u.iter().any(|v| !v.is_finite()) {
-            return Err(singular("the problem of the active set"));
-        }
-        Ok(u)
+        solve_refined(self, active, &b)
     }
 
     /// The matrix of `active` times `u`.
@@ -922,6 +892,74 @@ fn sum_rows(a: &Row, b: &Row) -> Row {
 fn difference(new: &Row, old: &Row) -> Row {
     let neg: Row = old.iter().map(|&(j, v)| (j, -v)).collect();
     sum_rows(new, &neg).into_iter().filter(|e| e.1 != 0.0).collect()
+}
+
+/// What [`solve_refined`] needs of a sparse active-set system ([`RigidObstacle`] and
+/// `TwoBodies`).
+trait SparseSolves {
+    /// Solves the problem of `active` for the columns of `x`, in place.
+    fn solve_in_place(&mut self, active: &[bool], x: MatMut<'_, f64>)
+    -> Result<(), ActiveSetError>;
+    /// The matrix of `active` times `u`.
+    fn product(&self, active: &[bool], u: &[f64]) -> Vec<f64>;
+    /// The largest absolute row sum of the unmodified matrix.
+    fn row_norm(&self) -> f64;
+    /// Counts one refinement step in the statistics.
+    fn count_refinement(&mut self);
+}
+
+/// `K_A⁻¹ b` with one step of iterative refinement when the normwise backward error is
+/// above 1e-14 (below it the step would change nothing that matters, and it costs one or two
+/// solves).
+fn solve_refined<S: SparseSolves>(
+    system: &mut S,
+    active: &[bool],
+    b: &[f64],
+) -> Result<Vec<f64>, ActiveSetError> {
+    let n = b.len();
+    let mut u = b.to_vec();
+    system.solve_in_place(active, MatMut::from_column_major_slice_mut(&mut u, n, 1))?;
+    if u.iter().any(|v| !v.is_finite()) {
+        return Err(singular("the problem of the active set"));
+    }
+    let mut r = system.product(active, &u);
+    for (r, b) in r.iter_mut().zip(b) {
+        *r = b - *r;
+    }
+    let max_abs = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let backward =
+        max_abs(&r) / (system.row_norm() * max_abs(&u) + max_abs(b)).max(f64::MIN_POSITIVE);
+    if backward <= 1e-14 {
+        return Ok(u);
+    }
+    system.count_refinement();
+    system.solve_in_place(active, MatMut::from_column_major_slice_mut(&mut r, n, 1))?;
+    for (u, d) in u.iter_mut().zip(&r) {
+        *u += d;
+    }
+    if u.iter().any(|v| !v.is_finite()) {
+        return Err(singular("the problem of the active set"));
+    }
+    Ok(u)
+}
+
+impl SparseSolves for RigidObstacle<'_> {
+    fn solve_in_place(
+        &mut self,
+        active: &[bool],
+        x: MatMut<'_, f64>,
+    ) -> Result<(), ActiveSetError> {
+        self.solve_columns(active, x)
+    }
+    fn product(&self, active: &[bool], u: &[f64]) -> Vec<f64> {
+        self.apply(active, u)
+    }
+    fn row_norm(&self) -> f64 {
+        self.norm
+    }
+    fn count_refinement(&mut self) {
+        self.stats.refinements += 1;
+    }
 }
 
 impl ActiveSetSystem for RigidObstacle<'_> {

@@ -20,8 +20,8 @@
 //! [`RigidObstacle`]: super::RigidObstacle
 
 use super::{
-    ActiveSetError, ActiveSetSystem, COLUMN_BYTES, Lcp, RigidObstacleStats, Row, dense_lu,
-    dense_lu_solve, singular, solve_blocks, sum_rows,
+    ActiveSetError, ActiveSetSystem, COLUMN_BYTES, Lcp, RigidObstacleStats, Row, SparseSolves,
+    dense_lu, dense_lu_solve, singular, solve_blocks, solve_refined, sum_rows,
 };
 use crate::assembly::SystemMatrix;
 use crate::contact::BodyOperator;
@@ -413,42 +413,13 @@ impl<'a> TwoBodies<'a> {
         Ok(())
     }
 
-    /// `K_A⁻¹ b` with one step of iterative refinement when the normwise backward error is
-    /// above 1e-14 (as for the rigid obstacle).
-    fn solve_refined(&mut self, active: &[bool], b: &[f64]) -> Result<Vec<f64>, ActiveSetError> {
-        let n = b.len();
-        let mut u = b.to_vec();
-        self.solve_columns(active, MatMut::from_column_major_slice_mut(&mut u, n, 1))?;
-        if u.iter().any(|v| !v.is_finite()) {
-            return Err(singular("the problem of the active set"));
-        }
-        let mut r = self.apply(active, &u);
-        for (r, b) in r.iter_mut().zip(b) {
-            *r = b - *r;
-        }
-        let max_abs = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
-        let backward = max_abs(&r) / (self.norm * max_abs(&u) + max_abs(b)).max(f64::MIN_POSITIVE);
-        if backward <= 1e-14 {
-            return Ok(u);
-        }
-        self.stats.refinements += 1;
-        self.solve_columns(active, MatMut::from_column_major_slice_mut(&mut r, n, 1))?;
-        for (u, d) in u.iter_mut().zip(&r) {
-            *u += d;
-        }
-        if u.iter().any(|v| !v.is_finite()) {
-            return Err(singular("the problem of the active set"));
-        }
-        Ok(u)
-    }
-
     /// Solves the problem of `active` for `(û₁, û₂)` (concatenated).
     ///
     /// # Errors
     /// A failed solve.
     pub fn displacements(&mut self, active: &[bool]) -> Result<Vec<f64>, ActiveSetError> {
         let b = self.rhs_of(active);
-        self.solve_refined(active, &b)
+        solve_refined(self, active, &b)
     }
 
     /// The displacements `(û₁, û₂)` of the problem of `active`: those of the last
@@ -479,6 +450,25 @@ impl<'a> TwoBodies<'a> {
     /// `g0 + G₁ û₁ + G₂ û₂`.
     fn gaps(&self, u: &[f64]) -> Vec<f64> {
         self.gap_change(u).iter().zip(self.initial_gap).map(|(g, g0)| g0 + g).collect()
+    }
+}
+
+impl SparseSolves for TwoBodies<'_> {
+    fn solve_in_place(
+        &mut self,
+        active: &[bool],
+        x: MatMut<'_, f64>,
+    ) -> Result<(), ActiveSetError> {
+        self.solve_columns(active, x)
+    }
+    fn product(&self, active: &[bool], u: &[f64]) -> Vec<f64> {
+        self.apply(active, u)
+    }
+    fn row_norm(&self) -> f64 {
+        self.norm
+    }
+    fn count_refinement(&mut self) {
+        self.stats.refinements += 1;
     }
 }
 
