@@ -18,7 +18,9 @@
 #[path = "../../tests/validation/end_shear_exact.rs"]
 mod end_shear_exact;
 
-use end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
+use end_shear_exact::{
+    DEPTH, LENGTH, POISSON, YOUNG, energy_density, exact_displacement, exact_stress,
+};
 use mlpg_contact::pipeline::adaptive::{self, Estimate};
 use mlpg_contact::problem::{
     Adaptive, ComponentCondition, EdgeCondition, Field, Indicator, Layout, Problem,
@@ -58,20 +60,15 @@ fn cantilever(h: f64, layout: Layout) -> Problem {
     p
 }
 
-fn compliance_energy(s: [f64; 3]) -> f64 {
-    (s[0] * s[0] + s[1] * s[1] - 2.0 * POISSON * s[0] * s[1]) / YOUNG
-        + 2.0 * (1.0 + POISSON) * s[2] * s[2] / YOUNG
-}
-
 /// Per-node true error `e_I²` and the relative energy-norm error.
 fn true_error(model: &Model, s: &Solution) -> (Vec<f64>, f64) {
     let (mut num, mut den, mut e) = (0.0, 0.0, Vec::new());
     for (i, &p) in model.nodes.points.iter().enumerate() {
         let (se, sh, a) = (exact_stress(p), s.stress[i], model.nodes.spacing[i].powi(2));
         let d = [sh[0] - se[0], sh[1] - se[1], sh[2] - se[2]];
-        e.push(a * compliance_energy(d));
-        num += a * compliance_energy(d);
-        den += a * compliance_energy(se);
+        e.push(a * energy_density(d));
+        num += a * energy_density(d);
+        den += a * energy_density(se);
     }
     (e, (num / den).sqrt())
 }

@@ -40,7 +40,9 @@ mod study;
 mod end_shear_exact;
 
 use clap::{Parser, ValueEnum};
-use end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
+use end_shear_exact::{
+    DEPTH, LENGTH, POISSON, YOUNG, energy_density, exact_displacement, exact_stress,
+};
 use mlpg_contact::material::PlaneState;
 use mlpg_contact::mls::Basis;
 use mlpg_contact::nodes::Layout;
@@ -231,11 +233,6 @@ fn cantilever_base() -> Problem {
         ComponentCondition::Traction(component(|q| exact_stress(q)[2])),
     ]);
     p
-}
-
-fn energy_density(s: [f64; 3]) -> f64 {
-    (s[0] * s[0] + s[1] * s[1] - 2.0 * POISSON * s[0] * s[1]) / YOUNG
-        + 2.0 * (1.0 + POISSON) * s[2] * s[2] / YOUNG
 }
 
 fn cantilever(base: &Problem, v: &Variant, h: f64) -> Result<CantileverRow, String> {

@@ -7,7 +7,8 @@
 //! (Checked symbolically: equilibrium, traction-free top and bottom, resultant shear `P`.)
 //!
 //! Used by `cantilever_end_shear.rs`, `fem_cantilever.rs` and (through `#[path]`)
-//! `examples/studies/param_study.rs`; depends on nothing but `std`.
+//! `examples/studies/param_study.rs` and `examples/studies/adaptive_refinement.rs`; depends on
+//! nothing but `std`.
 
 /// Length `L` (the beam spans `x ∈ [0, L]`).
 pub const LENGTH: f64 = 48.0;
@@ -42,4 +43,12 @@ pub fn exact_stress(p: [f64; 2]) -> [f64; 3] {
     let [x, y] = p;
     let i = inertia();
     [-LOAD * (LENGTH - x) * y / i, 0.0, LOAD * (DEPTH * DEPTH / 4.0 - y * y) / (2.0 * i)]
+}
+
+/// The complementary energy density `σ · C σ` (twice the energy per unit volume) of a
+/// plane-stress stress `(σ_xx, σ_yy, τ_xy)` for this material: the integrand of the energy
+/// norm of the error.
+pub fn energy_density(s: [f64; 3]) -> f64 {
+    (s[0] * s[0] + s[1] * s[1] - 2.0 * POISSON * s[0] * s[1]) / YOUNG
+        + 2.0 * (1.0 + POISSON) * s[2] * s[2] / YOUNG
 }

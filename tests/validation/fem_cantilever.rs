@@ -16,13 +16,9 @@ use mlpg_contact::problem::Method;
 use std::sync::Arc;
 
 // The closed form and its data are the MFVM cantilever's.
-use super::end_shear_exact::{DEPTH, LENGTH, POISSON, YOUNG, exact_displacement, exact_stress};
-
-/// `σ·D⁻¹σ` (plane stress).
-fn energy_density(s: [f64; 3]) -> f64 {
-    (s[0] * s[0] + s[1] * s[1] - 2.0 * POISSON * s[0] * s[1]) / YOUNG
-        + 2.0 * (1.0 + POISSON) * s[2] * s[2] / YOUNG
-}
+use super::end_shear_exact::{
+    DEPTH, LENGTH, POISSON, YOUNG, energy_density, exact_displacement, exact_stress,
+};
 
 struct Errors {
     displacement: f64,
