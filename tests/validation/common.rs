@@ -88,3 +88,16 @@ pub fn write_table(case: &str, file: &str, header: &str, rows: &[Vec<f64>]) {
         let _ = std::fs::write(dir.join(file), text);
     }
 }
+
+/// Asserts that an LCP answer's residuals (`min z`, `min w`, `z·w`, `w − (Mz + q)`, each
+/// signed so that a violation is positive) are at most `tolerance`, naming `label`.
+pub fn assert_lcp_residuals(label: &str, r: &mlpg_contact::lcp::LcpResiduals, tolerance: f64) {
+    for (what, v) in [
+        ("min z", -r.min_z),
+        ("min w", -r.min_w),
+        ("z·w", r.max_complementarity),
+        ("w − (Mz + q)", r.equation_residual),
+    ] {
+        assert!(v <= tolerance, "{label}: {what} {v}");
+    }
+}

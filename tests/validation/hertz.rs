@@ -120,15 +120,7 @@ pub(super) fn measure(
     load: f64,
 ) -> Outcome {
     let c = s.contact.as_ref().unwrap();
-    let r = &c.lcp.residuals;
-    for (what, v) in [
-        ("min z", -r.min_z),
-        ("min w", -r.min_w),
-        ("z·w", r.max_complementarity),
-        ("w − (Mz + q)", r.equation_residual),
-    ] {
-        assert!(v <= 1e-9, "{label}: {what} {v}");
-    }
+    assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     assert!(
         c.condensed.as_ref().unwrap().min_diagonal > 0.0
             && c.condensed.as_ref().unwrap().min_symmetric_eigenvalue > 0.0
