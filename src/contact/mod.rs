@@ -87,8 +87,11 @@ pub enum ContactError {
         /// The target edge.
         target: String,
     },
-    /// A two-body contact was solved without the second body's model.
-    #[error("the contact targets a second body, but no model of it was given")]
+    /// A two-body contact was solved without the second body's model, or a contact with
+    /// obstacles without any obstacle.
+    #[error(
+        "the contact's target is missing: a second body without its model, or obstacles without any [[obstacle]]"
+    )]
     MissingTarget,
     /// MLS failed at a contact point.
     #[error(transparent)]

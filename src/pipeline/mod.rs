@@ -298,6 +298,10 @@ fn solve_contact(
 ) -> Result<ContactOutcome, Error> {
     let (candidates, target, paired_points, unpaired) =
         clock.run("contact_candidates", || match (&spec.target, second) {
+            (ContactTarget::Obstacles, _) if problem.obstacles.is_empty() => {
+                // A library-built problem may name obstacles it does not have.
+                Err(contact::ContactError::MissingTarget)
+            }
             (ContactTarget::Rigid(_) | ContactTarget::Obstacles, _) => {
                 let target = |x| {
                     contact::rigid_target(problem, spec, x).expect("a rigid target has obstacles")

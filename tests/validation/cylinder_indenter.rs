@@ -142,6 +142,22 @@ fn bad_obstacles_are_refused() {
     );
 }
 
+/// A library-built problem whose contact names obstacles it does not have is a typed error,
+/// not a panic.
+#[test]
+fn a_contact_without_its_obstacles_is_an_error() {
+    let mut p = problem(0.1, 2.0);
+    p.obstacles.clear();
+    let e = mlpg_contact::solve(&p).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            mlpg_contact::Error::Contact(mlpg_contact::contact::ContactError::MissingTarget)
+        ),
+        "{e}"
+    );
+}
+
 /// The indenter as an initial overlap instead of a load step (the circle's centre at
 /// `1 − δ`; one Lemke solve, no increments): the active-set method (§5.1), which replaces
 /// each candidate's row of its larger normal component, with normals that differ per
