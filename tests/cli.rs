@@ -1062,3 +1062,103 @@ fn lemke_failure_is_explained_or_falls_back() {
     assert_eq!(v["lcp"]["solver"], "active_set");
     assert!(v["lcp"]["fallback_from"].as_str().unwrap().contains("fails verification"));
 }
+
+/// A flat punch from a Gmsh physical curve (`tests/data/gmsh/punch_o1_v4.msh` written to
+/// `mesh.msh` beside the problem file) pressed into a coarse half block.
+const GMSH_OBSTACLE: &str = r#"
+[geometry]
+kind = "rectangle"
+x = [0.0, 1.0]
+y = [-1.0, 0.0]
+[nodes]
+spacing = 0.04
+[material]
+young = 1.0
+poisson = 0.3
+plane = "strain"
+[[boundary]]
+edge = "bottom"
+displacement = { x = 0.0, y = 0.0 }
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0 }
+[[obstacle]]
+name = "punch"
+kind = "gmsh"
+file = "mesh.msh"
+curve = "punch"
+[contact]
+edge = "top"
+target = "punch"
+[[step]]
+obstacle_displacement = [0.0, -0.01]
+"#;
+
+#[test]
+fn gmsh_obstacle_runs_and_bad_curves_name_the_key() {
+    let punch = gmsh_data("punch_o1_v4.msh");
+    let (code, stderr) = run_with_mesh("gmsh_obstacle_ok", GMSH_OBSTACLE, &punch);
+    assert_eq!(code, Some(0), "{stderr}");
+    let text = String::from_utf8(punch.clone()).unwrap();
+    let nodes = text.lines().position(|l| l == "$Nodes").unwrap() + 1;
+    let bad = text.replacen("\n-0.1 1 0\n", "\n-0.1 one 0\n", 1);
+    let bad_line = bad.lines().position(|l| l == "-0.1 one 0").unwrap() + 1;
+    assert!(bad_line > nodes);
+    let cases: &[(&str, String, Vec<String>)] = &[
+        (
+            "gmsh_obstacle_unknown_curve",
+            GMSH_OBSTACLE.replace("curve = \"punch\"", "curve = \"pnch\""),
+            vec!["obstacle[0].curve".into(), "pnch".into(), "`punch`, `ring`".into()],
+        ),
+        (
+            "gmsh_obstacle_no_curve",
+            GMSH_OBSTACLE.replace("curve = \"punch\"\n", ""),
+            vec!["obstacle[0].curve".into(), "name one: `punch`, `ring`".into()],
+        ),
+        (
+            "gmsh_obstacle_missing_file",
+            GMSH_OBSTACLE.replace("mesh.msh", "absent.msh"),
+            vec!["obstacle[0].file".into(), "absent.msh".into()],
+        ),
+        (
+            "gmsh_obstacle_no_file",
+            GMSH_OBSTACLE.replace("file = \"mesh.msh\"\n", ""),
+            vec!["obstacle[0].file".into(), "(missing)".into()],
+        ),
+        (
+            "gmsh_obstacle_reversed",
+            GMSH_OBSTACLE.replace("curve = \"punch\"", "curve = \"punch\"\nreverse = true"),
+            vec!["contact.target".into(), "centroid".into()],
+        ),
+        (
+            "gmsh_obstacle_foreign_key",
+            GMSH_OBSTACLE.replace("curve = \"punch\"", "curve = \"punch\"\ncorner_radius = 0.01"),
+            vec!["obstacle[0].corner_radius".into(), "kind \"gmsh\"".into()],
+        ),
+        (
+            "gmsh_obstacle_key_of_gmsh",
+            GMSH_OBSTACLE.replace("kind = \"gmsh\"", "kind = \"circle\""),
+            vec!["obstacle[0].file".into(), "kind \"circle\"".into()],
+        ),
+    ];
+    let mut failures = Vec::new();
+    for (name, text, expected) in cases {
+        let (code, stderr) = run_with_mesh(name, text, &punch);
+        if code != Some(2)
+            || expected.iter().any(|e| !stderr.contains(e.as_str()))
+            || stderr.contains("panicked")
+        {
+            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
+        }
+        println!("{name}: {}", stderr.lines().next().unwrap_or(""));
+    }
+    let (code, stderr) = run_with_mesh("gmsh_obstacle_bad_number", GMSH_OBSTACLE, bad.as_bytes());
+    if code != Some(2)
+        || !stderr.contains("obstacle[0].file")
+        || !stderr.contains(&format!("line {bad_line}:"))
+    {
+        failures.push(format!("gmsh_obstacle_bad_number: exit {code:?}, stderr: {stderr}"));
+    }
+    println!("gmsh_obstacle_bad_number: {}", stderr.lines().next().unwrap_or(""));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -246,3 +246,42 @@ fn quarter_plate_bodies_have_polygonal_holes() {
     }
     assert!(excess[1] < excess[0] / 3.0, "{excess:?}");
 }
+
+/// Obstacle curves (`punch.geo`, meshed in one dimension): the open punch profile walked from
+/// its first point to its last through every node, middle nodes included; the closed ring
+/// ending where it starts, counter-clockwise (positive area), its nodes on the circle.
+#[test]
+fn physical_curves_chain_into_polylines() {
+    let corners = [[-0.1, 1.0], [-0.1, 0.0], [0.1, 0.0], [0.1, 1.0]];
+    for (name, pieces) in [("punch_o1_v4.msh", 1), ("punch_o2_v2.msh", 2)] {
+        let mesh = read(name);
+        assert_eq!(mesh.curve_names(), ["punch", "ring"], "{name}");
+        let punch = mesh.curve_points("punch").unwrap();
+        // Sides of length 1 and a face of 0.2 at size 0.05: 20 + 4 + 20 pieces (each halved
+        // by the middle nodes at second order).
+        assert_eq!(punch.len(), 44 * pieces + 1, "{name}");
+        assert_eq!(punch[0], corners[0], "{name}");
+        assert_eq!(punch[20 * pieces], corners[1], "{name}");
+        assert_eq!(punch[24 * pieces], corners[2], "{name}");
+        assert_eq!(punch[44 * pieces], corners[3], "{name}");
+        // Monotone along each side and the face: the walk never turns back.
+        for w in punch.windows(2) {
+            let d = [w[1][0] - w[0][0], w[1][1] - w[0][1]];
+            let l = d[0].hypot(d[1]);
+            assert!(l > 0.02 / pieces as f64 && l < 0.06 / pieces as f64, "{name}: {w:?}");
+        }
+        let ring = mesh.curve_points("ring").unwrap();
+        assert_eq!(ring.first(), ring.last(), "{name}: closed");
+        let area: f64 =
+            ring.windows(2).map(|w| 0.5 * (w[0][0] * w[1][1] - w[1][0] * w[0][1])).sum();
+        // The nodes are equally spaced on each quarter arc: the regular inscribed polygon.
+        let n = (ring.len() - 1) as f64;
+        let polygon = 0.5 * n * 0.05 * 0.05 * (2.0 * PI / n).sin();
+        assert!((area / polygon - 1.0).abs() < 1e-12, "{name}: area {area} vs {polygon}");
+        for p in &ring {
+            assert!(((p[0] - 0.5).hypot(p[1] - 0.5) - 0.05).abs() < 1e-12, "{name}: {p:?}");
+        }
+        let e = mesh.curve_points("rim").unwrap_err();
+        assert!(matches!(e.kind, GmshErrorKind::NoCurve { .. }), "{e}");
+    }
+}

@@ -80,15 +80,16 @@ pub struct AdaptiveFile {
 }
 
 /// One `[[obstacle]]`: a named rigid obstacle of kind `"line"` (`point`, `normal` into the
-/// body), `"circle"` (`centre`, `radius`; the body outside the disk) or `"polyline"`
+/// body), `"circle"` (`centre`, `radius`; the body outside the disk), `"polyline"`
 /// (`points`, the obstacle on their left; optional `corner_radius` rounding the interior
-/// corners).
+/// corners) or `"gmsh"` (`file`, `curve`: the polyline through a Gmsh physical curve's nodes,
+/// the obstacle on its left, `reverse` walking it the other way).
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ObstacleFile {
     /// Name, for `[contact] target`.
     pub name: String,
-    /// `"line"`, `"circle"` or `"polyline"`.
+    /// `"line"`, `"circle"`, `"polyline"` or `"gmsh"`.
     pub kind: String,
     /// Line: a point of it.
     #[serde(
@@ -124,6 +125,18 @@ pub struct ObstacleFile {
     /// Polyline: radius of the arcs that round its interior corners (default 0: sharp).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub corner_radius: Option<f64>,
+    /// Gmsh: the mesh file (MSH 4.1 or 2.2, ASCII; a relative path is relative to the problem
+    /// file's folder when the command line resolves it; [`ProblemFile::resolve_paths`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+    /// Gmsh: the physical curve whose nodes, in order along its line elements, are the
+    /// polyline (optional when the file has one physical curve).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub curve: Option<String>,
+    /// Gmsh: walk the curve against the direction of its line elements (default `false`), to
+    /// put the obstacle on the other side.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reverse: Option<bool>,
 }
 
 /// `[contact] target`: one obstacle name or a list of names.
@@ -605,16 +618,19 @@ impl ProblemFile {
         with_key_path(&mut serde_json::Deserializer::from_str(text))
     }
 
-    /// Makes the relative paths of the file (`kind = "gmsh"` geometries' `file`) relative to
-    /// `folder`, the problem file's folder; absolute paths are kept.
+    /// Makes the relative paths of the file (`kind = "gmsh"` geometries' and obstacles'
+    /// `file`) relative to `folder`, the problem file's folder; absolute paths are kept.
     pub fn resolve_paths(&mut self, folder: &std::path::Path) {
         let geometries =
             self.geometry.iter_mut().chain(self.body.iter_mut().map(|b| &mut b.geometry));
-        for g in geometries {
-            if let GeometryFile::Gmsh { file, .. } = g {
-                if std::path::Path::new(file.as_str()).is_relative() {
-                    *file = folder.join(file.as_str()).to_string_lossy().into_owned();
-                }
+        let geometry_files = geometries.filter_map(|g| match g {
+            GeometryFile::Gmsh { file, .. } => Some(file),
+            _ => None,
+        });
+        let obstacle_files = self.obstacle.iter_mut().filter_map(|o| o.file.as_mut());
+        for file in geometry_files.chain(obstacle_files) {
+            if std::path::Path::new(file.as_str()).is_relative() {
+                *file = folder.join(file.as_str()).to_string_lossy().into_owned();
             }
         }
     }

@@ -306,6 +306,24 @@ pub enum GmshErrorKind {
         /// Number of pieces.
         runs: usize,
     },
+    /// No physical curve of the requested name (or one without line elements).
+    #[error("no physical curve named `{name}` with line elements (the file has: {available})")]
+    NoCurve {
+        /// The requested name.
+        name: String,
+        /// The physical curves the file has.
+        available: String,
+    },
+    /// A physical curve whose line elements are not one open chain or one closed loop.
+    #[error(
+        "physical curve `{name}` is not one open chain or closed loop of line elements: {reason}"
+    )]
+    NotAChain {
+        /// The curve name.
+        name: String,
+        /// What was found.
+        reason: String,
+    },
     /// The boundary loop is not a valid domain.
     #[error("the boundary of surface `{name}` is not a valid domain: {reason}")]
     Domain {
@@ -763,6 +781,138 @@ impl Mesh {
         self.physical_names.iter().filter(|p| p.dimension == 2).map(|p| p.name.as_str()).collect()
     }
 
+    /// The physical curves' names, in file order.
+    pub fn curve_names(&self) -> Vec<&str> {
+        self.physical_names.iter().filter(|p| p.dimension == 1).map(|p| p.name.as_str()).collect()
+    }
+
+    /// The nodes of physical curve `name` in order along it: its line elements chained end to
+    /// end, a 3-node line's middle node between its ends. The chain is walked in the direction
+    /// of the curve's first line element in the file (Gmsh writes a curve's elements from its
+    /// first point to its last). A closed loop ends with its first node again.
+    ///
+    /// # Errors
+    /// [`GmshErrorKind::NoCurve`] listing the physical curves the file has (also for a curve
+    /// without line elements); [`GmshErrorKind::NotAChain`] when the elements branch, join a
+    /// node to itself or form several pieces (with the line of an offending element).
+    pub fn curve_points(&self, name: &str) -> Result<Vec<Point>, GmshError> {
+        let no_curve = || GmshError {
+            line: None,
+            kind: GmshErrorKind::NoCurve {
+                name: name.to_string(),
+                available: {
+                    let names: Vec<String> =
+                        self.curve_names().iter().map(|n| format!("`{n}`")).collect();
+                    if names.is_empty() { "none".into() } else { names.join(", ") }
+                },
+            },
+        };
+        let tag = self.physical_tag(1, name).ok_or_else(no_curve)?;
+        let elements: Vec<&Element> = self
+            .elements
+            .iter()
+            .filter(|e| e.kind.dimension() == 1 && e.physical.contains(&tag))
+            .collect();
+        if elements.is_empty() {
+            return Err(no_curve());
+        }
+        let not_a_chain = |line: usize, reason: String| GmshError {
+            line: Some(line),
+            kind: GmshErrorKind::NotAChain { name: name.to_string(), reason },
+        };
+        // The elements at each node (at most two).
+        let mut at: HashMap<usize, Vec<usize>> = HashMap::new();
+        for (k, e) in elements.iter().enumerate() {
+            let (a, b) = (e.nodes[0], e.nodes[1]);
+            if a == b {
+                return Err(not_a_chain(
+                    e.line,
+                    format!("a line element joins node {} to itself", self.node_tags[a]),
+                ));
+            }
+            for n in [a, b] {
+                let list = at.entry(n).or_default();
+                list.push(k);
+                if list.len() > 2 {
+                    return Err(not_a_chain(
+                        e.line,
+                        format!(
+                            "it branches at node {}: three line elements meet there",
+                            self.node_tags[n]
+                        ),
+                    ));
+                }
+            }
+        }
+        // Walk from the first element in its direction, then back from its start; each step
+        // takes the other element at the node reached and orients it away from that node.
+        let other = |k: usize, node: usize| at[&node].iter().copied().find(|&j| j != k);
+        let oriented = |k: usize, from: usize| {
+            let e = elements[k];
+            let mid = (e.kind == ElementKind::Line3).then(|| e.nodes[2]);
+            if e.nodes[0] == from { (e.nodes[1], mid) } else { (e.nodes[0], mid) }
+        };
+        let mut used = vec![false; elements.len()];
+        used[0] = true;
+        let start = elements[0].nodes[0];
+        let mut forward: Vec<usize> = vec![start];
+        let (mut node, mid) = oriented(0, start);
+        forward.extend(mid);
+        forward.push(node);
+        let mut k = 0;
+        while let Some(j) = other(k, node).filter(|&j| !used[j]) {
+            used[j] = true;
+            let (next, mid) = oriented(j, node);
+            forward.extend(mid);
+            forward.push(next);
+            (k, node) = (j, next);
+        }
+        let closed = node == start && elements.len() > 1;
+        let mut backward: Vec<usize> = Vec::new();
+        if !closed {
+            let (mut k, mut node) = (0, start);
+            while let Some(j) = other(k, node).filter(|&j| !used[j]) {
+                used[j] = true;
+                let (next, mid) = oriented(j, node);
+                backward.extend(mid);
+                backward.push(next);
+                (k, node) = (j, next);
+            }
+        }
+        if let Some(j) = used.iter().position(|u| !u) {
+            let pieces = {
+                // Count the connected pieces for the message.
+                let mut seen = used.clone();
+                let mut count = 1;
+                while let Some(s) = seen.iter().position(|u| !u) {
+                    count += 1;
+                    let mut stack = vec![s];
+                    seen[s] = true;
+                    while let Some(i) = stack.pop() {
+                        for n in &elements[i].nodes[..2] {
+                            for &m in &at[n] {
+                                if !seen[m] {
+                                    seen[m] = true;
+                                    stack.push(m);
+                                }
+                            }
+                        }
+                    }
+                }
+                count
+            };
+            return Err(not_a_chain(
+                elements[j].line,
+                format!(
+                    "its line elements form {pieces} separate pieces, not one open chain or closed loop"
+                ),
+            ));
+        }
+        backward.reverse();
+        backward.extend(forward);
+        Ok(backward.into_iter().map(|n| self.points[n]).collect())
+    }
+
     /// The body of physical surface `name` ([`MeshBody`]): its boundary loop as a [`Domain`]
     /// whose edges are the physical curves along it, and its nodes.
     ///
@@ -1150,5 +1300,53 @@ mod tests {
             e.kind,
             GmshErrorKind::NoSurface { name: "body".into(), available: "`plate`".into() }
         );
+    }
+
+    /// A v2 mesh of five nodes on a line and the line elements `elements` (`a b` pairs, or
+    /// `a b m` for 3-node lines) on the physical curve "c" (tag 1), in that order; element `k`
+    /// (from 0) is on line `18 + k` of the file.
+    fn curve_mesh(elements: &[&[u64]]) -> Mesh {
+        let mut text = String::from(
+            "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n1\n1 1 \"c\"\n$EndPhysicalNames\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 2 0 0\n4 3 0 0\n5 4 0 0\n$EndNodes\n",
+        );
+        text += &format!("$Elements\n{}\n", elements.len());
+        for (k, e) in elements.iter().enumerate() {
+            let kind = if e.len() == 3 { 8 } else { 1 };
+            let nodes: Vec<String> = e.iter().map(|n| n.to_string()).collect();
+            text += &format!("{} {kind} 2 1 1 {}\n", k + 1, nodes.join(" "));
+        }
+        text += "$EndElements\n";
+        Mesh::parse(text.as_bytes()).unwrap()
+    }
+
+    #[test]
+    fn curves_chain_in_the_direction_of_their_first_element() {
+        let xs = |m: &Mesh| m.curve_points("c").unwrap().iter().map(|p| p[0]).collect::<Vec<_>>();
+        // In order, shuffled, and with elements pointing both ways: the first element decides.
+        assert_eq!(xs(&curve_mesh(&[&[1, 2], &[2, 3], &[3, 4]])), [0.0, 1.0, 2.0, 3.0]);
+        assert_eq!(xs(&curve_mesh(&[&[3, 4], &[1, 2], &[2, 3]])), [0.0, 1.0, 2.0, 3.0]);
+        assert_eq!(xs(&curve_mesh(&[&[3, 2], &[3, 4], &[1, 2]])), [3.0, 2.0, 1.0, 0.0]);
+        // A 3-node line's middle node between its ends.
+        assert_eq!(xs(&curve_mesh(&[&[3, 5, 4], &[1, 3, 2]])), [0.0, 1.0, 2.0, 3.0, 4.0]);
+        // A closed loop ends where it starts (a triangle 1-2-3, walked from element 1).
+        let m = curve_mesh(&[&[2, 3], &[3, 1], &[1, 2]]);
+        assert_eq!(xs(&m), [1.0, 2.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn curves_that_are_not_one_chain_are_refused_with_the_line() {
+        let fail = |elements: &[&[u64]]| curve_mesh(elements).curve_points("c").unwrap_err();
+        let e = fail(&[&[1, 2], &[2, 3], &[2, 4]]);
+        assert_eq!(e.line, Some(20));
+        assert!(e.to_string().contains("branches at node 2"), "{e}");
+        let e = fail(&[&[1, 2], &[3, 4], &[4, 5]]);
+        assert_eq!(e.line, Some(19));
+        assert!(e.to_string().contains("2 separate pieces"), "{e}");
+        let e = fail(&[&[1, 2], &[3, 3]]);
+        assert_eq!(e.line, Some(19));
+        assert!(e.to_string().contains("joins node 3 to itself"), "{e}");
+        let e = curve_mesh(&[&[1, 2]]).curve_points("d").unwrap_err();
+        assert!(e.to_string().contains("no physical curve named `d`"), "{e}");
+        assert!(e.to_string().contains("`c`"), "{e}");
     }
 }

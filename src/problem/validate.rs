@@ -302,6 +302,49 @@ fn gmsh_body(file: &str, surface: Option<&str>) -> Result<gmsh::MeshBody, Proble
         .map_err(|e| invalid("geometry.file", file, format!("surface `{surface}`: {e}")))
 }
 
+/// `[[obstacle]] kind = "gmsh"` (table `k`): the sharp-cornered polyline through the nodes of
+/// physical curve `curve` of mesh file `file` (the only physical curve when not named), in
+/// the order of its line elements, or the other way with `reverse`.
+fn gmsh_obstacle(
+    k: usize,
+    file: &str,
+    curve: Option<&str>,
+    reverse: Option<bool>,
+) -> Result<Polyline, ProblemError> {
+    let key = |f: &str| format!("obstacle[{k}].{f}");
+    let mesh = gmsh::Mesh::read(std::path::Path::new(file))
+        .map_err(|e| invalid(&key("file"), file, e.to_string()))?;
+    let names = mesh.curve_names();
+    let listed = || names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+    let curve = match curve {
+        Some(c) => c,
+        None if names.len() == 1 => names[0],
+        None => {
+            return Err(invalid(
+                &key("curve"),
+                "(missing)",
+                format!("{file} has {} physical curves, name one: {}", names.len(), listed()),
+            ));
+        }
+    };
+    if !names.contains(&curve) {
+        return Err(invalid(
+            &key("curve"),
+            curve,
+            format!("{file} has no such physical curve; it has: {}", listed()),
+        ));
+    }
+    let mut points = mesh.curve_points(curve).map_err(|e| {
+        let line = e.line.map(|l| format!(" (line {l})")).unwrap_or_default();
+        invalid(&key("curve"), curve, format!("{file}{line}: {}", e.kind))
+    })?;
+    if reverse == Some(true) {
+        points.reverse();
+    }
+    Polyline::new(&points, 0.0)
+        .map_err(|why| invalid(&key("curve"), curve, format!("{file}: as a polyline, {why}")))
+}
+
 /// `[geometry]` → the domain, and for a Gmsh geometry the nodes of its mesh.
 fn domain(geometry: &GeometryFile) -> Result<(Domain, Option<gmsh::MeshBody>), ProblemError> {
     match geometry {
@@ -1088,6 +1131,11 @@ fn rigid_obstacles(
             check_finite(&key(f), v[1])?;
             Ok(v)
         };
+        if o.kind != "gmsh" {
+            given("file", o.file.is_some())?;
+            given("curve", o.curve.is_some())?;
+            given("reverse", o.reverse.is_some())?;
+        }
         let shape = match o.kind.as_str() {
             "line" => {
                 given("centre", o.centre.is_some())?;
@@ -1136,11 +1184,21 @@ fn rigid_obstacles(
                 })?;
                 Shape::Polyline(line)
             }
+            "gmsh" => {
+                given("point", o.point.is_some())?;
+                given("normal", o.normal.is_some())?;
+                given("centre", o.centre.is_some())?;
+                given("radius", o.radius.is_some())?;
+                given("points", o.points.is_some())?;
+                given("corner_radius", o.corner_radius.is_some())?;
+                let file = o.file.as_deref().ok_or_else(|| need("file"))?;
+                Shape::Polyline(gmsh_obstacle(k, file, o.curve.as_deref(), o.reverse)?)
+            }
             other => {
                 return Err(invalid(
                     &key("kind"),
                     other,
-                    "one of \"line\", \"circle\", \"polyline\"",
+                    "one of \"line\", \"circle\", \"polyline\", \"gmsh\"",
                 ));
             }
         };

@@ -166,3 +166,60 @@ fn hertz_on_the_mesh_nodes() {
     assert!(m.half_width.abs() < 0.03, "half-width error {}", m.half_width);
     assert!(m.peak.abs() < 0.01, "peak error {}", m.peak);
 }
+
+/// The flat punch of `problems/flat_punch.toml` with sharp corners, once as a `polyline`
+/// obstacle through its four corners written in TOML and once as `kind = "gmsh"`: the
+/// physical curve "punch" of `punch_o1_v4.msh` (the same corners, its sides and face divided
+/// into pieces of 0.05, in the order of the TOML's points). The extra nodes lie on the TOML
+/// polyline's segments (Gmsh interpolates them along straight lines), so both obstacles are
+/// the same set and give every candidate the same gap and normal; the solutions must agree to
+/// round-off (1e-9 relative: the two LCPs are the same up to the last bits of the gaps). Both
+/// runs check their LCP residuals and equilibrium. The coarse box spacing 0.0125 of
+/// `flat_punch.rs` (8 candidates under the half face).
+#[test]
+fn gmsh_obstacle_equals_its_polyline_twin() {
+    let toml = include_str!("../../problems/flat_punch.toml")
+        .replace("spacing = 0.003125", "spacing = 0.0125")
+        .replace("corner_radius = 0.005", "corner_radius = 0.0");
+    let file = data("punch_o1_v4.msh");
+    let gmsh = toml
+        .replace("kind = \"polyline\"", "kind = \"gmsh\"")
+        .replace(
+            "points = [[-0.1, 1.0], [-0.1, 0.0], [0.1, 0.0], [0.1, 1.0]]",
+            &format!("file = {:?}\ncurve = \"punch\"", file.to_str().unwrap()),
+        )
+        .replace("corner_radius = 0.0\n", "");
+    assert_ne!(gmsh, toml);
+    let solve = |label: &str, text: &str| {
+        let s = mlpg_contact::solve(&mlpg_contact::problem::Problem::from_toml(text).unwrap())
+            .unwrap_or_else(|e| panic!("{label}: {e}"));
+        let c = s.contact.as_ref().unwrap();
+        super::common::assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
+        assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
+        s
+    };
+    let twin = solve("polyline", &toml);
+    let mesh = solve("gmsh", &gmsh);
+    let (ct, cm) = (twin.contact.as_ref().unwrap(), mesh.contact.as_ref().unwrap());
+    assert_eq!(ct.closed, cm.closed, "the same candidates close");
+    let closed = ct.closed.iter().filter(|&&c| c).count();
+    assert!(closed >= 5, "{closed} closed candidates");
+    let scale = ct.lcp.z.iter().fold(0.0_f64, |m, z| m.max(z.abs()));
+    let force = ct.lcp.z.iter().zip(&cm.lcp.z).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    let u_scale = twin.displacement.iter().fold(0.0_f64, |m, u| m.max(u[0].hypot(u[1])));
+    let u = twin
+        .displacement
+        .iter()
+        .zip(&mesh.displacement)
+        .map(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]))
+        .fold(0.0, f64::max);
+    println!(
+        "punch twin: {closed} closed, total force {:.6e} vs {:.6e}; max force difference {:.2e} relative, displacement {:.2e} relative",
+        ct.total_force,
+        cm.total_force,
+        force / scale,
+        u / u_scale
+    );
+    assert!(force <= 1e-9 * scale, "contact forces differ by {force:e} (scale {scale:e})");
+    assert!(u <= 1e-9 * u_scale, "displacements differ by {u:e} (scale {u_scale:e})");
+}

@@ -6,11 +6,12 @@ package: `pip install gmsh`; the product never runs Gmsh). Run from this folder:
 Written with Gmsh 4.15.2. `plate_with_hole` and `two_blocks`: versions 4.1 and 2.2, first and
 second order. `kirsch` and `hertz_cylinder` (first order) at the node spacings of their TOML
 twins in tests/validation (the .geo's `h`): kirsch in both versions, hertz_cylinder in 4.1.
-Also problems/plate_with_hole_gmsh.msh (plate_with_hole at h = 0.4, version 4.1)."""
+Also problems/plate_with_hole_gmsh.msh (plate_with_hole at h = 0.4, version 4.1). `punch`
+(obstacle curves only, meshed in one dimension): first order in 4.1, second order in 2.2."""
 import gmsh
 
 
-def mesh(geo, out, order=1, version=4.1, h=None):
+def mesh(geo, out, order=1, version=4.1, h=None, dimension=2):
     gmsh.clear()
     if h is not None:
         gmsh.parser.setNumber("h", [h])
@@ -20,7 +21,7 @@ def mesh(geo, out, order=1, version=4.1, h=None):
     gmsh.option.setNumber("Mesh.SecondOrderIncomplete", 0)
     gmsh.option.setNumber("Mesh.MshFileVersion", version)
     gmsh.option.setNumber("Mesh.Binary", 0)
-    gmsh.model.mesh.generate(2)
+    gmsh.model.mesh.generate(dimension)
     gmsh.write(out)
 
 
@@ -36,4 +37,6 @@ for h in [0.2, 0.1, 0.05]:
 for h in [0.02, 0.01, 0.005]:
     mesh("hertz_cylinder", f"hertz_cylinder_h{h}_v4.msh", 1, 4.1, h)
 mesh("plate_with_hole", "../../../problems/plate_with_hole_gmsh.msh", 1, 4.1, 0.4)
+mesh("punch", "punch_o1_v4.msh", 1, 4.1, dimension=1)
+mesh("punch", "punch_o2_v2.msh", 2, 2.2, dimension=1)
 gmsh.finalize()
