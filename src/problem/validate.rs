@@ -274,30 +274,44 @@ fn validate_body(
     })
 }
 
+/// The physical group (a `what`, "surface" or "curve") named `given` among `names` of mesh
+/// file `file`, or the only one when not named; refusals name the key `key` and list the
+/// names.
+fn physical_group<'a>(
+    file: &str,
+    names: &[&'a str],
+    given: Option<&'a str>,
+    key: &str,
+    what: &str,
+) -> Result<&'a str, ProblemError> {
+    let listed = || names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
+    let name = match given {
+        Some(name) => name,
+        None if names.len() == 1 => names[0],
+        None => {
+            return Err(invalid(
+                key,
+                "(missing)",
+                format!("{file} has several physical {what}s, name one: {}", listed()),
+            ));
+        }
+    };
+    if !names.contains(&name) {
+        return Err(invalid(
+            key,
+            name,
+            format!("{file} has no such physical {what}; it has: {}", listed()),
+        ));
+    }
+    Ok(name)
+}
+
 /// `kind = "gmsh"`: the mesh file's body `surface` (the only surface when not named).
 fn gmsh_body(file: &str, surface: Option<&str>) -> Result<gmsh::MeshBody, ProblemError> {
     let mesh = gmsh::Mesh::read(std::path::Path::new(file))
         .map_err(|e| invalid("geometry.file", file, e.to_string()))?;
-    let names = mesh.surface_names();
-    let listed = || names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
-    let surface = match surface {
-        Some(s) => s,
-        None if names.len() == 1 => names[0],
-        None => {
-            return Err(invalid(
-                "geometry.surface",
-                "(missing)",
-                format!("{file} has several physical surfaces, name one: {}", listed()),
-            ));
-        }
-    };
-    if !names.contains(&surface) {
-        return Err(invalid(
-            "geometry.surface",
-            surface,
-            format!("{file} has no such physical surface; it has: {}", listed()),
-        ));
-    }
+    let surface =
+        physical_group(file, &mesh.surface_names(), surface, "geometry.surface", "surface")?;
     mesh.body(surface)
         .map_err(|e| invalid("geometry.file", file, format!("surface `{surface}`: {e}")))
 }
@@ -314,26 +328,7 @@ fn gmsh_obstacle(
     let key = |f: &str| format!("obstacle[{k}].{f}");
     let mesh = gmsh::Mesh::read(std::path::Path::new(file))
         .map_err(|e| invalid(&key("file"), file, e.to_string()))?;
-    let names = mesh.curve_names();
-    let listed = || names.iter().map(|n| format!("`{n}`")).collect::<Vec<_>>().join(", ");
-    let curve = match curve {
-        Some(c) => c,
-        None if names.len() == 1 => names[0],
-        None => {
-            return Err(invalid(
-                &key("curve"),
-                "(missing)",
-                format!("{file} has {} physical curves, name one: {}", names.len(), listed()),
-            ));
-        }
-    };
-    if !names.contains(&curve) {
-        return Err(invalid(
-            &key("curve"),
-            curve,
-            format!("{file} has no such physical curve; it has: {}", listed()),
-        ));
-    }
+    let curve = physical_group(file, &mesh.curve_names(), curve, &key("curve"), "curve")?;
     let mut points = mesh.curve_points(curve).map_err(|e| {
         let line = e.line.map(|l| format!(" (line {l})")).unwrap_or_default();
         invalid(&key("curve"), curve, format!("{file}{line}: {}", e.kind))
