@@ -870,6 +870,26 @@ fn run_with_mesh(name: &str, text: &str, mesh: &[u8]) -> (Option<i32>, String) {
     run_text(name, text)
 }
 
+/// Runs `text` with `mesh` as its `mesh.msh` and records a failure unless it exits with code 2,
+/// its message holds every part of `expected`, and nothing panicked; prints the message's
+/// first line.
+fn check_mesh_refusal(
+    failures: &mut Vec<String>,
+    name: &str,
+    text: &str,
+    mesh: &[u8],
+    expected: &[String],
+) {
+    let (code, stderr) = run_with_mesh(name, text, mesh);
+    if code != Some(2)
+        || expected.iter().any(|e| !stderr.contains(e.as_str()))
+        || stderr.contains("panicked")
+    {
+        failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
+    }
+    println!("{name}: {}", stderr.lines().next().unwrap_or(""));
+}
+
 fn gmsh_data(name: &str) -> Vec<u8> {
     std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/gmsh").join(name)).unwrap()
 }
@@ -988,14 +1008,7 @@ fn gmsh_geometry_runs_and_bad_meshes_name_the_file_and_line() {
     ];
     let mut failures = Vec::new();
     for (name, mesh, text, expected) in cases {
-        let (code, stderr) = run_with_mesh(name, text, mesh);
-        if code != Some(2)
-            || expected.iter().any(|e| !stderr.contains(e.as_str()))
-            || stderr.contains("panicked")
-        {
-            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
-        }
-        println!("{name}: {}", stderr.lines().next().unwrap_or(""));
+        check_mesh_refusal(&mut failures, name, text, mesh, expected);
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
@@ -1143,14 +1156,7 @@ fn gmsh_obstacle_runs_and_bad_curves_name_the_key() {
     ];
     let mut failures = Vec::new();
     for (name, text, expected) in cases {
-        let (code, stderr) = run_with_mesh(name, text, &punch);
-        if code != Some(2)
-            || expected.iter().any(|e| !stderr.contains(e.as_str()))
-            || stderr.contains("panicked")
-        {
-            failures.push(format!("{name}: exit {code:?}, stderr: {stderr}"));
-        }
-        println!("{name}: {}", stderr.lines().next().unwrap_or(""));
+        check_mesh_refusal(&mut failures, name, text, &punch, expected);
     }
     let (code, stderr) = run_with_mesh("gmsh_obstacle_bad_number", GMSH_OBSTACLE, bad.as_bytes());
     if code != Some(2)
