@@ -103,7 +103,6 @@ impl Error {
             Error::Fem(F::NotRectangle { .. }) => "geometry.kind, discretisation.method",
             Error::Fem(F::NotStructured { .. }) => "nodes.layout, discretisation.method",
             Error::Fem(F::ElementKind { .. } | F::DegenerateElement { .. }) => "geometry.file",
-            Error::Fem(F::Gmsh(_)) => "geometry.surface",
             Error::Fem(_) => "boundary[*].displacement",
             Error::Solve(_) => "boundary[*].displacement, material, discretisation",
             Error::Contact(C::IndefiniteCompliance { .. }) => {

@@ -96,28 +96,6 @@ impl Mesh {
         Ok(mesh)
     }
 
-    /// The elements of physical surface `surface` of a Gmsh mesh as a general mesh, on the
-    /// nodes they use, numbered in the file's order ([`Mesh::from_elements`]).
-    ///
-    /// # Errors
-    /// [`FemError::Gmsh`] for a missing surface; those of [`Mesh::from_elements`].
-    pub fn from_gmsh(mesh: &gmsh::Mesh, surface: &str) -> Result<Self, FemError> {
-        let elements = mesh.surface(surface)?;
-        let mut used: Vec<usize> = elements.iter().flat_map(|e| e.nodes.iter().copied()).collect();
-        used.sort_unstable();
-        used.dedup();
-        let index = |i: usize| used.binary_search(&i).unwrap_or(usize::MAX);
-        let elements: Vec<gmsh::Element> = elements
-            .iter()
-            .map(|e| gmsh::Element {
-                nodes: e.nodes.iter().map(|&i| index(i)).collect(),
-                ..(*e).clone()
-            })
-            .collect();
-        let points = used.iter().map(|&i| mesh.points[i]).collect();
-        Self::from_elements(points, &elements)
-    }
-
     /// A general mesh from a Gmsh surface's elements on `points` (their `nodes` index
     /// `points`): 9-node quadrilaterals (Gmsh's order — corners, mid-sides, centre — permuted
     /// to the local order `a = 3 j + i`) and 6-node triangles (Gmsh's order is the local one).

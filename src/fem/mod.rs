@@ -6,7 +6,7 @@
 //!   rectangle, `h` = `[nodes] spacing`, so the element corners are the MFVM's structured nodes
 //!   and the FE has about four times as many nodes. Rectangles with structured layout only
 //!   (the problem file is refused otherwise, naming the field). A general mesh
-//!   ([`Mesh::general`], [`Mesh::from_gmsh`]: a Gmsh file's 9-node quadrilaterals and 6-node
+//!   ([`Mesh::general`], [`Mesh::from_elements`]: a Gmsh file's 9-node quadrilaterals and 6-node
 //!   triangles) takes isoparametric elements with curved sides ([`element::Shape`]); its
 //!   loads integrate along the sides' own map and normal (docs/method.md §7).
 //! - Stiffness `K = Σ_e ∫ Bᵀ D B dA` by 3 × 3 Gauss (exact on rectangles), symmetric;
@@ -87,9 +87,6 @@ pub enum FemError {
         "no displacement is prescribed on any edge: the body can move rigidly and K is singular (add a displacement condition)"
     )]
     NoDirichlet,
-    /// A Gmsh surface could not be taken (no such surface).
-    #[error(transparent)]
-    Gmsh(#[from] crate::problem::gmsh::GmshError),
     /// An element the FE path does not take (it needs quadratic elements).
     #[error(
         "line {line}: a {kind:?} element; the finite element path takes 6-node triangles and 9-node quadrilaterals (mesh with Mesh.ElementOrder = 2 and Mesh.SecondOrderIncomplete = 0)"

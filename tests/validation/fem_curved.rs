@@ -46,7 +46,8 @@ fn plate() -> Domain {
 fn mesh(file: &str) -> Mesh {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fem_meshes").join(file);
-    Mesh::from_gmsh(&gmsh::Mesh::read(&path).unwrap(), "plate").unwrap()
+    let body = gmsh::Mesh::read(&path).unwrap().body("plate").unwrap();
+    Mesh::from_elements(body.points, &body.elements).unwrap()
 }
 
 /// Solves `problem` on `mesh`: its nodes (tagged by the problem's edges) and the nodal
