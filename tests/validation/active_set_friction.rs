@@ -179,3 +179,57 @@ fn frictional_summary_records_the_solver() {
         assert!(step["complementarity"].as_f64().unwrap() <= 1e-9);
     }
 }
+
+/// `"auto"` with friction against a rigid obstacle: the active-set solver from
+/// [`ContactSolver::FRICTION_AUTO_THRESHOLD`] candidates, Lemke's path below. The strip
+/// `L × 1` (clamped left, load 1 on top, rigid floor 0.01 below, μ = 0.3) at h = 0.25 has
+/// `4 L` candidates (the clamped corner is none). The answer at the threshold is checked on its
+/// own (on this slender strip Lemke's recovered gaps miss its step gaps by 1e-11, its own
+/// round-off, so no comparison here).
+#[test]
+fn auto_switches_at_the_friction_threshold() {
+    let strip = |length: f64| {
+        let mut p = Problem::from_toml(&format!(
+            r#"
+            name = "strip"
+            [geometry]
+            kind = "rectangle"
+            x = [0.0, {length:?}]
+            y = [-0.5, 0.5]
+            [nodes]
+            spacing = 0.25
+            [material]
+            young = 30000.0
+            poisson = 0.3
+            plane = "stress"
+            [[boundary]]
+            edge = "left"
+            displacement = {{ x = 0.0, y = 0.0 }}
+            [[boundary]]
+            edge = "top"
+            traction = {{ y = -1.0 }}
+            [contact]
+            edge = "bottom"
+            obstacle_point = [0.0, -0.51]
+            obstacle_normal = [0.0, 1.0]
+            friction = 0.3
+            "#
+        ))
+        .unwrap();
+        p.write_steps = true;
+        p
+    };
+    let threshold = ContactSolver::FRICTION_AUTO_THRESHOLD;
+    let at = strip(threshold as f64 / 4.0);
+    let s = mlpg_contact::solve(&at).unwrap();
+    let c = s.contact.as_ref().unwrap();
+    assert_eq!(c.candidates.len(), threshold);
+    assert!(c.active_set.is_some(), "auto did not take the active-set solver");
+    check_frictional(&s, "frictional strip at the threshold");
+    let below = strip((threshold - 1) as f64 / 4.0);
+    let s = mlpg_contact::solve(&below).unwrap();
+    let c = s.contact.as_ref().unwrap();
+    assert_eq!(c.candidates.len(), threshold - 1);
+    assert!(c.active_set.is_none(), "auto left Lemke below the threshold");
+    assert_eq!(c.friction.as_ref().unwrap().step.method, FrictionMethod::Lemke);
+}

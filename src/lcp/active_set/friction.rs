@@ -4,12 +4,14 @@
 //! Each candidate is open, sticking or slipping along `±t`; the linear problem of a guess of
 //! the states is "open: `P = T = 0`; closed: `g = 0` and stick: `Δs = 0`, slip±: `T = ∓μP`".
 //! The next guess moves every candidate whose sign condition fails, with the rules of
-//! `lcp::friction`'s exact active-set step: open with `g < 0` → stick; closed with `P < 0`
+//! `lcp::friction`'s exact active-set step: open with `g < 0` → stick (slip along `Δs` when
+//! `|Δs| > μ(−g)`, the test of the min-function form at `P = T = 0`); closed with `P < 0`
 //! → open; stick with `T > μP` → slip−, `T < −μP` → slip+; slip+ with `Δs < 0`, slip− with
 //! `Δs > 0` → stick. The guess that repeats itself is the answer (semismooth Newton on the
 //! min-function form of the step's conditions). The step's matrix is not a P-matrix and the
 //! iteration can cycle: when a guess comes back, or after [`ActiveSetParams::max_iterations`]
-//! solves, the candidates whose state ever changed are handed to the Lemke-based step solver
+//! solves, the candidates whose state changed within the cycle (resp. since the last rescue)
+//! are handed to the Lemke-based step solver
 //! ([`crate::lcp::solve_step`]) on their reduced blocks (the others held at their states),
 //! and the iteration resumes from its answer; after [`ActiveSetParams::max_fallbacks`]
 //! rescues, or when the settled answer misses [`FRICTION_TOLERANCE`], the step fails with
@@ -26,7 +28,7 @@ use crate::lcp::friction::{
 use crate::nodes::{Axis, dof};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
-use std::collections::HashSet;
+use std::collections::HashMap;
 
 /// `(q_n, q_t)`: gaps and tangential displacements without contact forces.
 pub type FreeResponse = (Vec<f64>, Vec<f64>);
@@ -176,9 +178,11 @@ pub fn solve_friction_step(
         (None, None) => vec![ContactState::Stick; m],
     };
     let key = |s: &[ContactState]| s.iter().map(|&x| x as u8).collect::<Vec<u8>>();
-    let mut seen: HashSet<Vec<u8>> = HashSet::new();
-    seen.insert(key(&states));
-    let mut ever_changed = vec![false; m];
+    // Every guess since the last rescue, with the iteration that made it, and the candidates
+    // each iteration changed.
+    let mut seen: HashMap<Vec<u8>, usize> = HashMap::new();
+    seen.insert(key(&states), 0);
+    let mut moved: Vec<Vec<usize>> = Vec::new();
     let (mut iterations, mut since_rescue, mut pivots) = (0, 0, 0);
     let (mut changes, mut rescues) = (Vec::new(), Vec::new());
     let scale_u = inf(&qn).max(inf(&dq));
@@ -194,7 +198,20 @@ pub fn solve_friction_step(
             .map(|c| {
                 let (p, t, bound) = (r.normal[c], r.tangential[c], mu[c] * r.normal[c]);
                 match states[c] {
-                    ContactState::Open if r.gap[c] < -tol_u => ContactState::Stick,
+                    // Closing: stick when the slip increment is within μ times the
+                    // penetration (the min-function form's test |Δs| ≤ μ(−g) at P = T = 0),
+                    // else slip along Δs.
+                    ContactState::Open if r.gap[c] < -tol_u => {
+                        if mu[c] > 0.0 && ds[c].abs() > -mu[c] * r.gap[c] {
+                            if ds[c] > 0.0 {
+                                ContactState::SlipPositive
+                            } else {
+                                ContactState::SlipNegative
+                            }
+                        } else {
+                            ContactState::Stick
+                        }
+                    }
                     ContactState::Open => ContactState::Open,
                     _ if p < -tol_f => ContactState::Open,
                     s if mu[c] == 0.0 => s,
@@ -225,10 +242,9 @@ pub fn solve_friction_step(
             };
             return Ok(FrictionStepSolution { step, states, free_gap: qn, changes, rescues, end });
         }
-        for c in 0..m {
-            ever_changed[c] |= next[c] != states[c];
-        }
-        let cycled = !seen.insert(key(&next));
+        moved.push((0..m).filter(|&c| next[c] != states[c]).collect());
+        let back = seen.insert(key(&next), moved.len());
+        let cycled = back.is_some();
         if !cycled && since_rescue < params.max_iterations {
             states = next;
             continue;
@@ -241,8 +257,14 @@ pub fn solve_friction_step(
                 reason,
             });
         }
-        // The Lemke-based step solver on the candidates that ever changed, the others held.
-        let free_set: Vec<usize> = (0..m).filter(|&c| ever_changed[c]).collect();
+        // The Lemke-based step solver on the candidates that changed within the cycle (after
+        // the limit: since the last rescue), the others held.
+        let from = back.unwrap_or(0);
+        let mut in_cycle = vec![false; m];
+        for &c in moved[from..].iter().flatten() {
+            in_cycle[c] = true;
+        }
+        let free_set: Vec<usize> = (0..m).filter(|&c| in_cycle[c]).collect();
         let reduced = system.reduced_problem(&next, &free_set, previous)?;
         let answer = lemke_step(&reduced).map_err(|e| ActiveSetError::Rescue(Box::new(e)))?;
         pivots += answer.pivots;
@@ -252,7 +274,8 @@ pub fn solve_friction_step(
         }
         rescues.push(free_set.len());
         seen.clear();
-        seen.insert(key(&states));
+        seen.insert(key(&states), 0);
+        moved.clear();
         since_rescue = 0;
     }
 }
