@@ -182,8 +182,12 @@ pub struct IncrementRecord {
     pub solver: lcp::FrictionMethod,
     /// Lemke pivots.
     pub pivots: usize,
-    /// Fixed-point and active-set rounds.
+    /// Fixed-point and active-set rounds (the active-set solver: its linear solves).
     pub iterations: usize,
+    /// The active-set solver (docs/method.md §5.1): candidates whose state changed after each
+    /// of its iterations (the last is 0); empty, and not written, for the other solvers.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub active_set_changes: Vec<usize>,
     /// Largest scaled complementarity residual (docs/method.md §8).
     pub complementarity: f64,
     /// Relative global equilibrium error of the increment's displacements.

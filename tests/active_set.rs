@@ -1,15 +1,20 @@
 //! The primal–dual active-set solver's dense entry point (`lcp::active_set::DenseSystem`,
 //! docs/method.md §5.1) against Lemke's method: the P-matrix cases of the external LCP suite
 //! (`tests/data/lcp-suite`), random P-matrix problems checked against brute-force
-//! enumeration, and the safeguard on a problem where the plain iteration cycles.
+//! enumeration, and the safeguard on a problem where the plain iteration cycles; and the
+//! frictional active-set step (`DenseFriction`) against the Lemke-based step
+//! (`lcp::solve_step`): random steps, a load path with reversal, and cycling.
 
 mod lcp_support;
 
 use lcp_support::{load_suite, max_abs, permuted_triangular, positive_definite_plus_skew};
 use mlpg_contact::lcp::active_set::{
-    ActiveSetEnd, ActiveSetError, ActiveSetParams, DenseSystem, solve,
+    ActiveSetEnd, ActiveSetError, ActiveSetParams, DenseFriction, DenseSystem,
+    FrictionStepSolution, solve, solve_friction_step,
 };
-use mlpg_contact::lcp::{Lcp, LemkeParams, enumerate_solutions, lemke};
+use mlpg_contact::lcp::{
+    ContactState, FrictionProblem, Lcp, LemkeParams, enumerate_solutions, lemke, solve_step,
+};
 use proptest::prelude::*;
 
 /// `max |a − b| / max(1, ‖b‖∞)`.
@@ -113,4 +118,173 @@ proptest! {
         let m = permuted_triangular(n, &l, &diag, &perm);
         check(n, m, q)?;
     }
+}
+
+// Friction (docs/method.md §5.1 "Friction", §8): the frictional active-set step on the dense
+// blocks (`DenseFriction`) against the Lemke-based step `lcp::solve_step`.
+
+/// A random step problem whose 2m × 2m compliance `[[M_nn, M_nt], [M_tn, M_tt]]` has a
+/// positive definite symmetric part (`B Bᵀ/2m + I`) plus a skew part of size `skew` (the
+/// coupling of a finite body), pressed (`q_n ∈ [−1, 0.5]`) and pulled (`q_t ∈ [−1, 1]`).
+fn friction_problem(seed: u64, m: usize, mu: f64, skew: f64) -> FrictionProblem {
+    let mut state = seed;
+    let mut uniform = |a: f64, b: f64| {
+        // SplitMix64.
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        a + (b - a) * (z >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let n = 2 * m;
+    let b: Vec<f64> = (0..n * n).map(|_| uniform(-1.0, 1.0)).collect();
+    let mut full = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let bb: f64 = (0..n).map(|k| b[i * n + k] * b[j * n + k]).sum();
+            full[i * n + j] = bb / n as f64 + if i == j { 1.0 } else { 0.0 };
+        }
+    }
+    for i in 0..n {
+        for j in 0..i {
+            let s = skew * uniform(-1.0, 1.0);
+            full[i * n + j] += s;
+            full[j * n + i] -= s;
+        }
+    }
+    let block = |r: usize, c: usize| {
+        let mut out = vec![0.0; m * m];
+        for i in 0..m {
+            for j in 0..m {
+                out[i * m + j] = full[(r * m + i) * n + c * m + j];
+            }
+        }
+        out
+    };
+    FrictionProblem {
+        nn: block(0, 0),
+        nt: block(0, 1),
+        tn: block(1, 0),
+        tt: block(1, 1),
+        free_gap: (0..m).map(|_| uniform(-1.0, 0.5)).collect(),
+        free_tangential: (0..m).map(|_| uniform(-1.0, 1.0)).collect(),
+        previous_tangential: vec![0.0; m],
+        friction: vec![mu; m],
+    }
+}
+
+/// Both step solvers on `problem` from `previous`: forces, gaps, slip increments within
+/// 1e-10 of their scales (both are exact up to round-off on these well-conditioned m ≤ 12
+/// problems, whose answers were unique in every case tried), the same states, and the active-set answer's residuals ≤ 1e-12. Returns the
+/// active-set answer.
+fn check_friction_step(
+    name: &str,
+    problem: &FrictionProblem,
+    start: Option<&[ContactState]>,
+) -> FrictionStepSolution {
+    let reference = solve_step(problem).unwrap_or_else(|e| panic!("{name}: Lemke: {e}"));
+    let answer = solve_friction_step(
+        &mut DenseFriction::new(problem),
+        &problem.previous_tangential,
+        start,
+        &ActiveSetParams::default(),
+    )
+    .unwrap_or_else(|e| panic!("{name}: active set: {e}"));
+    let s = &answer.step;
+    let f = max_abs(&reference.normal).max(max_abs(&reference.tangential)).max(1.0);
+    let u = max_abs(&reference.gap).max(max_abs(&reference.slip_increment)).max(1.0);
+    let d = |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    let df = d(&s.normal, &reference.normal).max(d(&s.tangential, &reference.tangential)) / f;
+    let du = d(&s.gap, &reference.gap).max(d(&s.slip_increment, &reference.slip_increment)) / u;
+    assert!(df < 1e-10 && du < 1e-10, "{name}: forces {df:e}, gaps/slips {du:e}");
+    assert_eq!(s.state, reference.state, "{name}: states");
+    // The answer on its own: the residuals against the dense blocks (lcp::solve_step's).
+    let r = problem.residuals(&s.normal, &s.tangential);
+    assert!(r.max() <= 1e-12, "{name}: residuals {r:?}");
+    assert!(s.residuals.max() <= 1e-12, "{name}: own residuals {:?}", s.residuals);
+    answer
+}
+
+/// Random single steps (m = 1 … 12, μ = 0.1, 0.3 and 3, coupling skew 0.05): the same answer
+/// as the Lemke-based step; stick, slip and mixed answers all occur.
+#[test]
+fn frictional_steps_equal_the_lemke_step() {
+    let (mut stick, mut slip, mut mixed) = (0, 0, 0);
+    for case in 0..120_u64 {
+        let (m, mu) = (1 + (case as usize) % 12, [0.1, 0.3, 3.0][(case % 3) as usize]);
+        let problem = friction_problem(case, m, mu, 0.05);
+        let answer = check_friction_step(&format!("case {case}"), &problem, None);
+        let st = &answer.step.state;
+        let sticks = st.iter().filter(|&&s| s == ContactState::Stick).count();
+        let slips = st.iter().filter(|s| s.is_slip()).count();
+        match (sticks > 0, slips > 0) {
+            (true, true) => mixed += 1,
+            (true, false) => stick += 1,
+            (false, true) => slip += 1,
+            _ => {}
+        }
+    }
+    println!("stick only {stick}, slip only {slip}, mixed {mixed}");
+    assert!(stick > 0 && slip > 0 && mixed > 0, "stick {stick}, slip {slip}, mixed {mixed}");
+}
+
+/// A load path of several steps: the pull `q_t` grows, then reverses (`q_t = λ q̂_t`,
+/// λ = 0.3, 0.6, 1, 0.5, 0, −0.5, −1) with the press held; each solver carries its own
+/// `s_prev` and the active set starts from its previous states (warm start). Both chains stay
+/// equal, and some candidate slips both ways.
+#[test]
+fn frictional_load_path_with_reversal_equals_the_lemke_step() {
+    let mut reversals = 0;
+    for case in 0..20_u64 {
+        let base = friction_problem(1000 + case, 4 + (case as usize) % 6, 0.3, 0.05);
+        let q_t = base.free_tangential.clone();
+        let mut problem = base.clone();
+        let mut states: Option<Vec<ContactState>> = None;
+        let mut signs = vec![(false, false); base.size()];
+        for (k, lambda) in [0.3, 0.6, 1.0, 0.5, 0.0, -0.5, -1.0].into_iter().enumerate() {
+            problem.free_tangential = q_t.iter().map(|q| lambda * q).collect();
+            let answer =
+                check_friction_step(&format!("case {case}, step {k}"), &problem, states.as_deref());
+            for (c, s) in answer.step.state.iter().enumerate() {
+                signs[c].0 |= *s == ContactState::SlipPositive;
+                signs[c].1 |= *s == ContactState::SlipNegative;
+            }
+            problem.previous_tangential = answer.step.tangential_displacement.clone();
+            states = Some(answer.states);
+        }
+        reversals += signs.iter().filter(|s| s.0 && s.1).count();
+    }
+    assert!(reversals > 0, "no candidate slipped both ways");
+}
+
+/// The 3 × 3 problem on which the frictionless iteration cycles, as the normal block of a
+/// frictional step with μ = 0.2 (no coupling, `M_tt = I`, no pull: `T = 0`, every closed
+/// candidate sticks): the plain iteration cycles through the same sets; without rescues the
+/// solver reports it (`NotConverged`, never an answer); with them it settles on the unique
+/// solution, which the Lemke-based step also finds.
+#[test]
+fn frictional_cycling_is_reported_or_rescued() {
+    let problem = FrictionProblem {
+        nn: vec![1.0, -3.0, 3.0, 3.0, 2.0, 1.0, 0.0, -1.0, 1.0],
+        nt: vec![0.0; 9],
+        tn: vec![0.0; 9],
+        tt: vec![1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+        free_gap: vec![-1.0, 3.0, -1.0],
+        free_tangential: vec![0.0; 3],
+        previous_tangential: vec![0.0; 3],
+        friction: vec![0.2; 3],
+    };
+    let plain = ActiveSetParams { max_fallbacks: 0, ..ActiveSetParams::default() };
+    let previous = vec![0.0; 3];
+    match solve_friction_step(&mut DenseFriction::new(&problem), &previous, None, &plain) {
+        Err(ActiveSetError::NotConverged { iterations, fallbacks, reason }) => {
+            assert_eq!((iterations, fallbacks), (3, 0));
+            assert_eq!(reason, "a set of states came back");
+        }
+        other => panic!("expected a cycle, got {other:?}"),
+    }
+    let answer = check_friction_step("cycling", &problem, None);
+    assert_eq!(answer.end, ActiveSetEnd::ConvergedAfterRescue);
+    assert_eq!(answer.rescues.len(), 1);
 }

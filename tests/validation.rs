@@ -50,4 +50,6 @@ mod validation {
     mod active_set;
     // Lemke's numerical failure: a refusal naming M's conditioning; "auto" falls back to the active set.
     mod lemke_fallback;
+    // Friction on the active-set path equals the Lemke-based step, increment by increment.
+    mod active_set_friction;
 }

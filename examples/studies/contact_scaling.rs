@@ -1,4 +1,4 @@
-//! Scaling of the two frictionless contact solvers (docs/method.md §5 and §5.1) with the number
+//! Scaling of the two contact solvers (docs/method.md §5 and §5.1) with the number
 //! of contact candidates: one case and one solver per process, so that the peak resident
 //! memory (`VmHWM` of `/proc/self/status`) is that of this run. Cases:
 //!
@@ -12,7 +12,10 @@
 //!
 //! ```text
 //! cargo run --release --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver active_set
+//! cargo run --release --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver lemke --friction 0.3
 //! ```
+//!
+//! `--friction μ` makes the contact frictional (one load step; docs/method.md §8).
 //!
 //! prints one table row: candidates, nodes, solver, discretisation seconds, contact seconds
 //! (per stage), iterations / pivots, changes per iteration, factorisations, update columns,
@@ -66,6 +69,9 @@ struct Cli {
     /// `lemke`, `active_set` or `auto`
     #[arg(long, default_value = "active_set")]
     solver: String,
+    /// Coulomb coefficient μ of the contact (0: frictionless; docs/method.md §8)
+    #[arg(long, value_name = "MU", default_value_t = 0.0)]
+    friction: f64,
     /// Print the header line first
     #[arg(long)]
     header: bool,
@@ -86,6 +92,7 @@ fn main() {
         other => panic!("unknown solver {other}"),
     };
     problem.contact.as_mut().expect("a contact problem").solver = solver;
+    problem.contact.as_mut().expect("a contact problem").friction = cli.friction;
     if cli.header {
         println!(
             "| case | h | candidates | nodes | solver | discretise s | contact stages s | iterations | changes per iteration | factorisations / update columns | total force | complementarity | equilibrium | peak GB |"
@@ -117,7 +124,7 @@ fn main() {
         .timings
         .iter()
         .filter(|t| {
-            ["contact_candidates", "condensation", "lemke", "active_set", "solve"]
+            ["contact_candidates", "condensation", "lemke", "active_set", "solve", "friction"]
                 .contains(&t.stage)
         })
         .map(|t| format!("{} {:.2}", t.stage, t.seconds))
@@ -127,16 +134,33 @@ fn main() {
             a.iterations.to_string(),
             format!("{:?}", a.changes),
             format!(
-                "{} / {} ({:.1} s / {:.1} s), {} refined",
+                "{} / {} ({:.1} s / {:.1} s), {} refined, rescues {:?}",
                 a.work.factorisations,
                 a.work.update_columns,
                 a.work.factorisation_seconds,
                 a.work.update_seconds,
-                a.work.refinements
+                a.work.refinements,
+                a.rescues
             ),
         ),
-        None => (format!("{} pivots", c.lcp.pivots), "-".into(), "-".into()),
+        None => match &c.friction {
+            Some(f) => {
+                (format!("{} pivots ({:?})", c.lcp.pivots, f.step.method), "-".into(), "-".into())
+            }
+            None => (format!("{} pivots", c.lcp.pivots), "-".into(), "-".into()),
+        },
     };
+    if let Some(f) = &c.friction {
+        eprintln!(
+            "friction μ = {}: ΣT {:.6}, stick {} slip {} open {}, step residual {:.1e}",
+            cli.friction,
+            f.total_force,
+            f.step.state.iter().filter(|s| **s == mlpg_contact::lcp::ContactState::Stick).count(),
+            f.step.state.iter().filter(|s| s.is_slip()).count(),
+            f.step.state.iter().filter(|s| **s == mlpg_contact::lcp::ContactState::Open).count(),
+            f.step.residuals.max()
+        );
+    }
     println!(
         "| {} {} | {} | {} | {} | {} | {:.1} | {} | {} | {} | {} | {:.6} | {:.1e} | {:.1e} | {:.2} |",
         cli.case,

@@ -36,7 +36,12 @@ use serde::Serialize;
 use std::collections::{HashMap, HashSet};
 use std::time::Instant;
 
+mod friction;
 mod two_bodies;
+pub use friction::{
+    DenseFriction, FreeResponse, FrictionStepSolution, FrictionSystem, StateResponse,
+    friction_residuals, solve_friction_step,
+};
 pub use two_bodies::{BodyParts, TwoBodies};
 
 /// Failures of the active-set solver.
@@ -402,14 +407,65 @@ type UpdateColumn = (Vec<f64>, Option<Vec<f64>>);
 /// A sparse row `(column, value)`.
 type Row = Vec<(usize, f64)>;
 
-/// What replacing an active candidate's rows changes: for each modified row its DOF, the new
-/// row, the new right-hand side and the original row.
+/// A candidate's mode in a [`RigidObstacle`]: which of its rows are replaced. `OPEN`: none;
+/// `CLOSED`: the frictionless rows (gap row, tangential balance); `STICK`: gap row and the
+/// tangential displacement condition; `SLIP_POSITIVE` / `SLIP_NEGATIVE`: gap row and
+/// `T = ∓μP` (docs/method.md §5.1, §8).
+pub(crate) type Mode = u8;
+/// No row replaced (`P = T = 0`).
+pub(crate) const OPEN: Mode = 0;
+/// Frictionless contact (`g = 0`, `T = 0`).
+pub(crate) const CLOSED: Mode = 1;
+/// `g = 0`, `s = s_prev`.
+pub(crate) const STICK: Mode = 2;
+/// `g = 0`, `T = −μP`.
+pub(crate) const SLIP_POSITIVE: Mode = 3;
+/// `g = 0`, `T = +μP`.
+pub(crate) const SLIP_NEGATIVE: Mode = 4;
+
+/// The right-hand side of a replaced row.
+#[derive(Clone, Copy, Debug)]
+enum RowRhs {
+    /// `−s g0_c` (the gap condition).
+    Gap,
+    /// `s (s_prev,c + o_c)` (the tangential displacement condition of a sticking candidate).
+    Tangential,
+    /// `f_b − ratio f_a` (a combination of the node's two balance rows).
+    Balance(f64),
+}
+
+/// What replacing an active candidate's rows changes: the distinct new rows, and which of
+/// them each closed mode uses.
 #[derive(Clone, Debug)]
 struct Replacement {
-    /// `(dof, new row, new rhs, new − old row)`; the first is the normal row (the gap row).
-    rows: Vec<(usize, Row, f64, Row)>,
-    /// The original row and rhs of the normal DOF and `w ν_a` (force recovery).
-    normal_row: (Row, f64, f64),
+    /// `(dof, new row, its right-hand side, new − old row)`; the first is the gap row (on the
+    /// normal DOF `a`), the second the frictionless tangential balance when `ν_b ≠ 0`, then the
+    /// frictional rows of [`RigidObstacle::set_friction`].
+    rows: Vec<(usize, Row, RowRhs, Row)>,
+    /// For each closed mode `k ≥ 1` (at `k − 1`), the indices in `rows` that replace the
+    /// candidate's rows.
+    modes: Vec<Vec<usize>>,
+    /// The original row of the normal DOF `a` and `w ν_a` (force recovery).
+    normal_row: (Row, f64),
+    /// The original row of the other DOF `b` (force recovery with friction).
+    other_row: Row,
+    /// The DOFs `a` and `b` of the owner node.
+    dofs: [usize; 2],
+    /// The axes `a`, `b`.
+    axes: [Axis; 2],
+    /// The owner weight `w`.
+    weight: f64,
+    /// The frictionless rows (the first `frictionless` entries of `rows`).
+    frictionless: usize,
+}
+
+/// One row change of a low-rank update: the candidate, the DOF and the terms
+/// `(index in the candidate's rows, ±1)` whose difference rows sum to the change.
+#[derive(Clone, Debug)]
+struct Change {
+    candidate: usize,
+    dof: usize,
+    terms: Vec<(usize, f64)>,
 }
 
 /// Work counters of a [`RigidObstacle`].
@@ -454,21 +510,28 @@ impl Base<'_> {
 /// like a reaction. Its matrix is factorised afresh, or, when few candidates changed since
 /// the last factorisation, solved by the Woodbury formula on that factorisation (one solve
 /// per changed row), whichever the measured costs predict to be cheaper.
+///
+/// With friction ([`RigidObstacle::set_friction`], [`FrictionSystem`]) a closed candidate's
+/// row `b` is instead the tangential displacement condition (stick) or the combination
+/// `(t ± μν)·(K û − f) = 0` of its node's two rows (slip±), and both forces are recovered
+/// from the two removed rows, `P = ν·r/w`, `T = t·r/w` (docs/method.md §8).
 pub struct RigidObstacle<'a> {
     matrix: &'a SystemMatrix,
-    rhs: &'a [f64],
+    rhs: Vec<f64>,
     operator: &'a BodyOperator,
-    initial_gap: &'a [f64],
+    initial_gap: Vec<f64>,
     points: Option<&'a [Point]>,
-    /// The active set last solved and its displacements.
-    last: Option<(Vec<bool>, Vec<f64>)>,
+    /// The modes last solved and their displacements.
+    last: Option<(Vec<Mode>, Vec<f64>)>,
     /// The factorisation of `K` itself.
     model: &'a Factorisation,
     /// `‖K‖∞`, largest row sum (the gap rows are scaled to the same size).
     norm: f64,
+    /// The collocation scale `s` of the gap (and tangential) rows.
+    scale: f64,
     replacements: Vec<Replacement>,
     base: Base<'a>,
-    base_active: Vec<bool>,
+    base_modes: Vec<Mode>,
     /// `z_r = K_B⁻¹ e_r` reduced to the dot products with every candidate's row changes:
     /// `dots[r][(c, k)] = (new − old row k of c)·z_r`, keyed by the DOF `r`.
     dots: HashMap<usize, Vec<f64>>,
@@ -477,6 +540,12 @@ pub struct RigidObstacle<'a> {
     columns: HashMap<usize, Vec<f64>>,
     /// Offsets of each candidate's rows in a `dots` vector.
     slot: Vec<usize>,
+    /// `μ_c` (empty: frictionless).
+    friction: Vec<f64>,
+    /// The right-hand sides `s_prev,c + o_c` of the stick rows.
+    tangential_target: Vec<f64>,
+    /// `o_c = d·t_c`, the obstacle's tangential displacement.
+    tangential_offset: Vec<f64>,
     /// Work counters.
     pub stats: RigidObstacleStats,
 }
@@ -529,8 +598,6 @@ impl<'a> RigidObstacle<'a> {
             }
         }
         let mut replacements = Vec::with_capacity(m);
-        let mut slot = Vec::with_capacity(m + 1);
-        let mut next_slot = 0;
         for (c, &(i, w)) in owner_of.iter().enumerate() {
             let nu = operator.direction(c);
             let (a, b) = axes(c);
@@ -538,6 +605,7 @@ impl<'a> RigidObstacle<'a> {
             let ratio = nb / na;
             let (ra, rb) = (dof(i, a), dof(i, b));
             let old_a = wanted[&ra].clone();
+            let old_b = wanted[&rb].clone();
             let mut gap_row: Row = Vec::new();
             for (&j, &phi) in operator.shapes.support(c).iter().zip(operator.shapes.phi(c)) {
                 for ax in Axis::BOTH {
@@ -547,25 +615,31 @@ impl<'a> RigidObstacle<'a> {
                     }
                 }
             }
-            let mut rows =
-                vec![(ra, gap_row.clone(), -scale * initial_gap[c], difference(&gap_row, &old_a))];
+            let mut rows = vec![(ra, gap_row.clone(), RowRhs::Gap, difference(&gap_row, &old_a))];
             if ratio != 0.0 {
-                let old_b = wanted[&rb].clone();
                 let scaled: Row = old_a.iter().map(|&(j, v)| (j, -ratio * v)).collect();
                 let new_b = sum_rows(&old_b, &scaled);
                 let diff = difference(&new_b, &old_b);
-                rows.push((rb, new_b, rhs[rb] - ratio * rhs[ra], diff));
+                rows.push((rb, new_b, RowRhs::Balance(ratio), diff));
             }
-            slot.push(next_slot);
-            next_slot += rows.len();
-            replacements.push(Replacement { rows, normal_row: (old_a, rhs[ra], w * na) });
+            let frictionless = rows.len();
+            replacements.push(Replacement {
+                rows,
+                modes: vec![(0..frictionless).collect()],
+                normal_row: (old_a, w * na),
+                other_row: old_b,
+                dofs: [ra, rb],
+                axes: [a, b],
+                weight: w,
+                frictionless,
+            });
         }
-        slot.push(next_slot);
+        let slot = slots(&replacements);
         Ok(Self {
             matrix,
-            rhs,
+            rhs: rhs.to_vec(),
             operator,
-            initial_gap,
+            initial_gap: initial_gap.to_vec(),
             points,
             last: None,
             model: factorisation,
@@ -576,41 +650,139 @@ impl<'a> RigidObstacle<'a> {
                 }
                 rows.into_iter().fold(0.0, f64::max)
             },
+            scale,
             replacements,
             base: Base::Borrowed(factorisation),
-            base_active: vec![false; m],
+            base_modes: vec![OPEN; m],
             dots: HashMap::new(),
             columns: HashMap::new(),
             slot,
+            friction: Vec::new(),
+            tangential_target: vec![0.0; m],
+            tangential_offset: vec![0.0; m],
             stats: RigidObstacleStats::default(),
         })
     }
 
-    /// The right-hand side of the problem of `active`.
-    fn rhs_of(&self, active: &[bool]) -> Vec<f64> {
-        let mut b = self.rhs.to_vec();
-        for (c, r) in self.replacements.iter().enumerate() {
-            if active[c] {
-                for (d, _, v, _) in &r.rows {
-                    b[*d] = *v;
+    /// Sets the Coulomb coefficients `μ_c` (docs/method.md §8): builds each candidate's stick
+    /// and slip rows (a candidate with `μ_c = 0` closes frictionless). A change of `μ` drops
+    /// the cached update columns, and the row-replaced factorisation when it holds slip rows.
+    ///
+    /// # Errors
+    /// [`ActiveSetError::Unsupported`] when a slip combination `(t ± μν)·r` has no weight on
+    /// the row it replaces (`t_b ± μ ν_b = 0`: a normal at 45° with `μ = 1`).
+    pub fn set_friction(&mut self, mu: &[f64]) -> Result<(), ActiveSetError> {
+        if self.friction == mu {
+            return Ok(());
+        }
+        let scale = self.scale;
+        for (c, rep) in self.replacements.iter_mut().enumerate() {
+            rep.rows.truncate(rep.frictionless);
+            rep.modes.truncate(1);
+            if mu[c] == 0.0 {
+                let closed = rep.modes[0].clone();
+                rep.modes.extend([closed.clone(), closed.clone(), closed]);
+                continue;
+            }
+            let nu = self.operator.direction(c);
+            let t = crate::contact::tangent(nu);
+            let [ra, rb] = rep.dofs;
+            let [a, b] = rep.axes;
+            let old_b = &rep.other_row;
+            let mut t_row: Row = Vec::new();
+            for (&j, &phi) in
+                self.operator.shapes.support(c).iter().zip(self.operator.shapes.phi(c))
+            {
+                for ax in Axis::BOTH {
+                    let v = scale * t[ax as usize] * phi;
+                    if v != 0.0 {
+                        t_row.push((dof(j as usize, ax), v));
+                    }
                 }
+            }
+            let stick = rep.rows.len();
+            let diff = difference(&t_row, old_b);
+            rep.rows.push((rb, t_row, RowRhs::Tangential, diff));
+            // Slip±: (t ± μν)·r = 0 with r = (K û − f) on the node's rows, divided by its
+            // coefficient on row b: row b + ((t_a ± μν_a)/(t_b ± μν_b)) row a.
+            for sign in [1.0, -1.0] {
+                let (ca, cb) = (
+                    t[a as usize] + sign * mu[c] * nu[a as usize],
+                    t[b as usize] + sign * mu[c] * nu[b as usize],
+                );
+                if cb.abs() <= 1e-8 * ca.abs() {
+                    return Err(ActiveSetError::Unsupported { candidate: c });
+                }
+                let ratio = -ca / cb;
+                let scaled: Row = rep.normal_row.0.iter().map(|&(j, v)| (j, -ratio * v)).collect();
+                let new_b = sum_rows(old_b, &scaled);
+                let diff = difference(&new_b, old_b);
+                rep.rows.push((rb, new_b, RowRhs::Balance(ratio), diff));
+            }
+            rep.modes.push(vec![0, stick]);
+            rep.modes.push(vec![0, stick + 1]);
+            rep.modes.push(vec![0, stick + 2]);
+            debug_assert_eq!(ra, rep.rows[0].0);
+        }
+        self.friction = mu.to_vec();
+        self.slot = slots(&self.replacements);
+        self.dots.clear();
+        self.columns.clear();
+        if self.base_modes.iter().any(|&k| k != OPEN && k != CLOSED) {
+            self.base = Base::Borrowed(self.model);
+            self.base_modes = vec![OPEN; self.replacements.len()];
+        }
+        self.last = None;
+        Ok(())
+    }
+
+    /// Sets the load of a step (docs/method.md §8): the right-hand side `rhs` of `K û = f`,
+    /// the gaps without displacement `g0_c` (the obstacle's normal displacement included) and
+    /// the obstacle's tangential displacement `o_c = d·t_c`.
+    pub fn set_load(&mut self, rhs: &[f64], initial_gap: &[f64], tangential_offset: &[f64]) {
+        self.rhs.copy_from_slice(rhs);
+        self.initial_gap.copy_from_slice(initial_gap);
+        self.tangential_offset.copy_from_slice(tangential_offset);
+        self.last = None;
+    }
+
+    /// The right-hand side of a replaced row of candidate `c`.
+    fn row_rhs(&self, c: usize, rhs: RowRhs) -> f64 {
+        let [ra, rb] = self.replacements[c].dofs;
+        match rhs {
+            RowRhs::Gap => -self.scale * self.initial_gap[c],
+            RowRhs::Tangential => self.scale * self.tangential_target[c],
+            RowRhs::Balance(ratio) => self.rhs[rb] - ratio * self.rhs[ra],
+        }
+    }
+
+    /// The rows (indices in `rows`) of candidate `c` in `mode`.
+    fn mode_rows(&self, c: usize, mode: Mode) -> &[usize] {
+        if mode == OPEN { &[] } else { &self.replacements[c].modes[mode as usize - 1] }
+    }
+
+    /// The right-hand side of the problem of `modes`.
+    fn rhs_of(&self, modes: &[Mode]) -> Vec<f64> {
+        let mut b = self.rhs.clone();
+        for (c, r) in self.replacements.iter().enumerate() {
+            for &k in self.mode_rows(c, modes[c]) {
+                b[r.rows[k].0] = self.row_rhs(c, r.rows[k].2);
             }
         }
         b
     }
 
-    /// The matrix of `active`: `K` with the active candidates' rows replaced.
-    fn matrix_of(&self, active: &[bool]) -> SystemMatrix {
+    /// The matrix of `modes`: `K` with the closed candidates' rows replaced.
+    fn matrix_of(&self, modes: &[Mode]) -> SystemMatrix {
         let n = self.matrix.n;
         let mut replaced = vec![false; n];
         let mut extra: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
         for (c, r) in self.replacements.iter().enumerate() {
-            if active[c] {
-                for (d, row, _, _) in &r.rows {
-                    replaced[*d] = true;
-                    for &(col, v) in row {
-                        extra[col].push((*d, v));
-                    }
+            for &k in self.mode_rows(c, modes[c]) {
+                let (d, row, _, _) = &r.rows[k];
+                replaced[*d] = true;
+                for &(col, v) in row {
+                    extra[col].push((*d, v));
                 }
             }
         }
@@ -641,19 +813,39 @@ impl<'a> RigidObstacle<'a> {
         SystemMatrix { n, col_ptr, row_idx, values }
     }
 
-    /// Makes the base factorisation suitable for `active` (refactorising at `active` when the
-    /// low-rank update would cost more) and returns the rows the update must change, as
-    /// `(candidate, row index within it, sign)`.
-    fn prepare(&mut self, active: &[bool]) -> Result<Vec<(usize, usize, f64)>, ActiveSetError> {
-        let changed: Vec<(usize, usize, f64)> = (0..active.len())
-            .filter(|&c| active[c] != self.base_active[c])
-            .flat_map(|c| {
-                let sign = if active[c] { 1.0 } else { -1.0 };
-                (0..self.replacements[c].rows.len()).map(move |k| (c, k, sign))
-            })
-            .collect();
-        let missing =
-            changed.iter().filter(|&&(c, k, _)| !self.dots.contains_key(&self.dof(c, k))).count();
+    /// The row changes of candidate `c` from mode `from` to mode `to`: the rows of `to`
+    /// (less those `from` has too), then the rows of `from` whose DOF `to` leaves original.
+    fn row_changes(&self, c: usize, from: Mode, to: Mode, out: &mut Vec<Change>) {
+        let rows = &self.replacements[c].rows;
+        let (old, new) = (self.mode_rows(c, from), self.mode_rows(c, to));
+        for &k in new {
+            let dof = rows[k].0;
+            match old.iter().find(|&&j| rows[j].0 == dof) {
+                Some(&j) if j == k => {}
+                Some(&j) => {
+                    out.push(Change { candidate: c, dof, terms: vec![(k, 1.0), (j, -1.0)] });
+                }
+                None => out.push(Change { candidate: c, dof, terms: vec![(k, 1.0)] }),
+            }
+        }
+        for &j in old {
+            let dof = rows[j].0;
+            if !new.iter().any(|&k| rows[k].0 == dof) {
+                out.push(Change { candidate: c, dof, terms: vec![(j, -1.0)] });
+            }
+        }
+    }
+
+    /// Makes the base factorisation suitable for `modes` (refactorising at `modes` when the
+    /// low-rank update would cost more) and returns the rows the update must change.
+    fn prepare(&mut self, modes: &[Mode]) -> Result<Vec<Change>, ActiveSetError> {
+        let mut changed = Vec::new();
+        for (c, &mode) in modes.iter().enumerate() {
+            if mode != self.base_modes[c] {
+                self.row_changes(c, self.base_modes[c], mode, &mut changed);
+            }
+        }
+        let missing = changed.iter().filter(|ch| !self.dots.contains_key(&ch.dof)).count();
         // A deterministic cost model (so that the answer's last bits do not depend on the
         // machine's load): a factorisation costs about `bound_flops`, an update column (a
         // solve in a block of 64) about `bound_nnz` of the current base's analysis. Measured
@@ -668,7 +860,7 @@ impl<'a> RigidObstacle<'a> {
             self.dots.clear();
             self.columns.clear();
             let t = Instant::now();
-            let matrix = self.matrix_of(active);
+            let matrix = self.matrix_of(modes);
             let f = match self.points {
                 Some(p) => Factorisation::with_node_coordinates(&matrix, p)?,
                 None => Factorisation::new(&matrix)?,
@@ -677,17 +869,14 @@ impl<'a> RigidObstacle<'a> {
             self.stats.factorisations += 1;
             self.stats.factorisation_seconds += t.elapsed().as_secs_f64();
             self.base = Base::Owned(Box::new(f));
-            self.base_active = active.to_vec();
+            self.base_modes = modes.to_vec();
             self.dots.clear();
             self.columns.clear();
             return Ok(Vec::new());
         }
         // New columns z_r = K_B⁻¹ e_r, reduced to their dots with every candidate's changes.
-        let new: Vec<usize> = changed
-            .iter()
-            .map(|&(c, k, _)| self.dof(c, k))
-            .filter(|r| !self.dots.contains_key(r))
-            .collect();
+        let new: Vec<usize> =
+            changed.iter().map(|ch| ch.dof).filter(|r| !self.dots.contains_key(r)).collect();
         if !new.is_empty() {
             let t = Instant::now();
             let n = self.matrix.n;
@@ -732,17 +921,24 @@ impl<'a> RigidObstacle<'a> {
         Ok(changed)
     }
 
-    fn dof(&self, c: usize, k: usize) -> usize {
-        self.replacements[c].rows[k].0
+    /// `change · x` for a row change (the sum of its terms' difference rows).
+    fn change_dot(&self, ch: &Change, x: &[f64]) -> f64 {
+        let rows = &self.replacements[ch.candidate].rows;
+        let mut terms = ch
+            .terms
+            .iter()
+            .map(|&(k, s)| s * rows[k].3.iter().map(|&(i, v)| v * x[i]).sum::<f64>());
+        let first = terms.next().unwrap_or(0.0);
+        terms.fold(first, |a, b| a + b)
     }
 
-    /// Solves the problem of `active` for the columns of `x` (`n × k`, overwritten).
+    /// Solves the problem of `modes` for the columns of `x` (`n × k`, overwritten).
     fn solve_columns(
         &mut self,
-        active: &[bool],
+        modes: &[Mode],
         mut x: MatMut<'_, f64>,
     ) -> Result<(), ActiveSetError> {
-        let changed = self.prepare(active)?;
+        let changed = self.prepare(modes)?;
         let f = self.base.get();
         let cols = x.ncols();
         // y = K_B⁻¹ b, in parallel over blocks of 64 columns.
@@ -750,39 +946,38 @@ impl<'a> RigidObstacle<'a> {
         if changed.is_empty() {
             return Ok(());
         }
-        // Woodbury: K_A = K_B + U Dᵀ with U = [e_r], rows d_r = ±(new − old):
+        // Woodbury: K_A = K_B + U Dᵀ with U = [e_r], rows d_r = (new − old):
         // K_A⁻¹ b = K_B⁻¹ (b − U C⁻¹ Dᵀ y), C = I + Dᵀ K_B⁻¹ U.
         let k = changed.len();
         let mut cap = vec![0.0; k * k];
-        for (j, &(cj, kj, _)) in changed.iter().enumerate() {
-            let dots = &self.dots[&self.dof(cj, kj)];
-            for (i, &(ci, ki, si)) in changed.iter().enumerate() {
-                cap[j * k + i] = si * dots[self.slot[ci] + ki] + if i == j { 1.0 } else { 0.0 };
+        for (j, cj) in changed.iter().enumerate() {
+            let dots = &self.dots[&cj.dof];
+            for (i, ci) in changed.iter().enumerate() {
+                let s = self.slot[ci.candidate];
+                let mut terms = ci.terms.iter().map(|&(ki, si)| si * dots[s + ki]);
+                let first = terms.next().unwrap_or(0.0);
+                let v = terms.fold(first, |a, b| a + b);
+                cap[j * k + i] = v + if i == j { 1.0 } else { 0.0 };
             }
         }
         let perm = dense_lu(&mut cap, k).ok_or_else(|| singular("the low-rank update"))?;
-        let stored = changed.iter().all(|&(c, kk, _)| self.columns.contains_key(&self.dof(c, kk)));
+        let stored = changed.iter().all(|ch| self.columns.contains_key(&ch.dof));
         let mut corrections = Mat::<f64>::zeros(self.matrix.n, cols);
         for col in 0..cols {
             let y = x.rb().col(col);
-            let mut t: Vec<f64> = changed
-                .iter()
-                .map(|&(c, kk, s)| {
-                    let diff = &self.replacements[c].rows[kk].3;
-                    s * diff.iter().map(|&(i, v)| v * y[i]).sum::<f64>()
-                })
-                .collect();
+            let y: Vec<f64> = (0..y.nrows()).map(|i| y[i]).collect();
+            let mut t: Vec<f64> = changed.iter().map(|ch| self.change_dot(ch, &y)).collect();
             dense_lu_solve(&cap, &perm, k, &mut t);
-            for (&(c, kk, _), v) in changed.iter().zip(&t) {
+            for (ch, v) in changed.iter().zip(&t) {
                 if stored {
                     // K_B⁻¹ U v from the stored columns.
-                    let z = &self.columns[&self.dof(c, kk)];
+                    let z = &self.columns[&ch.dof];
                     let mut out = corrections.col_mut(col);
                     for (i, zi) in z.iter().enumerate() {
                         out[i] += zi * v;
                     }
                 } else {
-                    corrections[(self.dof(c, kk), col)] = *v;
+                    corrections[(ch.dof, col)] = *v;
                 }
             }
         }
@@ -799,16 +994,16 @@ impl<'a> RigidObstacle<'a> {
     }
 
     /// `P_c` for the active candidates from their removed rows, given `û`.
-    fn forces(&self, active: &[bool], u: &[f64]) -> Vec<f64> {
+    fn forces(&self, modes: &[Mode], u: &[f64]) -> Vec<f64> {
         self.replacements
             .iter()
             .enumerate()
             .map(|(c, r)| {
-                if !active[c] {
+                if modes[c] == OPEN {
                     return 0.0;
                 }
-                let (row, f, wn) = &r.normal_row;
-                (row.iter().map(|&(j, v)| v * u[j]).sum::<f64>() - f) / wn
+                let (row, wn) = &r.normal_row;
+                (row.iter().map(|&(j, v)| v * u[j]).sum::<f64>() - self.rhs[r.dofs[0]]) / wn
             })
             .collect()
     }
@@ -823,9 +1018,15 @@ impl<'a> RigidObstacle<'a> {
     /// # Errors
     /// A failed solve.
     pub fn final_displacements(&mut self, active: &[bool]) -> Result<Vec<f64>, ActiveSetError> {
+        let modes = closed_modes(active);
+        self.final_displacements_of(&modes)
+    }
+
+    /// [`RigidObstacle::final_displacements`] for candidate modes.
+    fn final_displacements_of(&mut self, modes: &[Mode]) -> Result<Vec<f64>, ActiveSetError> {
         match self.last.take() {
-            Some((a, u)) if a == active => Ok(u),
-            _ => self.displacements(active),
+            Some((a, u)) if a == modes => Ok(u),
+            _ => self.displacements_of(modes),
         }
     }
 
@@ -837,22 +1038,42 @@ impl<'a> RigidObstacle<'a> {
     /// One step of iterative refinement against the row-replaced matrix follows the solve
     /// when its normwise backward error is above 1e-14 (the low-rank update loses digits).
     pub fn displacements(&mut self, active: &[bool]) -> Result<Vec<f64>, ActiveSetError> {
-        let b = self.rhs_of(active);
-        solve_refined(self, active, &b)
+        self.displacements_of(&closed_modes(active))
     }
 
-    /// The matrix of `active` times `u`.
-    fn apply(&self, active: &[bool], u: &[f64]) -> Vec<f64> {
+    fn displacements_of(&mut self, modes: &[Mode]) -> Result<Vec<f64>, ActiveSetError> {
+        let b = self.rhs_of(modes);
+        solve_refined(self, modes, &b)
+    }
+
+    /// The matrix of `modes` times `u`.
+    fn apply(&self, modes: &[Mode], u: &[f64]) -> Vec<f64> {
         let mut y = crate::linear_solve::mul(self.matrix, u);
         for (c, r) in self.replacements.iter().enumerate() {
-            if active[c] {
-                for (d, row, _, _) in &r.rows {
-                    y[*d] = row.iter().map(|&(j, v)| v * u[j]).sum();
-                }
+            for &k in self.mode_rows(c, modes[c]) {
+                let (d, row, _, _) = &r.rows[k];
+                y[*d] = row.iter().map(|&(j, v)| v * u[j]).sum();
             }
         }
         y
     }
+}
+
+/// `CLOSED` where `active`, `OPEN` elsewhere.
+fn closed_modes(active: &[bool]) -> Vec<Mode> {
+    active.iter().map(|&a| if a { CLOSED } else { OPEN }).collect()
+}
+
+/// Offsets of each candidate's rows in a `dots` vector (and the total at the end).
+fn slots(replacements: &[Replacement]) -> Vec<usize> {
+    let mut slot = Vec::with_capacity(replacements.len() + 1);
+    let mut next = 0;
+    for r in replacements {
+        slot.push(next);
+        next += r.rows.len();
+    }
+    slot.push(next);
+    slot
 }
 
 /// Solves `f X = B` in place, 64 columns per task.
@@ -896,12 +1117,11 @@ fn difference(new: &Row, old: &Row) -> Row {
 
 /// What [`solve_refined`] needs of a sparse active-set system ([`RigidObstacle`] and
 /// `TwoBodies`).
-trait SparseSolves {
+trait SparseSolves<T = bool> {
     /// Solves the problem of `active` for the columns of `x`, in place.
-    fn solve_in_place(&mut self, active: &[bool], x: MatMut<'_, f64>)
-    -> Result<(), ActiveSetError>;
+    fn solve_in_place(&mut self, active: &[T], x: MatMut<'_, f64>) -> Result<(), ActiveSetError>;
     /// The matrix of `active` times `u`.
-    fn product(&self, active: &[bool], u: &[f64]) -> Vec<f64>;
+    fn product(&self, active: &[T], u: &[f64]) -> Vec<f64>;
     /// The largest absolute row sum of the unmodified matrix.
     fn row_norm(&self) -> f64;
     /// Counts one refinement step in the statistics.
@@ -911,9 +1131,9 @@ trait SparseSolves {
 /// `K_A⁻¹ b` with one step of iterative refinement when the normwise backward error is
 /// above 1e-14 (below it the step would change nothing that matters, and it costs one or two
 /// solves).
-fn solve_refined<S: SparseSolves>(
+fn solve_refined<T, S: SparseSolves<T>>(
     system: &mut S,
-    active: &[bool],
+    active: &[T],
     b: &[f64],
 ) -> Result<Vec<f64>, ActiveSetError> {
     let n = b.len();
@@ -943,16 +1163,12 @@ fn solve_refined<S: SparseSolves>(
     Ok(u)
 }
 
-impl SparseSolves for RigidObstacle<'_> {
-    fn solve_in_place(
-        &mut self,
-        active: &[bool],
-        x: MatMut<'_, f64>,
-    ) -> Result<(), ActiveSetError> {
-        self.solve_columns(active, x)
+impl SparseSolves<Mode> for RigidObstacle<'_> {
+    fn solve_in_place(&mut self, modes: &[Mode], x: MatMut<'_, f64>) -> Result<(), ActiveSetError> {
+        self.solve_columns(modes, x)
     }
-    fn product(&self, active: &[bool], u: &[f64]) -> Vec<f64> {
-        self.apply(active, u)
+    fn product(&self, modes: &[Mode], u: &[f64]) -> Vec<f64> {
+        self.apply(modes, u)
     }
     fn row_norm(&self) -> f64 {
         self.norm
@@ -969,13 +1185,13 @@ impl ActiveSetSystem for RigidObstacle<'_> {
     /// `None` when the solve with `K` does not pass its accuracy check (the static-pivoting
     /// LU returns NaN then: a strip 500 × 1 clamped at one end is such a case).
     fn free_gap(&mut self) -> Result<Option<Vec<f64>>, ActiveSetError> {
-        let u = match self.displacements(&vec![false; self.size()]) {
+        let u = match self.displacements(&vec![false; self.replacements.len()]) {
             Ok(u) => u,
             Err(ActiveSetError::Solve(_)) => return Ok(None),
             Err(e) => return Err(e),
         };
         let mut q = self.operator.gap_contribution(&u);
-        for (g, g0) in q.iter_mut().zip(self.initial_gap) {
+        for (g, g0) in q.iter_mut().zip(&self.initial_gap) {
             *g += g0;
         }
         Ok(Some(q))
@@ -984,11 +1200,12 @@ impl ActiveSetSystem for RigidObstacle<'_> {
         self.initial_gap.to_vec()
     }
     fn solve_active(&mut self, active: &[bool]) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
-        let u = self.displacements(active)?;
-        let p = self.forces(active, &u);
-        self.last = Some((active.to_vec(), u.clone()));
+        let modes = closed_modes(active);
+        let u = self.displacements_of(&modes)?;
+        let p = self.forces(&modes, &u);
+        self.last = Some((modes, u.clone()));
         let mut g = self.operator.gap_contribution(&u);
-        for (c, (g, g0)) in g.iter_mut().zip(self.initial_gap).enumerate() {
+        for (c, (g, g0)) in g.iter_mut().zip(&self.initial_gap).enumerate() {
             *g += g0;
             if active[c] {
                 // Zero up to the solve's round-off; the condition is g_c = 0 exactly.
@@ -998,9 +1215,9 @@ impl ActiveSetSystem for RigidObstacle<'_> {
         Ok((p, g))
     }
     fn reduced_lcp(&mut self, active: &[bool], free: &[usize]) -> Result<Lcp, ActiveSetError> {
-        let mut held = active.to_vec();
+        let mut held = closed_modes(active);
         for &c in free {
-            held[c] = false;
+            held[c] = OPEN;
         }
         let (n, k) = (self.matrix.n, free.len());
         // Column 0: the held problem's own right-hand side; column 1 + j: unit force on free[j].

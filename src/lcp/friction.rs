@@ -101,6 +101,9 @@ pub enum FrictionMethod {
     /// Lemke's answer missed the tolerance; Lemke again with the stricter pivot tolerance
     /// [`STRICT_PIVOT_TOLERANCE`], which skips the near-zero pivots that spoiled it, answered.
     LemkeStrictPivots,
+    /// The active-set method on the sparse system, without the blocks (docs/method.md
+    /// §5.1, `lcp::active_set::solve_friction_step`).
+    ActiveSet,
 }
 
 /// The scaled residuals of a step's answer (docs/method.md §8). `F = max(‖P‖∞, ‖T‖∞)` (1 when

@@ -282,6 +282,7 @@ pub(super) fn solve_frictional(
                     solver: step.method,
                     pivots: step.pivots,
                     iterations: step.iterations,
+                    active_set_changes: Vec::new(),
                     complementarity: step.residuals.max(),
                     equilibrium_error: equilibrium,
                     stick: count(&|s| *s == lcp::ContactState::Stick),
@@ -371,4 +372,203 @@ pub(super) fn solve_frictional(
     friction.target_operator = target_tangential;
     contact.friction = Some(friction);
     Ok((u, u2, contact))
+}
+
+/// Frictional contact (or load steps) against a rigid obstacle by the active-set method on
+/// the sparse system (docs/method.md §5.1, §8): no blocks `M_**`, no condensation. Each
+/// increment sets the load `f_λ`, the obstacle's displacement `d_λ` (through `g0 − d_λ·ν`
+/// and `o = d_λ·t`) and the step's `μ` on one [`lcp::active_set::RigidObstacle`], whose
+/// factorisations and update columns carry over, and starts from the previous increment's
+/// states. The displacements are those of each increment's final states.
+pub(super) fn solve_frictional_active_set(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    mut candidates: contact::Candidates,
+    steps: &[StepEnd],
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let (tangential, free) = candidates.tangential_operator(&model.system);
+    let m = candidates.len();
+    let points = match model.scheme {
+        Scheme::Mfvm(_) => Some(model.nodes.points.as_slice()),
+        Scheme::Fem(_) => None,
+    };
+    let friction_in = |k: usize| -> Vec<f64> {
+        free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect()
+    };
+    let params = lcp::active_set::ActiveSetParams::default();
+    let n = model.system.rhs.len();
+    let (mut load0, mut rhs0) = (vec![0.0; n], vec![0.0; n]);
+    let mut d0 = [0.0, 0.0];
+    let mut previous = vec![0.0; m];
+    let mut warm: Option<Vec<lcp::ContactState>> = None;
+    let mut accumulated = vec![0.0; m];
+    let (mut records, mut snapshots) = (Vec::new(), Vec::new());
+    let (mut iterations, mut rescues, mut end_all) =
+        (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
+    let mut last = None;
+    let work = clock.run("friction", || -> Result<_, Error> {
+        let mut system = lcp::active_set::RigidObstacle::new(
+            &model.system.matrix,
+            &model.system.rhs,
+            &model.factorisation,
+            &candidates.operator,
+            &candidates.initial_gap,
+            model.system.collocation_scale,
+            points,
+        )
+        .map_err(lcp::LcpError::from)?;
+        for (k, end) in steps.iter().enumerate() {
+            system.set_friction(&friction_in(k)).map_err(lcp::LcpError::from)?;
+            for i in 1..=end.increments {
+                let started = std::time::Instant::now();
+                let lambda = i as f64 / end.increments as f64;
+                let rhs = lerp(&rhs0, &end.rhs, lambda);
+                let d = [
+                    (1.0 - lambda) * d0[0] + lambda * end.obstacle[0],
+                    (1.0 - lambda) * d0[1] + lambda * end.obstacle[1],
+                ];
+                let (g0, offset): (Vec<f64>, Vec<f64>) = (0..m)
+                    .map(|c| {
+                        let (nu, t) = (candidates.normal(c), candidates.tangent(c));
+                        let g0 = candidates.initial_gap[c];
+                        if d == [0.0, 0.0] {
+                            (g0, 0.0)
+                        } else {
+                            (g0 - (d[0] * nu[0] + d[1] * nu[1]), d[0] * t[0] + d[1] * t[1])
+                        }
+                    })
+                    .unzip();
+                system.set_load(&rhs, &g0, &offset);
+                let answer = lcp::active_set::solve_friction_step(
+                    &mut system,
+                    &previous,
+                    warm.as_deref(),
+                    &params,
+                )
+                .map_err(|e| {
+                    let e = lcp::LcpError::from(e);
+                    if problem.steps.is_empty() {
+                        Error::from(e)
+                    } else {
+                        Error::Increment {
+                            step: k + 1,
+                            increment: i,
+                            increments: end.increments,
+                            cause: Box::new(e.into()),
+                        }
+                    }
+                })?;
+                let u = system
+                    .final_friction_displacements(&answer.states)
+                    .map_err(lcp::LcpError::from)?;
+                let step = &answer.step;
+                let load = lerp(&load0, &end.load, lambda);
+                let ops = [
+                    (&candidates.operator, step.normal.as_slice()),
+                    (&tangential, step.tangential.as_slice()),
+                ];
+                let equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
+                let count = |f: &dyn Fn(&lcp::ContactState) -> bool| {
+                    step.state.iter().filter(|s| f(s)).count()
+                };
+                records.push(solution::IncrementRecord {
+                    step: k + 1,
+                    increment: i,
+                    load_factor: lambda,
+                    normal_force: step.normal.iter().sum(),
+                    tangential_force: step.tangential.iter().sum(),
+                    solver: step.method,
+                    pivots: step.pivots,
+                    iterations: step.iterations,
+                    active_set_changes: answer.changes.clone(),
+                    complementarity: step.residuals.max(),
+                    equilibrium_error: equilibrium,
+                    stick: count(&|s| *s == lcp::ContactState::Stick),
+                    slip: count(&|s| s.is_slip()),
+                    open: count(&|s| *s == lcp::ContactState::Open),
+                    seconds: started.elapsed().as_secs_f64(),
+                });
+                for ((a, s), ds) in
+                    accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment)
+                {
+                    if s.is_slip() {
+                        *a += ds;
+                    }
+                }
+                if problem.write_steps {
+                    snapshots.push(solution::IncrementSnapshot {
+                        step: k + 1,
+                        increment: i,
+                        load_factor: lambda,
+                        normal: step.normal.clone(),
+                        tangential: step.tangential.clone(),
+                        gap: step.gap.clone(),
+                        slip: accumulated.clone(),
+                        state: step.state.clone(),
+                    });
+                }
+                previous.clone_from(&step.tangential_displacement);
+                iterations += step.iterations;
+                rescues.extend_from_slice(&answer.rescues);
+                if answer.end != lcp::active_set::ActiveSetEnd::Converged {
+                    end_all = answer.end;
+                }
+                warm = Some(answer.states.clone());
+                last = Some((answer, u));
+            }
+            (load0, rhs0) = (end.load.clone(), end.rhs.clone());
+            d0 = end.obstacle;
+        }
+        Ok(system.stats)
+    })?;
+    let Some((answer, u)) = last else {
+        unreachable!("validated: at least one step with at least one increment")
+    };
+    let step = answer.step;
+    let result = lcp::LcpSolution {
+        residuals: lcp::active_set::residuals(&answer.free_gap, &step.normal, &step.gap),
+        w: step.gap.clone(),
+        z: step.normal.clone(),
+        pivots: iterations,
+    };
+    // The gaps from the obstacle's final position.
+    if let Some(end) = steps.last() {
+        let d = end.obstacle;
+        for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
+            let dn = d[0] * nu[0] + d[1] * nu[1];
+            if dn != 0.0 {
+                *g -= dn;
+            }
+        }
+    }
+    let gap = step.gap.clone();
+    let segment_length = candidates.segment_length.clone();
+    let mut contact = ContactSolution::new(
+        spec,
+        candidates,
+        None,
+        Vec::new(),
+        None,
+        &answer.free_gap,
+        result,
+        gap,
+        None,
+    );
+    contact.active_set = Some(solution::ActiveSetRecord {
+        iterations,
+        changes: answer.changes,
+        rescues,
+        end: end_all,
+        work,
+    });
+    let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
+    let mut friction =
+        solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
+    friction.slip = accumulated;
+    friction.increments = records;
+    friction.snapshots = snapshots;
+    contact.friction = Some(friction);
+    Ok((u, None, contact))
 }

@@ -67,7 +67,12 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
             / problem.refinement.finest(problem.node_spacing)
             + 1.0;
         let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
-        if frictionless && spec.solver.is_active_set(m as usize) {
+        let active_set = if frictionless {
+            spec.solver.is_active_set(m as usize)
+        } else {
+            problem.second_body.is_none() && spec.solver.is_active_set_frictional(m as usize)
+        };
+        if active_set {
             // A second factorisation (of the row-replaced matrix) and at most 1 GB of stored
             // update columns (docs/method.md §5.1): 6.9 GB measured on the 210k-node strip
             // whose estimate without contact is 8.8 GB.

@@ -25,7 +25,7 @@ use crate::problem::{ContactSpec, Method, Problem};
 use crate::progress::{Clock, Progress, Silent};
 use crate::solution::{self, ContactSolution, Solution};
 use crate::weak_form::{self, FaceQuadrature};
-use friction::{StepEnd, Target, solve_frictional, step_ends};
+use friction::{StepEnd, Target, solve_frictional, solve_frictional_active_set, step_ends};
 use std::path::{Path, PathBuf};
 
 /// Builds the model of `problem`: nodes, supports, shape functions, cells, assembly and
@@ -355,6 +355,12 @@ fn solve_contact(
             }]
         };
         let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
+        if target.is_none() && spec.solver.is_active_set_frictional(candidates.len()) {
+            let (u1, u2, mut contact) =
+                solve_frictional_active_set(problem, spec, model, candidates, &steps1, clock)?;
+            contact.gap = final_gaps(model, &contact.candidates, &u1, None);
+            return Ok((u1, u2, contact));
+        }
         let target = match (target, second) {
             (Some(op), Some((_, m2))) => Some(Target {
                 model: m2,

@@ -387,10 +387,12 @@ pub enum ContactSolver {
     /// Lemke's method on the dense condensed compliance `M = G K⁻¹ E` (docs/method.md §5).
     Lemke,
     /// The primal–dual active-set method on the sparse system, without `M` (docs/method.md
-    /// §5.1); a rigid obstacle or two bodies, frictionless, one load step.
+    /// §5.1); a rigid obstacle (with friction and load steps too) or two bodies
+    /// (frictionless, one load step).
     ActiveSet,
-    /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (and always with friction or
-    /// load steps), the active-set method from there on.
+    /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (frictional problems against
+    /// a rigid obstacle: [`ContactSolver::FRICTION_AUTO_THRESHOLD`]; two bodies with friction
+    /// or load steps: always), the active-set method from there on.
     #[default]
     Auto,
 }
@@ -409,6 +411,25 @@ impl ContactSolver {
             ContactSolver::Lemke => false,
             ContactSolver::ActiveSet => true,
             ContactSolver::Auto => candidates >= Self::AUTO_THRESHOLD,
+        }
+    }
+
+    /// Candidates from which `Auto` takes the active-set method for a frictional problem
+    /// (or one with load steps) against a rigid obstacle (docs/dev/active_set.md, "Friction"):
+    /// with μ = 0.3, one step, on the strip `L × 1` at spacing 0.05 Lemke's path (condensation
+    /// of four blocks, Lemke on the 3m step LCP) took 0.5 s against 0.6 s at 250 candidates,
+    /// 2.5 s against 1.4 s at 500 and 9.2 s against 3.8 s at 1 000; on the beam 3.3 s
+    /// against 4.6 s at 384. Above every shipped frictional problem (at most 192 candidates).
+    pub const FRICTION_AUTO_THRESHOLD: usize = 500;
+
+    /// Whether a frictional problem (or one with load steps) against a rigid obstacle with
+    /// `candidates` candidates is solved by the active-set method (two bodies with friction
+    /// always take Lemke's path).
+    pub fn is_active_set_frictional(self, candidates: usize) -> bool {
+        match self {
+            ContactSolver::Lemke => false,
+            ContactSolver::ActiveSet => true,
+            ContactSolver::Auto => candidates >= Self::FRICTION_AUTO_THRESHOLD,
         }
     }
 }

@@ -148,12 +148,13 @@ impl TryFrom<ProblemFile> for Problem {
             p2.steps = second_steps;
         }
         if !problem.steps.is_empty()
+            && problem.second_body.is_some()
             && problem.contact.is_some_and(|c| c.solver == ContactSolver::ActiveSet)
         {
             return Err(invalid(
                 "contact.solver",
                 "active_set",
-                "the active-set solver handles frictionless contact in one load step; with [[step]] use \"lemke\" or \"auto\"",
+                "the active-set solver takes load steps against rigid obstacles only; two bodies with [[step]] use \"lemke\" or \"auto\"",
             ));
         }
         problem.adaptive = match &file.refinement {
@@ -893,9 +894,9 @@ fn contact_spec(
     let solver = c.solver.unwrap_or_default();
     if solver == ContactSolver::ActiveSet {
         let refuse = |why: &str| Err(invalid("contact.solver", "active_set", why));
-        if friction > 0.0 {
+        if friction > 0.0 && problem.second_body.is_some() {
             return refuse(
-                "the active-set solver handles frictionless contact in one load step; with contact.friction or [[step]] use \"lemke\" or \"auto\"",
+                "the active-set solver takes friction against rigid obstacles only; two bodies with contact.friction use \"lemke\" or \"auto\"",
             );
         }
     }

@@ -1,0 +1,674 @@
+//! The frictional step (docs/method.md §8) by the active-set method, without the dense
+//! blocks `M_nn, M_nt, M_tn, M_tt` (docs/method.md §5.1, "Friction").
+//!
+//! Each candidate is open, sticking or slipping along `±t`; the linear problem of a guess of
+//! the states is "open: `P = T = 0`; closed: `g = 0` and stick: `Δs = 0`, slip±: `T = ∓μP`".
+//! The next guess moves every candidate whose sign condition fails, with the rules of
+//! `lcp::friction`'s exact active-set step: open with `g < 0` → stick (slip along `Δs` when
+//! `|Δs| > μ(−g)`, the test of the min-function form at `P = T = 0`); closed with `P < 0`
+//! → open; stick with `T > μP` → slip−, `T < −μP` → slip+; slip+ with `Δs < 0`, slip− with
+//! `Δs > 0` → stick. The guess that repeats itself is the answer (semismooth Newton on the
+//! min-function form of the step's conditions). The step's matrix is not a P-matrix and the
+//! iteration can cycle: when a guess comes back, or after [`ActiveSetParams::max_iterations`]
+//! solves, the candidates whose state changed within the cycle (resp. since the last rescue)
+//! are handed to the Lemke-based step solver
+//! ([`crate::lcp::solve_step`]) on their reduced blocks (the others held at their states),
+//! and the iteration resumes from its answer; after [`ActiveSetParams::max_fallbacks`]
+//! rescues, or when the settled answer misses [`FRICTION_TOLERANCE`], the step fails with
+//! [`ActiveSetError::NotConverged`]: an unconverged answer is never returned.
+
+use super::{
+    ActiveSetEnd, ActiveSetError, ActiveSetParams, CLOSED, Mode, OPEN, RigidObstacle,
+    SLIP_NEGATIVE, SLIP_POSITIVE, STICK,
+};
+use crate::lcp::friction::{
+    ContactState, FRICTION_TOLERANCE, FrictionMethod, FrictionProblem, FrictionResiduals,
+    FrictionSolution, solve_step as lemke_step,
+};
+use crate::nodes::{Axis, dof};
+use faer::Mat;
+use faer::linalg::solvers::Solve;
+use std::collections::HashMap;
+
+/// `(q_n, q_t)`: gaps and tangential displacements without contact forces.
+pub type FreeResponse = (Vec<f64>, Vec<f64>);
+
+/// Forces and displacements of the linear problem of a guess of the states.
+#[derive(Clone, Debug)]
+pub struct StateResponse {
+    /// `P` (0 where open).
+    pub normal: Vec<f64>,
+    /// `T` (0 where open).
+    pub tangential: Vec<f64>,
+    /// `g` (0 where closed, up to round-off).
+    pub gap: Vec<f64>,
+    /// `s`, the tangential displacements relative to the obstacle.
+    pub tangential_displacement: Vec<f64>,
+}
+
+/// A frictional contact problem the active-set method can iterate on.
+pub trait FrictionSystem {
+    /// Number of candidates.
+    fn size(&self) -> usize;
+    /// `μ_c` per candidate.
+    fn friction(&self) -> Vec<f64>;
+    /// `(q_n, q_t)`: gaps and tangential displacements without contact forces, or `None`
+    /// when the body cannot be solved without them.
+    ///
+    /// # Errors
+    /// A failed solve other than that.
+    fn free_response(&mut self) -> Result<Option<FreeResponse>, ActiveSetError>;
+    /// `g0`: the gaps without displacement (their scale when `q_n` is unknown).
+    fn initial_gap(&self) -> Vec<f64>;
+    /// The linear problem of `states` with the previous tangential displacements `previous`.
+    ///
+    /// # Errors
+    /// A failed solve.
+    fn solve_states(
+        &mut self,
+        states: &[ContactState],
+        previous: &[f64],
+    ) -> Result<StateResponse, ActiveSetError>;
+    /// The step problem of the candidates `free` (indices), the others held at `states`:
+    /// its four blocks and free responses (`2|free| + 1` solves).
+    ///
+    /// # Errors
+    /// A failed solve.
+    fn reduced_problem(
+        &mut self,
+        states: &[ContactState],
+        free: &[usize],
+        previous: &[f64],
+    ) -> Result<FrictionProblem, ActiveSetError>;
+}
+
+/// The answer of [`solve_friction_step`].
+#[derive(Clone, Debug)]
+pub struct FrictionStepSolution {
+    /// Forces, gaps, tangential displacements, slip increments, states (classified from the
+    /// slip increments as `lcp::solve_step` does), residuals; `method` is
+    /// [`FrictionMethod::ActiveSet`], `pivots` the rescues' Lemke pivots and `iterations`
+    /// the linear solves.
+    pub step: FrictionSolution,
+    /// The states the iteration settled on (the next step's start).
+    pub states: Vec<ContactState>,
+    /// `q_n` (or `g0` when unknown).
+    pub free_gap: Vec<f64>,
+    /// Candidates whose state changed after each iteration (the last is 0).
+    pub changes: Vec<usize>,
+    /// Lemke rescues, with the candidates each handled.
+    pub rescues: Vec<usize>,
+    /// How it ended.
+    pub end: ActiveSetEnd,
+}
+
+/// The scaled residuals of a step's answer (docs/method.md §8) without the blocks: the
+/// displacement scale `U = max(‖q_n‖∞, ‖q_t − s_prev‖∞, ‖g − q_n‖∞, ‖Δs − (q_t − s_prev)‖∞)`
+/// (the last two are `M` times the forces, where `lcp::solve_step` uses the bound
+/// `max|M| F`).
+pub fn friction_residuals(
+    free: (&[f64], &[f64]),
+    forces: (&[f64], &[f64]),
+    gap: &[f64],
+    slip_increment: &[f64],
+    mu: &[f64],
+) -> FrictionResiduals {
+    let ((qn, dq), (p, t)) = (free, forces);
+    let inf = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let diff =
+        |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let f = inf(p).max(inf(t));
+    let f = if f > 0.0 { f } else { 1.0 };
+    let u = inf(qn)
+        .max(inf(dq))
+        .max(diff(gap, qn))
+        .max(diff(slip_increment, dq))
+        .max(f64::MIN_POSITIVE);
+    let mut r = FrictionResiduals { force_scale: f, displacement_scale: u, ..Default::default() };
+    for c in 0..p.len() {
+        let (pc, tc, ds) = (p[c], t[c], slip_increment[c]);
+        r.negative_force = r.negative_force.max(-pc / f);
+        r.penetration = r.penetration.max(-gap[c] / u);
+        r.normal_complementarity = r.normal_complementarity.max((pc * gap[c]).abs() / (f * u));
+        r.cone = r.cone.max((tc.abs() - mu[c] * pc.max(0.0)) / f);
+        let slack = (mu[c] * pc - tc.abs()).clamp(0.0, f);
+        let fc = (tc * ds).max(0.0).max(slack * ds.abs());
+        r.friction_complementarity = r.friction_complementarity.max(fc / (f * u));
+    }
+    r
+}
+
+/// Solves one frictional step of `system` from the previous tangential displacements
+/// `previous` by the active-set method (see the module documentation), starting from
+/// `start` (the previous step's states: warm start) or, without it, from the candidates with
+/// a negative free gap sticking.
+///
+/// # Errors
+/// [`ActiveSetError::NotConverged`] when the rescues do not settle it or the settled answer
+/// misses [`FRICTION_TOLERANCE`]; [`ActiveSetError::Rescue`] when a rescue fails; solve
+/// failures.
+pub fn solve_friction_step(
+    system: &mut dyn FrictionSystem,
+    previous: &[f64],
+    start: Option<&[ContactState]>,
+    params: &ActiveSetParams,
+) -> Result<FrictionStepSolution, ActiveSetError> {
+    let m = system.size();
+    let mu = system.friction();
+    let inf = |v: &[f64]| v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    let free = system.free_response()?;
+    let (qn, dq) = match &free {
+        Some((qn, qt)) => (qn.clone(), qt.iter().zip(previous).map(|(a, b)| a - b).collect()),
+        None => (system.initial_gap(), vec![0.0; m]),
+    };
+    let mut states: Vec<ContactState> = match (start, &free) {
+        (Some(s), _) => s.to_vec(),
+        (None, Some(_)) => {
+            let q_max = inf(&qn);
+            qn.iter()
+                .map(|&g| {
+                    if g < -params.tolerance * q_max {
+                        ContactState::Stick
+                    } else {
+                        ContactState::Open
+                    }
+                })
+                .collect()
+        }
+        (None, None) => vec![ContactState::Stick; m],
+    };
+    let key = |s: &[ContactState]| s.iter().map(|&x| x as u8).collect::<Vec<u8>>();
+    // Every guess since the last rescue, with the iteration that made it, and the candidates
+    // each iteration changed.
+    let mut seen: HashMap<Vec<u8>, usize> = HashMap::new();
+    seen.insert(key(&states), 0);
+    let mut moved: Vec<Vec<usize>> = Vec::new();
+    let (mut iterations, mut since_rescue, mut pivots) = (0, 0, 0);
+    let (mut changes, mut rescues) = (Vec::new(), Vec::new());
+    let scale_u = inf(&qn).max(inf(&dq));
+    loop {
+        let r = system.solve_states(&states, previous)?;
+        iterations += 1;
+        since_rescue += 1;
+        let ds: Vec<f64> =
+            r.tangential_displacement.iter().zip(previous).map(|(a, b)| a - b).collect();
+        let tol_f = params.tolerance * inf(&r.normal).max(inf(&r.tangential));
+        let tol_u = params.tolerance * scale_u.max(inf(&r.gap)).max(inf(&ds));
+        let next: Vec<ContactState> = (0..m)
+            .map(|c| {
+                let (p, t, bound) = (r.normal[c], r.tangential[c], mu[c] * r.normal[c]);
+                match states[c] {
+                    // Closing: stick when the slip increment is within μ times the
+                    // penetration (the min-function form's test |Δs| ≤ μ(−g) at P = T = 0),
+                    // else slip along Δs.
+                    ContactState::Open if r.gap[c] < -tol_u => {
+                        if mu[c] > 0.0 && ds[c].abs() > -mu[c] * r.gap[c] {
+                            if ds[c] > 0.0 {
+                                ContactState::SlipPositive
+                            } else {
+                                ContactState::SlipNegative
+                            }
+                        } else {
+                            ContactState::Stick
+                        }
+                    }
+                    ContactState::Open => ContactState::Open,
+                    _ if p < -tol_f => ContactState::Open,
+                    s if mu[c] == 0.0 => s,
+                    ContactState::Stick if t > bound + tol_f => ContactState::SlipNegative,
+                    ContactState::Stick if t < -bound - tol_f => ContactState::SlipPositive,
+                    ContactState::SlipPositive if ds[c] < -tol_u => ContactState::Stick,
+                    ContactState::SlipNegative if ds[c] > tol_u => ContactState::Stick,
+                    s => s,
+                }
+            })
+            .collect();
+        let changed = (0..m).filter(|&c| next[c] != states[c]).count();
+        changes.push(changed);
+        if changed == 0 {
+            let step = finish(&r, &states, previous, (&qn, &dq), &mu, pivots, iterations);
+            let residual = step.residuals.max();
+            if residual > FRICTION_TOLERANCE {
+                return Err(ActiveSetError::NotConverged {
+                    iterations,
+                    fallbacks: rescues.len(),
+                    reason: "the settled states' answer misses the residual tolerance",
+                });
+            }
+            let end = if rescues.is_empty() {
+                ActiveSetEnd::Converged
+            } else {
+                ActiveSetEnd::ConvergedAfterRescue
+            };
+            return Ok(FrictionStepSolution { step, states, free_gap: qn, changes, rescues, end });
+        }
+        moved.push((0..m).filter(|&c| next[c] != states[c]).collect());
+        let back = seen.insert(key(&next), moved.len());
+        let cycled = back.is_some();
+        if !cycled && since_rescue < params.max_iterations {
+            states = next;
+            continue;
+        }
+        let reason = if cycled { "a set of states came back" } else { "iteration limit" };
+        if rescues.len() >= params.max_fallbacks {
+            return Err(ActiveSetError::NotConverged {
+                iterations,
+                fallbacks: rescues.len(),
+                reason,
+            });
+        }
+        // The Lemke-based step solver on the candidates that changed within the cycle (after
+        // the limit: since the last rescue), the others held.
+        let from = back.unwrap_or(0);
+        let mut in_cycle = vec![false; m];
+        for &c in moved[from..].iter().flatten() {
+            in_cycle[c] = true;
+        }
+        let free_set: Vec<usize> = (0..m).filter(|&c| in_cycle[c]).collect();
+        let reduced = system.reduced_problem(&next, &free_set, previous)?;
+        let answer = lemke_step(&reduced).map_err(|e| ActiveSetError::Rescue(Box::new(e)))?;
+        pivots += answer.pivots;
+        states = next;
+        for (k, &c) in free_set.iter().enumerate() {
+            states[c] = answer.state[k];
+        }
+        rescues.push(free_set.len());
+        seen.clear();
+        seen.insert(key(&states), 0);
+        moved.clear();
+        since_rescue = 0;
+    }
+}
+
+/// The answer from the settled states' response: exact zeros where the conditions are
+/// equations (open forces, closed gaps, stick increments), negative round-off of `P` clipped.
+fn finish(
+    r: &StateResponse,
+    states: &[ContactState],
+    previous: &[f64],
+    free: (&[f64], &[f64]),
+    mu: &[f64],
+    pivots: usize,
+    iterations: usize,
+) -> FrictionSolution {
+    let m = states.len();
+    let (mut p, mut t, mut g) = (r.normal.clone(), r.tangential.clone(), r.gap.clone());
+    let mut s = r.tangential_displacement.clone();
+    for c in 0..m {
+        match states[c] {
+            ContactState::Open => {
+                p[c] = 0.0;
+                t[c] = 0.0;
+            }
+            state => {
+                p[c] = p[c].max(0.0);
+                g[c] = 0.0;
+                if state == ContactState::Stick && mu[c] > 0.0 {
+                    s[c] = previous[c];
+                }
+            }
+        }
+    }
+    let ds: Vec<f64> = s.iter().zip(previous).map(|(a, b)| a - b).collect();
+    let residuals = friction_residuals(free, (&p, &t), &g, &ds, mu);
+    let u = residuals.displacement_scale;
+    // Reported as `lcp::solve_step` classifies its answers.
+    let state = (0..m)
+        .map(|c| {
+            if p[c] <= 0.0 {
+                ContactState::Open
+            } else if ds[c].abs() <= 1e-10 * u {
+                ContactState::Stick
+            } else if ds[c] >= 0.0 {
+                ContactState::SlipPositive
+            } else {
+                ContactState::SlipNegative
+            }
+        })
+        .collect();
+    FrictionSolution {
+        normal: p,
+        tangential: t,
+        gap: g,
+        tangential_displacement: s,
+        slip_increment: ds,
+        state,
+        residuals,
+        method: FrictionMethod::ActiveSet,
+        pivots,
+        iterations,
+        lemke_failure: None,
+    }
+}
+
+/// A [`FrictionProblem`] (dense blocks) as a frictional active-set system: for tests and
+/// small problems.
+pub struct DenseFriction<'a> {
+    problem: &'a FrictionProblem,
+}
+
+impl<'a> DenseFriction<'a> {
+    /// The system of `problem` (its `previous_tangential` is ignored: [`solve_friction_step`]
+    /// passes its own).
+    pub fn new(problem: &'a FrictionProblem) -> Self {
+        Self { problem }
+    }
+
+    /// Solves the 2m linear conditions: `fixed[c] = Some((P, T))` prescribes a candidate's
+    /// forces, the others follow `states`; `with_free` includes `q_n`, `q_t − s_prev` (else
+    /// the response to the prescribed forces alone).
+    fn solve(
+        &self,
+        states: &[ContactState],
+        fixed: &[Option<(f64, f64)>],
+        previous: &[f64],
+        with_free: bool,
+    ) -> Result<StateResponse, ActiveSetError> {
+        let pr = self.problem;
+        let m = pr.size();
+        let (qn, qt): (Vec<f64>, Vec<f64>) = if with_free {
+            (pr.free_gap.clone(), pr.free_tangential.clone())
+        } else {
+            (vec![0.0; m], vec![0.0; m])
+        };
+        let prev: Vec<f64> = if with_free { previous.to_vec() } else { vec![0.0; m] };
+        let mu = &pr.friction;
+        let n = 2 * m;
+        let mut a = Mat::<f64>::zeros(n, n);
+        let mut b = Mat::<f64>::zeros(n, 1);
+        for c in 0..m {
+            if let Some((pf, tf)) = fixed[c] {
+                a[(c, c)] = 1.0;
+                a[(m + c, m + c)] = 1.0;
+                b[(c, 0)] = pf;
+                b[(m + c, 0)] = tf;
+                continue;
+            }
+            match states[c] {
+                ContactState::Open => {
+                    a[(c, c)] = 1.0;
+                    a[(m + c, m + c)] = 1.0;
+                }
+                closed => {
+                    for j in 0..m {
+                        a[(c, j)] = pr.nn[c * m + j];
+                        a[(c, m + j)] = pr.nt[c * m + j];
+                    }
+                    b[(c, 0)] = -qn[c];
+                    match closed {
+                        ContactState::Stick if mu[c] > 0.0 => {
+                            for j in 0..m {
+                                a[(m + c, j)] = pr.tn[c * m + j];
+                                a[(m + c, m + j)] = pr.tt[c * m + j];
+                            }
+                            b[(m + c, 0)] = prev[c] - qt[c];
+                        }
+                        ContactState::SlipPositive | ContactState::Stick => {
+                            a[(m + c, m + c)] = 1.0;
+                            a[(m + c, c)] = mu[c];
+                        }
+                        _ => {
+                            a[(m + c, m + c)] = 1.0;
+                            a[(m + c, c)] = -mu[c];
+                        }
+                    }
+                }
+            }
+        }
+        let x = a.partial_piv_lu().solve(&b);
+        if (0..n).any(|i| !x[(i, 0)].is_finite()) {
+            return Err(super::singular("the dense frictional step"));
+        }
+        let p: Vec<f64> = (0..m).map(|c| x[(c, 0)]).collect();
+        let t: Vec<f64> = (0..m).map(|c| x[(m + c, 0)]).collect();
+        let dot = |row: &[f64], v: &[f64]| row.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
+        let gap = (0..m)
+            .map(|i| {
+                qn[i] + dot(&pr.nn[i * m..(i + 1) * m], &p) + dot(&pr.nt[i * m..(i + 1) * m], &t)
+            })
+            .collect();
+        let s = (0..m)
+            .map(|i| {
+                qt[i] + dot(&pr.tn[i * m..(i + 1) * m], &p) + dot(&pr.tt[i * m..(i + 1) * m], &t)
+            })
+            .collect();
+        Ok(StateResponse { normal: p, tangential: t, gap, tangential_displacement: s })
+    }
+}
+
+impl FrictionSystem for DenseFriction<'_> {
+    fn size(&self) -> usize {
+        self.problem.size()
+    }
+    fn friction(&self) -> Vec<f64> {
+        self.problem.friction.clone()
+    }
+    fn free_response(&mut self) -> Result<Option<FreeResponse>, ActiveSetError> {
+        Ok(Some((self.problem.free_gap.clone(), self.problem.free_tangential.clone())))
+    }
+    fn initial_gap(&self) -> Vec<f64> {
+        self.problem.free_gap.clone()
+    }
+    fn solve_states(
+        &mut self,
+        states: &[ContactState],
+        previous: &[f64],
+    ) -> Result<StateResponse, ActiveSetError> {
+        self.solve(states, &vec![None; self.size()], previous, true)
+    }
+    fn reduced_problem(
+        &mut self,
+        states: &[ContactState],
+        free: &[usize],
+        previous: &[f64],
+    ) -> Result<FrictionProblem, ActiveSetError> {
+        let m = self.size();
+        let mut fixed = vec![None; m];
+        for &c in free {
+            fixed[c] = Some((0.0, 0.0));
+        }
+        let base = self.solve(states, &fixed, previous, true)?;
+        let columns = (0..2 * free.len())
+            .map(|j| {
+                let mut fx = fixed.clone();
+                let c = free[j % free.len()];
+                fx[c] = Some(if j < free.len() { (1.0, 0.0) } else { (0.0, 1.0) });
+                self.solve(states, &fx, previous, false)
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(reduced_blocks(&base, &columns, free, previous, &self.problem.friction))
+    }
+}
+
+/// The reduced [`FrictionProblem`] of the candidates `free` from the held problem's response
+/// `base` and the responses `columns` to unit `P` (first `|free|`) and `T` (then) on each.
+fn reduced_blocks(
+    base: &StateResponse,
+    columns: &[StateResponse],
+    free: &[usize],
+    previous: &[f64],
+    mu: &[f64],
+) -> FrictionProblem {
+    let k = free.len();
+    let block = |offset: usize, normal: bool| {
+        let mut out = vec![0.0; k * k];
+        for j in 0..k {
+            let col = &columns[offset + j];
+            for (i, &c) in free.iter().enumerate() {
+                out[i * k + j] = if normal { col.gap[c] } else { col.tangential_displacement[c] };
+            }
+        }
+        out
+    };
+    FrictionProblem {
+        nn: block(0, true),
+        nt: block(k, true),
+        tn: block(0, false),
+        tt: block(k, false),
+        free_gap: free.iter().map(|&c| base.gap[c]).collect(),
+        free_tangential: free.iter().map(|&c| base.tangential_displacement[c]).collect(),
+        previous_tangential: free.iter().map(|&c| previous[c]).collect(),
+        friction: free.iter().map(|&c| mu[c]).collect(),
+    }
+}
+
+impl RigidObstacle<'_> {
+    /// The mode of candidate `c` in `state`.
+    fn mode_of(&self, c: usize, state: ContactState) -> Mode {
+        let mu = self.friction.get(c).copied().unwrap_or(0.0);
+        match state {
+            ContactState::Open => OPEN,
+            _ if mu == 0.0 => CLOSED,
+            ContactState::Stick => STICK,
+            ContactState::SlipPositive => SLIP_POSITIVE,
+            ContactState::SlipNegative => SLIP_NEGATIVE,
+        }
+    }
+
+    fn modes_of(&self, states: &[ContactState]) -> Vec<Mode> {
+        states.iter().enumerate().map(|(c, &s)| self.mode_of(c, s)).collect()
+    }
+
+    /// `(g, s)` of displacements `u`: `g0 + ν·u^h(x_c)`, `t·u^h(x_c) − o_c`.
+    fn gaps_and_slips(&self, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let m = self.replacements.len();
+        let mut g = Vec::with_capacity(m);
+        let mut s = Vec::with_capacity(m);
+        for c in 0..m {
+            let v = self.operator.shapes.interpolate(c, u);
+            let nu = self.operator.direction(c);
+            let t = crate::contact::tangent(nu);
+            g.push(self.initial_gap[c] + nu[0] * v[0] + nu[1] * v[1]);
+            s.push(t[0] * v[0] + t[1] * v[1] - self.tangential_offset[c]);
+        }
+        (g, s)
+    }
+
+    /// `(P_c, T_c)` from the removed rows' residuals `r = K û − f` on the owner's rows:
+    /// `P = ν·r/w`, `T = t·r/w` (frictionless closed candidates: `P` from row `a`, `T = 0`).
+    fn friction_forces(&self, modes: &[Mode], u: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let normal = self.forces(modes, u);
+        let mut p = Vec::with_capacity(modes.len());
+        let mut t = Vec::with_capacity(modes.len());
+        for (c, rep) in self.replacements.iter().enumerate() {
+            if modes[c] == OPEN || modes[c] == CLOSED {
+                p.push(normal[c]);
+                t.push(0.0);
+                continue;
+            }
+            let [ra, rb] = rep.dofs;
+            let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
+            let mut r = [0.0; 2];
+            r[rep.axes[0] as usize] = dot(&rep.normal_row.0) - self.rhs[ra];
+            r[rep.axes[1] as usize] = dot(&rep.other_row) - self.rhs[rb];
+            let nu = self.operator.direction(c);
+            let tc = crate::contact::tangent(nu);
+            p.push((nu[0] * r[0] + nu[1] * r[1]) / rep.weight);
+            t.push((tc[0] * r[0] + tc[1] * r[1]) / rep.weight);
+        }
+        (p, t)
+    }
+
+    /// The final displacements of the frictional step that settled on `states` (those of its
+    /// last solve; see [`RigidObstacle::final_displacements`]).
+    ///
+    /// # Errors
+    /// A failed solve.
+    pub fn final_friction_displacements(
+        &mut self,
+        states: &[ContactState],
+    ) -> Result<Vec<f64>, ActiveSetError> {
+        let modes = self.modes_of(states);
+        self.final_displacements_of(&modes)
+    }
+
+    fn set_targets(&mut self, previous: &[f64]) {
+        for (c, target) in self.tangential_target.iter_mut().enumerate() {
+            *target = previous[c] + self.tangential_offset[c];
+        }
+    }
+}
+
+impl FrictionSystem for RigidObstacle<'_> {
+    fn size(&self) -> usize {
+        self.replacements.len()
+    }
+    fn friction(&self) -> Vec<f64> {
+        if self.friction.is_empty() { vec![0.0; self.size()] } else { self.friction.clone() }
+    }
+    /// One solve with `K`'s own factorisation; `None` when it fails its accuracy check.
+    fn free_response(&mut self) -> Result<Option<FreeResponse>, ActiveSetError> {
+        match self.model.solve(&self.rhs) {
+            Ok(u) => Ok(Some(self.gaps_and_slips(&u))),
+            Err(_) => Ok(None),
+        }
+    }
+    fn initial_gap(&self) -> Vec<f64> {
+        self.initial_gap.clone()
+    }
+    fn solve_states(
+        &mut self,
+        states: &[ContactState],
+        previous: &[f64],
+    ) -> Result<StateResponse, ActiveSetError> {
+        self.set_targets(previous);
+        let modes = self.modes_of(states);
+        let u = self.displacements_of(&modes)?;
+        let (normal, tangential) = self.friction_forces(&modes, &u);
+        let (gap, tangential_displacement) = self.gaps_and_slips(&u);
+        self.last = Some((modes, u));
+        Ok(StateResponse { normal, tangential, gap, tangential_displacement })
+    }
+    fn reduced_problem(
+        &mut self,
+        states: &[ContactState],
+        free: &[usize],
+        previous: &[f64],
+    ) -> Result<FrictionProblem, ActiveSetError> {
+        self.set_targets(previous);
+        let mut held = self.modes_of(states);
+        for &c in free {
+            held[c] = OPEN;
+        }
+        let (n, k) = (self.matrix.n, free.len());
+        let mu = FrictionSystem::friction(self);
+        // Column 0: the held problem; 1 + j: unit P on free[j]; 1 + k + j: unit T on free[j]
+        // (none where μ = 0: T stays 0 there).
+        let mut x = Mat::<f64>::zeros(n, 2 * k + 1);
+        for (i, v) in self.rhs_of(&held).into_iter().enumerate() {
+            x[(i, 0)] = v;
+        }
+        for (j, &c) in free.iter().enumerate() {
+            let nu = self.operator.direction(c);
+            let t = crate::contact::tangent(nu);
+            for &(i, w) in &self.operator.owners[c] {
+                for ax in Axis::BOTH {
+                    x[(dof(i as usize, ax), j + 1)] += nu[ax as usize] * w;
+                    if mu[c] > 0.0 {
+                        x[(dof(i as usize, ax), k + j + 1)] += t[ax as usize] * w;
+                    }
+                }
+            }
+        }
+        self.solve_columns(&held, x.as_mut())?;
+        let response = |col: usize, with_offset: bool| {
+            let (mut g, mut s) = self.gaps_and_slips(x.col_as_slice(col));
+            if !with_offset {
+                // The response to a unit force: no g0, no obstacle offset.
+                for c in 0..g.len() {
+                    g[c] -= self.initial_gap[c];
+                    s[c] += self.tangential_offset[c];
+                }
+            }
+            StateResponse {
+                normal: Vec::new(),
+                tangential: Vec::new(),
+                gap: g,
+                tangential_displacement: s,
+            }
+        };
+        let base = response(0, true);
+        let columns: Vec<StateResponse> = (1..=2 * k).map(|col| response(col, false)).collect();
+        Ok(reduced_blocks(&base, &columns, free, previous, &mu))
+    }
+}
