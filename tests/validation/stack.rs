@@ -169,3 +169,134 @@ fn three_block_stack_is_identical_on_one_and_two_threads() {
     };
     assert_eq!(bodies(&a, ma), bodies(&b, mb));
 }
+
+/// Two blocks pressed together (`problems/two_blocks.toml`, identical blocks, non-matching
+/// layouts) with the pair reversed: the candidates on the lower block's top edge against the
+/// upper block's bottom edge, `[[contact]] body = "lower"` — the several-pairs path. Exact
+/// answer as for the usual pair: uniform pressure `E δ / (H_1 + H_2) = 5`, total 10, and the
+/// linear fields; the usual pair's solution (also exact) must be reproduced to round-off, by
+/// the MFVM and by the finite elements (Q2 reproduces linear fields exactly too). Asserted to
+/// 1e-8 as above (round-off only).
+#[test]
+fn reversed_pair_reproduces_the_two_blocks() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
+    let usual = std::fs::read_to_string(path).unwrap();
+    let from = "[contact]\nedge = \"bottom\"";
+    assert!(usual.contains(from));
+    let reversed = usual
+        .replace(from, "[[contact]]\nbody = \"lower\"\nedge = \"top\"\ntarget_body = \"upper\"\n")
+        .replace("target_edge = \"top\"", "target_edge = \"bottom\"");
+    for method in ["mfvm", "fem"] {
+        let with = |text: &str| {
+            let text = text.replace(
+                "support_factor = 2.0",
+                &format!("support_factor = 2.0\nmethod = \"{method}\""),
+            );
+            let problem = Problem::from_toml(&text).unwrap();
+            let s = mlpg_contact::solve(&problem).unwrap();
+            (problem, s)
+        };
+        let (p_usual, s_usual) = with(&usual);
+        let (p_rev, s_rev) = with(&reversed);
+        assert!(p_usual.multibody.is_none() && p_rev.multibody.is_some());
+        let ms = s_rev.multibody.as_deref().unwrap();
+        let c = &ms.pairs[0];
+        assert_lcp_residuals(method, &ms.lcp.residuals, 1e-10);
+        let worst = c.pressure.iter().map(|v| (v / 5.0 - 1.0).abs()).fold(0.0, f64::max);
+        println!("{method}: reversed pair, max |p/5 − 1| = {worst:.2e}, total {}", c.total_force);
+        assert!(worst < 1e-8 && (c.total_force / 10.0 - 1.0).abs() < 1e-8);
+        let lower_usual = s_usual.second_body.as_deref().unwrap();
+        for (a, b, what) in [(&s_usual, &s_rev, "upper"), (lower_usual, &ms.bodies[0], "lower")] {
+            let worst = a
+                .displacement
+                .iter()
+                .zip(&b.displacement)
+                .map(|(u, v)| (u[0] - v[0]).abs().max((u[1] - v[1]).abs()))
+                .fold(0.0, f64::max);
+            println!(
+                "{method}: {what} block, max |u_reversed − u_usual| / δ = {:.2e}",
+                worst / 0.01
+            );
+            assert!(worst < 1e-8 * 0.01, "{method} {what}: {worst:.3e}");
+            assert!(b.equilibrium_error < 1e-9, "{method} {what}: {}", b.equilibrium_error);
+        }
+    }
+}
+
+/// One body and two contact pairs against rigid lines: the block `[0, 2] × [0, 1]` (`E =
+/// 1000`, `ν = 0.3`, plane stress, spacing 0.1) on a rigid floor `y = 0` (pair 0: its bottom
+/// edge) beside a rigid wall `x = 2` (pair 1: its right edge), both touching at the start, its
+/// left edge on a roller and its top edge pushed down by `δ = 0.01`.
+///
+/// **Reference.** The uniform state `ε_yy = −δ`, `ε_xx = 0` (`u = (0, −δ y)`): the wall stops
+/// the Poisson expansion, so `σ_yy = −E δ/(1 − ν²)`, `σ_xx = ν σ_yy`, `σ_xy = 0`; both walls
+/// are pressed (`σ < 0`): floor pressure `E δ/(1 − ν²) = 10/0.91`, wall pressure `ν` times
+/// that. Linear field: exact up to round-off, asserted to 1e-8.
+#[test]
+fn block_between_floor_and_wall_is_exact() {
+    let text = r#"
+name = "walls"
+[discretisation]
+support_factor = 2.0
+[geometry]
+kind = "rectangle"
+x = [0.0, 2.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.1
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0 }
+[[boundary]]
+edge = "top"
+displacement = { y = -0.01 }
+[[contact]]
+edge = "bottom"
+obstacle_point = [0.0, 0.0]
+obstacle_normal = [0.0, 1.0]
+[[contact]]
+edge = "right"
+obstacle_point = [2.0, 0.0]
+obstacle_normal = [-1.0, 0.0]
+"#;
+    let problem = Problem::from_toml(text).unwrap();
+    let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    assert!(ms.bodies.is_empty());
+    assert_lcp_residuals("walls", &ms.lcp.residuals, 1e-10);
+    let floor = 1000.0 * DELTA / (1.0 - POISSON * POISSON);
+    for (k, (c, exact)) in
+        [(&ms.pairs[0], floor), (&ms.pairs[1], POISSON * floor)].into_iter().enumerate()
+    {
+        let worst = c.pressure.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+        println!(
+            "walls, pair {k}: {} candidates, max |p/p_exact − 1| = {worst:.2e}",
+            c.candidates.len()
+        );
+        assert!(worst < 1e-8, "pair {k}: {worst:.3e}");
+    }
+    let worst = model
+        .nodes
+        .points
+        .iter()
+        .zip(&s.displacement)
+        .map(|(x, u)| u[0].abs().max((u[1] + DELTA * x[1]).abs()))
+        .fold(0.0, f64::max);
+    println!(
+        "walls: max |u − u_exact| / δ = {:.2e}, equilibrium {:.2e}",
+        worst / DELTA,
+        s.equilibrium_error
+    );
+    assert!(worst < 1e-8 * DELTA);
+    assert!(s.equilibrium_error < 1e-9);
+    // The floor's and the wall's forces are the top's and the roller's reactions.
+    let (fy, fx) = (2.0 * floor, POISSON * floor);
+    assert!(
+        (s.contact_force[1] - fy).abs() < 1e-8 * fy && (s.contact_force[0] + fx).abs() < 1e-8 * fy
+    );
+}
