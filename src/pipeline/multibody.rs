@@ -175,6 +175,11 @@ pub fn solve_bodies(
         }
         u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
     }
+    // The default gap tolerance (docs/method.md §6) from all pairs' gaps: one pair's own
+    // contact-free gaps may all vanish (an edge that a rigid motion keeps in place).
+    let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    let tolerance = (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&condensed.free_gap))
+        .max(f64::MIN_POSITIVE);
     let contacts: Vec<ContactSolution> = found
         .into_iter()
         .zip(pairs)
@@ -194,8 +199,12 @@ pub fn solve_bodies(
                 pivots: result.pivots,
                 residuals: result.residuals,
             };
+            let spec = crate::problem::ContactSpec {
+                gap_tolerance: pair.spec.gap_tolerance.or(Some(tolerance)),
+                ..pair.spec
+            };
             let mut c = ContactSolution::new(
-                &pair.spec,
+                &spec,
                 f.candidates,
                 f.target,
                 f.paired,

@@ -132,11 +132,8 @@ impl TryFrom<ProblemFile> for Problem {
             let key =
                 |k: usize| file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k));
             let pairs = contact_pairs(tables, &key, &file.obstacle, &bodies)?;
-            let mut rest = bodies.split_off(1);
+            let rest = bodies.split_off(1);
             let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
-            for p in &mut rest {
-                p.profile_edge = 0;
-            }
             first.multibody = Some(Box::new(Multibody { bodies: rest, pairs }));
             first
         };

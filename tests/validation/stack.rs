@@ -279,6 +279,9 @@ obstacle_normal = [-1.0, 0.0]
             c.candidates.len()
         );
         assert!(worst < 1e-8, "pair {k}: {worst:.3e}");
+        // The wall's contact-free gaps vanish (the top's motion is a rigid translation along
+        // the wall): the closed set's tolerance comes from both pairs' gaps.
+        assert!(c.closed.iter().all(|&v| v), "pair {k}: an open candidate");
     }
     let worst = model
         .nodes
