@@ -43,7 +43,7 @@ fn strip_on_foundation() -> ProblemFile {
         ],
         // [contact]: the bottom edge against a rigid straight line through a point, whose
         // normal points into the body.
-        contact: Some(ContactFile::rigid_line("bottom", [0.0, -0.05], [0.0, 1.0])),
+        contact: Some(ContactFile::rigid_line("bottom", [0.0, -0.05], [0.0, 1.0]).into()),
         // [output]: which edge's displacement profile to plot (used by `mlpg_contact::run`).
         output: OutputFile { profile_edge: Some("bottom".into()), ..Default::default() },
         // Everything else at its default (two-body problems list two [[body]] tables instead

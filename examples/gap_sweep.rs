@@ -48,7 +48,8 @@ fn main() -> anyhow::Result<()> {
     let mut rows = Vec::new();
     for gap in GAPS {
         let mut file = base.clone();
-        let contact = file.contact.as_mut().context("the beam has a [contact] table")?;
+        let tables = file.contact.as_mut().context("the beam has a [contact] table")?;
+        let contact = &mut tables.tables_mut()[0];
         contact.obstacle_point = Some([x0, bottom - gap]);
 
         let problem = Problem::try_from(file)?;

@@ -38,12 +38,34 @@ pub struct Solution {
     pub contact: Option<ContactSolution>,
     /// The second body's solution (two-body contact).
     pub second_body: Option<Box<Solution>>,
+    /// Several bodies or contact pairs (`Problem::multibody`): the other bodies' solutions and
+    /// every pair's contact solution; this solution is the first body's (its `contact` is
+    /// `None`).
+    pub multibody: Option<Box<MultibodySolution>>,
     /// `‖K û − f‖ / ‖f‖` of the solved system.
     pub relative_residual: f64,
     /// `|Σ f + Σ R + Σ ν P| / max(|Σ f|, Σ |R|, Σ P)`: global force balance.
     pub equilibrium_error: f64,
     /// Stage timings.
     pub timings: Vec<StageTiming>,
+}
+
+/// The solution of a problem with several bodies or contact pairs: one LCP over the
+/// candidates of every pair, in pair order (docs/method.md §4.5).
+#[derive(Debug)]
+pub struct MultibodySolution {
+    /// Bodies 2, 3, … (as `Multibody::bodies`).
+    pub bodies: Vec<Solution>,
+    /// One contact solution per pair: its candidates, the target body's operator, its share
+    /// of `z` and `w` (`lcp.z`, `lcp.w`; pivots and residuals are the whole LCP's), gaps,
+    /// pressures, closed set.
+    pub pairs: Vec<ContactSolution>,
+    /// The condensed problem over all candidates and its run-time checks.
+    pub condensed: contact::CondensedContact,
+    /// Lemke's result over all candidates.
+    pub lcp: lcp::LcpSolution,
+    /// The compliance checks that failed but were overridden (`allow_indefinite`).
+    pub warning: Option<String>,
 }
 
 /// The solution of the contact problem on the candidates.
@@ -352,7 +374,13 @@ impl Solution {
             ("contact gap", self.contact.as_ref().is_none_or(|c| finite(&c.gap))),
         ];
         let own = checks.into_iter().find(|(_, ok)| !ok).map(|(what, _)| what);
-        own.or_else(|| self.second_body.as_ref().and_then(|s| s.first_non_finite()))
+        let several = self.multibody.as_ref().and_then(|m| {
+            let gaps = m.pairs.iter().all(|c| finite(&c.gap));
+            let forces = finite(&m.lcp.z);
+            let bodies = m.bodies.iter().find_map(|s| s.first_non_finite());
+            bodies.or((!forces).then_some("contact force")).or((!gaps).then_some("contact gap"))
+        });
+        own.or(several).or_else(|| self.second_body.as_ref().and_then(|s| s.first_non_finite()))
     }
 }
 
@@ -389,6 +417,7 @@ pub fn recover(
         contact_force,
         contact: None,
         second_body: None,
+        multibody: None,
         relative_residual: res / rhs_norm,
         equilibrium_error: imbalance / scale,
         timings: Vec::new(),

@@ -525,6 +525,125 @@ fn two_blocks_problem_total_force() {
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
 }
 
+/// problems/three_block_stack.toml: three blocks (E = 1000, 300, 3000) with non-matching
+/// layouts pressed together, two contact pairs in one LCP; exact answer the same uniform
+/// pressure `p = δ / Σ L_i/E_i = 15/7` on both interfaces, total `2p = 30/7` each
+/// (tests/validation/stack.rs checks the fields).
+#[test]
+fn three_block_stack_problem_total_forces() {
+    let s = summary_of("three_block_stack.toml", "three_block_stack");
+    let pairs = s["pairs"].as_array().unwrap();
+    assert_eq!(pairs.len(), 2);
+    for (pair, body, target) in [(&pairs[0], "middle", "bottom"), (&pairs[1], "top", "middle")] {
+        let total = pair["total_force"].as_f64().unwrap();
+        assert!((total - 30.0 / 7.0).abs() < 1e-9, "{pair}");
+        assert_eq!(pair["closed"], pair["candidates"]);
+        assert_eq!(
+            (pair["body"].as_str(), pair["target_body"].as_str()),
+            (Some(body), Some(target))
+        );
+        assert!(pair["max_force_times_gap"].as_f64().unwrap() < 1e-12, "{pair}");
+    }
+    let bodies = s["bodies"].as_array().unwrap();
+    assert_eq!(bodies.len(), 3);
+    for b in bodies {
+        assert!(b["equilibrium_error"].as_f64().unwrap() < 1e-9, "{b}");
+    }
+    assert!(s["lcp"]["max_complementarity"].as_f64().unwrap() < 1e-12);
+    assert_eq!(
+        s["lcp"]["size"],
+        pairs[0]["candidates"].as_u64().unwrap() + pairs[1]["candidates"].as_u64().unwrap()
+    );
+    let out = scratch("three_block_stack").join("out");
+    for file in [
+        "contact_0.csv",
+        "contact_1.csv",
+        "middle/displacement.csv",
+        "top/plots/deformed.png",
+        "plots/contact_pressure_1.svg",
+    ] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+}
+
+/// Bad `[[contact]]` tables and bodies of a problem with several bodies: exit 2, the key path
+/// named (`contact[k].…`), the accepted names listed.
+#[test]
+fn bad_several_bodies_input_gives_a_clear_error_and_exit_code_2() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/three_block_stack.toml");
+    let stack = std::fs::read_to_string(path).unwrap();
+    let second = "body = \"top\"\nedge = \"bottom\"\ntarget_body = \"middle\"";
+    assert!(stack.contains(second));
+    let with = |from: &str, to: &str| {
+        assert!(stack.contains(from), "{from}");
+        stack.replacen(from, to, 1)
+    };
+    let cases = [
+        (
+            "stack-unknown-target-body",
+            with("target_body = \"middle\"", "target_body = \"centre\""),
+            "`contact[1].target_body`: centre (no such body; the bodies are [\"bottom\", \"middle\", \"top\"])",
+        ),
+        (
+            "stack-unknown-body",
+            with("body = \"middle\"", "body = \"mid\""),
+            "`contact[0].body`: mid",
+        ),
+        (
+            "stack-self",
+            with("target_body = \"middle\"", "target_body = \"top\""),
+            "`contact[1].target_body`: top (a body cannot be its own contact target",
+        ),
+        (
+            "stack-twice",
+            with(second, "body = \"middle\"\nedge = \"bottom\"\ntarget_body = \"bottom\""),
+            "the same contact pair as contact[0]",
+        ),
+        (
+            "stack-reversed",
+            with(
+                &format!("{second}\ntarget_edge = \"top\""),
+                "body = \"bottom\"\nedge = \"top\"\ntarget_body = \"middle\"\ntarget_edge = \"bottom\"",
+            ),
+            "the same contact pair as contact[0]",
+        ),
+        (
+            "stack-no-target-body",
+            with("target_body = \"middle\"\n", ""),
+            "`contact[1].target_body`: (missing)",
+        ),
+        (
+            "stack-unknown-edge",
+            with("target_edge = \"top\"\n\n[output]", "target_edge = \"roof\"\n\n[output]"),
+            "`contact[1].target_edge`: roof",
+        ),
+        (
+            "stack-friction",
+            with(second, &format!("friction = 0.2\n{second}")),
+            "`contact[1].friction`",
+        ),
+        (
+            "stack-active-set",
+            with(second, &format!("solver = \"active_set\"\n{second}")),
+            "`contact[1].solver`",
+        ),
+        ("stack-foreign-key", with(second, &format!("edges = 1\n{second}")), "contact[1]"),
+        ("stack-steps", format!("{stack}\n[[step]]\nincrements = 2\n"), "`step`"),
+        ("stack-refinement", format!("{stack}\n[refinement]\n"), "`refinement`"),
+        (
+            "stack-names",
+            with("name = \"top\"\ngeometry", "name = \"middle\"\ngeometry"),
+            "`body[2].name`: middle",
+        ),
+        (
+            "stack-no-contact",
+            stack[..stack.find("# Each pair").unwrap()].to_string(),
+            "several bodies ([\"bottom\", \"middle\", \"top\"]) need [[contact]] tables",
+        ),
+    ];
+    expect_refusals(&cases);
+}
+
 /// problems/cattaneo_mindlin.toml (two bodies, load steps, friction): `summary.json` lists the
 /// final stick and slip zones as `[start, end]` intervals of x (the tangent is +x), each from
 /// outer candidate to outer candidate of a run, in agreement with `contact.csv`'s states;
@@ -664,6 +783,10 @@ fn outputs_are_deterministic_across_thread_counts() {
         ("beam_on_foundation_stabilised.toml", &["contact.csv"][..]),
         ("beam_on_foundation_fem.toml", &["contact.csv"][..]),
         ("hertz_cylinder.toml", &["contact.csv"][..]),
+        (
+            "three_block_stack.toml",
+            &["contact_0.csv", "contact_1.csv", "middle/displacement.csv", "top/stress.csv"][..],
+        ),
     ] {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(problem);
         let mut dirs = Vec::new();

@@ -20,6 +20,8 @@ mod validation {
     mod condensation;
     // Two elastic bodies: uniform pressure, non-matching layouts, mirror symmetry.
     mod two_bodies;
+    // Three blocks stacked, two contact pairs in one LCP: exact uniaxial stress.
+    mod stack;
     // Plate with a circular hole (Kirsch): curved, non-convex boundary; errors and rates.
     mod kirsch;
     // Hertz: elastic cylinder (quarter disk) on a rigid flat; half-width, peak, profile.

@@ -168,6 +168,7 @@ fn patch_problem(layout: Layout) -> Problem {
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
+        multibody: None,
         mesh_nodes: None,
         steps: Vec::new(),
     }

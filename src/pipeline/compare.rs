@@ -95,6 +95,9 @@ fn with_method(problem: &Problem, method: Method) -> Problem {
     if let Some(second) = p.second_body.as_deref_mut() {
         second.discretisation.method = method;
     }
+    for other in p.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()) {
+        other.discretisation.method = method;
+    }
     p
 }
 
@@ -172,6 +175,9 @@ pub fn compare(
     crate::fem::mesh(&fem_problem)?;
     if let Some(second) = &fem_problem.second_body {
         crate::fem::mesh(second)?;
+    }
+    for other in fem_problem.multibody.iter().flat_map(|m| m.bodies.iter()) {
+        crate::fem::mesh(other)?;
     }
     let staged = post::StagedDir::new(out)?;
     let out = staged.path();

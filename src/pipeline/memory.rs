@@ -60,6 +60,26 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
         bytes += b;
         nodes += n;
     }
+    if let Some(several) = &problem.multibody {
+        for p in &several.bodies {
+            let (b, n) = body(p);
+            bytes += b;
+            nodes += n;
+        }
+        // One dense M over the candidates of every pair, as for one pair below.
+        let m: f64 = several
+            .pairs
+            .iter()
+            .filter_map(|pair| {
+                let p = problem.body(pair.body)?;
+                Some(
+                    p.domain.curve(pair.spec.edge).length() / p.refinement.finest(p.node_spacing)
+                        + 1.0,
+                )
+            })
+            .sum();
+        bytes += 4.0 * 8.0 * m * m;
+    }
     if let Some(spec) = &problem.contact {
         // A refined contact edge has more candidates: its finest spacing is taken (an upper
         // bound when the refinement lies elsewhere).

@@ -8,6 +8,7 @@ pub mod adaptive;
 pub mod compare;
 mod friction;
 pub mod memory;
+pub mod multibody;
 
 use crate::assembly::{self, AssemblyInput};
 use crate::contact::{self, ContactTarget};
@@ -139,7 +140,7 @@ fn discretise_all(
         Method::Mfvm => "MFVM",
         Method::Fem => "FE",
     };
-    let several = problem.second_body.is_some();
+    let several = problem.second_body.is_some() || problem.multibody.is_some();
     if several {
         progress.section(&format!("body `{}` ({method})", problem.name));
     }
@@ -151,7 +152,7 @@ fn discretise_all(
         }
         None => None,
     };
-    if several {
+    if problem.second_body.is_some() {
         progress.section("contact and recovery");
     }
     Ok((model, second))
@@ -179,6 +180,11 @@ pub fn solve_with_lemke(problem: &Problem, lemke: &lcp::LemkeParams) -> Result<S
         return Ok(run.solution);
     }
     let (model, second) = discretise_all(problem, &mut silent)?;
+    if problem.multibody.is_some() {
+        let others = multibody::discretise_others(problem, &mut silent)?;
+        return multibody::solve_bodies(problem, model, others, &mut silent, lemke)
+            .map(|(_, _, s)| s);
+    }
     solve_model_with(problem, model, second, &mut silent, lemke).map(|(_, _, s)| s)
 }
 
@@ -212,11 +218,11 @@ pub fn solve_model_with(
     progress: &mut dyn Progress,
     lemke: &lcp::LemkeParams,
 ) -> Result<(Model, Option<Model>, Solution), Error> {
-    if second.is_some() != problem.second_body.is_some() {
+    if second.is_some() != problem.second_body.is_some() || problem.multibody.is_some() {
         return Err(crate::problem::ProblemError::Invalid {
             field: "body".into(),
             value: format!("{} models", 1 + usize::from(second.is_some())),
-            reason: "solve_model needs the second body's model exactly when the problem has one"
+            reason: "solve_model needs the second body's model exactly when the problem has one (several bodies or contact pairs: multibody::solve_bodies)"
                 .into(),
         }
         .into());
@@ -311,33 +317,8 @@ fn solve_contact(
                 Ok((c, None, Vec::new(), 0))
             }
             (ContactTarget::Body { edge }, Some((p2, m2))) => {
-                let normal = p2.domain.straight_normal(*edge).ok_or_else(|| {
-                    contact::ContactError::CurvedTarget {
-                        edge: p2.domain.edge_names()[*edge].clone(),
-                    }
-                })?;
-                let mut c = contact::candidates_on(
-                    problem,
-                    model,
-                    spec.edge,
-                    &|_| (0.0, normal),
-                    spec.condensation,
-                )?;
-                // A candidate whose projection falls beside the target edge has no partner:
-                // it cannot close, and is no candidate.
-                let (a2, b2) = p2.domain.edge(*edge);
-                let tol = 1e-9 * (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
-                let over: Vec<bool> =
-                    c.points.iter().map(|&x| geometry::projects_onto(x, a2, b2, tol)).collect();
-                let unpaired = c.retain(&over);
-                if c.is_empty() {
-                    return Err(contact::ContactError::NoPartner {
-                        edge: problem.domain.edge_names()[spec.edge].clone(),
-                        target: p2.domain.edge_names()[*edge].clone(),
-                    });
-                }
-                let (op, gaps, paired) = contact::target_operator_on(p2, m2, *edge, &c)?;
-                c.initial_gap = gaps;
+                let (c, op, paired, unpaired) =
+                    multibody::body_pair(problem, model, spec, (p2, m2, *edge))?;
                 Ok((c, Some(op), paired, unpaired))
             }
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
@@ -604,6 +585,38 @@ impl std::fmt::Display for RunReport {
                 second.equilibrium_error
             )?;
         }
+        for b in s.bodies.iter().flatten() {
+            writeln!(
+                f,
+                "  body {}: {} nodes, residual {:.2e}, equilibrium error {:.2e}",
+                b.name.as_deref().unwrap_or("-"),
+                b.nodes,
+                b.relative_residual,
+                b.equilibrium_error
+            )?;
+        }
+        for (k, p) in s.pairs.iter().flatten().enumerate() {
+            let target = match (&p.target_body, &p.target_edge) {
+                (Some(b), Some(e)) => format!("{b}.{e}"),
+                _ => "obstacle".into(),
+            };
+            writeln!(
+                f,
+                "  contact[{k}] {}.{} against {target}: total force {:.6}, {} of {} candidates closed in {} zone(s)",
+                p.body, p.edge, p.total_force, p.closed, p.candidates, p.closed_intervals
+            )?;
+        }
+        if let (Some(_), Some(l)) = (&s.pairs, &s.lcp) {
+            writeln!(
+                f,
+                "  one LCP over {} candidates: M eigenvalues of the symmetric part {:.3e} to {:.3e}; Lemke: {} pivots, complementarity {:.1e}",
+                l.size,
+                l.compliance_min_symmetric_eigenvalue.unwrap_or(f64::NAN),
+                l.compliance_max_symmetric_eigenvalue.unwrap_or(f64::NAN),
+                l.pivots,
+                l.max_complementarity
+            )?;
+        }
         if let (Some(c), Some(l)) = (&s.contact, &s.lcp) {
             writeln!(
                 f,
@@ -739,6 +752,9 @@ pub struct Outcome {
     pub model: Model,
     /// The second body's model of a two-body contact.
     pub second: Option<Model>,
+    /// The other bodies' models of a problem with several bodies or contact pairs
+    /// (`Problem::multibody`; empty otherwise).
+    pub others: Vec<Model>,
     /// The solution (the second body's inside it).
     pub solution: Solution,
     /// The contents of `summary.json`.
@@ -762,12 +778,27 @@ impl Outcome {
             summary.refinement = Some(run.summary);
             let adaptive::AdaptiveRun { mut problem, model, solution, .. } = run;
             problem.adaptive = Some(a);
-            return Ok(Self { problem, model, second: None, solution, summary });
+            return Ok(Self {
+                problem,
+                model,
+                second: None,
+                others: Vec::new(),
+                solution,
+                summary,
+            });
         }
         let (model, second) = discretise_all(&problem, progress)?;
+        if problem.multibody.is_some() {
+            let others = multibody::discretise_others(&problem, progress)?;
+            let lemke = lcp::LemkeParams::default();
+            let (model, others, solution) =
+                multibody::solve_bodies(&problem, model, others, progress, &lemke)?;
+            let summary = Summary::new(input, &problem, &model, &solution);
+            return Ok(Self { problem, model, second: None, others, solution, summary });
+        }
         let (model, second, solution) = solve_model(&problem, model, second, progress)?;
         let summary = Summary::new(input, &problem, &model, &solution);
-        Ok(Self { problem, model, second, solution, summary })
+        Ok(Self { problem, model, second, others: Vec::new(), solution, summary })
     }
 
     /// Writes every output into `out`, as [`run`] does (same files, same bytes, `out`
@@ -799,7 +830,10 @@ impl Outcome {
 /// Writes the files of a solved problem into `out` (`summary.json` last).
 fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
     let (problem, second, solution) = (&o.problem, o.second.as_ref(), &o.solution);
-    let mut files = post::write_solution(out, problem, &o.model, second, solution)?;
+    let mut files = match &problem.multibody {
+        Some(_) => post::write_multibody(out, problem, &o.model, &o.others, solution)?,
+        None => post::write_solution(out, problem, &o.model, second, solution)?,
+    };
     if o.summary.refinement.is_some() {
         files.extend(post::write_node_spacing(out, problem, &o.model.nodes)?);
     }

@@ -177,6 +177,21 @@ pub fn write_solution(
     second: Option<&Model>,
     solution: &Solution,
 ) -> Result<Vec<PathBuf>, OutputError> {
+    write_body(dir, problem, model, second, solution, &[])
+}
+
+/// Another body drawn in the deformed plot: its problem, model and solution.
+type Drawn<'a> = (&'a Problem, &'a Model, &'a Solution);
+
+/// [`write_solution`], with `others` drawn in the deformed plot too.
+fn write_body(
+    dir: &Path,
+    problem: &Problem,
+    model: &Model,
+    second: Option<&Model>,
+    solution: &Solution,
+    others: &[Drawn<'_>],
+) -> Result<Vec<PathBuf>, OutputError> {
     create_dir(dir)?;
     let mut written = Vec::new();
     let nodes = &model.nodes;
@@ -231,20 +246,16 @@ pub fn write_solution(
     let vtu = vtk::solution_vtu(problem, model, solution)?;
     written.push(save(dir, "solution.vtu", &vtu)?);
 
-    written.extend(solution_plots(dir, problem, model, second, solution)?);
+    written.extend(solution_plots(dir, problem, model, second, solution, others)?);
     if let Some(c) = &solution.contact {
         written.extend(contact_outputs(dir, problem, solution, c)?);
     }
     Ok(written)
 }
 
-/// `contact.csv` and the two contact plots (the paper's Figs. 2 and 3).
-fn contact_outputs(
-    dir: &Path,
-    problem: &Problem,
-    solution: &Solution,
-    c: &ContactSolution,
-) -> Result<Vec<PathBuf>, OutputError> {
+/// The text of `contact.csv`: one row per candidate (with the friction columns when the
+/// contact has friction).
+fn contact_table(c: &ContactSolution) -> String {
     let cand = &c.candidates;
     let mut text =
         String::from("candidate,node,x,y,arc_length,initial_gap,gap,force,pressure,in_contact");
@@ -280,6 +291,77 @@ fn contact_outputs(
         }
         text.push('\n');
     }
+    text
+}
+
+/// The files of a problem with several bodies or contact pairs (`Problem::multibody`): the
+/// first body's files in `dir` (its deformed plot draws every body), each other body's in
+/// `dir/<name>/` (as the second body's of a two-body contact), and per pair `k` (the `k`-th
+/// `[[contact]]` table, from 0) `contact_<k>.csv` (the columns of `contact.csv`) and
+/// `plots/contact_pressure_<k>.{svg,png}`. Without `multibody`, [`write_solution`].
+///
+/// # Errors
+/// [`OutputError`] when a file cannot be written.
+pub fn write_multibody(
+    dir: &Path,
+    problem: &Problem,
+    model: &Model,
+    others: &[Model],
+    solution: &Solution,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let (Some(several), Some(ms)) = (&problem.multibody, &solution.multibody) else {
+        return write_solution(dir, problem, model, None, solution);
+    };
+    let drawn: Vec<Drawn<'_>> =
+        several.bodies.iter().zip(others).zip(&ms.bodies).map(|((p, m), s)| (p, m, s)).collect();
+    let mut written = write_body(dir, problem, model, None, solution, &drawn)?;
+    for &(p, m, s) in &drawn {
+        written.extend(write_solution(&dir.join(&p.name), p, m, None, s)?);
+    }
+    let plots = dir.join("plots");
+    create_dir(&plots)?;
+    for (k, (pair, c)) in several.pairs.iter().zip(&ms.pairs).enumerate() {
+        written.push(save(dir, &format!("contact_{k}.csv"), &contact_table(c))?);
+        let body = problem.body(pair.body).unwrap_or(problem);
+        let edge = &body.domain.edge_names()[pair.spec.edge];
+        let target = match (pair.target_body.and_then(|t| problem.body(t)), pair.spec.target) {
+            (Some(t), ContactTarget::Body { edge: e2 }) => {
+                format!("edge `{}` of `{}`", t.domain.edge_names()[e2], t.name)
+            }
+            _ => "the obstacle".to_string(),
+        };
+        let cand = &c.candidates;
+        let chart = plot::Chart {
+            title: format!(
+                "{}: contact pressure along `{edge}` of `{}` against {target}",
+                problem.name, body.name
+            ),
+            x_label: format!("distance s along `{edge}`"),
+            y_label: "contact pressure p".into(),
+            series: vec![plot::Series {
+                label: "p = P_c/|segment|".into(),
+                points: (0..cand.len()).map(|i| (cand.arc_length[i], c.pressure[i])).collect(),
+                style: plot::Style::Line,
+                colour: 4,
+            }],
+        };
+        let stem = plots.join(format!("contact_pressure_{k}"));
+        plot::write_chart(&stem, &chart)?;
+        written.push(stem.with_extension("svg"));
+        written.push(stem.with_extension("png"));
+    }
+    Ok(written)
+}
+
+/// `contact.csv` and the two contact plots (the paper's Figs. 2 and 3).
+fn contact_outputs(
+    dir: &Path,
+    problem: &Problem,
+    solution: &Solution,
+    c: &ContactSolution,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let cand = &c.candidates;
+    let text = contact_table(c);
     let mut written = vec![save(dir, "contact.csv", &text)?];
     if let Some(f) = c.friction.as_ref().filter(|f| !f.snapshots.is_empty()) {
         written.extend(increment_tables(dir, c, f)?);
@@ -523,13 +605,21 @@ fn solution_plots(
     model: &Model,
     second: Option<&Model>,
     solution: &Solution,
+    others: &[Drawn<'_>],
 ) -> Result<Vec<PathBuf>, OutputError> {
     let plots = dir.join("plots");
     create_dir(&plots)?;
     let nodes = &model.nodes;
-    let (lo, hi) = problem.domain.bounding_box();
+    let (lo, hi) = others.iter().fold(problem.domain.bounding_box(), |(lo, hi), (p, _, _)| {
+        let (a, b) = p.domain.bounding_box();
+        ([lo[0].min(a[0]), lo[1].min(a[1])], [hi[0].max(b[0]), hi[1].max(b[1])])
+    });
     let size = (hi[0] - lo[0]).max(hi[1] - lo[1]);
-    let umax = solution.displacement.iter().map(|u| u[0].hypot(u[1])).fold(0.0, f64::max);
+    let umax = std::iter::once(solution)
+        .chain(others.iter().map(|o| o.2))
+        .flat_map(|s| s.displacement.iter())
+        .map(|u| u[0].hypot(u[1]))
+        .fold(0.0, f64::max);
     let magnification = if umax > 0.0 { 0.1 * size / umax } else { 1.0 };
     let deform =
         |p: &[f64; 2], u: &[f64; 2]| (p[0] + magnification * u[0], p[1] + magnification * u[1]);
@@ -567,6 +657,22 @@ fn solution_plots(
             }
         }
         _ => {}
+    }
+    if !others.is_empty() {
+        // Every body on the same scale; the magnification from the largest displacement.
+        labels.push(body_label(&problem.name, &points));
+    }
+    for &(p2, m2, s2) in others {
+        let n2 = &m2.nodes;
+        let drawn: Vec<(f64, f64)> =
+            n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
+        labels.push(body_label(&p2.name, &drawn));
+        points.extend(drawn);
+        values.extend(s2.stress.iter().map(|s| p2.material.von_mises(*s)));
+        let h2 = n2.spacing.iter().copied().fold(f64::INFINITY, f64::min);
+        let mut o = outline(&p2.domain, h2, "");
+        o.label = None;
+        lines.push(o);
     }
     let map = plot::ColourMap {
         title: format!(

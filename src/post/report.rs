@@ -147,6 +147,42 @@ fn in_words(problem: &Problem) -> String {
         }
         html.push_str("</p>");
     }
+    if let Some(several) = &problem.multibody {
+        let bodies: Vec<String> = several
+            .bodies
+            .iter()
+            .map(|p| {
+                format!(
+                    "body `{}` (E = {}, ν = {}, node spacing {})",
+                    p.name,
+                    g(p.material.young),
+                    g(p.material.poisson),
+                    g(p.node_spacing)
+                )
+            })
+            .collect();
+        let _ = write!(html, "<p>Other bodies:</p><ul>{}</ul>", list(bodies));
+        let pairs: Vec<String> = several
+            .pairs
+            .iter()
+            .filter_map(|pair| {
+                let body = problem.body(pair.body)?;
+                let target =
+                    match (pair.target_body.and_then(|t| problem.body(t)), pair.spec.target) {
+                        (Some(t), ContactTarget::Body { edge }) => {
+                            format!("edge `{}` of body `{}`", t.domain.edge_names()[edge], t.name)
+                        }
+                        _ => "rigid obstacles".into(),
+                    };
+                Some(format!(
+                    "edge `{}` of body `{}` against {target}, without friction",
+                    body.domain.edge_names()[pair.spec.edge],
+                    body.name
+                ))
+            })
+            .collect();
+        let _ = write!(html, "<p>Contact pairs, solved in one LCP:</p><ul>{}</ul>", list(pairs));
+    }
     html
 }
 
@@ -166,6 +202,18 @@ fn results(s: &Summary) -> Vec<(String, String)> {
                 b.name.as_deref().unwrap_or("-")
             ),
             format!("{}, {:.2e}, {:.2e}", b.nodes, b.relative_residual, b.equilibrium_error),
+        ));
+    }
+    for b in s.bodies.iter().flatten() {
+        rows.push((
+            format!("body `{}`: nodes, residual, equilibrium", b.name.as_deref().unwrap_or("-")),
+            format!("{}, {:.2e}, {:.2e}", b.nodes, b.relative_residual, b.equilibrium_error),
+        ));
+    }
+    for (k, p) in s.pairs.iter().flatten().enumerate() {
+        rows.push((
+            format!("contact[{k}] `{}`.`{}`: total force, closed / all", p.body, p.edge),
+            format!("{}, {} / {}", g(p.total_force), p.closed, p.candidates),
         ));
     }
     if let Some(c) = &s.contact {

@@ -39,6 +39,14 @@ pub struct Summary {
     pub contact: Option<ContactSummary>,
     /// The second body's checks (two-body contact).
     pub second_body: Option<SecondBody>,
+    /// Several bodies or contact pairs (`[[contact]]` tables; absent otherwise, so that other
+    /// summaries are unchanged): every body's checks, the first included.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<Vec<SecondBody>>,
+    /// Several bodies or contact pairs: each pair's contact result, in the order of the
+    /// `[[contact]]` tables (`lcp` describes the one LCP over all of them).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pairs: Option<Vec<PairSummary>>,
     /// One record per load increment (friction or `[[step]]` only; absent otherwise, so that
     /// frictionless summaries are unchanged; docs/method.md §8).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -330,6 +338,41 @@ pub struct ContactSummary {
     pub friction_lemke_failure: Option<String>,
 }
 
+/// One contact pair of a problem with several bodies or pairs.
+#[derive(Clone, Debug, Serialize)]
+pub struct PairSummary {
+    /// The body carrying the candidates.
+    pub body: String,
+    /// Its contact edge.
+    pub edge: String,
+    /// The target body (`null` for obstacles).
+    pub target_body: Option<String>,
+    /// The target body's edge (`null` for obstacles).
+    pub target_edge: Option<String>,
+    /// Candidates.
+    pub candidates: usize,
+    /// Closed candidates.
+    pub closed: usize,
+    /// Maximal runs of closed candidates.
+    pub closed_intervals: usize,
+    /// `Σ P_c`.
+    pub total_force: f64,
+    /// `Σ ν_c P_c`: the resultant of the pair's forces on the candidate body.
+    pub resultant: [f64; 2],
+    /// Points of the contact edge beside the target edge (no partner, no candidate).
+    pub unpaired: usize,
+    /// The gap below which a candidate counts as closed.
+    pub gap_tolerance: f64,
+    /// Smallest contact force `min P_c` (≥ 0 up to round-off).
+    pub min_force: f64,
+    /// Smallest LCP gap `min w_c` (≥ 0 up to round-off).
+    pub min_gap: f64,
+    /// `max |P_c w_c|`: complementarity, unscaled.
+    pub max_force_times_gap: f64,
+    /// Largest difference between the MLS gap and the LCP's `w`.
+    pub max_gap_mismatch: f64,
+}
+
 /// The second body of a two-body contact.
 #[derive(Clone, Debug, Serialize)]
 pub struct SecondBody {
@@ -407,35 +450,39 @@ impl Summary {
                     .fold(0.0, f64::max),
                 max_von_mises: solution.stress.iter().map(von_mises).fold(0.0, f64::max),
             },
-            lcp: solution.contact.as_ref().map(|c| LcpSummary {
-                size: c.candidates.len(),
-                pivots: c.lcp.pivots,
-                min_z: c.lcp.residuals.min_z,
-                min_w: c.lcp.residuals.min_w,
-                max_complementarity: c.lcp.residuals.max_complementarity,
-                equation_residual: c.lcp.residuals.equation_residual,
-                residual_scale: c.lcp.residuals.scale,
-                compliance_min_diagonal: c.condensed.as_ref().map(|m| m.min_diagonal),
-                compliance_min_symmetric_eigenvalue: c
-                    .condensed
-                    .as_ref()
-                    .map(|m| m.min_symmetric_eigenvalue),
-                compliance_max_symmetric_eigenvalue: c
-                    .condensed
-                    .as_ref()
-                    .map(|m| m.max_symmetric_eigenvalue),
-                compliance_eigenvalue_method: c.condensed.as_ref().map(|m| m.eigenvalue_method),
-                compliance_skew_ratio: c.condensed.as_ref().map(|m| m.skew_ratio),
-                solver: if c.active_set.is_some() { "active_set" } else { "lemke" },
-                fallback_from: c.fallback_from.clone(),
-                active_set: c.active_set.as_ref().map(|a| ActiveSetSummary {
-                    iterations: a.iterations,
-                    changes_per_iteration: a.changes.clone(),
-                    rescues: a.rescues.clone(),
-                    end: a.end,
-                    work: a.work,
-                }),
-            }),
+            lcp: solution
+                .contact
+                .as_ref()
+                .map(|c| LcpSummary {
+                    size: c.candidates.len(),
+                    pivots: c.lcp.pivots,
+                    min_z: c.lcp.residuals.min_z,
+                    min_w: c.lcp.residuals.min_w,
+                    max_complementarity: c.lcp.residuals.max_complementarity,
+                    equation_residual: c.lcp.residuals.equation_residual,
+                    residual_scale: c.lcp.residuals.scale,
+                    compliance_min_diagonal: c.condensed.as_ref().map(|m| m.min_diagonal),
+                    compliance_min_symmetric_eigenvalue: c
+                        .condensed
+                        .as_ref()
+                        .map(|m| m.min_symmetric_eigenvalue),
+                    compliance_max_symmetric_eigenvalue: c
+                        .condensed
+                        .as_ref()
+                        .map(|m| m.max_symmetric_eigenvalue),
+                    compliance_eigenvalue_method: c.condensed.as_ref().map(|m| m.eigenvalue_method),
+                    compliance_skew_ratio: c.condensed.as_ref().map(|m| m.skew_ratio),
+                    solver: if c.active_set.is_some() { "active_set" } else { "lemke" },
+                    fallback_from: c.fallback_from.clone(),
+                    active_set: c.active_set.as_ref().map(|a| ActiveSetSummary {
+                        iterations: a.iterations,
+                        changes_per_iteration: a.changes.clone(),
+                        rescues: a.rescues.clone(),
+                        end: a.end,
+                        work: a.work,
+                    }),
+                })
+                .or_else(|| multibody_lcp(solution)),
             contact: solution.contact.as_ref().map(|c| ContactSummary {
                 candidates: c.candidates.len(),
                 closed: c.closed.iter().filter(|&&v| v).count(),
@@ -485,6 +532,8 @@ impl Summary {
                 reaction_force: s2.reaction_force,
                 contact_force: s2.contact_force,
             }),
+            bodies: multibody_bodies(problem, solution),
+            pairs: multibody_pairs(problem, solution),
             steps: solution
                 .contact
                 .as_ref()
@@ -510,6 +559,97 @@ impl Summary {
     }
 }
 
+/// Every body's checks of a problem with several bodies or pairs (`None` otherwise).
+fn multibody_bodies(problem: &Problem, solution: &Solution) -> Option<Vec<SecondBody>> {
+    let ms = solution.multibody.as_deref()?;
+    let solutions = std::iter::once(solution).chain(ms.bodies.iter());
+    Some(
+        solutions
+            .enumerate()
+            .map(|(k, s)| SecondBody {
+                name: problem.body(k).map(|p| p.name.clone()),
+                nodes: s.displacement.len(),
+                dofs: 2 * s.displacement.len(),
+                relative_residual: s.relative_residual,
+                equilibrium_error: s.equilibrium_error,
+                applied_force: s.applied_force,
+                reaction_force: s.reaction_force,
+                contact_force: s.contact_force,
+            })
+            .collect(),
+    )
+}
+
+/// Each pair's contact result of a problem with several bodies or pairs (`None` otherwise).
+fn multibody_pairs(problem: &Problem, solution: &Solution) -> Option<Vec<PairSummary>> {
+    let (several, ms) = (problem.multibody.as_deref()?, solution.multibody.as_deref()?);
+    let edge_name = |b: usize, e: usize| {
+        problem.body(b).map(|p| p.domain.edge_names()[e].clone()).unwrap_or_default()
+    };
+    let fold = |v: &mut dyn Iterator<Item = f64>, f: fn(f64, f64) -> f64, start| v.fold(start, f);
+    Some(
+        several
+            .pairs
+            .iter()
+            .zip(&ms.pairs)
+            .map(|(pair, c)| PairSummary {
+                body: problem.body(pair.body).map(|p| p.name.clone()).unwrap_or_default(),
+                edge: edge_name(pair.body, pair.spec.edge),
+                target_body: pair.target_body.and_then(|t| problem.body(t)).map(|p| p.name.clone()),
+                target_edge: match (pair.target_body, pair.spec.target) {
+                    (Some(t), crate::problem::ContactTarget::Body { edge }) => {
+                        Some(edge_name(t, edge))
+                    }
+                    _ => None,
+                },
+                candidates: c.candidates.len(),
+                closed: c.closed.iter().filter(|&&v| v).count(),
+                closed_intervals: c.onset.closed_intervals,
+                total_force: c.total_force,
+                resultant: c.candidates.operator.resultant(&c.lcp.z),
+                unpaired: c.unpaired,
+                gap_tolerance: c.gap_tolerance,
+                min_force: fold(&mut c.lcp.z.iter().copied(), f64::min, f64::INFINITY),
+                min_gap: fold(&mut c.lcp.w.iter().copied(), f64::min, f64::INFINITY),
+                max_force_times_gap: fold(
+                    &mut c.lcp.z.iter().zip(&c.lcp.w).map(|(z, w)| (z * w).abs()),
+                    f64::max,
+                    0.0,
+                ),
+                max_gap_mismatch: c
+                    .gap
+                    .iter()
+                    .zip(&c.lcp.w)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max),
+            })
+            .collect(),
+    )
+}
+
+/// The LCP of a problem with several bodies or pairs (`None` otherwise).
+fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
+    let ms = solution.multibody.as_deref()?;
+    let (r, m) = (&ms.lcp.residuals, &ms.condensed);
+    Some(LcpSummary {
+        size: ms.lcp.z.len(),
+        pivots: ms.lcp.pivots,
+        min_z: r.min_z,
+        min_w: r.min_w,
+        max_complementarity: r.max_complementarity,
+        equation_residual: r.equation_residual,
+        residual_scale: r.scale,
+        compliance_min_diagonal: Some(m.min_diagonal),
+        compliance_min_symmetric_eigenvalue: Some(m.min_symmetric_eigenvalue),
+        compliance_max_symmetric_eigenvalue: Some(m.max_symmetric_eigenvalue),
+        compliance_eigenvalue_method: Some(m.eigenvalue_method),
+        compliance_skew_ratio: Some(m.skew_ratio),
+        solver: "lemke",
+        fallback_from: None,
+        active_set: None,
+    })
+}
+
 /// Everything the run proceeded past: an unstable discretisation accepted with
 /// `allow_unstable`, a contact compliance accepted with `allow_indefinite`, Lemke's failure
 /// that `contact.solver = "auto"` answered with the active-set solver.
@@ -525,9 +665,19 @@ fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
     let fallback = solution.contact.as_ref().and_then(|c| c.fallback_from.as_ref()).map(|w| {
         format!("contact: {w}; the active-set solver answered instead (contact.solver = \"auto\")")
     });
+    let several = solution.multibody.as_deref();
+    let several_warning = several.and_then(|m| m.warning.clone());
+    let several_unpaired = several.into_iter().flat_map(|m| m.pairs.iter().enumerate()).filter(|(_, c)| c.unpaired > 0).map(|(k, c)| {
+        format!(
+            "contact[{k}]: {} nodes of the contact edge lie beside the target edge; they have no partner and cannot close",
+            c.unpaired
+        )
+    });
     disc.into_iter()
         .chain(contact.map(|w| format!("contact: {w}")))
         .chain(unpaired)
         .chain(fallback)
+        .chain(several_warning.map(|w| format!("contact: {w}")))
+        .chain(several_unpaired)
         .collect()
 }

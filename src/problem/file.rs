@@ -38,9 +38,10 @@ pub struct ProblemFile {
     #[serde(default)]
     pub output: OutputFile,
     /// Contact with a rigid straight obstacle or a second body (frictionless unless
-    /// `friction` is given).
+    /// `friction` is given): one `[contact]` table, or several contact pairs as `[[contact]]`
+    /// tables (several bodies, several edges).
     #[serde(default)]
-    pub contact: Option<ContactFile>,
+    pub contact: Option<ContactTables>,
     /// Load steps (`[[step]]`, docs/method.md §8): the loading path from the unloaded body.
     /// Not echoed when absent, so that summaries without steps are unchanged.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -211,6 +212,10 @@ pub struct StepBoundaryFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
+    /// The body carrying the candidates (`[[body]]` name; default the first body). Not
+    /// echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<String>,
     /// The edge that may touch the obstacle.
     pub edge: String,
     /// A point of the rigid obstacle line.
@@ -222,6 +227,10 @@ pub struct ContactFile {
     /// Two bodies: the edge of the second body that `edge` (of the first) touches.
     #[serde(default)]
     pub target_edge: Option<String>,
+    /// The body whose `target_edge` the edge touches (`[[body]]` name; default the second
+    /// body when `target_edge` is given). Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub target_body: Option<String>,
     /// The `[[obstacle]]` (a name) or obstacles (a list of names) the edge may touch; each
     /// candidate pairs with the closest. Not echoed when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -246,7 +255,78 @@ pub struct ContactFile {
     pub solver: Option<ContactSolver>,
 }
 
-/// One `[[body]]` table of a two-body problem.
+/// `contact`: one `[contact]` table, or `[[contact]]` tables (one per contact pair). Written
+/// back as read (a table, or an array of tables).
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum ContactTables {
+    /// One `[contact]` table.
+    One(ContactFile),
+    /// `[[contact]]` tables, in file order.
+    Many(Vec<ContactFile>),
+}
+
+impl ContactTables {
+    /// The tables, in file order.
+    pub fn tables(&self) -> &[ContactFile] {
+        match self {
+            ContactTables::One(c) => std::slice::from_ref(c),
+            ContactTables::Many(v) => v,
+        }
+    }
+    /// The tables, mutable.
+    pub fn tables_mut(&mut self) -> &mut [ContactFile] {
+        match self {
+            ContactTables::One(c) => std::slice::from_mut(c),
+            ContactTables::Many(v) => v,
+        }
+    }
+    /// The key path of table `k`: `contact` for one `[contact]` table, `contact[k]` for
+    /// `[[contact]]` tables.
+    pub fn key(&self, k: usize) -> String {
+        match self {
+            ContactTables::One(_) => "contact".into(),
+            ContactTables::Many(_) => format!("contact[{k}]"),
+        }
+    }
+}
+
+impl From<ContactFile> for ContactTables {
+    fn from(c: ContactFile) -> Self {
+        ContactTables::One(c)
+    }
+}
+
+impl<'de> Deserialize<'de> for ContactTables {
+    /// A table (`[contact]`) or an array of tables (`[[contact]]`); unknown keys inside either
+    /// are named with their path (`contact[1].edge`), which an untagged enum cannot do.
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Tables;
+        impl<'de> serde::de::Visitor<'de> for Tables {
+            type Value = ContactTables;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a [contact] table or [[contact]] tables")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> Result<Self::Value, A::Error> {
+                ContactFile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+                    .map(ContactTables::One)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> Result<Self::Value, A::Error> {
+                Vec::<ContactFile>::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))
+                    .map(ContactTables::Many)
+            }
+        }
+        deserializer.deserialize_any(Tables)
+    }
+}
+
+/// One `[[body]]` table of a problem with several bodies.
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodyFile {

@@ -156,6 +156,11 @@ pub struct Problem {
     pub obstacles: Vec<Obstacle>,
     /// The second elastic body of a two-body contact (its own `contact` is `None`).
     pub second_body: Option<Box<Problem>>,
+    /// Several bodies or several contact pairs (`[[contact]]` tables): the other bodies and
+    /// every pair, condensed into one LCP (docs/method.md §4.5). `None` for one body or the
+    /// two-body contact of `second_body`; when `Some`, this problem is the first body and its
+    /// `contact` and `second_body` are `None`.
+    pub multibody: Option<Box<Multibody>>,
     /// The nodes of a Gmsh body read with `nodes.from = "mesh"` (absent: the nodes are
     /// generated from `node_spacing` and `layout`).
     pub mesh_nodes: Option<Arc<MeshNodes>>,
@@ -163,6 +168,51 @@ pub struct Problem {
     /// The second body of a two-body contact holds the same steps (the same number and
     /// increments, validated) with its own conditions; its `obstacle_displacement` is zero.
     pub steps: Vec<LoadStep>,
+}
+
+/// The bodies and contact pairs of a problem with several of them (`Problem::multibody`).
+#[derive(Clone, Debug)]
+pub struct Multibody {
+    /// Bodies 2, 3, … in file order (body 1 is the problem itself). Each has no `contact`.
+    pub bodies: Vec<Problem>,
+    /// The contact pairs, in file order.
+    pub pairs: Vec<ContactPair>,
+}
+
+/// One contact pair of a [`Multibody`] problem: an edge of one body (carrying the
+/// candidates) against an edge of another body or against rigid obstacles.
+#[derive(Clone, Debug)]
+pub struct ContactPair {
+    /// The body carrying the candidates: 0 for the first body (the problem itself), `k` for
+    /// `Multibody::bodies[k − 1]`.
+    pub body: usize,
+    /// The contact edge of `body` and its target: [`ContactTarget::Body`] (an edge of
+    /// `target_body`), [`ContactTarget::Obstacles`] (`obstacles`) or [`ContactTarget::Rigid`].
+    pub spec: ContactSpec,
+    /// The target body (numbered as `body`) for [`ContactTarget::Body`].
+    pub target_body: Option<usize>,
+    /// The obstacles of [`ContactTarget::Obstacles`] (empty otherwise).
+    pub obstacles: Vec<Obstacle>,
+}
+
+impl Problem {
+    /// Body `k` of a problem with several bodies: 0 is the problem itself, `k ≥ 1` the
+    /// `k`-th other body (`multibody`, else `second_body` for `k = 1`).
+    pub fn body(&self, k: usize) -> Option<&Problem> {
+        match (k, &self.multibody) {
+            (0, _) => Some(self),
+            (k, Some(m)) => m.bodies.get(k - 1),
+            (1, None) => self.second_body.as_deref(),
+            _ => None,
+        }
+    }
+    /// Number of bodies.
+    pub fn body_count(&self) -> usize {
+        match &self.multibody {
+            Some(m) => 1 + m.bodies.len(),
+            None => 1 + usize::from(self.second_body.is_some()),
+        }
+    }
 }
 
 /// One load step, validated: the state at its end and the increments that reach it linearly

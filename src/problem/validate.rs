@@ -42,12 +42,12 @@ impl TryFrom<ProblemFile> for Problem {
     fn try_from(file: ProblemFile) -> Result<Self, ProblemError> {
         let discretisation = validate_discretisation(&file.discretisation)?;
         let name = file.name.clone().unwrap_or_else(|| "problem".into());
-        let mut problem = if file.body.is_empty() {
+        let mut bodies = if file.body.is_empty() {
             let missing = |what: &str| {
                 invalid(
                     what,
                     "(missing)",
-                    "a problem needs [geometry], [nodes] and [material] (or two [[body]] tables)",
+                    "a problem needs [geometry], [nodes] and [material] (or [[body]] tables)",
                 )
             };
             let parts = BodyParts {
@@ -57,13 +57,13 @@ impl TryFrom<ProblemFile> for Problem {
                 boundary: &file.boundary,
                 body_force: file.body_force,
             };
-            validate_body(name, parts, discretisation)?
+            vec![validate_body(name, parts, discretisation)?]
         } else {
-            if file.body.len() != 2 {
+            if file.body.len() < 2 {
                 return Err(invalid(
                     "body",
                     file.body.len(),
-                    "give exactly two [[body]] tables (or one body at the top level)",
+                    "give two or more [[body]] tables (or one body at the top level)",
                 ));
             }
             if file.geometry.is_some()
@@ -78,7 +78,7 @@ impl TryFrom<ProblemFile> for Problem {
                     "with [[body]] tables, geometry, nodes, material, boundary and body_force go inside each body",
                 ));
             }
-            let mut bodies = Vec::new();
+            let mut bodies: Vec<Problem> = Vec::new();
             for (k, b) in file.body.iter().enumerate() {
                 let parts = BodyParts {
                     geometry: &b.geometry,
@@ -91,21 +91,50 @@ impl TryFrom<ProblemFile> for Problem {
                     Some(name) => output_name(&format!("body[{k}].name"), name)?,
                     None => format!("body{}", k + 1),
                 };
+                if bodies.iter().any(|p| p.name == body_name) {
+                    return Err(invalid(
+                        &format!("body[{k}].name"),
+                        &body_name,
+                        "the bodies need different names (outputs of the second and later bodies go to <out>/<name>/)",
+                    ));
+                }
                 bodies.push(
                     validate_body(body_name, parts, discretisation)
                         .map_err(|e| prefixed(&format!("body[{k}]."), e))?,
                 );
             }
-            if bodies[0].name == bodies[1].name {
-                return Err(invalid(
-                    "body[1].name",
-                    &bodies[1].name,
-                    "the two bodies need different names (outputs of the second go to <out>/<name>/)",
-                ));
-            }
-            let second = bodies.pop().map(Box::new);
+            bodies
+        };
+        let tables = file.contact.as_ref().map_or(&[][..], |c| c.tables());
+        // The two-body contact of `second_body` (and one body) unless the file asks for more:
+        // more than two bodies, several pairs, or a pair other than body 1 against body 2.
+        let usual = bodies.len() <= 2
+            && tables.len() <= 1
+            && tables.first().is_none_or(|c| {
+                c.body.as_ref().is_none_or(|b| *b == bodies[0].name)
+                    && c.target_body
+                        .as_ref()
+                        .is_none_or(|t| bodies.len() == 2 && *t == bodies[1].name)
+            });
+        let mut problem = if usual {
+            let second = (bodies.len() == 2).then(|| bodies.pop().map(Box::new)).flatten();
             let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
             first.second_body = second;
+            first
+        } else {
+            if !file.step.is_empty() {
+                return Err(invalid(
+                    "step",
+                    format!("{} steps", file.step.len()),
+                    "load steps are implemented for one body or two bodies in one contact pair",
+                ));
+            }
+            let key =
+                |k: usize| file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k));
+            let pairs = contact_pairs(tables, &key, &file.obstacle, &bodies)?;
+            let rest = bodies.split_off(1);
+            let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
+            first.multibody = Some(Box::new(Multibody { bodies: rest, pairs }));
             first
         };
 
@@ -120,13 +149,15 @@ impl TryFrom<ProblemFile> for Problem {
             None => 0,
         };
         problem.profile_edge = profile_edge;
-        problem.contact = match &file.contact {
-            None => None,
-            Some(c) => {
-                let (spec, obstacles) = contact_spec(c, &file.obstacle, &problem)?;
+        problem.contact = match tables.first() {
+            Some(c) if problem.multibody.is_none() => {
+                let (spec, obstacles) = contact_spec(c, &file.obstacle, &problem).map_err(|e| {
+                    rekeyed(e, &file.contact.as_ref().map_or_else(String::new, |t| t.key(0)))
+                })?;
                 problem.obstacles = obstacles;
                 Some(spec)
             }
+            _ => None,
         };
         if file.contact.is_none() && !file.obstacle.is_empty() {
             return Err(invalid(
@@ -270,6 +301,7 @@ fn validate_body(
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
+        multibody: None,
         mesh_nodes,
         steps: Vec::new(),
     })
@@ -561,7 +593,7 @@ fn node_layout(
 
 /// `[refinement]` → the adaptive loop's parameters (rectangles, one body, MFVM only).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
-    if problem.second_body.is_some() {
+    if problem.second_body.is_some() || problem.multibody.is_some() {
         return Err(invalid(
             "refinement",
             "(two [[body]] tables)",
@@ -860,6 +892,156 @@ fn prefixed(prefix: &str, e: ProblemError) -> ProblemError {
             ProblemError::Invalid { field: format!("{prefix}{field}"), value, reason }
         }
         other => other,
+    }
+}
+
+/// `e` with its key `contact.…` renamed `key.…` (`contact[k].…` for `[[contact]]` tables).
+fn rekeyed(e: ProblemError, key: &str) -> ProblemError {
+    match e {
+        ProblemError::Invalid { field, value, reason } if field.starts_with("contact.") => {
+            ProblemError::Invalid {
+                field: format!("{key}{}", &field["contact".len()..]),
+                value,
+                reason,
+            }
+        }
+        other => other,
+    }
+}
+
+/// `[[contact]]` tables of a problem with several bodies or pairs → the validated pairs:
+/// the bodies named (`body`, default the first; `target_body`, default the other of two),
+/// each pair checked as the two-body or obstacle contact of `[contact]` is, frictionless and
+/// solved by Lemke (one load step); a body against itself and the same pair twice refused.
+fn contact_pairs(
+    tables: &[ContactFile],
+    key: &dyn Fn(usize) -> String,
+    obstacles: &[ObstacleFile],
+    bodies: &[Problem],
+) -> Result<Vec<ContactPair>, ProblemError> {
+    let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
+    if tables.is_empty() {
+        return Err(invalid(
+            "contact",
+            "(missing)",
+            format!(
+                "several bodies ({names:?}) need [[contact]] tables, each with the `body` and `edge` that carry the candidates and the `target_body` and `target_edge` they touch"
+            ),
+        ));
+    }
+    let find = |field: String, name: &str| {
+        names
+            .iter()
+            .position(|n| *n == name)
+            .ok_or_else(|| invalid(&field, name, format!("no such body; the bodies are {names:?}")))
+    };
+    let mut pairs: Vec<ContactPair> = Vec::new();
+    for (k, c) in tables.iter().enumerate() {
+        let key = key(k);
+        let body = match &c.body {
+            Some(name) => find(format!("{key}.body"), name)?,
+            None => 0,
+        };
+        let target_body = match (&c.target_body, &c.target_edge) {
+            (Some(name), _) => Some(find(format!("{key}.target_body"), name)?),
+            (None, Some(_)) if bodies.len() == 2 => Some(1 - body),
+            (None, Some(_)) => {
+                return Err(invalid(
+                    &format!("{key}.target_body"),
+                    "(missing)",
+                    format!(
+                        "with more than two bodies, name the body of `target_edge`; the bodies are {names:?}"
+                    ),
+                ));
+            }
+            (None, None) => None,
+        };
+        if target_body == Some(body) {
+            return Err(invalid(
+                &format!("{key}.target_body"),
+                names[body],
+                "a body cannot be its own contact target; name another body",
+            ));
+        }
+        if let (Some(t), None) = (target_body, &c.target_edge) {
+            return Err(invalid(
+                &format!("{key}.target_edge"),
+                "(missing)",
+                format!(
+                    "the edge of `{}` that `{}`'s edge `{}` touches",
+                    names[t], names[body], c.edge
+                ),
+            ));
+        }
+        let mut view = bodies[body].clone();
+        view.second_body = target_body.map(|t| Box::new(bodies[t].clone()));
+        let (spec, chosen) = contact_spec(c, obstacles, &view).map_err(|e| rekeyed(e, &key))?;
+        if spec.friction > 0.0 {
+            return Err(invalid(
+                &format!("{key}.friction"),
+                spec.friction,
+                "several bodies or contact pairs are solved frictionless for now; remove `friction`",
+            ));
+        }
+        if spec.solver == ContactSolver::ActiveSet {
+            return Err(invalid(
+                &format!("{key}.solver"),
+                "active_set",
+                "several bodies or contact pairs are solved by Lemke's method; use \"lemke\" or \"auto\"",
+            ));
+        }
+        if spec.condensation != Condensation::Compliance {
+            return Err(invalid(
+                &format!("{key}.condensation"),
+                "stiffness",
+                "several bodies or contact pairs take the compliance condensation only",
+            ));
+        }
+        let target_edge = match spec.target {
+            ContactTarget::Body { edge } => Some(edge),
+            _ => None,
+        };
+        let pair = (body, spec.edge, target_body, target_edge);
+        for (j, q) in pairs.iter().enumerate() {
+            let q_edge = match q.spec.target {
+                ContactTarget::Body { edge } => Some(edge),
+                _ => None,
+            };
+            let same = pair == (q.body, q.spec.edge, q.target_body, q_edge);
+            let swapped = target_body.is_some()
+                && (Some(body), Some(spec.edge)) == (q.target_body, q_edge)
+                && (target_body, target_edge) == (Some(q.body), Some(q.spec.edge));
+            let edge_twice = target_body.is_none()
+                && q.target_body.is_none()
+                && (body, spec.edge) == (q.body, q.spec.edge);
+            if same || swapped || edge_twice {
+                return Err(invalid(
+                    &key,
+                    format!("`{}` edge `{}`", names[body], c.edge),
+                    format!(
+                        "the same contact pair as {}; give each pair once",
+                        tables_key_hint(&key, j)
+                    ),
+                ));
+            }
+        }
+        if tables.iter().take(k).any(|q| q.allow_indefinite != c.allow_indefinite) {
+            return Err(invalid(
+                &format!("{key}.allow_indefinite"),
+                c.allow_indefinite.unwrap_or(false),
+                "the pairs share one LCP: give every [[contact]] table the same allow_indefinite",
+            ));
+        }
+        pairs.push(ContactPair { body, spec, target_body, obstacles: chosen });
+    }
+    Ok(pairs)
+}
+
+/// `contact[j]`, for a message about table `key`'s duplicate.
+fn tables_key_hint(key: &str, j: usize) -> String {
+    match key.find('[') {
+        Some(i) => format!("{}[{j}]", &key[..i]),
+        None => key.to_string(),
     }
 }
 

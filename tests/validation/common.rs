@@ -36,6 +36,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
+        multibody: None,
         mesh_nodes: None,
         steps: Vec::new(),
     }

@@ -1,0 +1,317 @@
+//! Several bodies and contact pairs in one LCP (docs/method.md §4.5): every pair's
+//! candidates, each body's `K` factorised once and condensed once for all the pairs that touch
+//! it, `M = Σ_b G_b K_b⁻¹ E_b` and `q = g0 + Σ_b G_b K_b⁻¹ f_b` over all candidates, Lemke,
+//! then one solve per body with the contact forces of its pairs.
+
+use super::{final_gaps, finite};
+use crate::contact::{self, BodyOperator, Candidates, ContactTarget};
+use crate::error::Error;
+use crate::geometry::{self, Point};
+use crate::lcp;
+use crate::mls::ShapeSet;
+use crate::model::Model;
+use crate::problem::{ContactPair, Multibody, Problem, ProblemError};
+use crate::progress::{Clock, Progress};
+use crate::solution::{self, ContactSolution, MultibodySolution, Solution};
+
+/// The candidates of `edge` of `problem`'s body against the straight edge `target_edge` of
+/// `target` (docs/method.md §4.3): the candidates whose projection falls on the target edge
+/// (the others have no partner: their number is returned), the target's operator (`d = −ν`
+/// at the paired points), the initial gaps and the paired points.
+///
+/// # Errors
+/// [`contact::ContactError::CurvedTarget`] for a curved target edge,
+/// [`contact::ContactError::NoPartner`] when no candidate lies over it, and the errors of
+/// [`contact::candidates_on`] and [`contact::target_operator_on`].
+pub(super) fn body_pair(
+    problem: &Problem,
+    model: &Model,
+    spec: &contact::ContactSpec,
+    target: (&Problem, &Model, usize),
+) -> Result<(Candidates, BodyOperator, Vec<Point>, usize), contact::ContactError> {
+    let (p2, m2, edge) = target;
+    let normal = p2.domain.straight_normal(edge).ok_or_else(|| {
+        contact::ContactError::CurvedTarget { edge: p2.domain.edge_names()[edge].clone() }
+    })?;
+    let mut c =
+        contact::candidates_on(problem, model, spec.edge, &|_| (0.0, normal), spec.condensation)?;
+    // A candidate whose projection falls beside the target edge has no partner: it cannot
+    // close, and is no candidate.
+    let (a2, b2) = p2.domain.edge(edge);
+    let tol = 1e-9 * (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
+    let over: Vec<bool> =
+        c.points.iter().map(|&x| geometry::projects_onto(x, a2, b2, tol)).collect();
+    let unpaired = c.retain(&over);
+    if c.is_empty() {
+        return Err(contact::ContactError::NoPartner {
+            edge: problem.domain.edge_names()[spec.edge].clone(),
+            target: p2.domain.edge_names()[edge].clone(),
+        });
+    }
+    let (op, gaps, paired) = contact::target_operator_on(p2, m2, edge, &c)?;
+    c.initial_gap = gaps;
+    Ok((c, op, paired, unpaired))
+}
+
+/// The models of `problem`'s other bodies (`multibody`; empty without).
+///
+/// # Errors
+/// Any stage's error while discretising a body.
+pub fn discretise_others(
+    problem: &Problem,
+    progress: &mut dyn Progress,
+) -> Result<Vec<Model>, Error> {
+    let Some(several) = &problem.multibody else { return Ok(Vec::new()) };
+    let mut models = Vec::with_capacity(several.bodies.len());
+    for p in &several.bodies {
+        progress.section(&format!("body `{}` ({})", p.name, crate::post::method_label(p)));
+        models.push(super::discretise(p, progress)?);
+    }
+    progress.section("contact and recovery");
+    Ok(models)
+}
+
+/// One pair's candidates and target operator.
+struct PairCandidates {
+    candidates: Candidates,
+    target: Option<BodyOperator>,
+    paired: Vec<Point>,
+    unpaired: usize,
+}
+
+/// Solves a problem with several bodies or contact pairs (`problem.multibody`): `model` is
+/// the first body's, `others` the other bodies' (as [`discretise_others`] builds them).
+/// Returns the models and the first body's solution, the others' and the pairs' inside its
+/// `multibody`.
+///
+/// # Errors
+/// [`Error::Problem`] without `multibody` or with the wrong number of models; the contact
+/// stage's errors (no candidates, no partner, a compliance that fails its checks);
+/// [`Error::LemkeRefused`] when Lemke fails; [`Error::Solve`] when a solve fails.
+pub fn solve_bodies(
+    problem: &Problem,
+    mut model: Model,
+    others: Vec<Model>,
+    progress: &mut dyn Progress,
+    lemke: &lcp::LemkeParams,
+) -> Result<(Model, Vec<Model>, Solution), Error> {
+    let several: &Multibody = match &problem.multibody {
+        Some(m) if m.bodies.len() == others.len() => m,
+        _ => {
+            return Err(ProblemError::Invalid {
+                field: "body".into(),
+                value: format!("{} models", 1 + others.len()),
+                reason: "solve_bodies needs a problem with several bodies or contact pairs and one model per body".into(),
+            }
+            .into());
+        }
+    };
+    let mut clock = Clock::new(progress, std::mem::take(&mut model.timings));
+    let problems: Vec<&Problem> = std::iter::once(problem).chain(several.bodies.iter()).collect();
+    let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
+    let pairs = &several.pairs;
+    let found = clock.run("contact_candidates", || {
+        pairs
+            .iter()
+            .map(|pair| pair_candidates(pair, &problems, &models))
+            .collect::<Result<Vec<_>, contact::ContactError>>()
+    })?;
+    // Global candidate numbering: pair k's candidates follow pair k − 1's.
+    let mut offsets = vec![0];
+    for f in &found {
+        offsets.push(offsets.last().copied().unwrap_or(0) + f.candidates.len());
+    }
+    let m = offsets.last().copied().unwrap_or(0);
+    // Each body's operator over the candidates that touch it, and their global indices.
+    let operators: Vec<Option<(BodyOperator, Vec<usize>)>> =
+        (0..problems.len()).map(|b| body_operator(b, pairs, &found, &offsets)).collect();
+    let initial_gap: Vec<f64> =
+        found.iter().flat_map(|f| f.candidates.initial_gap.iter().copied()).collect();
+    let condensed = clock.run_counted("condensation", |progress| {
+        let mut total =
+            contact::CondensedPart { compliance: vec![0.0; m * m], free_gap: vec![0.0; m] };
+        for (b, op) in operators.iter().enumerate() {
+            let Some((op, index)) = op else { continue };
+            let (factors, rhs) = (&models[b].factorisation, &models[b].system.rhs);
+            let part = contact::condense_observed(factors, rhs, op, progress)?;
+            let mb = index.len();
+            for (i, &gi) in index.iter().enumerate() {
+                total.free_gap[gi] += part.free_gap[i];
+                for (j, &gj) in index.iter().enumerate() {
+                    total.compliance[gi * m + gj] += part.compliance[i * mb + j];
+                }
+            }
+        }
+        contact::CondensedContact::combine(&initial_gap, &[total])
+    })?;
+    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
+    let warning =
+        match contact::check_compliance(&condensed, problem.discretisation.mls.support_factor) {
+            Ok(()) => None,
+            Err(err) if allow => Some(err.to_string()),
+            Err(err) => return Err(err.into()),
+        };
+    let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
+    let result =
+        clock.run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
+    let result = match result {
+        Ok(r) => r,
+        Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
+            return Err(cause.into());
+        }
+        Err(cause) => {
+            let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
+            let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, false)?;
+            return Err(Error::LemkeRefused(Box::new(refusal)));
+        }
+    };
+    // One solve per body with the forces of the pairs that touch it.
+    let mut u = Vec::with_capacity(problems.len());
+    for (b, op) in operators.iter().enumerate() {
+        let mut rhs = models[b].system.rhs.clone();
+        if let Some((op, index)) = op {
+            let forces: Vec<f64> = index.iter().map(|&g| result.z[g]).collect();
+            op.add_forces(&forces, &mut rhs);
+        }
+        u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
+    }
+    // The default gap tolerance (docs/method.md §6) from all pairs' gaps: one pair's own
+    // contact-free gaps may all vanish (an edge that a rigid motion keeps in place).
+    let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+    let tolerance = (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&condensed.free_gap))
+        .max(f64::MIN_POSITIVE);
+    let contacts: Vec<ContactSolution> = found
+        .into_iter()
+        .zip(pairs)
+        .enumerate()
+        .map(|(k, (f, pair))| {
+            let range = offsets[k]..offsets[k + 1];
+            let target = pair.target_body.zip(f.target.as_ref());
+            let gap = final_gaps(
+                models[pair.body],
+                &f.candidates,
+                &u[pair.body],
+                target.map(|(t, op)| (op, u[t].as_slice())),
+            );
+            let share = lcp::LcpSolution {
+                z: result.z[range.clone()].to_vec(),
+                w: result.w[range.clone()].to_vec(),
+                pivots: result.pivots,
+                residuals: result.residuals,
+            };
+            let spec = crate::problem::ContactSpec {
+                gap_tolerance: pair.spec.gap_tolerance.or(Some(tolerance)),
+                ..pair.spec
+            };
+            let mut c = ContactSolution::new(
+                &spec,
+                f.candidates,
+                f.target,
+                f.paired,
+                None,
+                &condensed.free_gap[range],
+                share,
+                gap,
+                None,
+            );
+            c.unpaired = f.unpaired;
+            c
+        })
+        .collect();
+    let mut solutions = clock.run("recovery", || {
+        u.into_iter()
+            .enumerate()
+            .map(|(b, u_b)| {
+                let ops: Vec<(&BodyOperator, &[f64])> = pairs
+                    .iter()
+                    .zip(&contacts)
+                    .flat_map(|(pair, c)| {
+                        let own = (pair.body == b).then_some(&c.candidates.operator);
+                        let target = c.target.as_ref().filter(|_| pair.target_body == Some(b));
+                        own.into_iter().chain(target).map(|op| (op, c.lcp.z.as_slice()))
+                    })
+                    .collect();
+                solution::recover(problems[b], models[b], u_b, &ops)
+            })
+            .collect::<Vec<Solution>>()
+    });
+    let rest = solutions.split_off(1);
+    let mut solution = solutions.pop().expect("the first body's solution");
+    solution.multibody = Some(Box::new(MultibodySolution {
+        bodies: rest,
+        pairs: contacts,
+        condensed,
+        lcp: result,
+        warning,
+    }));
+    solution.timings = clock.timings.clone();
+    model.timings = clock.timings;
+    finite(solution).map(|s| (model, others, s))
+}
+
+/// The candidates of `pair` (on its body) against its target body's edge or its obstacles.
+fn pair_candidates(
+    pair: &ContactPair,
+    problems: &[&Problem],
+    models: &[&Model],
+) -> Result<PairCandidates, contact::ContactError> {
+    let (problem, model) = (problems[pair.body], models[pair.body]);
+    let spec = &pair.spec;
+    match (spec.target, pair.target_body) {
+        (ContactTarget::Body { edge }, Some(t)) => {
+            let (candidates, op, paired, unpaired) =
+                body_pair(problem, model, spec, (problems[t], models[t], edge))?;
+            Ok(PairCandidates { candidates, target: Some(op), paired, unpaired })
+        }
+        (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
+        (ContactTarget::Obstacles, _) if pair.obstacles.is_empty() => {
+            Err(contact::ContactError::MissingTarget)
+        }
+        (ContactTarget::Obstacles, _) => {
+            let target = |x| {
+                contact::closest_obstacle(&pair.obstacles, x)
+                    .map(|(_, c)| (c.gap, c.normal))
+                    .expect("the pair has obstacles")
+            };
+            let candidates =
+                contact::candidates_on(problem, model, spec.edge, &target, spec.condensation)?;
+            Ok(PairCandidates { candidates, target: None, paired: Vec::new(), unpaired: 0 })
+        }
+        (ContactTarget::Rigid(line), _) => {
+            let target = |x| (line.gap(x), line.normal);
+            let candidates =
+                contact::candidates_on(problem, model, spec.edge, &target, spec.condensation)?;
+            Ok(PairCandidates { candidates, target: None, paired: Vec::new(), unpaired: 0 })
+        }
+    }
+}
+
+/// Body `b`'s operator over every candidate that touches it (the candidate operator of the
+/// pairs on `b`, the target operator of the pairs against `b`), with the candidates' global
+/// indices; `None` when no pair touches `b`.
+fn body_operator(
+    b: usize,
+    pairs: &[ContactPair],
+    found: &[PairCandidates],
+    offsets: &[usize],
+) -> Option<(BodyOperator, Vec<usize>)> {
+    let mut rows: Vec<Vec<(u32, f64)>> = Vec::new();
+    let mut owners = Vec::new();
+    let mut directions = Vec::new();
+    let mut index = Vec::new();
+    for (k, (pair, f)) in pairs.iter().zip(found).enumerate() {
+        let own = (pair.body == b).then_some(&f.candidates.operator);
+        let target = f.target.as_ref().filter(|_| pair.target_body == Some(b));
+        for op in own.into_iter().chain(target) {
+            for c in 0..op.len() {
+                let support = op.shapes.support(c);
+                rows.push(support.iter().copied().zip(op.shapes.phi(c).iter().copied()).collect());
+                owners.push(op.owners[c].clone());
+                directions.push(op.directions[c]);
+                index.push(offsets[k] + c);
+            }
+        }
+    }
+    (!index.is_empty())
+        .then(|| (BodyOperator { shapes: ShapeSet::from_rows(&rows), owners, directions }, index))
+}

@@ -1,0 +1,305 @@
+//! Three elastic blocks stacked and pressed together: several bodies and contact pairs in one
+//! LCP (`problems/three_block_stack.toml`).
+//!
+//! **Problem.** Blocks `[0, 2] × [0, 1]` (bottom, `E_1 = 1000`, spacing 0.1),
+//! `[0, 2] × [1, 2]` (middle, `E_2 = 300`, spacing 0.125) and `[0, 2] × [2, 3]` (top,
+//! `E_3 = 3000`, spacing 1/12), `ν = 0.3`, plane stress, so that no two interfaces have
+//! matching nodes. Two frictionless pairs: the middle block's bottom edge against the bottom
+//! block's top edge, the top block's bottom edge against the middle block's top edge. The top
+//! block's top edge is pushed down by `δ = 0.01`, the bottom block's bottom edge is on a roller
+//! (`u_y = 0`), every left edge on a roller (`u_x = 0`). The middle block is held vertically by
+//! the contacts only; until such bodies can be solved, the middle third of its left side
+//! (`1.25 ≤ y ≤ 1.75`, an edge of its own so that the corners on the contact edges stay free)
+//! also prescribes `u_y` at the exact values below, which the exact solution satisfies with a
+//! zero reaction (asserted: the restraint carries nothing).
+//!
+//! **Reference (closed form).** Every block is in uniaxial stress `σ_yy = −p`,
+//! `σ_xx = σ_xy = 0`: this satisfies equilibrium in each block, the traction-free right
+//! edges, the rollers (zero shear, `u_x = 0` at `x = 0`), and continuity of the normal traction
+//! without shear across the frictionless interfaces, which stay closed. Compatibility: the
+//! blocks shorten by `p L_i / E_i` (`L_i = 1`) and together by `δ`, so
+//!
+//! ```text
+//! p = δ / Σ L_i/E_i = 0.01 / (1/1000 + 1/300 + 1/3000) = 15/7,
+//! ```
+//!
+//! the contact pressure on both interfaces (total force `2p` each). In block `i`, with
+//! `y_i` its bottom, `u_y(y) = u_y(y_i) − (p/E_i)(y − y_i)` and `u_x = ν p x / E_i`
+//! (`ε_xx = −ν σ_yy / E_i`); the interfaces move by `u_y(1) = −p/E_1 = −3/1400` and
+//! `u_y(2) = u_y(1) − p/E_2 = −13/1400`, and `u_y(3) = u_y(2) − p/E_3 = −δ`.
+//!
+//! **Tolerance.** The exact field is linear in each block, which the linear MLS basis
+//! reproduces, and the condensation is exact for MLS (docs/method.md §4.2, §4.5): the
+//! discretisation error is zero and only round-off remains. Asserted to 1e-8 (relative to `δ`
+//! for displacements, to `p` for pressures), as for two blocks (`two_bodies.rs`); measured:
+//! see the printed values (`--nocapture`).
+
+use super::common::{assert_lcp_residuals, shipped_problem};
+use mlpg_contact::Solution;
+use mlpg_contact::problem::Problem;
+
+const DELTA: f64 = 0.01;
+const YOUNG: [f64; 3] = [1000.0, 300.0, 3000.0];
+const POISSON: f64 = 0.3;
+
+/// The exact contact pressure `δ / Σ L_i/E_i` (`L_i = 1`).
+fn exact_pressure() -> f64 {
+    DELTA / YOUNG.iter().map(|e| 1.0 / e).sum::<f64>()
+}
+
+/// The exact displacement of block `i` (0 bottom, 1 middle, 2 top) at `x`.
+fn exact(i: usize, x: [f64; 2]) -> [f64; 2] {
+    let p = exact_pressure();
+    let base: f64 = (0..i).map(|k| -p / YOUNG[k]).sum();
+    [POISSON * p * x[0] / YOUNG[i], base - p / YOUNG[i] * (x[1] - i as f64)]
+}
+
+fn stack() -> Problem {
+    shipped_problem("three_block_stack.toml", 0.1)
+}
+
+fn solve_on(threads: usize, problem: &Problem) -> Solution {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| mlpg_contact::solve(problem).unwrap())
+}
+
+#[test]
+fn three_block_stack_is_uniaxial_to_round_off() {
+    let problem = stack();
+    let several = problem.multibody.as_deref().expect("several bodies");
+    assert_eq!(several.bodies.len(), 2);
+    assert_eq!(several.pairs.len(), 2);
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    let p = exact_pressure();
+    assert!((p - 15.0 / 7.0).abs() < 1e-14);
+
+    // One LCP over both pairs: complementarity, every candidate closed, pressures uniform.
+    assert_lcp_residuals("stack", &ms.lcp.residuals, 1e-10);
+    assert_eq!(ms.lcp.z.len(), ms.pairs.iter().map(|c| c.candidates.len()).sum::<usize>());
+    for (k, c) in ms.pairs.iter().enumerate() {
+        let worst = c.pressure.iter().map(|v| (v / p - 1.0).abs()).fold(0.0, f64::max);
+        println!(
+            "pair {k}: {} candidates, total {:.15} (exact {:.15}), max |p/p_exact − 1| = {worst:.2e}",
+            c.candidates.len(),
+            c.total_force,
+            2.0 * p
+        );
+        assert!(c.closed.iter().all(|&v| v), "pair {k}: an open candidate");
+        assert!(worst < 1e-8, "pair {k}: pressure deviates by {worst:.3e}");
+        assert!((c.total_force / (2.0 * p) - 1.0).abs() < 1e-8, "pair {k}: {}", c.total_force);
+        assert!(c.gap.iter().all(|g| g.abs() < 1e-8 * DELTA), "pair {k}: gaps {:?}", c.gap);
+    }
+
+    // Every body's displacement field, the interfaces included.
+    let models: Vec<_> = std::iter::once(&problem)
+        .chain(several.bodies.iter())
+        .map(|b| mlpg_contact::discretise(b, &mut mlpg_contact::Silent).unwrap())
+        .collect();
+    let bodies: Vec<&Solution> = std::iter::once(&s).chain(ms.bodies.iter()).collect();
+    for (i, (b, m)) in bodies.iter().zip(&models).enumerate() {
+        let worst = m
+            .nodes
+            .points
+            .iter()
+            .zip(&b.displacement)
+            .map(|(&x, u)| {
+                let e = exact(i, x);
+                (u[0] - e[0]).abs().max((u[1] - e[1]).abs())
+            })
+            .fold(0.0, f64::max);
+        println!("body {i}: max |u − u_exact| / δ = {:.2e}", worst / DELTA);
+        assert!(worst < 1e-8 * DELTA, "body {i}: displacement error {worst:.3e}");
+    }
+    for (k, (c, y, body)) in
+        [(&ms.pairs[0], 1.0, 1), (&ms.pairs[1], 2.0, 2)].into_iter().enumerate()
+    {
+        let interface = exact(body - 1, [0.0, y])[1];
+        assert!((interface - exact(body, [0.0, y])[1]).abs() < 1e-15);
+        let worst = c
+            .candidates
+            .nodes
+            .iter()
+            .map(|&n| (bodies[body].displacement[n as usize][1] - interface).abs())
+            .fold(0.0, f64::max);
+        println!(
+            "interface {k} (y = {y}): u_y exact {interface:.15}, max error / δ {:.2e}",
+            worst / DELTA
+        );
+        assert!(worst < 1e-8 * DELTA, "interface {k}: {worst:.3e}");
+    }
+    assert!((exact(1, [0.0, 1.0])[1] + 3.0 / 1400.0).abs() < 1e-15);
+    assert!((exact(2, [0.0, 2.0])[1] + 13.0 / 1400.0).abs() < 1e-15);
+    assert!((exact(2, [0.0, 3.0])[1] + DELTA).abs() < 1e-15);
+
+    // Equilibrium of every body: contact force in = contact force out = support reaction.
+    let force = 2.0 * p;
+    for (i, b) in bodies.iter().enumerate() {
+        println!(
+            "body {i}: equilibrium {:.2e}, contact force {:?}, reaction {:?}",
+            b.equilibrium_error, b.contact_force, b.reaction_force
+        );
+        assert!(b.equilibrium_error < 1e-9, "body {i}: {}", b.equilibrium_error);
+    }
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-8 * force;
+    // Bottom: pushed down by pair 0, held up by its roller.
+    assert!(close(s.contact_force[1], -force) && close(s.reaction_force[1], force));
+    // Middle: pushed up by pair 0 and down by pair 1; its restraint carries nothing.
+    let middle = bodies[1];
+    assert!(close(middle.contact_force[1], 0.0) && close(middle.reaction_force[1], 0.0));
+    assert!(middle.reactions.iter().all(|r| r.2.abs() < 1e-8 * force), "middle reactions");
+    // Top: pushed up by pair 1, pushed down by its prescribed edge.
+    assert!(close(bodies[2].contact_force[1], force) && close(bodies[2].reaction_force[1], -force));
+}
+
+#[test]
+fn three_block_stack_is_identical_on_one_and_two_threads() {
+    let problem = stack();
+    let (a, b) = (solve_on(1, &problem), solve_on(2, &problem));
+    let (ma, mb) = (a.multibody.as_deref().unwrap(), b.multibody.as_deref().unwrap());
+    assert_eq!(ma.lcp.z, mb.lcp.z);
+    assert_eq!(ma.condensed.compliance, mb.condensed.compliance);
+    let bodies = |s: &Solution, m: &mlpg_contact::solution::MultibodySolution| {
+        std::iter::once(s.displacement.clone())
+            .chain(m.bodies.iter().map(|b| b.displacement.clone()))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(bodies(&a, ma), bodies(&b, mb));
+}
+
+/// Two blocks pressed together (`problems/two_blocks.toml`, identical blocks, non-matching
+/// layouts) with the pair reversed: the candidates on the lower block's top edge against the
+/// upper block's bottom edge, `[[contact]] body = "lower"` — the several-pairs path. Exact
+/// answer as for the usual pair: uniform pressure `E δ / (H_1 + H_2) = 5`, total 10, and the
+/// linear fields; the usual pair's solution (also exact) must be reproduced to round-off, by
+/// the MFVM and by the finite elements (Q2 reproduces linear fields exactly too). Asserted to
+/// 1e-8 as above (round-off only).
+#[test]
+fn reversed_pair_reproduces_the_two_blocks() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
+    let usual = std::fs::read_to_string(path).unwrap();
+    let from = "[contact]\nedge = \"bottom\"";
+    assert!(usual.contains(from));
+    let reversed = usual
+        .replace(from, "[[contact]]\nbody = \"lower\"\nedge = \"top\"\ntarget_body = \"upper\"\n")
+        .replace("target_edge = \"top\"", "target_edge = \"bottom\"");
+    for method in ["mfvm", "fem"] {
+        let with = |text: &str| {
+            let text = text.replace(
+                "support_factor = 2.0",
+                &format!("support_factor = 2.0\nmethod = \"{method}\""),
+            );
+            let problem = Problem::from_toml(&text).unwrap();
+            let s = mlpg_contact::solve(&problem).unwrap();
+            (problem, s)
+        };
+        let (p_usual, s_usual) = with(&usual);
+        let (p_rev, s_rev) = with(&reversed);
+        assert!(p_usual.multibody.is_none() && p_rev.multibody.is_some());
+        let ms = s_rev.multibody.as_deref().unwrap();
+        let c = &ms.pairs[0];
+        assert_lcp_residuals(method, &ms.lcp.residuals, 1e-10);
+        let worst = c.pressure.iter().map(|v| (v / 5.0 - 1.0).abs()).fold(0.0, f64::max);
+        println!("{method}: reversed pair, max |p/5 − 1| = {worst:.2e}, total {}", c.total_force);
+        assert!(worst < 1e-8 && (c.total_force / 10.0 - 1.0).abs() < 1e-8);
+        let lower_usual = s_usual.second_body.as_deref().unwrap();
+        for (a, b, what) in [(&s_usual, &s_rev, "upper"), (lower_usual, &ms.bodies[0], "lower")] {
+            let worst = a
+                .displacement
+                .iter()
+                .zip(&b.displacement)
+                .map(|(u, v)| (u[0] - v[0]).abs().max((u[1] - v[1]).abs()))
+                .fold(0.0, f64::max);
+            println!(
+                "{method}: {what} block, max |u_reversed − u_usual| / δ = {:.2e}",
+                worst / 0.01
+            );
+            assert!(worst < 1e-8 * 0.01, "{method} {what}: {worst:.3e}");
+            assert!(b.equilibrium_error < 1e-9, "{method} {what}: {}", b.equilibrium_error);
+        }
+    }
+}
+
+/// One body and two contact pairs against rigid lines: the block `[0, 2] × [0, 1]` (`E =
+/// 1000`, `ν = 0.3`, plane stress, spacing 0.1) on a rigid floor `y = 0` (pair 0: its bottom
+/// edge) beside a rigid wall `x = 2` (pair 1: its right edge), both touching at the start, its
+/// left edge on a roller and its top edge pushed down by `δ = 0.01`.
+///
+/// **Reference.** The uniform state `ε_yy = −δ`, `ε_xx = 0` (`u = (0, −δ y)`): the wall stops
+/// the Poisson expansion, so `σ_yy = −E δ/(1 − ν²)`, `σ_xx = ν σ_yy`, `σ_xy = 0`; both walls
+/// are pressed (`σ < 0`): floor pressure `E δ/(1 − ν²) = 10/0.91`, wall pressure `ν` times
+/// that. Linear field: exact up to round-off, asserted to 1e-8.
+#[test]
+fn block_between_floor_and_wall_is_exact() {
+    let text = r#"
+name = "walls"
+[discretisation]
+support_factor = 2.0
+[geometry]
+kind = "rectangle"
+x = [0.0, 2.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.1
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0 }
+[[boundary]]
+edge = "top"
+displacement = { y = -0.01 }
+[[contact]]
+edge = "bottom"
+obstacle_point = [0.0, 0.0]
+obstacle_normal = [0.0, 1.0]
+[[contact]]
+edge = "right"
+obstacle_point = [2.0, 0.0]
+obstacle_normal = [-1.0, 0.0]
+"#;
+    let problem = Problem::from_toml(text).unwrap();
+    let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    assert!(ms.bodies.is_empty());
+    assert_lcp_residuals("walls", &ms.lcp.residuals, 1e-10);
+    let floor = 1000.0 * DELTA / (1.0 - POISSON * POISSON);
+    for (k, (c, exact)) in
+        [(&ms.pairs[0], floor), (&ms.pairs[1], POISSON * floor)].into_iter().enumerate()
+    {
+        let worst = c.pressure.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+        println!(
+            "walls, pair {k}: {} candidates, max |p/p_exact − 1| = {worst:.2e}",
+            c.candidates.len()
+        );
+        assert!(worst < 1e-8, "pair {k}: {worst:.3e}");
+        // The wall's contact-free gaps vanish (the top's motion is a rigid translation along
+        // the wall): the closed set's tolerance comes from both pairs' gaps.
+        assert!(c.closed.iter().all(|&v| v), "pair {k}: an open candidate");
+    }
+    let worst = model
+        .nodes
+        .points
+        .iter()
+        .zip(&s.displacement)
+        .map(|(x, u)| u[0].abs().max((u[1] + DELTA * x[1]).abs()))
+        .fold(0.0, f64::max);
+    println!(
+        "walls: max |u − u_exact| / δ = {:.2e}, equilibrium {:.2e}",
+        worst / DELTA,
+        s.equilibrium_error
+    );
+    assert!(worst < 1e-8 * DELTA);
+    assert!(s.equilibrium_error < 1e-9);
+    // The floor's and the wall's forces are the top's and the roller's reactions.
+    let (fy, fx) = (2.0 * floor, POISSON * floor);
+    assert!(
+        (s.contact_force[1] - fy).abs() < 1e-8 * fy && (s.contact_force[0] + fx).abs() < 1e-8 * fy
+    );
+}
