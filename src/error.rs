@@ -115,6 +115,7 @@ impl Error {
             Error::Contact(_) => "contact.edge, boundary[*].displacement",
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
             Error::Lcp(L::ActiveSet(_)) => "contact.solver",
+            Error::Lcp(L::LoadDriven(_)) => "step[*].obstacle_force",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
             Error::LemkeRefused(_) => "contact.solver, nodes.spacing",
             Error::Increment { cause, .. } => return cause.input_keys(),

@@ -664,6 +664,7 @@ fn outputs_are_deterministic_across_thread_counts() {
         ("beam_on_foundation_stabilised.toml", &["contact.csv"][..]),
         ("beam_on_foundation_fem.toml", &["contact.csv"][..]),
         ("hertz_cylinder.toml", &["contact.csv"][..]),
+        ("cylinder_indenter_force.toml", &["contact.csv"][..]),
     ] {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(problem);
         let mut dirs = Vec::new();

@@ -11,6 +11,9 @@ pub(super) struct StepEnd {
     pub(super) load: Vec<f64>,
     pub(super) rhs: Vec<f64>,
     pub(super) obstacle: geometry::Point,
+    /// The force pressing the rigid obstacle (`[[step]] obstacle_force`; then `obstacle` is
+    /// zero and the displacement along the force is found per increment, docs/method.md §4.5).
+    pub(super) force: Option<geometry::Point>,
     /// The Coulomb coefficient during the step.
     pub(super) friction: f64,
 }
@@ -47,6 +50,7 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
                 load,
                 rhs,
                 obstacle: step.obstacle_displacement,
+                force: step.obstacle_force,
                 friction: step.friction,
             })
         })
@@ -220,6 +224,12 @@ pub(super) fn solve_frictional(
     let mut records = Vec::new();
     let mut snapshots = Vec::new();
     let mut last = None;
+    // A force-driven obstacle (docs/method.md §4.5): M_nn for the slopes, the force's
+    // magnitude at the end of the previous step, and what the last search found.
+    let compliance = steps.iter().any(|s| s.force.is_some()).then(|| step_problem.nn.clone());
+    let mut force0 = 0.0;
+    let mut load_driven: Option<solution::LoadDriven> = None;
+    let mut total_evaluations = 0;
     clock.run("friction", || -> Result<(), Error> {
         for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
             step_problem.friction = friction_in(k);
@@ -228,8 +238,48 @@ pub(super) fn solve_frictional(
                 let lambda = i as f64 / end.increments as f64;
                 step_problem.free_gap = lerp(&qn0, qn1, lambda);
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
+                let solved = match (end.force, &compliance) {
+                    (Some(f), Some(compliance)) => {
+                        let size = f[0].hypot(f[1]);
+                        let e = [f[0] / size, f[1] / size];
+                        let along: Vec<f64> = (0..m)
+                            .map(|c| {
+                                let nu = candidates.normal(c);
+                                nu[0] * e[0] + nu[1] * e[1]
+                            })
+                            .collect();
+                        let target = (1.0 - lambda) * force0 + lambda * size;
+                        let base = step_problem.free_gap.clone();
+                        lcp::load_driven::find_displacement(
+                            compliance,
+                            &base,
+                            &along,
+                            e,
+                            target,
+                            |q| {
+                                step_problem.free_gap = q.to_vec();
+                                lcp::solve_step(&step_problem)
+                            },
+                            |answer| answer.normal.as_slice(),
+                        )
+                        .map(|search| {
+                            total_evaluations += search.evaluations;
+                            let s = search.displacement;
+                            load_driven = Some(solution::LoadDriven {
+                                force: [target * e[0], target * e[1]],
+                                displacement_along: s,
+                                displacement: [s * e[0], s * e[1]],
+                                carried: search.force,
+                                evaluations: search.evaluations,
+                                total_evaluations,
+                            });
+                            search.answer
+                        })
+                    }
+                    _ => lcp::solve_step(&step_problem),
+                };
                 // With [[step]] tables, a failure names the step and the increment.
-                let step = lcp::solve_step(&step_problem).map_err(|e| {
+                let step = solved.map_err(|e| {
                     if problem.steps.is_empty() {
                         Error::from(e)
                     } else {
@@ -316,6 +366,7 @@ pub(super) fn solve_frictional(
                 (load20, rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
             }
             (qn0, qt0) = (qn1.clone(), qt1.clone());
+            force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
         }
         Ok(())
     })?;
@@ -337,9 +388,9 @@ pub(super) fn solve_frictional(
         z: step.normal.clone(),
         pivots: step.pivots,
     };
-    // The gaps from the obstacle's final position.
+    // The gaps from the obstacle's final position (the force's: where the search put it).
     if let Some(end) = steps.last() {
-        let d = end.obstacle;
+        let d = load_driven.as_ref().map_or(end.obstacle, |l| l.displacement);
         for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
             let dn = d[0] * nu[0] + d[1] * nu[1];
             if dn != 0.0 {
@@ -370,5 +421,6 @@ pub(super) fn solve_frictional(
     friction.snapshots = snapshots;
     friction.target_operator = target_tangential;
     contact.friction = Some(friction);
+    contact.load_driven = load_driven;
     Ok((u, u2, contact))
 }

@@ -351,6 +351,7 @@ fn solve_contact(
                 load: m.system.load.clone(),
                 rhs: m.system.rhs.clone(),
                 obstacle: [0.0, 0.0],
+                force: None,
                 friction: spec.friction,
             }]
         };
@@ -612,6 +613,19 @@ impl std::fmt::Display for RunReport {
                 opt(c.first_closed_x),
                 opt(c.onset_x_from_pressure)
             )?;
+            if let Some(l) = &c.load_driven {
+                writeln!(
+                    f,
+                    "  obstacle pressed by ({:.6e}, {:.6e}): displaced by ({:.6e}, {:.6e}), s = {:.9e} along the force, carrying {:.9e} ({} LCP solves)",
+                    l.obstacle_force[0],
+                    l.obstacle_force[1],
+                    l.obstacle_displacement[0],
+                    l.obstacle_displacement[1],
+                    l.displacement_along_force,
+                    l.carried_force,
+                    l.lcp_solves
+                )?;
+            }
             if let (Some(mu), Some(tangential), Some([stick, slip])) =
                 (c.friction_coefficient, c.total_tangential_force, c.stick_slip_counts)
             {

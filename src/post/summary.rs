@@ -328,6 +328,28 @@ pub struct ContactSummary {
     /// Why Lemke on the step LCP was not accepted, when the fallback answered (friction only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction_lemke_failure: Option<String>,
+    /// The rigid obstacle pressed by a force (`[[step]] obstacle_force` only;
+    /// docs/method.md §4.5).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_driven: Option<LoadDrivenSummary>,
+}
+
+/// A rigid obstacle pressed by a prescribed force: the force and the displacement it found
+/// (docs/method.md §4.5).
+#[derive(Clone, Debug, Serialize)]
+pub struct LoadDrivenSummary {
+    /// The prescribed force `F` on the obstacle at the end of the last step.
+    pub obstacle_force: [f64; 2],
+    /// The obstacle's displacement `s e` that balances it.
+    pub obstacle_displacement: [f64; 2],
+    /// `s`, the displacement along `e = F/|F|`.
+    pub displacement_along_force: f64,
+    /// `Σ_c (ν_c·e) P_c`, the force the contact carries along `e`.
+    pub carried_force: f64,
+    /// LCP solves of the last increment's search.
+    pub lcp_solves: usize,
+    /// LCP solves of all increments' searches.
+    pub lcp_solves_all_increments: usize,
 }
 
 /// The second body of a two-body contact.
@@ -474,6 +496,14 @@ impl Summary {
                     .friction
                     .as_ref()
                     .and_then(|f| f.step.lemke_failure.clone()),
+                load_driven: c.load_driven.as_ref().map(|l| LoadDrivenSummary {
+                    obstacle_force: l.force,
+                    obstacle_displacement: l.displacement,
+                    displacement_along_force: l.displacement_along,
+                    carried_force: l.carried,
+                    lcp_solves: l.evaluations,
+                    lcp_solves_all_increments: l.total_evaluations,
+                }),
             }),
             second_body: solution.second_body.as_deref().map(|s2| SecondBody {
                 name: problem.second_body.as_ref().map(|p| p.name.clone()),
