@@ -87,6 +87,27 @@ pub struct ContactSolution {
     /// The rigid obstacle pressed by a force (`[[step]] obstacle_force` only): the
     /// displacement the force found (docs/method.md §4.5).
     pub load_driven: Option<LoadDriven>,
+    /// The body's rigid-body translation held by the contact alone (docs/method.md §4.6).
+    pub rigid_mode: Option<RigidMode>,
+}
+
+/// A rigid-body translation of the body that no displacement condition restrains, resolved
+/// by the contact (docs/method.md §4.6): the body's translation `t r` that brings the pin's
+/// reaction to zero.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidMode {
+    /// `"translation in x"` or `"translation in y"`.
+    pub mode: &'static str,
+    /// The pinned node's position: the translation is its displacement along the mode.
+    pub pin_point: geometry::Point,
+    /// The translation `t r` (the pinned node's displacement).
+    pub translation: geometry::Point,
+    /// The applied load's component along the mode (the contact carries its opposite).
+    pub load: f64,
+    /// LCP solves of the last increment's search.
+    pub evaluations: usize,
+    /// LCP solves of all increments' searches.
+    pub total_evaluations: usize,
 }
 
 /// A rigid obstacle pressed by a prescribed force (docs/method.md §4.5): the force at the end
@@ -345,6 +366,7 @@ impl ContactSolution {
             friction: None,
             fallback_from: None,
             load_driven: None,
+            rigid_mode: None,
         }
     }
 }

@@ -47,6 +47,38 @@ pub enum LoadDrivenError {
         /// The magnitude given.
         force: f64,
     },
+    /// A rigid-body translation of the body that no displacement condition restrains is
+    /// perpendicular to every contact normal: frictionless contact cannot hold it
+    /// (docs/method.md §4.6).
+    #[error(
+        "{mode} is restrained neither by a displacement condition nor by the contact normals: every contact normal is perpendicular to it, so frictionless contact cannot hold it (add a displacement condition that prevents it)"
+    )]
+    NotRestrained {
+        /// The free mode, e.g. `"translation in x"`.
+        mode: &'static str,
+    },
+    /// A rigid-body translation left to the contact, but the applied load along it does not
+    /// press the body onto the obstacle: the body's position is not determined.
+    #[error(
+        "{mode} is held only by the contact, but the applied load along it ({load:.6e}) does not press the body onto the obstacle (it is zero or pulls the body away), so the body's position is not determined (load it towards the obstacle, or add a displacement condition that prevents the {mode})"
+    )]
+    NotPressed {
+        /// The free mode.
+        mode: &'static str,
+        /// The applied load's component along the mode.
+        load: f64,
+    },
+    /// A rigid-body translation left to the contact with something this method does not
+    /// combine it with (friction, an obstacle pressed by a force, a pin on the contact).
+    #[error(
+        "{mode} is held only by the contact, which is solved for frictionless contact with an obstacle that does not move by a force and a body whose pinned node carries no contact force; here {why} (add a displacement condition that prevents the {mode})"
+    )]
+    Unsupported {
+        /// The free mode.
+        mode: &'static str,
+        /// What is not supported.
+        why: String,
+    },
     /// No displacement meeting the force equation was found.
     #[error(
         "the obstacle's displacement under the force {target:.6e} was not found after {evaluations} LCP solves: the last, at s = {displacement:.6e}, carried {force:.6e} (bracket {low:?} to {high:?}); the contact's force–displacement relation may have a jump (M is not a P-matrix) — try a displacement step instead"

@@ -332,6 +332,26 @@ pub struct ContactSummary {
     /// docs/method.md §4.5).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub load_driven: Option<LoadDrivenSummary>,
+    /// The body's rigid-body translation held by the contact alone (docs/method.md §4.6).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rigid_mode: Option<RigidModeSummary>,
+}
+
+/// A rigid-body translation of the body resolved by the contact (docs/method.md §4.6).
+#[derive(Clone, Debug, Serialize)]
+pub struct RigidModeSummary {
+    /// `"translation in x"` or `"translation in y"`.
+    pub mode: &'static str,
+    /// The pinned node's position (the translation is its displacement).
+    pub pin_point: [f64; 2],
+    /// The body's translation.
+    pub translation: [f64; 2],
+    /// The applied load's component along the mode.
+    pub load_along_mode: f64,
+    /// LCP solves of the last increment's search.
+    pub lcp_solves: usize,
+    /// LCP solves of all increments' searches.
+    pub lcp_solves_all_increments: usize,
 }
 
 /// A rigid obstacle pressed by a prescribed force: the force and the displacement it found
@@ -503,6 +523,14 @@ impl Summary {
                     carried_force: l.carried,
                     lcp_solves: l.evaluations,
                     lcp_solves_all_increments: l.total_evaluations,
+                }),
+                rigid_mode: c.rigid_mode.as_ref().map(|r| RigidModeSummary {
+                    mode: r.mode,
+                    pin_point: r.pin_point,
+                    translation: r.translation,
+                    load_along_mode: r.load,
+                    lcp_solves: r.evaluations,
+                    lcp_solves_all_increments: r.total_evaluations,
                 }),
             }),
             second_body: solution.second_body.as_deref().map(|s2| SecondBody {

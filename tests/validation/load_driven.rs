@@ -220,3 +220,106 @@ fn a_force_pulling_the_obstacle_away_is_refused() {
     assert!(message.contains("step[0]"), "{message}");
     assert_eq!(e.input_keys(), Some("step[*].obstacle_force"));
 }
+
+/// An elastic body held by contact alone (docs/method.md §4.6,
+/// `problems/block_on_flat_held_by_contact.toml`): the block `[0, 1]²` (plane strain,
+/// `E = 1`, `ν = 0.3`) pushed by the pressure `p = 0.01` on its top onto a rigid flat `g =
+/// 0.002` below its bottom; a roller on the left edge restrains x and the rotation, nothing
+/// but the contact the translation in y. Exact (the right edge free, so `σ_xx = 0`): uniform
+/// contact pressure `p`, `σ_yy = −p`, `σ_xx = σ_xy = 0`, `u_x = ν(1 + ν)p x/E`,
+/// `u_y = −g − (1 − ν²)p y/E`; the reported translation is `u_y` at the pinned point. A linear
+/// field, which MLS reproduces (the patch test): bound 1e-8 relative, on structured and
+/// jittered nodes (observed: round-off, see the output).
+#[test]
+fn block_held_by_contact_alone_is_exact() {
+    const TOML: &str = include_str!("../../problems/block_on_flat_held_by_contact.toml");
+    let (young, nu, p, g) = (1.0, 0.3, 0.01, 0.002);
+    for layout in ["structured", "jittered"] {
+        let text =
+            TOML.replace("spacing = 0.05", &format!("spacing = 0.05\nlayout = \"{layout}\""));
+        let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+        let c = s.contact.as_ref().unwrap();
+        assert_lcp_residuals(layout, &c.lcp.residuals, 1e-9);
+        let mode = c.rigid_mode.as_ref().expect("the translation in y held by the contact");
+        assert_eq!(mode.mode, "translation in y");
+        assert!((mode.load + p).abs() < 1e-12, "{layout}: load {}", mode.load);
+        let exact = |x: f64, y: f64| {
+            [nu * (1.0 + nu) * p * x / young, -g - (1.0 - nu * nu) * p * y / young]
+        };
+        let pin = exact(mode.pin_point[0], mode.pin_point[1]);
+        println!(
+            "{layout}: translation {:.15e} at {:?} (exact {:.15e}), {} LCP solves",
+            mode.translation[1], mode.pin_point, pin[1], mode.evaluations
+        );
+        assert_eq!(mode.translation[0], 0.0);
+        assert!((mode.translation[1] - pin[1]).abs() < 1e-8 * pin[1].abs(), "{layout}");
+        // Every candidate closed with the pressure p; the contact carries the load.
+        assert!(c.closed.iter().all(|&k| k), "{layout}: {:?}", c.closed);
+        let worst_p = c.pressure.iter().map(|q| (q - p).abs()).fold(0.0, f64::max);
+        assert!(worst_p < 1e-8 * p, "{layout}: pressure error {worst_p}");
+        assert!((s.contact_force[1] - p).abs() < 1e-10 * p, "{:?}", s.contact_force);
+        assert!((s.applied_force[1] + p).abs() < 1e-10 * p, "{:?}", s.applied_force);
+        assert!(s.equilibrium_error < 1e-10, "{layout}: equilibrium {}", s.equilibrium_error);
+        // The pin's reaction vanishes; the roller carries nothing (no x load).
+        for r in &s.reactions {
+            assert!(r.2.abs() < 1e-10 * p, "{layout}: reaction {r:?}");
+        }
+        // Displacements and stresses: the linear field.
+        let mut worst_u: f64 = 0.0;
+        let mut worst_s: f64 = 0.0;
+        let nodes = mlpg_contact::discretise(
+            &Problem::from_toml(&text).unwrap(),
+            &mut mlpg_contact::Silent,
+        )
+        .unwrap()
+        .nodes;
+        for (i, u) in s.displacement.iter().enumerate() {
+            let [x, y] = nodes.points[i];
+            let e = exact(x, y);
+            worst_u = worst_u.max((u[0] - e[0]).abs()).max((u[1] - e[1]).abs());
+            let st = s.stress[i];
+            worst_s = worst_s.max(st[0].abs()).max((st[1] + p).abs()).max(st[2].abs());
+        }
+        println!("{layout}: displacement error {worst_u:.2e}, stress error {worst_s:.2e}");
+        assert!(worst_u < 1e-8 * pin[1].abs(), "{layout}: displacement error {worst_u}");
+        assert!(worst_s < 1e-8 * p, "{layout}: stress error {worst_s}");
+    }
+}
+
+/// Refusals naming the mode. The block pressed by a prescribed displacement of its top (y)
+/// with nothing on x: x is the one free translation and the flat's normals are all vertical
+/// (the CLI's exit code and message: `tests/cli.rs`, `held_only_by_contact_and_a_roller`).
+/// The roller turned into a y condition on the left edge: the translation in x and the
+/// rotation about a point of that edge are both free, more than the contact may hold. A
+/// load pulling the block away from the flat (the pressure reversed) leaves its position
+/// undetermined. No displacement condition at all.
+#[test]
+fn unrestrained_bodies_are_refused_naming_the_mode() {
+    const TOML: &str = include_str!("../../problems/block_on_flat_held_by_contact.toml");
+    let cases = [
+        (
+            TOML.replace("displacement = { x = 0.0 }", "pressure = 0.0")
+                .replace("pressure = 0.01", "displacement = { y = -0.01 }"),
+            "translation in x is restrained neither by a displacement condition nor by the contact normals",
+        ),
+        (
+            TOML.replace("displacement = { x = 0.0 }", "displacement = { y = 0.0 }"),
+            "the displacement conditions do not prevent rigid-body translation in x",
+        ),
+        (
+            TOML.replace("pressure = 0.01", "pressure = -0.01"),
+            "translation in y is held only by the contact, but the applied load along it (1.000000e-2) does not press the body onto the obstacle",
+        ),
+        (
+            TOML.replace("edge = \"left\"               # a roller: x only; y is left to the contact\ndisplacement = { x = 0.0 }", "edge = \"left\"\npressure = 0.0"),
+            "no displacement is prescribed",
+        ),
+    ];
+    for (text, expected) in cases {
+        assert_ne!(text, TOML);
+        let e = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap_err();
+        let message = e.to_string();
+        println!("{message}");
+        assert!(message.contains(expected), "{message}");
+    }
+}
