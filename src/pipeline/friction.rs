@@ -524,7 +524,12 @@ pub(super) fn solve_frictional(
     friction.increments = records;
     friction.snapshots = snapshots;
     friction.target_operator = target_tangential;
-    contact.friction = Some(friction);
+    // A translation held by the contact without load steps is a frictionless one-step
+    // problem (it only took this path for the search): no frictional record, as on the
+    // direct path.
+    if pinned.is_none() || !problem.steps.is_empty() {
+        contact.friction = Some(friction);
+    }
     contact.load_driven = load_driven;
     contact.rigid_mode = rigid_mode;
     Ok((u, u2, contact))
