@@ -557,7 +557,7 @@ fn constraints_and_pin(input: &AssemblyInput<'_>) -> (Vec<Constraint>, Option<Pi
 }
 
 /// The one rigid-body translation `constraints` leave free, pinned at the node nearest the
-/// nodes' centroid among those on no edge (any node when every node is on one), provided
+/// centre of the nodes' bounding box among those on no edge (any node when every node is on one), provided
 /// that the other translation and the rotation are restrained once it is pinned; `None`
 /// otherwise (no translation free, or more than one mode free: refused by
 /// [`check_rigid_body_restraint`]).
@@ -568,8 +568,13 @@ fn free_translation(constraints: &[Constraint], nodes: &Nodes) -> Option<PinnedM
         (true, false) => Axis::Y,
         _ => return None,
     };
-    let n = nodes.len() as f64;
-    let centroid = nodes.points.iter().fold([0.0, 0.0], |c, p| [c[0] + p[0] / n, c[1] + p[1] / n]);
+    // The centre of the nodes' bounding box (not their centroid, which graded node sets
+    // pull towards their refined regions: the pinned point stays put under refinement).
+    let (lo, hi) =
+        nodes.points.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+            ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+        });
+    let centroid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
     let distance = |i: usize| {
         let p = nodes.points[i];
         (p[0] - centroid[0]).hypot(p[1] - centroid[1])
