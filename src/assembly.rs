@@ -16,7 +16,7 @@ use crate::geometry::{Domain, Point};
 use crate::material::Constitutive;
 use crate::mls::ShapeSet;
 use crate::nodes::{Axis, Nodes, dof};
-use crate::problem::{BodyForce, ComponentCondition, EdgeCondition, Field, Problem};
+use crate::problem::{BodyForce, ComponentCondition, ContactTarget, EdgeCondition, Field, Problem};
 use crate::weak_form::{
     Cell, CellError, EdgeLabel, Face, FaceQuadrature, segment_rule, traction_operator,
 };
@@ -35,7 +35,7 @@ pub enum AssemblyError {
     NoDirichlet,
     /// The displacement conditions leave a rigid-body motion free: `K` is singular.
     #[error(
-        "the displacement conditions do not prevent rigid-body {mode}: K is singular (a body held only by contact or by rollers in one direction is not supported; add a displacement condition)"
+        "the displacement conditions do not prevent rigid-body {mode}: K is singular (contact with a rigid obstacle may hold one free translation, not a rotation or both translations: docs/method.md §4.7; add a displacement condition)"
     )]
     RigidBodyMotion {
         /// Which motion is free.
@@ -153,6 +153,30 @@ pub struct GlobalSystem {
     pub matrix: SystemMatrix,
     /// The solved right-hand side: `f`, with constrained rows replaced by scaled `ū`.
     pub rhs: Vec<f64>,
+    /// The rigid-body translation the displacement conditions leave free and the contact is
+    /// to hold, pinned at one node (its row among `constraints`; docs/method.md §4.7).
+    pub pinned: Option<PinnedMode>,
+}
+
+/// A rigid-body translation that no displacement condition restrains, left to a contact with
+/// a rigid obstacle (docs/method.md §4.7): `K` is made regular by an artificial condition
+/// `u^h_axis(x_node) = 0`, whose reaction the contact must bring to zero.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PinnedMode {
+    /// The free translation's axis.
+    pub axis: Axis,
+    /// The pinned node.
+    pub node: u32,
+}
+
+impl PinnedMode {
+    /// `"translation in x"` or `"translation in y"`.
+    pub fn name(&self) -> &'static str {
+        match self.axis {
+            Axis::X => "translation in x",
+            Axis::Y => "translation in y",
+        }
+    }
 }
 
 impl GlobalSystem {
@@ -199,6 +223,9 @@ pub struct Body<'a> {
     /// Gauss points per segment (FE: per element side, and per direction for the body force)
     /// for applied tractions.
     pub load_quadrature_points: usize,
+    /// Whether a contact with a rigid obstacle may hold one rigid-body translation that the
+    /// displacement conditions leave free (MFVM: pinned, [`PinnedMode`], instead of refused).
+    pub contact_may_hold: bool,
 }
 
 impl<'a> Body<'a> {
@@ -211,6 +238,10 @@ impl<'a> Body<'a> {
             boundary: &problem.boundary,
             body_force: problem.body_force.as_ref(),
             load_quadrature_points: problem.discretisation.load_quadrature_points,
+            contact_may_hold: problem
+                .contact
+                .as_ref()
+                .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. })),
         }
     }
 }
@@ -231,7 +262,7 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
     }
     let interior_stiffness = interior_stiffness(input);
     let load = applied_load(input)?;
-    let constraints = constraints(input);
+    let (constraints, pinned) = constraints_and_pin(input);
     if constraints.is_empty() {
         return Err(AssemblyError::NoDirichlet);
     }
@@ -244,7 +275,15 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
         input.node_shapes,
         collocation_scale,
     );
-    Ok(GlobalSystem { interior_stiffness, load, constraints, collocation_scale, matrix, rhs })
+    Ok(GlobalSystem {
+        interior_stiffness,
+        load,
+        constraints,
+        collocation_scale,
+        matrix,
+        rhs,
+        pinned,
+    })
 }
 
 /// The applied load `f` and the solved right-hand side of `input`'s conditions without
@@ -257,7 +296,7 @@ pub fn load_and_rhs(input: &AssemblyInput<'_>) -> Result<(Vec<f64>, Vec<f64>), A
     let load = applied_load(input)?;
     let mut rhs = load.clone();
     let scale = input.body.d[0][0];
-    for c in constraints(input) {
+    for c in constraints_and_pin(input).0 {
         rhs[dof(c.node as usize, c.axis)] = scale * c.value;
     }
     Ok((load, rhs))
@@ -499,6 +538,57 @@ fn constraints(input: &AssemblyInput<'_>) -> Vec<Constraint> {
         }
     }
     out
+}
+
+/// The constraints of `input`'s conditions and, when the contact may hold a rigid-body
+/// translation they leave free ([`Body::contact_may_hold`]), the pin of that translation
+/// among them (docs/method.md §4.7).
+fn constraints_and_pin(input: &AssemblyInput<'_>) -> (Vec<Constraint>, Option<PinnedMode>) {
+    let mut out = constraints(input);
+    let pinned =
+        if input.body.contact_may_hold { free_translation(&out, input.body.nodes) } else { None };
+    if let Some(p) = pinned {
+        let pin = Constraint { node: p.node, axis: p.axis, value: 0.0 };
+        let at =
+            out.partition_point(|c| dof(c.node as usize, c.axis) < dof(p.node as usize, p.axis));
+        out.insert(at, pin);
+    }
+    (out, pinned)
+}
+
+/// The one rigid-body translation `constraints` leave free, pinned at the node nearest the
+/// centre of the nodes' bounding box among those on no edge (any node when every node is on one), provided
+/// that the other translation and the rotation are restrained once it is pinned; `None`
+/// otherwise (no translation free, or more than one mode free: refused by
+/// [`check_rigid_body_restraint`]).
+fn free_translation(constraints: &[Constraint], nodes: &Nodes) -> Option<PinnedMode> {
+    let has = |a: Axis| constraints.iter().any(|c| c.axis == a);
+    let axis = match (has(Axis::X), has(Axis::Y)) {
+        (false, true) => Axis::X,
+        (true, false) => Axis::Y,
+        _ => return None,
+    };
+    // The centre of the nodes' bounding box (not their centroid, which graded node sets
+    // pull towards their refined regions: the pinned point stays put under refinement).
+    let (lo, hi) =
+        nodes.points.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
+            ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
+        });
+    let centroid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
+    let distance = |i: usize| {
+        let p = nodes.points[i];
+        (p[0] - centroid[0]).hypot(p[1] - centroid[1])
+    };
+    let nearest = |interior: bool| {
+        (0..nodes.len())
+            .filter(|&i| !interior || nodes.edges[i].is_empty())
+            .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
+    };
+    let node = nearest(true).or_else(|| nearest(false))? as u32;
+    let mut with = constraints.to_vec();
+    with.push(Constraint { node, axis, value: 0.0 });
+    check_rigid_body_restraint(&with, nodes).ok()?;
+    Some(PinnedMode { axis, node })
 }
 
 /// Checks that the collocation rows restrain the three rigid-body modes. MLS reproduces linear

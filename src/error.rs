@@ -93,6 +93,7 @@ impl Error {
         use crate::contact::ContactError as C;
         use crate::fem::FemError as F;
         use crate::lcp::LcpError as L;
+        use crate::lcp::load_driven::LoadDrivenError as D;
         Some(match self {
             Error::Problem(_) => return None,
             Error::Geometry(_) => "geometry, nodes.spacing",
@@ -115,6 +116,10 @@ impl Error {
             Error::Contact(_) => "contact.edge, boundary[*].displacement",
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
             Error::Lcp(L::ActiveSet(_)) => "contact.solver",
+            Error::Lcp(L::LoadDriven(
+                D::NotRestrained { .. } | D::NotPressed { .. } | D::Unsupported { .. },
+            )) => "boundary[*].displacement, contact",
+            Error::Lcp(L::LoadDriven(_)) => "step[*].obstacle_force",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
             Error::LemkeRefused(_) => "contact.solver, nodes.spacing",
             Error::Increment { cause, .. } => return cause.input_keys(),

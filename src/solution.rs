@@ -106,6 +106,49 @@ pub struct ContactSolution {
     /// Why Lemke failed before the active-set solver answered instead (`contact.solver =
     /// "auto"` only; `None` when the answering solver was the first one tried).
     pub fallback_from: Option<String>,
+    /// The rigid obstacle pressed by a force (`[[step]] obstacle_force` only): the
+    /// displacement the force found (docs/method.md §4.6).
+    pub load_driven: Option<LoadDriven>,
+    /// The body's rigid-body translation held by the contact alone (docs/method.md §4.7).
+    pub rigid_mode: Option<RigidMode>,
+}
+
+/// A rigid-body translation of the body that no displacement condition restrains, resolved
+/// by the contact (docs/method.md §4.7): the body's translation `t r` that brings the pin's
+/// reaction to zero.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RigidMode {
+    /// `"translation in x"` or `"translation in y"`.
+    pub mode: &'static str,
+    /// The pinned node's position: the translation is its displacement along the mode.
+    pub pin_point: geometry::Point,
+    /// The translation `t r` (the pinned node's displacement).
+    pub translation: geometry::Point,
+    /// The applied load's component along the mode (the contact carries its opposite).
+    pub load: f64,
+    /// LCP solves of the last increment's search.
+    pub evaluations: usize,
+    /// LCP solves of all increments' searches.
+    pub total_evaluations: usize,
+}
+
+/// A rigid obstacle pressed by a prescribed force (docs/method.md §4.6): the force at the end
+/// of the last step and the obstacle's displacement that balances it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadDriven {
+    /// The prescribed force `F` on the obstacle.
+    pub force: geometry::Point,
+    /// The obstacle's displacement `s` along `e = F/|F|`.
+    pub displacement_along: f64,
+    /// The obstacle's displacement `s e`.
+    pub displacement: geometry::Point,
+    /// `Σ_c (ν_c·e) P_c`: the force the contact carries along `e` (equals `|F|` to
+    /// [`lcp::load_driven::FORCE_TOLERANCE`]).
+    pub carried: f64,
+    /// LCP solves of the last increment's search.
+    pub evaluations: usize,
+    /// LCP solves of all increments' searches.
+    pub total_evaluations: usize,
 }
 
 /// What the active-set solver did (docs/method.md §5.1).
@@ -348,6 +391,8 @@ impl ContactSolution {
             unpaired: 0,
             friction: None,
             fallback_from: None,
+            load_driven: None,
+            rigid_mode: None,
         }
     }
 }

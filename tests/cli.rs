@@ -262,9 +262,20 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
             "contact edge must be free",
         ),
         (
+            // x and the rotation about a point of the left edge are free: more than the
+            // contact may hold (docs/method.md §4.7).
             "held_only_by_contact_and_a_roller",
             CONTACT.replace("displacement = { x = 0.0, y = 0.0 }", "displacement = { y = 0.0 }"),
             "rigid-body translation in x",
+        ),
+        (
+            // Pressed by a displacement of the top, nothing on x: x alone is left to the
+            // contact, whose normals are all vertical (docs/method.md §4.7).
+            "translation_left_to_vertical_normals",
+            CONTACT
+                .replace("displacement = { x = 0.0, y = 0.0 }", "traction = { x = 0.0 }")
+                .replace("traction = { y = -1.0 }", "displacement = { y = -0.02 }"),
+            "translation in x is restrained neither by a displacement condition nor by the contact normals",
         ),
         (
             "large_support_breaks_contact",
@@ -787,6 +798,8 @@ fn outputs_are_deterministic_across_thread_counts() {
             "three_block_stack.toml",
             &["contact_0.csv", "contact_1.csv", "middle/displacement.csv", "top/stress.csv"][..],
         ),
+        ("cylinder_indenter_force.toml", &["contact.csv"][..]),
+        ("block_on_flat_held_by_contact.toml", &["contact.csv"][..]),
     ] {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(problem);
         let mut dirs = Vec::new();

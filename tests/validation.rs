@@ -30,6 +30,8 @@ mod validation {
     mod gmsh;
     // Hertz: rigid cylinder (a circle obstacle) pressed into an elastic block.
     mod cylinder_indenter;
+    // Load-driven contact: the rigid cylinder pressed by a force; Hertz, the displacement run.
+    mod load_driven;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.

@@ -43,6 +43,7 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
         collocation_scale: scale,
         matrix,
         rhs,
+        pinned: None,
     })
 }
 

@@ -19,11 +19,14 @@
 //! ray; by [CPS92, §4.4] the latter proves that no solution exists when M is
 //! copositive-plus (for instance positive semidefinite), and it cannot happen for P-matrices.
 //! [`enumerate_solutions`] is an exponential brute-force reference used by the tests.
+//! [`load_driven`] finds the displacement of a rigid obstacle pressed by a prescribed force,
+//! one LCP per trial displacement.
 
 pub mod active_set;
 mod enumerate;
 pub mod friction;
 mod lemke;
+pub mod load_driven;
 
 pub use enumerate::enumerate_solutions;
 pub use friction::{
@@ -318,6 +321,10 @@ pub enum LcpError {
     /// The active-set solver failed ([`active_set`]).
     #[error(transparent)]
     ActiveSet(#[from] active_set::ActiveSetError),
+    /// A rigid obstacle pressed by a force: its displacement was not found
+    /// ([`load_driven`]).
+    #[error(transparent)]
+    LoadDriven(#[from] load_driven::LoadDrivenError),
 }
 
 #[cfg(test)]

@@ -11,6 +11,9 @@ pub(super) struct StepEnd {
     pub(super) load: Vec<f64>,
     pub(super) rhs: Vec<f64>,
     pub(super) obstacle: geometry::Point,
+    /// The force pressing the rigid obstacle (`[[step]] obstacle_force`; then `obstacle` is
+    /// zero and the displacement along the force is found per increment, docs/method.md §4.6).
+    pub(super) force: Option<geometry::Point>,
     /// The Coulomb coefficient during the step.
     pub(super) friction: f64,
 }
@@ -47,6 +50,7 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
                 load,
                 rhs,
                 obstacle: step.obstacle_displacement,
+                force: step.obstacle_force,
                 friction: step.friction,
             })
         })
@@ -220,6 +224,57 @@ pub(super) fn solve_frictional(
     let mut records = Vec::new();
     let mut snapshots = Vec::new();
     let mut last = None;
+    // A force-driven obstacle (docs/method.md §4.6): M_nn for the slopes, the force's
+    // magnitude at the end of the previous step, and what the last search found.
+    // A rigid translation of the body held by the contact alone (docs/method.md §4.7): ν_c·r
+    // per candidate for its unit vector r; only frictionless, without a force-driven
+    // obstacle or a second body, and with a pinned node that carries no contact force.
+    let pinned = model.system.pinned;
+    let mode_projection: Option<Vec<f64>> = match pinned {
+        None => None,
+        Some(pin) => {
+            let unsupported = |why: String| {
+                Error::from(lcp::LcpError::from(lcp::load_driven::LoadDrivenError::Unsupported {
+                    mode: pin.name(),
+                    why,
+                }))
+            };
+            if let Some(k) = steps.iter().position(|s| s.friction > 0.0) {
+                return Err(unsupported(format!(
+                    "the contact has friction μ = {} (in step {})",
+                    steps[k].friction,
+                    k + 1
+                )));
+            }
+            if steps.iter().any(|s| s.force.is_some()) {
+                return Err(unsupported("the obstacle is pressed by a force as well".into()));
+            }
+            if target.is_some() {
+                return Err(unsupported("the contact is with a second body".into()));
+            }
+            if candidates.operator.owners.iter().flatten().any(|&(i, _)| i == pin.node) {
+                return Err(unsupported(format!(
+                    "the pinned node {} carries contact forces",
+                    pin.node
+                )));
+            }
+            let a = pin.axis as usize;
+            let projection: Vec<f64> = (0..m).map(|c| candidates.normal(c)[a]).collect();
+            if projection.iter().all(|p| p.abs() <= 1e-12) {
+                return Err(lcp::LcpError::from(
+                    lcp::load_driven::LoadDrivenError::NotRestrained { mode: pin.name() },
+                )
+                .into());
+            }
+            Some(projection)
+        }
+    };
+    let compliance = (steps.iter().any(|s| s.force.is_some()) || pinned.is_some())
+        .then(|| step_problem.nn.clone());
+    let mut force0 = 0.0;
+    let mut load_driven: Option<solution::LoadDriven> = None;
+    let mut rigid_mode: Option<solution::RigidMode> = None;
+    let mut total_evaluations = 0;
     clock.run("friction", || -> Result<(), Error> {
         for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
             step_problem.friction = friction_in(k);
@@ -228,8 +283,101 @@ pub(super) fn solve_frictional(
                 let lambda = i as f64 / end.increments as f64;
                 step_problem.free_gap = lerp(&qn0, qn1, lambda);
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
+                let solved = match (end.force, &compliance) {
+                    (Some(f), Some(compliance)) => {
+                        let size = f[0].hypot(f[1]);
+                        let e = [f[0] / size, f[1] / size];
+                        let along: Vec<f64> = (0..m)
+                            .map(|c| {
+                                let nu = candidates.normal(c);
+                                nu[0] * e[0] + nu[1] * e[1]
+                            })
+                            .collect();
+                        let target = (1.0 - lambda) * force0 + lambda * size;
+                        let base = step_problem.free_gap.clone();
+                        lcp::load_driven::find_displacement(
+                            compliance,
+                            &base,
+                            &along,
+                            e,
+                            target,
+                            |q| {
+                                step_problem.free_gap = q.to_vec();
+                                lcp::solve_step(&step_problem)
+                            },
+                            |answer| answer.normal.as_slice(),
+                        )
+                        .map(|search| {
+                            total_evaluations += search.evaluations;
+                            let s = search.displacement;
+                            load_driven = Some(solution::LoadDriven {
+                                force: [target * e[0], target * e[1]],
+                                displacement_along: s,
+                                displacement: [s * e[0], s * e[1]],
+                                carried: search.force,
+                                evaluations: search.evaluations,
+                                total_evaluations,
+                            });
+                            search.answer
+                        })
+                    }
+                    (None, Some(compliance)) => {
+                        // The body's free translation: t = σ s along r with σ the sign of the
+                        // load along r; the gaps move by (ν_c·r) t = −a_c s, a_c = −σ ν_c·r,
+                        // and the pin's reaction vanishes when aᵀz = |F·r|.
+                        let (pin, projection) = match (pinned, &mode_projection) {
+                            (Some(p), Some(v)) => (p, v),
+                            _ => unreachable!("the compliance is cloned for a force or a pin"),
+                        };
+                        let a = pin.axis as usize;
+                        let load = lerp(&load0, &end.load, lambda);
+                        let along_load: f64 = load.iter().skip(a).step_by(2).sum();
+                        let sign = if along_load > 0.0 { 1.0 } else { -1.0 };
+                        let along: Vec<f64> = projection.iter().map(|p| -sign * p).collect();
+                        if along_load == 0.0 || along.iter().all(|&x| x <= 0.0) {
+                            Err(lcp::LcpError::from(
+                                lcp::load_driven::LoadDrivenError::NotPressed {
+                                    mode: pin.name(),
+                                    load: along_load,
+                                },
+                            ))
+                        } else {
+                            let mut r = [0.0; 2];
+                            r[a] = sign;
+                            let base = step_problem.free_gap.clone();
+                            lcp::load_driven::find_displacement(
+                                compliance,
+                                &base,
+                                &along,
+                                r,
+                                along_load.abs(),
+                                |q| {
+                                    step_problem.free_gap = q.to_vec();
+                                    lcp::solve_step(&step_problem)
+                                },
+                                |answer| answer.normal.as_slice(),
+                            )
+                            .map(|search| {
+                                total_evaluations += search.evaluations;
+                                let t = sign * search.displacement;
+                                let mut translation = [0.0; 2];
+                                translation[a] = t;
+                                rigid_mode = Some(solution::RigidMode {
+                                    mode: pin.name(),
+                                    pin_point: model.nodes.points[pin.node as usize],
+                                    translation,
+                                    load: along_load,
+                                    evaluations: search.evaluations,
+                                    total_evaluations,
+                                });
+                                search.answer
+                            })
+                        }
+                    }
+                    _ => lcp::solve_step(&step_problem),
+                };
                 // With [[step]] tables, a failure names the step and the increment.
-                let step = lcp::solve_step(&step_problem).map_err(|e| {
+                let step = solved.map_err(|e| {
                     if problem.steps.is_empty() {
                         Error::from(e)
                     } else {
@@ -244,6 +392,12 @@ pub(super) fn solve_frictional(
                 let mut rhs = lerp(&rhs0, &end.rhs, lambda);
                 candidates.operator.add_forces(&step.normal, &mut rhs);
                 tangential.add_forces(&step.tangential, &mut rhs);
+                // The body's free translation found above: the pin's value (the solve adds
+                // the rigid translation, which K_int does not see, to the pinned answer).
+                if let (Some(pin), Some(r)) = (pinned, &rigid_mode) {
+                    let d = crate::nodes::dof(pin.node as usize, pin.axis);
+                    rhs[d] = model.system.collocation_scale * r.translation[pin.axis as usize];
+                }
                 let u = model.factorisation.solve(&rhs)?;
                 let load = lerp(&load0, &end.load, lambda);
                 let ops = [
@@ -317,6 +471,7 @@ pub(super) fn solve_frictional(
                 (load20, rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
             }
             (qn0, qt0) = (qn1.clone(), qt1.clone());
+            force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
         }
         Ok(())
     })?;
@@ -338,9 +493,9 @@ pub(super) fn solve_frictional(
         z: step.normal.clone(),
         pivots: step.pivots,
     };
-    // The gaps from the obstacle's final position.
+    // The gaps from the obstacle's final position (the force's: where the search put it).
     if let Some(end) = steps.last() {
-        let d = end.obstacle;
+        let d = load_driven.as_ref().map_or(end.obstacle, |l| l.displacement);
         for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
             let dn = d[0] * nu[0] + d[1] * nu[1];
             if dn != 0.0 {
@@ -370,7 +525,14 @@ pub(super) fn solve_frictional(
     friction.increments = records;
     friction.snapshots = snapshots;
     friction.target_operator = target_tangential;
-    contact.friction = Some(friction);
+    // A translation held by the contact without load steps is a frictionless one-step
+    // problem (it only took this path for the search): no frictional record, as on the
+    // direct path.
+    if pinned.is_none() || !problem.steps.is_empty() {
+        contact.friction = Some(friction);
+    }
+    contact.load_driven = load_driven;
+    contact.rigid_mode = rigid_mode;
     Ok((u, u2, contact))
 }
 

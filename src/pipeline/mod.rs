@@ -255,6 +255,18 @@ pub fn solve_model_with(
     let pair = problem.second_body.as_deref().zip(second.as_ref());
     let (u1, u2, contact) =
         solve_contact(problem, spec, &model, pair, steps.as_deref(), lemke, &mut clock)?;
+    // A translation held by the contact: the pin's value is the translation found
+    // (docs/method.md §4.7), so that the system the solution answers is the one reported.
+    if let (Some(pin), Some(r)) = (model.system.pinned, &contact.rigid_mode) {
+        let value = r.translation[pin.axis as usize];
+        let d = nodes::dof(pin.node as usize, pin.axis);
+        model.system.rhs[d] = model.system.collocation_scale * value;
+        if let Some(c) =
+            model.system.constraints.iter_mut().find(|c| c.node == pin.node && c.axis == pin.axis)
+        {
+            c.value = value;
+        }
+    }
     let mut solution = clock.run("recovery", || {
         let forces = &contact.lcp.z;
         let mut ops = vec![(&contact.candidates.operator, forces.as_slice())];
@@ -323,7 +335,9 @@ fn solve_contact(
             }
             (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
         })?;
-    if spec.friction > 0.0 || steps.is_some() {
+    // A rigid translation held by the contact alone takes the incremental path too: its
+    // search (docs/method.md §4.7) lives there.
+    if spec.friction > 0.0 || steps.is_some() || model.system.pinned.is_some() {
         // MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
         // models' loads in one increment.
         let one = |m: &Model| {
@@ -332,6 +346,7 @@ fn solve_contact(
                 load: m.system.load.clone(),
                 rhs: m.system.rhs.clone(),
                 obstacle: [0.0, 0.0],
+                force: None,
                 friction: spec.friction,
             }]
         };
@@ -631,6 +646,32 @@ impl std::fmt::Display for RunReport {
                 opt(c.first_closed_x),
                 opt(c.onset_x_from_pressure)
             )?;
+            if let Some(l) = &c.load_driven {
+                writeln!(
+                    f,
+                    "  obstacle pressed by ({:.6e}, {:.6e}): displaced by ({:.6e}, {:.6e}), s = {:.9e} along the force, carrying {:.9e} ({} LCP solves)",
+                    l.obstacle_force[0],
+                    l.obstacle_force[1],
+                    l.obstacle_displacement[0],
+                    l.obstacle_displacement[1],
+                    l.displacement_along_force,
+                    l.carried_force,
+                    l.lcp_solves
+                )?;
+            }
+            if let Some(r) = &c.rigid_mode {
+                writeln!(
+                    f,
+                    "  {} held by the contact: the body translates by ({:.9e}, {:.9e}) (the point ({:.6}, {:.6})), load along it {:.6e} ({} LCP solves)",
+                    r.mode,
+                    r.translation[0],
+                    r.translation[1],
+                    r.pin_point[0],
+                    r.pin_point[1],
+                    r.load_along_mode,
+                    r.lcp_solves
+                )?;
+            }
             if let (Some(mu), Some(tangential), Some([stick, slip])) =
                 (c.friction_coefficient, c.total_tangential_force, c.stick_slip_counts)
             {

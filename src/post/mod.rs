@@ -829,7 +829,8 @@ fn obstacle_line(
 
 /// The rigid obstacles of `problem` (`[[obstacle]]`) in a deformed plot magnified `m` times,
 /// drawn as what they are (a circle, a polyline with its rounded corners, a line): each at its
-/// final position (moved by the last step's obstacle displacement `d`) and shifted by
+/// final position (moved by the last step's obstacle displacement `d`, or by the one a force
+/// found) and shifted by
 /// `(1 − m) g′ ν` with `g′` and `ν` the final initial gap and normal of the candidate closest
 /// to it, so that this candidate, once closed, touches it (as for the line). The drawing is
 /// clipped to the body's plot window grown by half its size on each side.
@@ -840,7 +841,10 @@ fn obstacle_shapes(
     points: &[(f64, f64)],
 ) -> Vec<plot::Overlay> {
     use crate::problem::Shape;
-    let d = problem.steps.last().map_or([0.0, 0.0], |s| s.obstacle_displacement);
+    let d = match &c.load_driven {
+        Some(l) => l.displacement,
+        None => problem.steps.last().map_or([0.0, 0.0], |s| s.obstacle_displacement),
+    };
     let (xlo, xhi) = plot::range(points.iter().map(|p| p.0));
     let (ylo, yhi) = plot::range(points.iter().map(|p| p.1));
     let pad = 0.5 * (xhi - xlo).max(yhi - ylo);

@@ -336,6 +336,48 @@ pub struct ContactSummary {
     /// Why Lemke on the step LCP was not accepted, when the fallback answered (friction only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction_lemke_failure: Option<String>,
+    /// The rigid obstacle pressed by a force (`[[step]] obstacle_force` only;
+    /// docs/method.md §4.6).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_driven: Option<LoadDrivenSummary>,
+    /// The body's rigid-body translation held by the contact alone (docs/method.md §4.7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rigid_mode: Option<RigidModeSummary>,
+}
+
+/// A rigid-body translation of the body resolved by the contact (docs/method.md §4.7).
+#[derive(Clone, Debug, Serialize)]
+pub struct RigidModeSummary {
+    /// `"translation in x"` or `"translation in y"`.
+    pub mode: &'static str,
+    /// The pinned node's position (the translation is its displacement).
+    pub pin_point: [f64; 2],
+    /// The body's translation.
+    pub translation: [f64; 2],
+    /// The applied load's component along the mode.
+    pub load_along_mode: f64,
+    /// LCP solves of the last increment's search.
+    pub lcp_solves: usize,
+    /// LCP solves of all increments' searches.
+    pub lcp_solves_all_increments: usize,
+}
+
+/// A rigid obstacle pressed by a prescribed force: the force and the displacement it found
+/// (docs/method.md §4.6).
+#[derive(Clone, Debug, Serialize)]
+pub struct LoadDrivenSummary {
+    /// The prescribed force `F` on the obstacle at the end of the last step.
+    pub obstacle_force: [f64; 2],
+    /// The obstacle's displacement `s e` that balances it.
+    pub obstacle_displacement: [f64; 2],
+    /// `s`, the displacement along `e = F/|F|`.
+    pub displacement_along_force: f64,
+    /// `Σ_c (ν_c·e) P_c`, the force the contact carries along `e`.
+    pub carried_force: f64,
+    /// LCP solves of the last increment's search.
+    pub lcp_solves: usize,
+    /// LCP solves of all increments' searches.
+    pub lcp_solves_all_increments: usize,
 }
 
 /// One contact pair of a problem with several bodies or pairs.
@@ -521,6 +563,22 @@ impl Summary {
                     .friction
                     .as_ref()
                     .and_then(|f| f.step.lemke_failure.clone()),
+                load_driven: c.load_driven.as_ref().map(|l| LoadDrivenSummary {
+                    obstacle_force: l.force,
+                    obstacle_displacement: l.displacement,
+                    displacement_along_force: l.displacement_along,
+                    carried_force: l.carried,
+                    lcp_solves: l.evaluations,
+                    lcp_solves_all_increments: l.total_evaluations,
+                }),
+                rigid_mode: c.rigid_mode.as_ref().map(|r| RigidModeSummary {
+                    mode: r.mode,
+                    pin_point: r.pin_point,
+                    translation: r.translation,
+                    load_along_mode: r.load,
+                    lcp_solves: r.evaluations,
+                    lcp_solves_all_increments: r.total_evaluations,
+                }),
             }),
             second_body: solution.second_body.as_deref().map(|s2| SecondBody {
                 name: problem.second_body.as_ref().map(|p| p.name.clone()),

@@ -179,6 +179,16 @@ pub struct StepFile {
     /// as a rigid body; default: where the previous step left it, initially `[0, 0]`).
     #[serde(default, deserialize_with = "exact::optional_pair")]
     pub obstacle_displacement: Option<[f64; 2]>,
+    /// Total force `[Fx, Fy]` pressing the rigid obstacle onto the body at the end of the step,
+    /// instead of `obstacle_displacement`: the obstacle translates along the force by the
+    /// displacement the contact's equilibrium asks for (docs/method.md §4.6; frictionless
+    /// steps, the same direction in every step).
+    #[serde(
+        default,
+        deserialize_with = "exact::optional_pair",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub obstacle_force: Option<[f64; 2]>,
     /// The Coulomb coefficient during this step (default: `[contact] friction`); e.g. 0 in a
     /// press step so that pressing leaves no tangential traction (docs/method.md §8).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -223,8 +223,13 @@ pub struct LoadStep {
     pub increments: usize,
     /// Every edge's condition at the end of the step (same kinds as `Problem::boundary`).
     pub boundary: Vec<EdgeCondition>,
-    /// Total displacement of the rigid obstacle at the end of the step.
+    /// Total displacement of the rigid obstacle at the end of the step (zero with
+    /// `obstacle_force`).
     pub obstacle_displacement: Point,
+    /// The force pressing the rigid obstacle onto the body at the end of the step
+    /// (`[[step]] obstacle_force`; docs/method.md §4.6): the obstacle's displacement along it
+    /// is then an unknown, found by the contact's equilibrium.
+    pub obstacle_force: Option<Point>,
     /// The Coulomb coefficient `μ ≥ 0` during the step (`[[step]] friction`, default the
     /// contact's).
     pub friction: f64,

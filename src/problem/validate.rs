@@ -1491,6 +1491,16 @@ fn load_steps(
     let mut states: Vec<(Vec<EdgeCondition>, Vec<LoadStep>)> =
         bodies.iter().map(|b| (b.3.boundary.clone(), Vec::new())).collect();
     let mut obstacle = [0.0, 0.0];
+    // A force-driven obstacle (docs/method.md §4.6): set from the first step on.
+    let by_force = file.step.iter().any(|s| s.obstacle_force.is_some());
+    if by_force && file.step[0].obstacle_force.is_none() {
+        return Err(invalid(
+            "step[0].obstacle_force",
+            "(missing)",
+            "with `obstacle_force` in a later step the first step must set it too: an unloaded obstacle's position is not determined by a force",
+        ));
+    }
+    let mut force: Option<[f64; 2]> = None;
     for (k, step) in file.step.iter().enumerate() {
         let field = |f: &str| format!("step[{k}].{f}");
         let increments = step.increments.unwrap_or(1);
@@ -1520,6 +1530,55 @@ fn load_steps(
                 ));
             }
         };
+        if let Some(f) = step.obstacle_force {
+            let key = field("obstacle_force");
+            if second.is_some() {
+                return Err(invalid(
+                    &key,
+                    format!("{f:?}"),
+                    "only with a rigid obstacle; between two bodies a step moves a body through its `boundary` values",
+                ));
+            }
+            check_finite(&key, f[0])?;
+            check_finite(&key, f[1])?;
+            let size = f[0].hypot(f[1]);
+            if !(size > 0.0 && size.is_finite()) {
+                return Err(invalid(
+                    &key,
+                    format!("{f:?}"),
+                    "the force must be non-zero (its direction is the direction the obstacle moves along)",
+                ));
+            }
+            if let Some(p) = force {
+                let (cross, dot) = (p[0] * f[1] - p[1] * f[0], p[0] * f[0] + p[1] * f[1]);
+                if dot <= 0.0 || cross.abs() > 1e-12 * size * p[0].hypot(p[1]) {
+                    return Err(invalid(
+                        &key,
+                        format!("{f:?}"),
+                        format!(
+                            "every step presses the obstacle along the same direction (the first step's force is along {p:?}); only the magnitude may change"
+                        ),
+                    ));
+                }
+            }
+            force = Some(f);
+        }
+        if by_force {
+            if let Some(d) = step.obstacle_displacement {
+                return Err(invalid(
+                    &field("obstacle_displacement"),
+                    format!("{d:?}"),
+                    "the steps press the obstacle by `obstacle_force`: give forces in every step, not displacements",
+                ));
+            }
+            if friction != 0.0 {
+                return Err(invalid(
+                    &field("friction"),
+                    friction,
+                    "a step with `obstacle_force` is frictionless: set `friction = 0` in the step (or `[contact] friction = 0`)",
+                ));
+            }
+        }
         let mut named = Vec::new();
         for (j, b) in step.boundary.iter().enumerate() {
             let f = |g: &str| field(&format!("boundary[{j}].{g}"));
@@ -1577,14 +1636,17 @@ fn load_steps(
             }
             set_step_values(&f, b, &mut states[index].0[e])?;
         }
-        if step.obstacle_displacement.is_none() && step.boundary.is_empty() {
+        if step.obstacle_displacement.is_none()
+            && step.obstacle_force.is_none()
+            && step.boundary.is_empty()
+        {
             return Err(invalid(
                 &field("boundary"),
                 "(missing)",
                 if second.is_some() {
                     "a step needs `boundary` values"
                 } else {
-                    "a step needs `boundary` values or `obstacle_displacement`"
+                    "a step needs `boundary` values, `obstacle_displacement` or `obstacle_force`"
                 },
             ));
         }
@@ -1593,6 +1655,7 @@ fn load_steps(
                 increments,
                 boundary: boundary.clone(),
                 obstacle_displacement: obstacle,
+                obstacle_force: force,
                 friction,
             });
         }

@@ -1,0 +1,308 @@
+//! A rigid obstacle pressed by a prescribed force instead of a prescribed displacement
+//! (docs/method.md §4.6): the obstacle translates by an unknown `s` along the force's
+//! direction `e`, which moves every gap by `−a_c s` with `a_c = ν_c·e`, and `s` is fixed by the
+//! obstacle's equilibrium along `e`:
+//!
+//! ```text
+//! w = M z + q_b − a s,   0 ≤ z ⊥ w ≥ 0,   F(s) = aᵀ z(s) = |F|.
+//! ```
+//!
+//! `M` does not change with `s`; where the LCP has one solution (`M` a P-matrix) `z(s)` is
+//! continuous and piecewise linear, and for a positive definite `M` the force `F(s)` is
+//! non-decreasing (the monotonicity of the LCP's solution in `q`). [`find_displacement`]
+//! solves `F(s) = |F|` by Newton's method on that piecewise linear function, the slope of a
+//! piece being `a_Aᵀ M_AA⁻¹ a_A` on the closed set `A` of the last evaluation, safeguarded by
+//! a bracket (a step leaving the bracket is replaced by the bracket's midpoint, or by a
+//! doubled step while one side is missing). Once an iterate's piece holds the root, the next
+//! iterate is the root to round-off: every evaluation is one LCP on the same `M`.
+
+use faer::Mat;
+use faer::linalg::solvers::Solve;
+
+/// Evaluations of `F(s)` at most.
+pub const MAX_EVALUATIONS: usize = 100;
+/// Relative tolerance on `F(s) = |F|` (Newton on the right piece reaches round-off).
+pub const FORCE_TOLERANCE: f64 = 1e-12;
+
+/// Why the obstacle's displacement under a prescribed force was not found.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadDrivenError {
+    /// No candidate's normal has a positive component along the force's direction: pressing
+    /// the obstacle along `e` never closes a gap, so the contact cannot carry the force (the
+    /// force pulls the obstacle away from the body, or runs along the contact edge).
+    #[error(
+        "the contact cannot carry a force along e = ({:.6}, {:.6}): no contact candidate's normal has a positive component along it (the largest ν·e is {largest:.3e}), so pressing the obstacle that way never closes a gap; the force must push the obstacle towards the body",
+        direction[0],
+        direction[1]
+    )]
+    NotCarried {
+        /// The force's direction `e`.
+        direction: [f64; 2],
+        /// The largest `ν_c·e` over the candidates (≤ 0).
+        largest: f64,
+    },
+    /// The prescribed force is not a positive finite number.
+    #[error("the prescribed force's magnitude {force:e} must be finite and positive")]
+    BadForce {
+        /// The magnitude given.
+        force: f64,
+    },
+    /// A rigid-body translation of the body that no displacement condition restrains is
+    /// perpendicular to every contact normal: frictionless contact cannot hold it
+    /// (docs/method.md §4.7).
+    #[error(
+        "{mode} is restrained neither by a displacement condition nor by the contact normals: every contact normal is perpendicular to it, so frictionless contact cannot hold it (add a displacement condition that prevents it)"
+    )]
+    NotRestrained {
+        /// The free mode, e.g. `"translation in x"`.
+        mode: &'static str,
+    },
+    /// A rigid-body translation left to the contact, but the applied load along it does not
+    /// press the body onto the obstacle: the body's position is not determined.
+    #[error(
+        "{mode} is held only by the contact, but the applied load along it ({load:.6e}) does not press the body onto the obstacle (it is zero or pulls the body away), so the body's position is not determined (load it towards the obstacle, or add a displacement condition that prevents the {mode})"
+    )]
+    NotPressed {
+        /// The free mode.
+        mode: &'static str,
+        /// The applied load's component along the mode.
+        load: f64,
+    },
+    /// A rigid-body translation left to the contact with something this method does not
+    /// combine it with (friction, an obstacle pressed by a force, a pin on the contact).
+    #[error(
+        "{mode} is held only by the contact, which is solved for frictionless contact with an obstacle that does not move by a force and a body whose pinned node carries no contact force; here {why} (add a displacement condition that prevents the {mode})"
+    )]
+    Unsupported {
+        /// The free mode.
+        mode: &'static str,
+        /// What is not supported.
+        why: String,
+    },
+    /// No displacement meeting the force equation was found.
+    #[error(
+        "the obstacle's displacement under the force {target:.6e} was not found after {evaluations} LCP solves: the last, at s = {displacement:.6e}, carried {force:.6e} (bracket {low:?} to {high:?}); the contact's force–displacement relation may have a jump (M is not a P-matrix) — try a displacement step instead"
+    )]
+    NotConverged {
+        /// LCP solves made.
+        evaluations: usize,
+        /// The last displacement tried.
+        displacement: f64,
+        /// The force carried there.
+        force: f64,
+        /// The force prescribed.
+        target: f64,
+        /// The largest displacement known to carry less than the force.
+        low: Option<f64>,
+        /// The smallest displacement known to carry more.
+        high: Option<f64>,
+    },
+}
+
+/// What [`find_displacement`] found: the displacement `s` along `e`, the LCP's answer there
+/// (the last evaluation), the force `aᵀz` it carries and the LCP solves made.
+#[derive(Clone, Debug)]
+pub struct ForceSearch<S> {
+    /// The obstacle's displacement `s` along `e`.
+    pub displacement: f64,
+    /// The force carried, `aᵀ z(s)`.
+    pub force: f64,
+    /// The answer of the LCP at `s` (the last one solved).
+    pub answer: S,
+    /// LCP solves made (at least 1).
+    pub evaluations: usize,
+}
+
+/// Solves `F(s) = aᵀ z(s) = target` (docs/method.md §4.6) for the displacement `s` of the
+/// obstacle along `e`. `compliance` is `M` (row-major `m × m`, for the slopes), `base_gap`
+/// the gaps `q_b` with the obstacle at `s = 0`, `along` the components `a_c = ν_c·e`;
+/// `solve(q)` answers the LCP with `q = q_b − a s`, and `forces` reads `z` from its answer.
+/// The search starts at the displacement where the first gap with `a_c > 0` closes.
+///
+/// # Errors
+/// [`LoadDrivenError::NotCarried`] when no `a_c` is positive,
+/// [`LoadDrivenError::BadForce`] for a target that is not positive and finite,
+/// [`LoadDrivenError::NotConverged`] after [`MAX_EVALUATIONS`] solves; `solve`'s own errors.
+pub fn find_displacement<S, E: From<LoadDrivenError>>(
+    compliance: &[f64],
+    base_gap: &[f64],
+    along: &[f64],
+    direction: [f64; 2],
+    target: f64,
+    mut solve: impl FnMut(&[f64]) -> Result<S, E>,
+    forces: impl Fn(&S) -> &[f64],
+) -> Result<ForceSearch<S>, E> {
+    let m = base_gap.len();
+    debug_assert_eq!(along.len(), m);
+    debug_assert_eq!(compliance.len(), m * m);
+    if !(target.is_finite() && target > 0.0) {
+        return Err(LoadDrivenError::BadForce { force: target }.into());
+    }
+    let largest = along.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if largest.is_nan() || largest <= 0.0 {
+        return Err(LoadDrivenError::NotCarried { direction, largest }.into());
+    }
+    // The first closure: the smallest q_c / a_c over a_c > 0.
+    let first = |q: &[f64]| {
+        (0..m)
+            .filter(|&c| along[c] > 0.0)
+            .min_by(|&i, &j| (q[i] / along[i]).total_cmp(&(q[j] / along[j])))
+            .expect("some a_c > 0")
+    };
+    let c0 = first(base_gap);
+    let mut s = base_gap[c0] / along[c0];
+    let (mut low, mut high): (Option<f64>, Option<f64>) = (None, None);
+    let mut last_step: f64 = 0.0;
+    let mut tried = (s, 0.0);
+    let scale = 1.0 + s.abs();
+    for evaluation in 1..=MAX_EVALUATIONS {
+        let q: Vec<f64> = base_gap.iter().zip(along).map(|(g, a)| g - a * s).collect();
+        let answer = solve(&q)?;
+        let z = forces(&answer);
+        let force: f64 = z.iter().zip(along).map(|(z, a)| z * a).sum();
+        let residual = force - target;
+        tried = (s, force);
+        if residual.abs() <= FORCE_TOLERANCE * target {
+            return Ok(ForceSearch { displacement: s, force, answer, evaluations: evaluation });
+        }
+        if residual < 0.0 {
+            low = Some(low.map_or(s, |l| l.max(s)));
+        } else {
+            high = Some(high.map_or(s, |h| h.min(s)));
+        }
+        let stuck = |lo: f64, hi: f64| hi - lo <= 4.0 * f64::EPSILON * scale.max(hi.abs());
+        if matches!((low, high), (Some(lo), Some(hi)) if stuck(lo, hi)) {
+            return Err(LoadDrivenError::NotConverged {
+                evaluations: evaluation,
+                displacement: s,
+                force,
+                target,
+                low,
+                high,
+            }
+            .into());
+        }
+        // The closed set of this answer; none closed: the next to close.
+        let w: Vec<f64> = (0..m)
+            .map(|i| q[i] + (0..m).map(|j| compliance[i * m + j] * z[j]).sum::<f64>())
+            .collect();
+        let mut active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
+        if active.is_empty() {
+            active.push(first(&w));
+        }
+        let slope = slope(compliance, m, along, &active);
+        let newton = s - residual / slope;
+        let inside = |x: f64| low.is_none_or(|l| x > l) && high.is_none_or(|h| x < h);
+        let next = if slope.is_finite() && slope > 0.0 && inside(newton) {
+            newton
+        } else {
+            match (low, high) {
+                (Some(l), Some(h)) => 0.5 * (l + h),
+                // One side only: double the last step towards the other.
+                _ => {
+                    let size = (2.0 * last_step.abs()).max(1e-6 * scale);
+                    if residual < 0.0 { s + size } else { s - size }
+                }
+            }
+        };
+        last_step = next - s;
+        s = next;
+    }
+    Err(LoadDrivenError::NotConverged {
+        evaluations: MAX_EVALUATIONS,
+        displacement: tried.0,
+        force: tried.1,
+        target,
+        low,
+        high,
+    }
+    .into())
+}
+
+/// `a_Aᵀ M_AA⁻¹ a_A`: `dF/ds` on the piece where the closed set is `A` (`dz_A/ds =
+/// M_AA⁻¹ a_A`, the open candidates' forces stay zero).
+fn slope(compliance: &[f64], m: usize, along: &[f64], active: &[usize]) -> f64 {
+    let k = active.len();
+    let a = Mat::from_fn(k, k, |i, j| compliance[active[i] * m + active[j]]);
+    let b = Mat::from_fn(k, 1, |i, _| along[active[i]]);
+    let x = a.partial_piv_lu().solve(&b);
+    (0..k).map(|i| along[active[i]] * x[(i, 0)]).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::lcp::{Lcp, LcpError, LemkeParams, lemke};
+
+    fn run(
+        m: &[f64],
+        q: &[f64],
+        a: &[f64],
+        target: f64,
+    ) -> Result<ForceSearch<Vec<f64>>, LcpError> {
+        let n = q.len();
+        find_displacement(
+            m,
+            q,
+            a,
+            [0.0, -1.0],
+            target,
+            |q| {
+                Ok::<_, LcpError>(
+                    lemke(&Lcp::new(n, m.to_vec(), q.to_vec())?, &LemkeParams::default())?.z,
+                )
+            },
+            |z| z.as_slice(),
+        )
+    }
+
+    /// Two springs of compliance 1 and 2 at gaps 0 and 1 (diagonal `M`): `F(s) = s` for
+    /// `s ≤ 1`, `s + (s − 1)/2` beyond; `F = 2.5` at `s = 2`, found exactly.
+    #[test]
+    fn two_springs_close_in_turn() {
+        let m = [1.0, 0.0, 0.0, 2.0];
+        let out = run(&m, &[0.0, 1.0], &[1.0, 1.0], 2.5).unwrap();
+        assert!((out.displacement - 2.0).abs() < 1e-14, "{}", out.displacement);
+        assert!((out.answer[0] - 2.0).abs() < 1e-14 && (out.answer[1] - 0.5).abs() < 1e-14);
+        assert!(out.evaluations <= 4, "{} evaluations", out.evaluations);
+        // Below the second closure: only the first spring.
+        let out = run(&m, &[0.0, 1.0], &[1.0, 1.0], 0.5).unwrap();
+        assert!((out.displacement - 0.5).abs() < 1e-14 && out.answer[1] == 0.0);
+    }
+
+    /// A coupled positive definite `M` with inclined normals (`a_c < 1`) and one candidate
+    /// that the motion opens (`a_c < 0`): the answer satisfies the LCP and the force equation.
+    #[test]
+    fn coupled_and_inclined() {
+        let m = [2.0, 0.5, 0.1, 0.5, 2.0, 0.5, 0.1, 0.5, 2.0];
+        let q = [0.3, 0.0, 0.2];
+        let a = [0.8, 1.0, -0.2];
+        let out = run(&m, &q, &a, 1.7).unwrap();
+        let s = out.displacement;
+        let z = &out.answer;
+        let f: f64 = z.iter().zip(&a).map(|(z, a)| z * a).sum();
+        assert!((f - 1.7).abs() < 1e-12 * 1.7, "{f}");
+        for i in 0..3 {
+            let w = q[i] - a[i] * s + (0..3).map(|j| m[i * 3 + j] * z[j]).sum::<f64>();
+            assert!(z[i] >= 0.0 && w >= -1e-12 && (z[i] * w).abs() < 1e-12, "{i}: {z:?} {w}");
+        }
+        assert_eq!(z[2], 0.0, "the candidate the motion opens");
+    }
+
+    /// A force the contact cannot carry (every `a_c ≤ 0`) and a force that is not positive
+    /// are refused.
+    #[test]
+    fn refusals() {
+        let m = [1.0];
+        match run(&m, &[0.0], &[-1.0], 1.0) {
+            Err(LcpError::LoadDriven(LoadDrivenError::NotCarried { largest, .. })) => {
+                assert_eq!(largest, -1.0);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(matches!(
+            run(&m, &[0.0], &[1.0], 0.0),
+            Err(LcpError::LoadDriven(LoadDrivenError::BadForce { .. }))
+        ));
+    }
+}
