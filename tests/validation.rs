@@ -28,6 +28,8 @@ mod validation {
     mod gmsh;
     // Hertz: rigid cylinder (a circle obstacle) pressed into an elastic block.
     mod cylinder_indenter;
+    // Adaptive refinement (docs/method.md §2.2) on the rigid cylinder indenter against uniform.
+    mod adaptive_hertz;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
