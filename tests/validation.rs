@@ -32,6 +32,8 @@ mod validation {
     mod cylinder_indenter;
     // Load-driven contact: the rigid cylinder pressed by a force; Hertz, the displacement run.
     mod load_driven;
+    // Adaptive refinement (docs/method.md §2.2) on the rigid cylinder indenter against uniform.
+    mod adaptive_hertz;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.

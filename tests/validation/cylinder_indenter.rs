@@ -39,6 +39,13 @@ fn problem(h: f64, size: f64) -> Problem {
 fn run(h: f64, size: f64) -> Outcome {
     let p = problem(h, size);
     let s = mlpg_contact::solve(&p).unwrap();
+    checked(&format!("indenter h = {h}, W = {size}"), &s)
+}
+
+/// The force balance of an indenter solution `s` (the resultant of the contact forces, each
+/// along its own normal, against the support reactions) and its Hertz quantities, with the
+/// checks of `measure` (complementarity, equilibrium, one closed zone).
+pub(super) fn checked(label: &str, s: &mlpg_contact::Solution) -> Outcome {
     let c = s.contact.as_ref().unwrap();
     // The resultant from the candidates' own normals (independent of the library's sum).
     let mut f = [0.0; 2];
@@ -53,12 +60,12 @@ fn run(h: f64, size: f64) -> Outcome {
     );
     for (axis, (r, fa)) in s.reaction_force.iter().zip(f).enumerate() {
         let balance = r + fa;
-        assert!(balance.abs() < 1e-8 * c.total_force, "h = {h}: balance {axis} {balance}");
+        assert!(balance.abs() < 1e-8 * c.total_force, "{label}: balance {axis} {balance}");
     }
     // The normals differ: the contact is curved (no single normal for the edge).
     assert!(c.candidates.operator.uniform_direction().is_none());
     let e_star = 1.0 / (1.0 - 0.3f64 * 0.3);
-    measure(&format!("indenter h = {h}, W = {size}"), &s, e_star, RADIUS, -2.0 * f[1])
+    measure(label, s, e_star, RADIUS, -2.0 * f[1])
 }
 
 // Observed (box spacing h = 0.025 … 0.003125, coarse 0.1, β = 0.5): P = 6.7782e-3, 6.8084e-3,
