@@ -17,6 +17,8 @@
 //!   checked by `hertz.rs`'s measurement.
 //! - Nodes from the mesh (`nodes.from = "mesh"`): the Kirsch plate and the Hertz cylinder on
 //!   the meshes' own nodes.
+//! - Two bodies from one file (two `[[body]]` tables selecting their surfaces): the two blocks
+//!   pressed together, exact to round-off.
 
 use super::hertz::{Outcome, hertz_problem, hertz_problem_on, run_problem};
 use super::kirsch::{errors, kirsch_problem, quarter_plate, run_on, study_on};
@@ -222,4 +224,71 @@ fn gmsh_obstacle_equals_its_polyline_twin() {
     );
     assert!(force <= 1e-9 * scale, "contact forces differ by {force:e} (scale {scale:e})");
     assert!(u <= 1e-9 * u_scale, "displacements differ by {u:e} (scale {u_scale:e})");
+}
+
+/// Two bodies from one file: `two_bodies_o1_v4.msh` holds the surfaces `upper` (`[0, 2] ×
+/// [1, 2]`, quadrilaterals of 0.2) and `lower` (`[0, 2] × [0, 1]`, 0.25), every side a named
+/// physical curve; two `[[body]]` tables read the same file, each selecting its surface, with
+/// the mesh's nodes (non-matching at `y = 1`). The problem is `problems/two_blocks.toml`'s:
+/// the upper top pushed down by `δ = 0.01`, the lower bottom on rollers, rollers on both left
+/// sides, frictionless contact of `upper_bottom` on `lower_top`. Exact (uniaxial stress, plane
+/// stress): `p = Eδ/2 = 5` uniform, `u_y = −p y/E` in the lower block and `−p/E − p(y − 1)/E`
+/// in the upper, `u_x = ν p x/E` in both — linear fields, which MLS reproduces and the
+/// condensation carries exactly, so pressures and displacements must match to 1e-8 (round-off
+/// with margin) at every candidate and node, with the LCP residuals and each body's equilibrium.
+#[test]
+fn two_bodies_from_one_file() {
+    let file = data("two_bodies_o1_v4.msh");
+    let body = |name: &str, boundary: &str| {
+        format!(
+            "[[body]]\nname = \"{name}\"\ngeometry = {{ kind = \"gmsh\", file = {:?}, surface = \"{name}\" }}\nnodes = {{ from = \"mesh\" }}\nmaterial = {{ young = 1000.0, poisson = 0.3, plane = \"stress\" }}\nboundary = [{boundary}]\n",
+            file.to_str().unwrap()
+        )
+    };
+    let text = format!(
+        "name = \"upper\"\n[discretisation]\nsupport_factor = 2.0\n{}{}[contact]\nedge = \"upper_bottom\"\ntarget_edge = \"lower_top\"\n",
+        body(
+            "upper",
+            "{ edge = \"upper_left\", displacement = { x = 0.0 } }, { edge = \"upper_top\", displacement = { y = -0.01 } }"
+        ),
+        body(
+            "lower",
+            "{ edge = \"lower_left\", displacement = { x = 0.0 } }, { edge = \"lower_bottom\", displacement = { y = 0.0 } }"
+        ),
+    );
+    let problem = mlpg_contact::problem::Problem::from_toml(&text).unwrap();
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let c = s.contact.as_ref().unwrap();
+    super::common::assert_lcp_residuals("two bodies from one file", &c.lcp.residuals, 1e-9);
+    let (young, nu, delta) = (1000.0, 0.3, 0.01);
+    let p = young * delta / 2.0;
+    let worst = c.pressure.iter().map(|v| (v / p - 1.0).abs()).fold(0.0, f64::max);
+    println!(
+        "two bodies from one file: {} candidates, max |p/p_exact − 1| = {worst:.2e}, total {:.12} (exact {})",
+        c.pressure.len(),
+        c.total_force,
+        2.0 * p
+    );
+    assert!(worst < 1e-8, "pressure {worst:e}");
+    assert!((c.total_force / (2.0 * p) - 1.0).abs() < 1e-8, "total {}", c.total_force);
+    let lower = s.second_body.as_deref().unwrap();
+    let lower_problem = problem.second_body.as_deref().unwrap();
+    for (label, sol, prob, shift) in
+        [("upper", &s, &problem, -p / young), ("lower", lower, lower_problem, 0.0)]
+    {
+        let points = &prob.mesh_nodes.as_ref().unwrap().points;
+        assert_eq!(points.len(), sol.displacement.len(), "{label}");
+        let base = if shift == 0.0 { 0.0 } else { 1.0 };
+        let err = points
+            .iter()
+            .zip(&sol.displacement)
+            .map(|(x, u)| {
+                let exact = [nu * p * x[0] / young, shift - p * (x[1] - base) / young];
+                (u[0] - exact[0]).abs().max((u[1] - exact[1]).abs())
+            })
+            .fold(0.0, f64::max);
+        println!("{label}: {} nodes, max |u − u_exact| = {:.2e} δ", points.len(), err / delta);
+        assert!(err < 1e-8 * delta, "{label}: {err:e}");
+        assert!(sol.equilibrium_error < 1e-8, "{label}: equilibrium {}", sol.equilibrium_error);
+    }
 }

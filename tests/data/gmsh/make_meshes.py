@@ -7,7 +7,8 @@ Written with Gmsh 4.15.2. `plate_with_hole` and `two_blocks`: versions 4.1 and 2
 second order. `kirsch` and `hertz_cylinder` (first order) at the node spacings of their TOML
 twins in tests/validation (the .geo's `h`): kirsch in both versions, hertz_cylinder in 4.1.
 Also problems/plate_with_hole_gmsh.msh (plate_with_hole at h = 0.4, version 4.1). `punch`
-(obstacle curves only, meshed in one dimension): first order in 4.1, second order in 2.2."""
+(obstacle curves only, meshed in one dimension): first order in 4.1, second order in 2.2.
+`two_bodies` (two bodies in one file, every side named): first order, 4.1."""
 import gmsh
 
 
@@ -39,4 +40,5 @@ for h in [0.02, 0.01, 0.005]:
 mesh("plate_with_hole", "../../../problems/plate_with_hole_gmsh.msh", 1, 4.1, 0.4)
 mesh("punch", "punch_o1_v4.msh", 1, 4.1, dimension=1)
 mesh("punch", "punch_o2_v2.msh", 2, 2.2, dimension=1)
+mesh("two_bodies", "two_bodies_o1_v4.msh")
 gmsh.finalize()
