@@ -41,6 +41,15 @@ pub enum GeometryError {
         /// What is wrong.
         reason: String,
     },
+    /// A hole (a boundary loop after the first) that is not inside the body, touches or
+    /// crosses another loop, or runs the wrong way.
+    #[error("hole {hole}: {reason}")]
+    Hole {
+        /// Index of the hole (0 for the first loop after the outer one).
+        hole: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// Edge names are not one per edge, or not unique.
     #[error("edge names: {reason}")]
     EdgeNames {
@@ -143,6 +152,19 @@ impl Curve {
             sweep = if ccw { 2.0 * PI } else { -2.0 * PI };
         }
         Curve::Arc { center, radius, start, sweep }
+    }
+
+    /// The same curve run the other way (start and end swapped; an arc's sweep negated).
+    pub fn reversed(&self) -> Self {
+        match *self {
+            Curve::Segment { a, b } => Curve::Segment { a: b, b: a },
+            Curve::Arc { center, radius, start, sweep } => {
+                Curve::Arc { center, radius, start: start + sweep, sweep: -sweep }
+            }
+            Curve::Polyline { ref points } => {
+                Curve::Polyline { points: points.iter().rev().copied().collect() }
+            }
+        }
     }
 
     /// Whether this is a straight segment.
@@ -366,9 +388,13 @@ impl Curve {
                 }
                 cuts.push(1.0);
                 cuts.sort_by(f64::total_cmp);
+                // A full circle ends exactly where it starts (`point_at(1)` differs from
+                // `point_at(0)` by round-off, a gap a ray could pass through).
+                let full = (sweep.abs() - 2.0 * PI).abs() <= 1e-12 * 2.0 * PI;
+                let at = |t: f64| self.point_at(if full && t == 1.0 { 0.0 } else { t });
                 cuts.windows(2)
                     .map(|w| {
-                        let (a, b) = (self.point_at(w[0]), self.point_at(w[1]));
+                        let (a, b) = (at(w[0]), at(w[1]));
                         let mid = self.point_at(0.5 * (w[0] + w[1]));
                         let side = if mid[0] >= center[0] { 1.0 } else { -1.0 };
                         crosses(a, b, &|| {
@@ -389,13 +415,17 @@ impl Curve {
     }
 }
 
-/// A closed loop of named boundary curves (edges) with the body on the left: a convex
-/// polygon, a rectangle, or any simple loop of segments and circular arcs (a disk, a
-/// half-disk, a plate with a quarter hole). Edge `k` is curve `k`.
+/// Closed loops of named boundary curves (edges) with the body on the left: the outer loop
+/// (counter-clockwise: a convex polygon, a rectangle, or any simple loop of segments and
+/// circular arcs, e.g. a disk, a half-disk, a plate with a quarter hole), then one clockwise
+/// loop around each hole ([`Self::from_loops`], [`Self::with_holes`]). Edge `k` is curve
+/// `k`; the curves are numbered loop by loop.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Domain {
     curves: Vec<Curve>,
     edge_names: Vec<String>,
+    /// The end (exclusive) of each loop's curves in `curves`, outer loop first.
+    loop_ends: Vec<usize>,
 }
 
 fn check_names(edge_names: &[String], n: usize) -> Result<(), GeometryError> {
@@ -412,6 +442,30 @@ fn check_names(edge_names: &[String], n: usize) -> Result<(), GeometryError> {
         }
     }
     Ok(())
+}
+
+/// The curve after curve `k` along its loop, for loops ending at `loop_ends`.
+fn next_in_loop(loop_ends: &[usize], k: usize) -> usize {
+    let l = loop_ends.iter().position(|&e| k < e).unwrap_or(loop_ends.len() - 1);
+    let start = if l == 0 { 0 } else { loop_ends[l - 1] };
+    if k + 1 == loop_ends[l] { start } else { k + 1 }
+}
+
+/// The curve's part of a loop's signed area (shoelace over its chord plus an arc's circular
+/// segment, or over a polyline's pieces).
+fn curve_area(c: &Curve) -> f64 {
+    let (a, b) = (c.start(), c.end());
+    let chord = 0.5 * (a[0] * b[1] - b[0] * a[1]);
+    match *c {
+        Curve::Segment { .. } => chord,
+        Curve::Arc { radius, sweep, .. } => {
+            let th = sweep.abs();
+            chord + sweep.signum() * 0.5 * radius * radius * (th - th.sin())
+        }
+        Curve::Polyline { ref points } => {
+            points.windows(2).map(|w| 0.5 * (w[0][0] * w[1][1] - w[1][0] * w[0][1])).sum()
+        }
+    }
 }
 
 impl Domain {
@@ -440,7 +494,7 @@ impl Domain {
         }
         let curves =
             (0..n).map(|k| Curve::Segment { a: vertices[k], b: vertices[(k + 1) % n] }).collect();
-        Ok(Self { curves, edge_names })
+        Ok(Self { curves, edge_names, loop_ends: vec![n] })
     }
 
     /// A loop of curves, each starting where the previous one ends (the last closing on the
@@ -452,6 +506,36 @@ impl Domain {
     /// [`GeometryError::Loop`] for a gap between curves, a degenerate curve or a clockwise
     /// loop; [`GeometryError::EdgeNames`] when the names do not match.
     pub fn from_curves(curves: Vec<Curve>, edge_names: Vec<String>) -> Result<Self, GeometryError> {
+        Self::from_loops(vec![curves], edge_names)
+    }
+
+    /// Several loops of curves, as [`Self::from_curves`] each: the outer loop first
+    /// (counter-clockwise), then one loop around each hole, clockwise (the body on the left
+    /// of every curve), with one name per curve, loop by loop. Each hole must lie inside the
+    /// outer loop, clear of it and of the other holes: checked on the curves' points and 64
+    /// points along each segment or arc (a loop crossing another between two such points is
+    /// not seen).
+    ///
+    /// # Errors
+    /// As [`Self::from_curves`] (the loop of the offending curve); [`GeometryError::Hole`]
+    /// for a hole running counter-clockwise, outside the body, touching or crossing another
+    /// loop.
+    pub fn from_loops(
+        loops: Vec<Vec<Curve>>,
+        edge_names: Vec<String>,
+    ) -> Result<Self, GeometryError> {
+        let mut loop_ends = Vec::with_capacity(loops.len());
+        let mut curves = Vec::new();
+        for l in loops {
+            if l.is_empty() {
+                return Err(GeometryError::Loop {
+                    curve: curves.len(),
+                    reason: "no curves".into(),
+                });
+            }
+            curves.extend(l);
+            loop_ends.push(curves.len());
+        }
         let n = curves.len();
         if n == 0 {
             return Err(GeometryError::Loop { curve: 0, reason: "no curves".into() });
@@ -501,7 +585,7 @@ impl Domain {
                     });
                 }
             }
-            let next = curves[(k + 1) % n].start();
+            let next = curves[next_in_loop(&loop_ends, k)].start();
             let end = c.end();
             let gap = (end[0] - next[0]).hypot(end[1] - next[1]);
             if gap > 1e-9 * scale {
@@ -514,20 +598,129 @@ impl Domain {
                 });
             }
         }
-        if n < 3 && curves.iter().all(Curve::is_straight) {
-            return Err(GeometryError::TooFewVertices { count: n });
+        let outer = loop_ends[0];
+        if outer < 3 && curves[..outer].iter().all(Curve::is_straight) {
+            return Err(GeometryError::TooFewVertices { count: outer });
         }
-        let domain = Self { curves, edge_names };
-        if domain.area().is_nan() || domain.area() <= 0.0 {
+        let domain = Self { curves, edge_names, loop_ends };
+        let outer_area = domain.loop_area(0);
+        if outer_area.is_nan() || outer_area <= 0.0 {
             return Err(GeometryError::Loop {
                 curve: 0,
                 reason: format!(
-                    "the loop encloses a signed area of {:.3e}: it must run counter-clockwise around the body",
-                    domain.area()
+                    "the loop encloses a signed area of {outer_area:.3e}: it must run counter-clockwise around the body",
                 ),
             });
         }
+        domain.check_holes(scale)?;
         Ok(domain)
+    }
+
+    /// The checks of [`Self::from_loops`] on the holes (loops after the first).
+    fn check_holes(&self, scale: f64) -> Result<(), GeometryError> {
+        let samples = |l: usize| -> Vec<Point> {
+            self.curves[self.loop_range(l)]
+                .iter()
+                .flat_map(|c| match c {
+                    Curve::Polyline { points } => points.to_vec(),
+                    _ => (0..64).map(|i| c.point_at(i as f64 / 64.0)).collect(),
+                })
+                .collect()
+        };
+        let tol = 1e-9 * scale;
+        for l in 1..self.loop_count() {
+            let hole = l - 1;
+            let fail = |reason: String| Err(GeometryError::Hole { hole, reason });
+            let first = self.loop_range(l).start;
+            if self.loop_area(l).is_nan() || self.loop_area(l) >= 0.0 {
+                return fail(format!(
+                    "its loop (from curve {first}) runs counter-clockwise: a hole's loop runs clockwise, the body on its left"
+                ));
+            }
+            let points = samples(l);
+            for (m, other) in
+                (0..self.loop_count()).filter(|&m| m != l).map(|m| (m, self.loop_range(m)))
+            {
+                let curves = &self.curves[other];
+                let inside =
+                    |p: Point| curves.iter().map(|c| c.ray_crossings(p)).sum::<usize>() % 2 == 1;
+                let gap = points
+                    .iter()
+                    .map(|&p| curves.iter().map(|c| c.distance(p)).fold(f64::INFINITY, f64::min))
+                    .fold(f64::INFINITY, f64::min);
+                if m == 0 {
+                    if let Some(p) = points.iter().find(|&&p| !inside(p)) {
+                        return fail(format!(
+                            "its point ({:.6}, {:.6}) lies outside the body's outer boundary",
+                            p[0], p[1]
+                        ));
+                    }
+                    if gap <= tol {
+                        return fail("touches the body's outer boundary".into());
+                    }
+                } else if gap <= tol || points.iter().any(|&p| inside(p)) {
+                    return fail(format!("overlaps or touches hole {}", m - 1));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// This domain with `holes` cut out of it: each hole is given as the domain of the region
+    /// removed (its outer loop, counter-clockwise, as a body's), which becomes a clockwise
+    /// loop of this domain (curves reversed, names kept), after this domain's loops.
+    ///
+    /// # Errors
+    /// As [`Self::from_loops`]: [`GeometryError::Hole`] (numbered from this domain's first
+    /// hole) for a hole outside the body, touching or crossing another loop; a given hole
+    /// with holes of its own; [`GeometryError::EdgeNames`] for a repeated name.
+    pub fn with_holes(self, holes: Vec<Domain>) -> Result<Self, GeometryError> {
+        let first = self.loop_count() - 1;
+        let mut loops: Vec<Vec<Curve>> =
+            (0..self.loop_count()).map(|l| self.curves[self.loop_range(l)].to_vec()).collect();
+        let mut names = self.edge_names;
+        for (i, hole) in holes.into_iter().enumerate() {
+            if hole.has_holes() {
+                return Err(GeometryError::Hole {
+                    hole: first + i,
+                    reason: "a hole cannot have holes of its own".into(),
+                });
+            }
+            loops.push(hole.curves.iter().rev().map(Curve::reversed).collect());
+            names.extend(hole.edge_names.into_iter().rev());
+        }
+        Self::from_loops(loops, names)
+    }
+
+    /// Number of boundary loops (1 + the number of holes).
+    pub fn loop_count(&self) -> usize {
+        self.loop_ends.len()
+    }
+
+    /// Whether the body has holes (more than one boundary loop).
+    pub fn has_holes(&self) -> bool {
+        self.loop_ends.len() > 1
+    }
+
+    /// The edges (curve indices) of loop `l` (0: the outer loop, then the holes).
+    pub fn loop_range(&self, l: usize) -> std::ops::Range<usize> {
+        let start = if l == 0 { 0 } else { self.loop_ends[l - 1] };
+        start..self.loop_ends[l]
+    }
+
+    /// The loop edge `k` belongs to.
+    pub fn loop_of(&self, k: usize) -> usize {
+        self.loop_ends.iter().position(|&e| k < e).unwrap_or(self.loop_ends.len() - 1)
+    }
+
+    /// The edge after edge `k` along its loop (the loop's first after its last).
+    pub fn next_in_loop(&self, k: usize) -> usize {
+        next_in_loop(&self.loop_ends, k)
+    }
+
+    /// Signed area enclosed by loop `l` (positive counter-clockwise).
+    fn loop_area(&self, l: usize) -> f64 {
+        self.curves[self.loop_range(l)].iter().map(curve_area).sum()
     }
 
     /// The axis-aligned rectangle `[x0, x1] × [y0, y1]` with edges named
@@ -630,55 +823,40 @@ impl Domain {
         (lo, hi)
     }
 
-    /// Area enclosed by the exact loop (shoelace over the chords plus the circular segments).
+    /// Area enclosed by the exact loops (shoelace over the chords plus the circular segments;
+    /// the holes' clockwise loops subtract theirs).
     pub fn area(&self) -> f64 {
-        self.curves
-            .iter()
-            .map(|c| {
-                let (a, b) = (c.start(), c.end());
-                let chord = 0.5 * (a[0] * b[1] - b[0] * a[1]);
-                match *c {
-                    Curve::Segment { .. } => chord,
-                    Curve::Arc { radius, sweep, .. } => {
-                        let th = sweep.abs();
-                        chord + sweep.signum() * 0.5 * radius * radius * (th - th.sin())
-                    }
-                    Curve::Polyline { ref points } => points
-                        .windows(2)
-                        .map(|w| 0.5 * (w[0][0] * w[1][1] - w[1][0] * w[0][1]))
-                        .sum(),
-                }
-            })
-            .sum()
+        self.curves.iter().map(curve_area).sum()
     }
 
-    /// Centroid of the enclosed area (of a fine polygonal approximation).
+    /// Centroid of the enclosed area (of a fine polygonal approximation of each loop).
     pub fn centroid(&self) -> Point {
-        // Every loop has at least 3 vertices here: 3 segments, or an arc (256 points).
-        let pts: Vec<Point> = self
-            .curves
-            .iter()
-            .flat_map(|c| match c {
-                Curve::Polyline { points } => points[..points.len() - 1].to_vec(),
-                _ => {
-                    let n = if c.is_straight() { 1 } else { 256 };
-                    (0..n).map(|i| c.point_at(i as f64 / n as f64)).collect()
-                }
-            })
-            .collect();
         let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
-        for k in 0..pts.len() {
-            let (p, q) = (pts[k], pts[(k + 1) % pts.len()]);
-            let w = p[0] * q[1] - q[0] * p[1];
-            a += w;
-            cx += (p[0] + q[0]) * w;
-            cy += (p[1] + q[1]) * w;
+        for l in 0..self.loop_count() {
+            // Every loop has at least 3 vertices here: 3 segments, or an arc (256 points).
+            let pts: Vec<Point> = self.curves[self.loop_range(l)]
+                .iter()
+                .flat_map(|c| match c {
+                    Curve::Polyline { points } => points[..points.len() - 1].to_vec(),
+                    _ => {
+                        let n = if c.is_straight() { 1 } else { 256 };
+                        (0..n).map(|i| c.point_at(i as f64 / n as f64)).collect()
+                    }
+                })
+                .collect();
+            for k in 0..pts.len() {
+                let (p, q) = (pts[k], pts[(k + 1) % pts.len()]);
+                let w = p[0] * q[1] - q[0] * p[1];
+                a += w;
+                cx += (p[0] + q[0]) * w;
+                cy += (p[1] + q[1]) * w;
+            }
         }
         [cx / (3.0 * a), cy / (3.0 * a)]
     }
 
-    /// Whether `p` lies inside the exact loop (even–odd rule; points on the boundary may go
-    /// either way).
+    /// Whether `p` lies inside the exact loops (even–odd rule over every loop: inside the
+    /// outer one and outside the holes; points on the boundary may go either way).
     pub fn contains(&self, p: Point) -> bool {
         self.curves.iter().map(|c| c.ray_crossings(p)).sum::<usize>() % 2 == 1
     }
@@ -700,15 +878,28 @@ impl Domain {
         self.curves[k].parameter(p)
     }
 
-    /// The polygonal approximation used by the discretisation at nominal spacing `h`:
-    /// vertices counter-clockwise, and for each polygon edge (from vertex `i` to `i + 1`) the
-    /// domain edge it approximates. Straight edges are kept whole; an arc becomes the chords
-    /// between its [`Curve::divisions`]`(h)` equally spaced points, which are exactly the
-    /// arc's boundary nodes; a polyline is kept (its points are its boundary nodes).
+    /// The polygonal approximation of the outer loop used by the discretisation at nominal
+    /// spacing `h`: vertices counter-clockwise, and for each polygon edge (from vertex `i` to
+    /// `i + 1`) the domain edge it approximates. Straight edges are kept whole; an arc becomes
+    /// the chords between its [`Curve::divisions`]`(h)` equally spaced points, which are
+    /// exactly the arc's boundary nodes; a polyline is kept (its points are its boundary
+    /// nodes). A domain with holes has one such ring per loop: [`Self::boundary_rings`].
     pub fn boundary_polygon(&self, h: f64) -> (Vec<Point>, Vec<u32>) {
+        self.ring(0, h)
+    }
+
+    /// The polygonal approximation of every loop, as [`Self::boundary_polygon`]: the outer
+    /// ring (counter-clockwise) first, then one clockwise ring per hole.
+    pub fn boundary_rings(&self, h: f64) -> Vec<(Vec<Point>, Vec<u32>)> {
+        (0..self.loop_count()).map(|l| self.ring(l, h)).collect()
+    }
+
+    /// The polygonal approximation of loop `l` ([`Self::boundary_polygon`]).
+    fn ring(&self, l: usize, h: f64) -> (Vec<Point>, Vec<u32>) {
         let mut vertices = Vec::new();
         let mut labels = Vec::new();
-        for (k, c) in self.curves.iter().enumerate() {
+        for k in self.loop_range(l) {
+            let c = &self.curves[k];
             if c.is_straight() {
                 vertices.push(c.start());
                 labels.push(k as u32);
