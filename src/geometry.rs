@@ -638,27 +638,31 @@ impl Domain {
                 ));
             }
             let points = samples(l);
-            for (m, other) in
-                (0..self.loop_count()).filter(|&m| m != l).map(|m| (m, self.loop_range(m)))
-            {
-                let curves = &self.curves[other];
-                let inside =
-                    |p: Point| curves.iter().map(|c| c.ray_crossings(p)).sum::<usize>() % 2 == 1;
-                let gap = points
+            let inside = |m: usize, p: Point| {
+                self.curves[self.loop_range(m)].iter().map(|c| c.ray_crossings(p)).sum::<usize>()
+                    % 2
+                    == 1
+            };
+            let gap = |m: usize| {
+                let curves = &self.curves[self.loop_range(m)];
+                points
                     .iter()
                     .map(|&p| curves.iter().map(|c| c.distance(p)).fold(f64::INFINITY, f64::min))
-                    .fold(f64::INFINITY, f64::min);
-                if m == 0 {
-                    if let Some(p) = points.iter().find(|&&p| !inside(p)) {
-                        return fail(format!(
-                            "its point ({:.6}, {:.6}) lies outside the body's outer boundary",
-                            p[0], p[1]
-                        ));
-                    }
-                    if gap <= tol {
-                        return fail("touches the body's outer boundary".into());
-                    }
-                } else if gap <= tol || points.iter().any(|&p| inside(p)) {
+                    .fold(f64::INFINITY, f64::min)
+            };
+            if gap(0) <= tol {
+                return fail("touches or crosses the body's outer boundary".into());
+            }
+            if let Some(p) = points.iter().find(|&&p| !inside(0, p)) {
+                return fail(format!(
+                    "lies outside the body: its point ({:.6}, {:.6}) is not inside the outer boundary",
+                    p[0], p[1]
+                ));
+            }
+            // Against the earlier holes, both ways (one inside the other, or crossing).
+            for m in 1..l {
+                let contains_other = samples(m).iter().any(|&p| inside(l, p));
+                if gap(m) <= tol || points.iter().any(|&p| inside(m, p)) || contains_other {
                     return fail(format!("overlaps or touches hole {}", m - 1));
                 }
             }

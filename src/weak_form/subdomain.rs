@@ -59,7 +59,7 @@ impl Cell {
 ///
 /// A domain with holes starts from one polygon too: its rings ([`Domain::boundary_rings`])
 /// joined by cuts, a pair of opposite edges from each hole to the ring beyond it
-/// ([`keyhole`]). The cuts are drawn in one of four directions (`+x`, `+y`, `−x`, `−y`);
+/// (see `keyhole`). The cuts are drawn in one of four directions (`+x`, `+y`, `−x`, `−y`);
 /// a node whose finished cell still has a cut edge (the cut passes through its cell) is
 /// built again from the next direction's polygon.
 ///
