@@ -1,5 +1,6 @@
 //! Stage 0: the domain — a closed loop of named boundary curves (straight segments, circular
-//! arcs and polylines) with the body on its left (counter-clockwise outer boundary).
+//! arcs and polylines) with the body on its left (counter-clockwise outer boundary), and one
+//! clockwise loop around each hole.
 //!
 //! The discretisation works on a polygonal approximation of the loop
 //! ([`Domain::boundary_polygon`]): straight edges are kept, arcs are replaced by the chords
@@ -654,8 +655,13 @@ impl Domain {
                 return fail("touches or crosses the body's outer boundary".into());
             }
             if let Some(p) = points.iter().find(|&&p| !inside(0, p)) {
+                let what = if points.iter().any(|&p| inside(0, p)) {
+                    "crosses the body's outer boundary"
+                } else {
+                    "lies outside the body"
+                };
                 return fail(format!(
-                    "lies outside the body: its point ({:.6}, {:.6}) is not inside the outer boundary",
+                    "{what}: its point ({:.6}, {:.6}) is not inside the outer boundary",
                     p[0], p[1]
                 ));
             }
@@ -1106,6 +1112,48 @@ mod tests {
         curves[4] = bad;
         let e = Domain::from_curves(curves, d.edge_names().to_vec()).unwrap_err();
         assert!(e.to_string().contains("piece 0"), "{e}");
+    }
+
+    #[test]
+    fn holes_are_clockwise_loops_inside_the_body() {
+        let outer = || Domain::rectangle([-3.0, 3.0], [-2.0, 2.0]).unwrap();
+        let disk = |c: Point, r: f64, name: &str| {
+            let p = [c[0] + r, c[1]];
+            Domain::from_curves(vec![Curve::arc_between(p, p, c, true)], vec![name.into()]).unwrap()
+        };
+        let d = outer().with_holes(vec![disk([-1.0, 0.0], 0.5, "a"), disk([1.5, 0.5], 0.4, "b")]);
+        let d = d.unwrap();
+        assert_eq!((d.loop_count(), d.edge_count()), (3, 6));
+        assert_eq!((d.loop_of(3), d.loop_of(4), d.loop_of(5)), (0, 1, 2));
+        assert_eq!((d.next_in_loop(3), d.next_in_loop(4), d.next_in_loop(5)), (0, 4, 5));
+        assert!((d.area() - (24.0 - PI * (0.25 + 0.16))).abs() < 1e-12);
+        // Outward normals of a hole point into it; inside test excludes the holes.
+        let n = d.outward_normal_at(4, [-0.5, 0.0]);
+        assert!((n[0] + 1.0).abs() < 1e-12 && n[1].abs() < 1e-12, "{n:?}");
+        assert!(!d.contains([-1.0, 0.0]) && !d.contains([1.5, 0.5]) && d.contains([0.3, 0.0]));
+        // A ray at the centre's height (the full circle's seam) still counts both sides.
+        assert!(d.contains([-2.0, -1e-16]) && d.contains([-2.0, 1e-16]));
+        let rings = d.boundary_rings(0.1);
+        assert_eq!(rings.len(), 3);
+        assert_eq!(rings[0], d.boundary_polygon(0.1));
+        let c = outer().with_holes(vec![disk([1.0, 0.0], 0.5, "a")]).unwrap().centroid();
+        // Centroid of the plate minus the disk: −(π/4 · 1) / (24 − π/4).
+        assert!((c[0] + PI / 4.0 / (24.0 - PI / 4.0)).abs() < 1e-4 && c[1].abs() < 1e-12);
+        // Refusals: outside, touching, overlapping, nested, a clockwise hole, a repeated name.
+        let bad = |holes: Vec<Domain>| outer().with_holes(holes).unwrap_err().to_string();
+        assert!(bad(vec![disk([5.0, 0.0], 0.5, "a")]).contains("outside"));
+        assert!(bad(vec![disk([2.5, 0.0], 0.5, "a")]).contains("touches or crosses"));
+        assert!(bad(vec![disk([2.7, 0.0], 0.5, "a")]).contains("crosses the body's outer"));
+        let e = bad(vec![disk([0.0, 0.0], 0.5, "a"), disk([0.6, 0.0], 0.5, "b")]);
+        assert!(e.contains("hole 1: overlaps or touches hole 0"), "{e}");
+        let e = bad(vec![disk([0.0, 0.0], 0.5, "a"), disk([0.0, 0.0], 1.0, "b")]);
+        assert!(e.contains("hole 1: overlaps"), "{e}");
+        assert!(bad(vec![disk([0.0, 0.0], 0.5, "left")]).contains("repeated name"));
+        let ccw = Domain::from_loops(
+            vec![outer().curves().to_vec(), disk([0.0, 0.0], 0.5, "a").curves().to_vec()],
+            ["bottom", "right", "top", "left", "a"].map(String::from).to_vec(),
+        );
+        assert!(ccw.unwrap_err().to_string().contains("runs counter-clockwise"));
     }
 
     #[test]
