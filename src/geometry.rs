@@ -676,6 +676,24 @@ impl Domain {
         Ok(())
     }
 
+    /// The least distance from loop `l` to the other loops (the width of the narrowest
+    /// ligament next to it), measured from its curves' points and 64 points along each
+    /// segment or arc; infinite for a domain with one loop.
+    pub fn loop_clearance(&self, l: usize) -> f64 {
+        let points: Vec<Point> = self.curves[self.loop_range(l)]
+            .iter()
+            .flat_map(|c| match c {
+                Curve::Polyline { points } => points.to_vec(),
+                _ => (0..64).map(|i| c.point_at(i as f64 / 64.0)).collect(),
+            })
+            .collect();
+        (0..self.loop_count())
+            .filter(|&m| m != l)
+            .flat_map(|m| self.curves[self.loop_range(m)].iter())
+            .flat_map(|c| points.iter().map(move |&p| c.distance(p)))
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// This domain with `holes` cut out of it: each hole is given as the domain of the region
     /// removed (its outer loop, counter-clockwise, as a body's), which becomes a clockwise
     /// loop of this domain (curves reversed, names kept), after this domain's loops.
@@ -1127,6 +1145,9 @@ mod tests {
         assert_eq!((d.loop_of(3), d.loop_of(4), d.loop_of(5)), (0, 1, 2));
         assert_eq!((d.next_in_loop(3), d.next_in_loop(4), d.next_in_loop(5)), (0, 4, 5));
         assert!((d.area() - (24.0 - PI * (0.25 + 0.16))).abs() < 1e-12);
+        // Ligaments: hole a to the left side 1.5, hole b to the top 1.1 (sampled: within 1e-3).
+        assert!((d.loop_clearance(1) - 1.5).abs() < 1e-3, "{}", d.loop_clearance(1));
+        assert!((d.loop_clearance(2) - 1.1).abs() < 1e-3, "{}", d.loop_clearance(2));
         // Outward normals of a hole point into it; inside test excludes the holes.
         let n = d.outward_normal_at(4, [-0.5, 0.0]);
         assert!((n[0] + 1.0).abs() < 1e-12 && n[1].abs() < 1e-12, "{n:?}");

@@ -1211,6 +1211,11 @@ fn holes_run_and_bad_holes_name_the_key() {
             "touches or crosses the body's outer boundary",
         ),
         (
+            "hole_thin_ligament",
+            with_second("{ kind = \"disk\", center = [1.5, 1.0], radius = 0.45 }"),
+            "ligament 0.050000 wide",
+        ),
+        (
             "hole_crossing",
             with_second("{ kind = \"disk\", center = [1.8, 1.0], radius = 0.5 }"),
             "geometry.holes[1]",

@@ -553,6 +553,25 @@ fn node_layout(
     if domain.area() / (h * h) > 2.0e7 {
         return Err(invalid("nodes.spacing", h, "would create more than 20 million nodes"));
     }
+    // A ligament narrower than the spacing (between a hole and another loop) has no node
+    // inside it: the layout would leave it unresolved.
+    for l in 1..domain.loop_count() {
+        let gap = domain.loop_clearance(l);
+        if gap < h {
+            let key = if mesh.is_some() {
+                "nodes.spacing".to_string()
+            } else {
+                format!("geometry.holes[{}]", l - 1)
+            };
+            return Err(invalid(
+                &key,
+                format!("{gap:.6}"),
+                format!(
+                    "the hole leaves a ligament {gap:.6} wide to the nearest other boundary, narrower than nodes.spacing = {h}: make the spacing finer or the ligament wider"
+                ),
+            ));
+        }
+    }
     let layout = match file.nodes.layout.unwrap_or_default() {
         LayoutKind::Structured => {
             if file.nodes.jitter.is_some() {
