@@ -27,7 +27,7 @@ fn strip_on_foundation() -> ProblemFile {
     ProblemFile {
         name: Some("strip_on_foundation".into()),
         // [geometry]: a rectangle, whose edges are named bottom, right, top and left.
-        geometry: Some(GeometryFile::Rectangle { x: [0.0, 8.0], y: [0.0, 1.0] }),
+        geometry: Some(GeometryFile::Rectangle { x: [0.0, 8.0], y: [0.0, 1.0], holes: vec![] }),
         // [nodes]: the nominal node spacing h, on a structured grid.
         nodes: Some(NodesFile::structured(0.125)),
         // [material]: Young's modulus, Poisson's ratio, plane stress.

@@ -40,7 +40,7 @@ fn main() -> anyhow::Result<()> {
     // The foundation is the straight line through `contact.obstacle_point` with normal
     // `obstacle_normal` (here (0, 1), pointing up into the beam). The gap is the distance from
     // the beam's bottom edge down to that line, so read the bottom edge from the geometry.
-    let Some(GeometryFile::Rectangle { x, y }) = &base.geometry else {
+    let Some(GeometryFile::Rectangle { x, y, .. }) = &base.geometry else {
         anyhow::bail!("{path}: expected a rectangle");
     };
     let (x0, bottom) = (x[0], y[0]);

@@ -1,5 +1,6 @@
 //! Stage 0: the domain — a closed loop of named boundary curves (straight segments, circular
-//! arcs and polylines) with the body on its left (counter-clockwise outer boundary).
+//! arcs and polylines) with the body on its left (counter-clockwise outer boundary), and one
+//! clockwise loop around each hole.
 //!
 //! The discretisation works on a polygonal approximation of the loop
 //! ([`Domain::boundary_polygon`]): straight edges are kept, arcs are replaced by the chords
@@ -38,6 +39,15 @@ pub enum GeometryError {
     Loop {
         /// Index of the offending curve.
         curve: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A hole (a boundary loop after the first) that is not inside the body, touches or
+    /// crosses another loop, or runs the wrong way.
+    #[error("hole {hole}: {reason}")]
+    Hole {
+        /// Index of the hole (0 for the first loop after the outer one).
+        hole: usize,
         /// What is wrong.
         reason: String,
     },
@@ -143,6 +153,19 @@ impl Curve {
             sweep = if ccw { 2.0 * PI } else { -2.0 * PI };
         }
         Curve::Arc { center, radius, start, sweep }
+    }
+
+    /// The same curve run the other way (start and end swapped; an arc's sweep negated).
+    pub fn reversed(&self) -> Self {
+        match *self {
+            Curve::Segment { a, b } => Curve::Segment { a: b, b: a },
+            Curve::Arc { center, radius, start, sweep } => {
+                Curve::Arc { center, radius, start: start + sweep, sweep: -sweep }
+            }
+            Curve::Polyline { ref points } => {
+                Curve::Polyline { points: points.iter().rev().copied().collect() }
+            }
+        }
     }
 
     /// Whether this is a straight segment.
@@ -366,9 +389,13 @@ impl Curve {
                 }
                 cuts.push(1.0);
                 cuts.sort_by(f64::total_cmp);
+                // A full circle ends exactly where it starts (`point_at(1)` differs from
+                // `point_at(0)` by round-off, a gap a ray could pass through).
+                let full = (sweep.abs() - 2.0 * PI).abs() <= 1e-12 * 2.0 * PI;
+                let at = |t: f64| self.point_at(if full && t == 1.0 { 0.0 } else { t });
                 cuts.windows(2)
                     .map(|w| {
-                        let (a, b) = (self.point_at(w[0]), self.point_at(w[1]));
+                        let (a, b) = (at(w[0]), at(w[1]));
                         let mid = self.point_at(0.5 * (w[0] + w[1]));
                         let side = if mid[0] >= center[0] { 1.0 } else { -1.0 };
                         crosses(a, b, &|| {
@@ -389,13 +416,17 @@ impl Curve {
     }
 }
 
-/// A closed loop of named boundary curves (edges) with the body on the left: a convex
-/// polygon, a rectangle, or any simple loop of segments and circular arcs (a disk, a
-/// half-disk, a plate with a quarter hole). Edge `k` is curve `k`.
+/// Closed loops of named boundary curves (edges) with the body on the left: the outer loop
+/// (counter-clockwise: a convex polygon, a rectangle, or any simple loop of segments and
+/// circular arcs, e.g. a disk, a half-disk, a plate with a quarter hole), then one clockwise
+/// loop around each hole ([`Self::from_loops`], [`Self::with_holes`]). Edge `k` is curve
+/// `k`; the curves are numbered loop by loop.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Domain {
     curves: Vec<Curve>,
     edge_names: Vec<String>,
+    /// The end (exclusive) of each loop's curves in `curves`, outer loop first.
+    loop_ends: Vec<usize>,
 }
 
 fn check_names(edge_names: &[String], n: usize) -> Result<(), GeometryError> {
@@ -412,6 +443,30 @@ fn check_names(edge_names: &[String], n: usize) -> Result<(), GeometryError> {
         }
     }
     Ok(())
+}
+
+/// The curve after curve `k` along its loop, for loops ending at `loop_ends`.
+fn next_in_loop(loop_ends: &[usize], k: usize) -> usize {
+    let l = loop_ends.iter().position(|&e| k < e).unwrap_or(loop_ends.len() - 1);
+    let start = if l == 0 { 0 } else { loop_ends[l - 1] };
+    if k + 1 == loop_ends[l] { start } else { k + 1 }
+}
+
+/// The curve's part of a loop's signed area (shoelace over its chord plus an arc's circular
+/// segment, or over a polyline's pieces).
+fn curve_area(c: &Curve) -> f64 {
+    let (a, b) = (c.start(), c.end());
+    let chord = 0.5 * (a[0] * b[1] - b[0] * a[1]);
+    match *c {
+        Curve::Segment { .. } => chord,
+        Curve::Arc { radius, sweep, .. } => {
+            let th = sweep.abs();
+            chord + sweep.signum() * 0.5 * radius * radius * (th - th.sin())
+        }
+        Curve::Polyline { ref points } => {
+            points.windows(2).map(|w| 0.5 * (w[0][0] * w[1][1] - w[1][0] * w[0][1])).sum()
+        }
+    }
 }
 
 impl Domain {
@@ -440,7 +495,7 @@ impl Domain {
         }
         let curves =
             (0..n).map(|k| Curve::Segment { a: vertices[k], b: vertices[(k + 1) % n] }).collect();
-        Ok(Self { curves, edge_names })
+        Ok(Self { curves, edge_names, loop_ends: vec![n] })
     }
 
     /// A loop of curves, each starting where the previous one ends (the last closing on the
@@ -452,6 +507,36 @@ impl Domain {
     /// [`GeometryError::Loop`] for a gap between curves, a degenerate curve or a clockwise
     /// loop; [`GeometryError::EdgeNames`] when the names do not match.
     pub fn from_curves(curves: Vec<Curve>, edge_names: Vec<String>) -> Result<Self, GeometryError> {
+        Self::from_loops(vec![curves], edge_names)
+    }
+
+    /// Several loops of curves, as [`Self::from_curves`] each: the outer loop first
+    /// (counter-clockwise), then one loop around each hole, clockwise (the body on the left
+    /// of every curve), with one name per curve, loop by loop. Each hole must lie inside the
+    /// outer loop, clear of it and of the other holes: checked on the curves' points and 64
+    /// points along each segment or arc (a loop crossing another between two such points is
+    /// not seen).
+    ///
+    /// # Errors
+    /// As [`Self::from_curves`] (the loop of the offending curve); [`GeometryError::Hole`]
+    /// for a hole running counter-clockwise, outside the body, touching or crossing another
+    /// loop.
+    pub fn from_loops(
+        loops: Vec<Vec<Curve>>,
+        edge_names: Vec<String>,
+    ) -> Result<Self, GeometryError> {
+        let mut loop_ends = Vec::with_capacity(loops.len());
+        let mut curves = Vec::new();
+        for l in loops {
+            if l.is_empty() {
+                return Err(GeometryError::Loop {
+                    curve: curves.len(),
+                    reason: "no curves".into(),
+                });
+            }
+            curves.extend(l);
+            loop_ends.push(curves.len());
+        }
         let n = curves.len();
         if n == 0 {
             return Err(GeometryError::Loop { curve: 0, reason: "no curves".into() });
@@ -501,7 +586,7 @@ impl Domain {
                     });
                 }
             }
-            let next = curves[(k + 1) % n].start();
+            let next = curves[next_in_loop(&loop_ends, k)].start();
             let end = c.end();
             let gap = (end[0] - next[0]).hypot(end[1] - next[1]);
             if gap > 1e-9 * scale {
@@ -514,20 +599,156 @@ impl Domain {
                 });
             }
         }
-        if n < 3 && curves.iter().all(Curve::is_straight) {
-            return Err(GeometryError::TooFewVertices { count: n });
+        let outer = loop_ends[0];
+        if outer < 3 && curves[..outer].iter().all(Curve::is_straight) {
+            return Err(GeometryError::TooFewVertices { count: outer });
         }
-        let domain = Self { curves, edge_names };
-        if domain.area().is_nan() || domain.area() <= 0.0 {
+        let domain = Self { curves, edge_names, loop_ends };
+        let outer_area = domain.loop_area(0);
+        if outer_area.is_nan() || outer_area <= 0.0 {
             return Err(GeometryError::Loop {
                 curve: 0,
                 reason: format!(
-                    "the loop encloses a signed area of {:.3e}: it must run counter-clockwise around the body",
-                    domain.area()
+                    "the loop encloses a signed area of {outer_area:.3e}: it must run counter-clockwise around the body",
                 ),
             });
         }
+        domain.check_holes(scale)?;
         Ok(domain)
+    }
+
+    /// The checks of [`Self::from_loops`] on the holes (loops after the first).
+    fn check_holes(&self, scale: f64) -> Result<(), GeometryError> {
+        let samples = |l: usize| -> Vec<Point> {
+            self.curves[self.loop_range(l)]
+                .iter()
+                .flat_map(|c| match c {
+                    Curve::Polyline { points } => points.to_vec(),
+                    _ => (0..64).map(|i| c.point_at(i as f64 / 64.0)).collect(),
+                })
+                .collect()
+        };
+        let tol = 1e-9 * scale;
+        for l in 1..self.loop_count() {
+            let hole = l - 1;
+            let fail = |reason: String| Err(GeometryError::Hole { hole, reason });
+            let first = self.loop_range(l).start;
+            if self.loop_area(l).is_nan() || self.loop_area(l) >= 0.0 {
+                return fail(format!(
+                    "its loop (from curve {first}) runs counter-clockwise: a hole's loop runs clockwise, the body on its left"
+                ));
+            }
+            let points = samples(l);
+            let inside = |m: usize, p: Point| {
+                self.curves[self.loop_range(m)].iter().map(|c| c.ray_crossings(p)).sum::<usize>()
+                    % 2
+                    == 1
+            };
+            let gap = |m: usize| {
+                let curves = &self.curves[self.loop_range(m)];
+                points
+                    .iter()
+                    .map(|&p| curves.iter().map(|c| c.distance(p)).fold(f64::INFINITY, f64::min))
+                    .fold(f64::INFINITY, f64::min)
+            };
+            if gap(0) <= tol {
+                return fail("touches or crosses the body's outer boundary".into());
+            }
+            if let Some(p) = points.iter().find(|&&p| !inside(0, p)) {
+                let what = if points.iter().any(|&p| inside(0, p)) {
+                    "crosses the body's outer boundary"
+                } else {
+                    "lies outside the body"
+                };
+                return fail(format!(
+                    "{what}: its point ({:.6}, {:.6}) is not inside the outer boundary",
+                    p[0], p[1]
+                ));
+            }
+            // Against the earlier holes, both ways (one inside the other, or crossing).
+            for m in 1..l {
+                let contains_other = samples(m).iter().any(|&p| inside(l, p));
+                if gap(m) <= tol || points.iter().any(|&p| inside(m, p)) || contains_other {
+                    return fail(format!("overlaps or touches hole {}", m - 1));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The least distance from loop `l` to the other loops (the width of the narrowest
+    /// ligament next to it), measured from its curves' points and 64 points along each
+    /// segment or arc; infinite for a domain with one loop.
+    pub fn loop_clearance(&self, l: usize) -> f64 {
+        let points: Vec<Point> = self.curves[self.loop_range(l)]
+            .iter()
+            .flat_map(|c| match c {
+                Curve::Polyline { points } => points.to_vec(),
+                _ => (0..64).map(|i| c.point_at(i as f64 / 64.0)).collect(),
+            })
+            .collect();
+        (0..self.loop_count())
+            .filter(|&m| m != l)
+            .flat_map(|m| self.curves[self.loop_range(m)].iter())
+            .flat_map(|c| points.iter().map(move |&p| c.distance(p)))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// This domain with `holes` cut out of it: each hole is given as the domain of the region
+    /// removed (its outer loop, counter-clockwise, as a body's), which becomes a clockwise
+    /// loop of this domain (curves reversed, names kept), after this domain's loops.
+    ///
+    /// # Errors
+    /// As [`Self::from_loops`]: [`GeometryError::Hole`] (numbered from this domain's first
+    /// hole) for a hole outside the body, touching or crossing another loop; a given hole
+    /// with holes of its own; [`GeometryError::EdgeNames`] for a repeated name.
+    pub fn with_holes(self, holes: Vec<Domain>) -> Result<Self, GeometryError> {
+        let first = self.loop_count() - 1;
+        let mut loops: Vec<Vec<Curve>> =
+            (0..self.loop_count()).map(|l| self.curves[self.loop_range(l)].to_vec()).collect();
+        let mut names = self.edge_names;
+        for (i, hole) in holes.into_iter().enumerate() {
+            if hole.has_holes() {
+                return Err(GeometryError::Hole {
+                    hole: first + i,
+                    reason: "a hole cannot have holes of its own".into(),
+                });
+            }
+            loops.push(hole.curves.iter().rev().map(Curve::reversed).collect());
+            names.extend(hole.edge_names.into_iter().rev());
+        }
+        Self::from_loops(loops, names)
+    }
+
+    /// Number of boundary loops (1 + the number of holes).
+    pub fn loop_count(&self) -> usize {
+        self.loop_ends.len()
+    }
+
+    /// Whether the body has holes (more than one boundary loop).
+    pub fn has_holes(&self) -> bool {
+        self.loop_ends.len() > 1
+    }
+
+    /// The edges (curve indices) of loop `l` (0: the outer loop, then the holes).
+    pub fn loop_range(&self, l: usize) -> std::ops::Range<usize> {
+        let start = if l == 0 { 0 } else { self.loop_ends[l - 1] };
+        start..self.loop_ends[l]
+    }
+
+    /// The loop edge `k` belongs to.
+    pub fn loop_of(&self, k: usize) -> usize {
+        self.loop_ends.iter().position(|&e| k < e).unwrap_or(self.loop_ends.len() - 1)
+    }
+
+    /// The edge after edge `k` along its loop (the loop's first after its last).
+    pub fn next_in_loop(&self, k: usize) -> usize {
+        next_in_loop(&self.loop_ends, k)
+    }
+
+    /// Signed area enclosed by loop `l` (positive counter-clockwise).
+    fn loop_area(&self, l: usize) -> f64 {
+        self.curves[self.loop_range(l)].iter().map(curve_area).sum()
     }
 
     /// The axis-aligned rectangle `[x0, x1] × [y0, y1]` with edges named
@@ -630,55 +851,40 @@ impl Domain {
         (lo, hi)
     }
 
-    /// Area enclosed by the exact loop (shoelace over the chords plus the circular segments).
+    /// Area enclosed by the exact loops (shoelace over the chords plus the circular segments;
+    /// the holes' clockwise loops subtract theirs).
     pub fn area(&self) -> f64 {
-        self.curves
-            .iter()
-            .map(|c| {
-                let (a, b) = (c.start(), c.end());
-                let chord = 0.5 * (a[0] * b[1] - b[0] * a[1]);
-                match *c {
-                    Curve::Segment { .. } => chord,
-                    Curve::Arc { radius, sweep, .. } => {
-                        let th = sweep.abs();
-                        chord + sweep.signum() * 0.5 * radius * radius * (th - th.sin())
-                    }
-                    Curve::Polyline { ref points } => points
-                        .windows(2)
-                        .map(|w| 0.5 * (w[0][0] * w[1][1] - w[1][0] * w[0][1]))
-                        .sum(),
-                }
-            })
-            .sum()
+        self.curves.iter().map(curve_area).sum()
     }
 
-    /// Centroid of the enclosed area (of a fine polygonal approximation).
+    /// Centroid of the enclosed area (of a fine polygonal approximation of each loop).
     pub fn centroid(&self) -> Point {
-        // Every loop has at least 3 vertices here: 3 segments, or an arc (256 points).
-        let pts: Vec<Point> = self
-            .curves
-            .iter()
-            .flat_map(|c| match c {
-                Curve::Polyline { points } => points[..points.len() - 1].to_vec(),
-                _ => {
-                    let n = if c.is_straight() { 1 } else { 256 };
-                    (0..n).map(|i| c.point_at(i as f64 / n as f64)).collect()
-                }
-            })
-            .collect();
         let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
-        for k in 0..pts.len() {
-            let (p, q) = (pts[k], pts[(k + 1) % pts.len()]);
-            let w = p[0] * q[1] - q[0] * p[1];
-            a += w;
-            cx += (p[0] + q[0]) * w;
-            cy += (p[1] + q[1]) * w;
+        for l in 0..self.loop_count() {
+            // Every loop has at least 3 vertices here: 3 segments, or an arc (256 points).
+            let pts: Vec<Point> = self.curves[self.loop_range(l)]
+                .iter()
+                .flat_map(|c| match c {
+                    Curve::Polyline { points } => points[..points.len() - 1].to_vec(),
+                    _ => {
+                        let n = if c.is_straight() { 1 } else { 256 };
+                        (0..n).map(|i| c.point_at(i as f64 / n as f64)).collect()
+                    }
+                })
+                .collect();
+            for k in 0..pts.len() {
+                let (p, q) = (pts[k], pts[(k + 1) % pts.len()]);
+                let w = p[0] * q[1] - q[0] * p[1];
+                a += w;
+                cx += (p[0] + q[0]) * w;
+                cy += (p[1] + q[1]) * w;
+            }
         }
         [cx / (3.0 * a), cy / (3.0 * a)]
     }
 
-    /// Whether `p` lies inside the exact loop (even–odd rule; points on the boundary may go
-    /// either way).
+    /// Whether `p` lies inside the exact loops (even–odd rule over every loop: inside the
+    /// outer one and outside the holes; points on the boundary may go either way).
     pub fn contains(&self, p: Point) -> bool {
         self.curves.iter().map(|c| c.ray_crossings(p)).sum::<usize>() % 2 == 1
     }
@@ -700,15 +906,28 @@ impl Domain {
         self.curves[k].parameter(p)
     }
 
-    /// The polygonal approximation used by the discretisation at nominal spacing `h`:
-    /// vertices counter-clockwise, and for each polygon edge (from vertex `i` to `i + 1`) the
-    /// domain edge it approximates. Straight edges are kept whole; an arc becomes the chords
-    /// between its [`Curve::divisions`]`(h)` equally spaced points, which are exactly the
-    /// arc's boundary nodes; a polyline is kept (its points are its boundary nodes).
+    /// The polygonal approximation of the outer loop used by the discretisation at nominal
+    /// spacing `h`: vertices counter-clockwise, and for each polygon edge (from vertex `i` to
+    /// `i + 1`) the domain edge it approximates. Straight edges are kept whole; an arc becomes
+    /// the chords between its [`Curve::divisions`]`(h)` equally spaced points, which are
+    /// exactly the arc's boundary nodes; a polyline is kept (its points are its boundary
+    /// nodes). A domain with holes has one such ring per loop: [`Self::boundary_rings`].
     pub fn boundary_polygon(&self, h: f64) -> (Vec<Point>, Vec<u32>) {
+        self.ring(0, h)
+    }
+
+    /// The polygonal approximation of every loop, as [`Self::boundary_polygon`]: the outer
+    /// ring (counter-clockwise) first, then one clockwise ring per hole.
+    pub fn boundary_rings(&self, h: f64) -> Vec<(Vec<Point>, Vec<u32>)> {
+        (0..self.loop_count()).map(|l| self.ring(l, h)).collect()
+    }
+
+    /// The polygonal approximation of loop `l` ([`Self::boundary_polygon`]).
+    fn ring(&self, l: usize, h: f64) -> (Vec<Point>, Vec<u32>) {
         let mut vertices = Vec::new();
         let mut labels = Vec::new();
-        for (k, c) in self.curves.iter().enumerate() {
+        for k in self.loop_range(l) {
+            let c = &self.curves[k];
             if c.is_straight() {
                 vertices.push(c.start());
                 labels.push(k as u32);
@@ -911,6 +1130,51 @@ mod tests {
         curves[4] = bad;
         let e = Domain::from_curves(curves, d.edge_names().to_vec()).unwrap_err();
         assert!(e.to_string().contains("piece 0"), "{e}");
+    }
+
+    #[test]
+    fn holes_are_clockwise_loops_inside_the_body() {
+        let outer = || Domain::rectangle([-3.0, 3.0], [-2.0, 2.0]).unwrap();
+        let disk = |c: Point, r: f64, name: &str| {
+            let p = [c[0] + r, c[1]];
+            Domain::from_curves(vec![Curve::arc_between(p, p, c, true)], vec![name.into()]).unwrap()
+        };
+        let d = outer().with_holes(vec![disk([-1.0, 0.0], 0.5, "a"), disk([1.5, 0.5], 0.4, "b")]);
+        let d = d.unwrap();
+        assert_eq!((d.loop_count(), d.edge_count()), (3, 6));
+        assert_eq!((d.loop_of(3), d.loop_of(4), d.loop_of(5)), (0, 1, 2));
+        assert_eq!((d.next_in_loop(3), d.next_in_loop(4), d.next_in_loop(5)), (0, 4, 5));
+        assert!((d.area() - (24.0 - PI * (0.25 + 0.16))).abs() < 1e-12);
+        // Ligaments: hole a to the left side 1.5, hole b to the top 1.1 (sampled: within 1e-3).
+        assert!((d.loop_clearance(1) - 1.5).abs() < 1e-3, "{}", d.loop_clearance(1));
+        assert!((d.loop_clearance(2) - 1.1).abs() < 1e-3, "{}", d.loop_clearance(2));
+        // Outward normals of a hole point into it; inside test excludes the holes.
+        let n = d.outward_normal_at(4, [-0.5, 0.0]);
+        assert!((n[0] + 1.0).abs() < 1e-12 && n[1].abs() < 1e-12, "{n:?}");
+        assert!(!d.contains([-1.0, 0.0]) && !d.contains([1.5, 0.5]) && d.contains([0.3, 0.0]));
+        // A ray at the centre's height (the full circle's seam) still counts both sides.
+        assert!(d.contains([-2.0, -1e-16]) && d.contains([-2.0, 1e-16]));
+        let rings = d.boundary_rings(0.1);
+        assert_eq!(rings.len(), 3);
+        assert_eq!(rings[0], d.boundary_polygon(0.1));
+        let c = outer().with_holes(vec![disk([1.0, 0.0], 0.5, "a")]).unwrap().centroid();
+        // Centroid of the plate minus the disk: −(π/4 · 1) / (24 − π/4).
+        assert!((c[0] + PI / 4.0 / (24.0 - PI / 4.0)).abs() < 1e-4 && c[1].abs() < 1e-12);
+        // Refusals: outside, touching, overlapping, nested, a clockwise hole, a repeated name.
+        let bad = |holes: Vec<Domain>| outer().with_holes(holes).unwrap_err().to_string();
+        assert!(bad(vec![disk([5.0, 0.0], 0.5, "a")]).contains("outside"));
+        assert!(bad(vec![disk([2.5, 0.0], 0.5, "a")]).contains("touches or crosses"));
+        assert!(bad(vec![disk([2.7, 0.0], 0.5, "a")]).contains("crosses the body's outer"));
+        let e = bad(vec![disk([0.0, 0.0], 0.5, "a"), disk([0.6, 0.0], 0.5, "b")]);
+        assert!(e.contains("hole 1: overlaps or touches hole 0"), "{e}");
+        let e = bad(vec![disk([0.0, 0.0], 0.5, "a"), disk([0.0, 0.0], 1.0, "b")]);
+        assert!(e.contains("hole 1: overlaps"), "{e}");
+        assert!(bad(vec![disk([0.0, 0.0], 0.5, "left")]).contains("repeated name"));
+        let ccw = Domain::from_loops(
+            vec![outer().curves().to_vec(), disk([0.0, 0.0], 0.5, "a").curves().to_vec()],
+            ["bottom", "right", "top", "left", "a"].map(String::from).to_vec(),
+        );
+        assert!(ccw.unwrap_err().to_string().contains("runs counter-clockwise"));
     }
 
     #[test]

@@ -90,6 +90,8 @@ impl Nodes {
 /// and the points of a grid of spacing `h` inside the loop, at least `0.7 h` from straight
 /// edges and `1.6 h` from arcs (so that no interior node's cell reaches the boundary);
 /// there, a jittered interior node that would come closer than `0.7 h` keeps its position.
+/// Domains with holes are laid out the same way, whatever their curves: nodes on every
+/// loop, the layer inside each hole's arcs too, the grid outside the holes.
 ///
 /// # Errors
 /// [`GeometryError::Spacing`] when `h` is not positive or leaves fewer than two intervals
@@ -116,12 +118,12 @@ pub fn generate(domain: &Domain, h: f64, layout: Layout) -> Result<Nodes, Geomet
     }
     let mut points = match domain.as_rectangle() {
         Some((x, y)) => rectangle_grid(x, y, h),
-        None if domain.is_polygon() => polygon_grid(domain, h),
+        None if domain.is_polygon() && !domain.has_holes() => polygon_grid(domain, h),
         None => curved_grid(domain, h),
     };
     let edges = tag_edges(domain, &points, 1e-9 * h);
     if let Layout::Jittered { amplitude, seed } = layout {
-        let curved = !domain.is_polygon();
+        let curved = !domain.is_polygon() || domain.has_holes();
         let mut rng = SplitMix64::new(seed);
         for (p, on) in points.iter_mut().zip(&edges) {
             // Draw for every node so the sequence does not depend on the boundary test.
@@ -451,8 +453,9 @@ fn curved_grid(domain: &Domain, h: f64) -> Vec<Point> {
     for (k, c) in curves.iter().enumerate().filter(|(_, c)| !c.is_straight()) {
         let division = c.division_points(h);
         let n = division.len() - 1;
-        // The end's layer node belongs to the next curve when that is an arc too.
-        let last = if curves[(k + 1) % curves.len()].is_straight() { n } else { n - 1 };
+        // The end's layer node belongs to the next curve (of the same loop) when that is an
+        // arc too.
+        let last = if curves[domain.next_in_loop(k)].is_straight() { n } else { n - 1 };
         for &b in &division[..=last] {
             let nrm = c.outward_normal_at(b);
             let p = [b[0] - h * nrm[0], b[1] - h * nrm[1]];

@@ -1304,3 +1304,94 @@ fn gmsh_obstacle_runs_and_bad_curves_name_the_key() {
     println!("gmsh_obstacle_bad_number: {}", stderr.lines().next().unwrap_or(""));
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A square plate with a disk hole and a square hole, pressure on the disk hole's edge.
+const HOLES: &str = r#"
+[geometry]
+kind = "rectangle"
+x = [-2.0, 2.0]
+y = [-2.0, 2.0]
+holes = [
+    { kind = "disk", center = [-0.6, 0.5], radius = 0.8, name = "bore" },
+    { kind = "polygon", vertices = [[0.4, -1.2], [1.2, -1.2], [1.2, -0.4], [0.4, -0.4]], edges = ["s0", "s1", "s2", "s3"] },
+]
+[nodes]
+spacing = 0.2
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0, y = 0.0 }
+[[boundary]]
+edge = "bore"
+pressure = 1.0
+"#;
+
+#[test]
+fn holes_run_and_bad_holes_name_the_key() {
+    let (code, stderr) = run_text("holes_ok", HOLES);
+    assert_eq!(code, Some(0), "{stderr}");
+    let disk = "{ kind = \"disk\", center = [-0.6, 0.5], radius = 0.8, name = \"bore\" }";
+    let with_second = |second: &str| HOLES.replacen(disk, &format!("{disk},\n    {second}"), 1);
+    let cases: &[(&str, String, &str)] = &[
+        (
+            "hole_outside",
+            with_second("{ kind = \"disk\", center = [3.0, 3.0], radius = 0.5 }"),
+            "geometry.holes[1]",
+        ),
+        (
+            "hole_touching",
+            with_second("{ kind = \"disk\", center = [1.5, 1.0], radius = 0.5 }"),
+            "touches or crosses the body's outer boundary",
+        ),
+        (
+            "hole_thin_ligament",
+            with_second("{ kind = \"disk\", center = [1.5, 1.0], radius = 0.45 }"),
+            "ligament 0.050000 wide",
+        ),
+        (
+            "hole_crossing",
+            with_second("{ kind = \"disk\", center = [1.8, 1.0], radius = 0.5 }"),
+            "geometry.holes[1]",
+        ),
+        (
+            "hole_overlapping",
+            with_second("{ kind = \"disk\", center = [0.1, 0.5], radius = 0.3 }"),
+            "overlaps or touches hole 0",
+        ),
+        (
+            "hole_inside_a_hole",
+            with_second("{ kind = \"disk\", center = [-0.6, 0.5], radius = 0.3 }"),
+            "geometry.holes[1]",
+        ),
+        ("hole_name_taken", HOLES.replace("name = \"bore\"", "name = \"left\""), "repeated name"),
+        (
+            "hole_unknown_key",
+            HOLES.replace("radius = 0.8,", "radius = 0.8, radii = 1.0,"),
+            "geometry.holes[0]",
+        ),
+        (
+            "hole_foreign_key",
+            HOLES.replace("radius = 0.8,", "radius = 0.8, edges = [\"a\"],"),
+            "`edges` is not a key of a hole of kind = \"disk\"",
+        ),
+        ("hole_radius", HOLES.replace("radius = 0.8", "radius = -0.8"), "geometry.holes[0].radius"),
+        (
+            "hole_clockwise_polygon",
+            HOLES.replace("[[0.4, -1.2], [1.2, -1.2]", "[[1.2, -1.2], [0.4, -1.2]"),
+            "geometry.holes[1]",
+        ),
+        (
+            "holes_on_gmsh",
+            HOLES.replace(
+                "kind = \"rectangle\"\nx = [-2.0, 2.0]\ny = [-2.0, 2.0]",
+                "kind = \"gmsh\"\nfile = \"a.msh\"",
+            ),
+            "`holes` is not a key of kind = \"gmsh\"",
+        ),
+        ("holes_with_fem", format!("{HOLES}[discretisation]\nmethod = \"fem\"\n"), "no holes"),
+    ];
+    expect_refusals(cases);
+}

@@ -24,6 +24,8 @@ mod validation {
     mod stack;
     // Plate with a circular hole (Kirsch): curved, non-convex boundary; errors and rates.
     mod kirsch;
+    // Bodies with holes: patch test, the full Kirsch plate from curves and from Gmsh, FE.
+    mod holes;
     // Hertz: elastic cylinder (quarter disk) on a rigid flat; half-width, peak, profile.
     mod hertz;
     // Kirsch and Hertz from Gmsh .msh files against their TOML-built twins; mesh nodes.

@@ -629,6 +629,7 @@ fn solution_plots(
         solution.stress.iter().map(|s| problem.material.von_mises(*s)).collect();
     let min_spacing = nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
     let mut lines = vec![outline(&problem.domain, min_spacing, "undeformed outline")];
+    lines.extend(hole_outlines(&problem.domain, min_spacing));
     let mut labels = Vec::new();
     match (problem.contact.map(|s| s.target), &solution.contact) {
         (Some(ContactTarget::Rigid(line)), Some(c)) => {
@@ -754,6 +755,7 @@ pub fn write_node_spacing(
     let mut edge = outline(&problem.domain, min_spacing, "");
     edge.label = None;
     map.lines.push(edge);
+    map.lines.extend(hole_outlines(&problem.domain, min_spacing));
     let stem = plots.join("node_spacing");
     plot::write_colour_map(&stem, &map)?;
     Ok(vec![stem.with_extension("svg"), stem.with_extension("png")])
@@ -781,6 +783,24 @@ fn outline(domain: &Domain, h: f64, label: &str) -> plot::Overlay {
         points: vertices.into_iter().map(|p| (p[0], p[1])).collect(),
         kind: plot::OverlayKind::Outline,
     }
+}
+
+/// The undeformed boundaries of `domain`'s holes, as [`outline`] draws the outer one
+/// (unlabelled; none without holes).
+fn hole_outlines(domain: &Domain, h: f64) -> Vec<plot::Overlay> {
+    domain
+        .boundary_rings(0.5 * h)
+        .into_iter()
+        .skip(1)
+        .map(|(mut vertices, _)| {
+            vertices.push(vertices[0]);
+            plot::Overlay {
+                label: None,
+                points: vertices.into_iter().map(|p| (p[0], p[1])).collect(),
+                kind: plot::OverlayKind::Outline,
+            }
+        })
+        .collect()
 }
 
 /// The rigid obstacle line in a deformed plot magnified `m` times: its distance to the

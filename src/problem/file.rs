@@ -369,6 +369,9 @@ pub enum GeometryFile {
         x: [f64; 2],
         /// `[y0, y1]`.
         y: [f64; 2],
+        /// Holes cut out of the body (`[[geometry.holes]]` or `holes = [{ … }]`).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        holes: Vec<HoleFile>,
     },
     /// `kind = "polygon"`: convex, counter-clockwise `vertices` and one name per edge.
     Polygon {
@@ -376,6 +379,9 @@ pub enum GeometryFile {
         vertices: Vec<[f64; 2]>,
         /// Edge names; edge k runs from vertex k to k+1.
         edges: Vec<String>,
+        /// Holes cut out of the body (`[[geometry.holes]]` or `holes = [{ … }]`).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        holes: Vec<HoleFile>,
     },
     /// `kind = "curves"`: a closed loop of straight segments and circular arcs around the body
     /// (counter-clockwise; the body on the left), from `start` through each curve's `to`,
@@ -385,6 +391,9 @@ pub enum GeometryFile {
         start: [f64; 2],
         /// The curves in order.
         curves: Vec<CurveFile>,
+        /// Holes cut out of the body (`[[geometry.holes]]` or `holes = [{ … }]`).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        holes: Vec<HoleFile>,
     },
     /// `kind = "disk"`: the full disk; its one edge is named `rim`.
     Disk {
@@ -392,6 +401,9 @@ pub enum GeometryFile {
         center: [f64; 2],
         /// Radius (> 0).
         radius: f64,
+        /// Holes cut out of the body (`[[geometry.holes]]` or `holes = [{ … }]`).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        holes: Vec<HoleFile>,
     },
     /// `kind = "gmsh"`: a physical surface of a Gmsh mesh file (MSH 4.1 or 2.2, ASCII); its
     /// edges are the physical curves along its boundary ([`crate::problem::gmsh::MeshBody`]).
@@ -458,6 +470,9 @@ pub struct GeometryTable {
     /// Gmsh: the physical surface.
     #[serde(default)]
     pub surface: Option<String>,
+    /// Every kind but Gmsh: the holes.
+    #[serde(default)]
+    pub holes: Option<Vec<HoleFile>>,
 }
 
 impl TryFrom<GeometryTable> for GeometryFile {
@@ -483,6 +498,13 @@ impl TryFrom<GeometryTable> for GeometryFile {
             ("file", g.file.is_some()),
             ("surface", g.surface.is_some()),
         ];
+        if g.holes.is_some() && g.kind == GeometryKind::Gmsh {
+            return Err(
+                "`holes` is not a key of kind = \"gmsh\" (the mesh's surface has its own holes: the loops inside its outer boundary)"
+                    .into(),
+            );
+        }
+        let holes = g.holes.unwrap_or_default();
         for (key, present) in given {
             if present && !keys.contains(&key) {
                 return Err(format!(
@@ -496,22 +518,148 @@ impl TryFrom<GeometryTable> for GeometryFile {
             GeometryKind::Rectangle => GeometryFile::Rectangle {
                 x: g.x.ok_or_else(|| missing("x"))?,
                 y: g.y.ok_or_else(|| missing("y"))?,
+                holes,
             },
             GeometryKind::Polygon => GeometryFile::Polygon {
                 vertices: g.vertices.ok_or_else(|| missing("vertices"))?,
                 edges: g.edges.ok_or_else(|| missing("edges"))?,
+                holes,
             },
             GeometryKind::Curves => GeometryFile::Curves {
                 start: g.start.ok_or_else(|| missing("start"))?,
                 curves: g.curves.ok_or_else(|| missing("curves"))?,
+                holes,
             },
             GeometryKind::Disk => GeometryFile::Disk {
                 center: g.center.ok_or_else(|| missing("center"))?,
                 radius: g.radius.ok_or_else(|| missing("radius"))?,
+                holes,
             },
             GeometryKind::Gmsh => GeometryFile::Gmsh {
                 file: g.file.ok_or_else(|| missing("file"))?,
                 surface: g.surface,
+            },
+        })
+    }
+}
+
+/// A hole in a `[geometry]` (`holes = [{ kind = "disk", … }, …]`): the region cut out of
+/// the body, described as a body would be (its outline counter-clockwise; the body then lies
+/// outside it). Read through the flat [`HoleTable`].
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(try_from = "HoleTable", tag = "kind", rename_all = "snake_case")]
+pub enum HoleFile {
+    /// `kind = "disk"`: a circular hole; its one edge is named `name` (default `hole`, or
+    /// `hole<k>` for `holes[k]` when there are several).
+    Disk {
+        /// Centre.
+        center: [f64; 2],
+        /// Radius (> 0).
+        radius: f64,
+        /// The edge name.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+    },
+    /// `kind = "polygon"`: a convex polygonal hole, counter-clockwise `vertices` and one name
+    /// per edge.
+    Polygon {
+        /// Vertices `[[x, y], …]`.
+        vertices: Vec<[f64; 2]>,
+        /// Edge names; edge k runs from vertex k to k+1.
+        edges: Vec<String>,
+    },
+    /// `kind = "curves"`: a hole bounded by a loop of segments and arcs, from `start` through
+    /// each curve's `to` (counter-clockwise around the hole; arcs `turn = "ccw"` bulge out of
+    /// it), each curve one named edge.
+    Curves {
+        /// Start point of the loop.
+        start: [f64; 2],
+        /// The curves in order.
+        curves: Vec<CurveFile>,
+    },
+}
+
+/// The `kind` of a hole.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HoleKind {
+    /// `center`, `radius`, `name`.
+    Disk,
+    /// `vertices`, `edges`.
+    Polygon,
+    /// `start`, `curves`.
+    Curves,
+}
+
+/// A hole as written: `kind` and the union of every kind's keys ([`HoleFile`]).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HoleTable {
+    /// The kind.
+    pub kind: HoleKind,
+    /// Disk: the centre.
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub center: Option<[f64; 2]>,
+    /// Disk: the radius.
+    #[serde(default)]
+    pub radius: Option<f64>,
+    /// Disk: the edge name.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Polygon: vertices.
+    #[serde(default, deserialize_with = "exact::optional_pairs")]
+    pub vertices: Option<Vec<[f64; 2]>>,
+    /// Polygon: edge names.
+    #[serde(default)]
+    pub edges: Option<Vec<String>>,
+    /// Curves: the start point.
+    #[serde(default, deserialize_with = "exact::optional_pair")]
+    pub start: Option<[f64; 2]>,
+    /// Curves: the curves.
+    #[serde(default)]
+    pub curves: Option<Vec<CurveFile>>,
+}
+
+impl TryFrom<HoleTable> for HoleFile {
+    type Error = String;
+
+    fn try_from(g: HoleTable) -> Result<Self, String> {
+        let (kind, keys): (&str, &[&str]) = match g.kind {
+            HoleKind::Disk => ("disk", &["center", "radius", "name"]),
+            HoleKind::Polygon => ("polygon", &["vertices", "edges"]),
+            HoleKind::Curves => ("curves", &["start", "curves"]),
+        };
+        let given = [
+            ("center", g.center.is_some()),
+            ("radius", g.radius.is_some()),
+            ("name", g.name.is_some()),
+            ("vertices", g.vertices.is_some()),
+            ("edges", g.edges.is_some()),
+            ("start", g.start.is_some()),
+            ("curves", g.curves.is_some()),
+        ];
+        for (key, present) in given {
+            if present && !keys.contains(&key) {
+                return Err(format!(
+                    "`{key}` is not a key of a hole of kind = \"{kind}\" (its keys are {})",
+                    keys.join(", ")
+                ));
+            }
+        }
+        let missing = |key: &str| format!("a hole of kind = \"{kind}\" needs `{key}`");
+        Ok(match g.kind {
+            HoleKind::Disk => HoleFile::Disk {
+                center: g.center.ok_or_else(|| missing("center"))?,
+                radius: g.radius.ok_or_else(|| missing("radius"))?,
+                name: g.name,
+            },
+            HoleKind::Polygon => HoleFile::Polygon {
+                vertices: g.vertices.ok_or_else(|| missing("vertices"))?,
+                edges: g.edges.ok_or_else(|| missing("edges"))?,
+            },
+            HoleKind::Curves => HoleFile::Curves {
+                start: g.start.ok_or_else(|| missing("start"))?,
+                curves: g.curves.ok_or_else(|| missing("curves"))?,
             },
         })
     }

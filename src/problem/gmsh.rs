@@ -272,16 +272,6 @@ pub enum GmshErrorKind {
         /// Line of the element.
         element_line: usize,
     },
-    /// The surface has holes (several boundary loops).
-    #[error(
-        "surface `{name}` has {loops} boundary loops: bodies with holes are not supported yet (cut the body so that its boundary is one loop, as the quarter plate's hole is)"
-    )]
-    Holes {
-        /// The surface name.
-        name: String,
-        /// Number of loops.
-        loops: usize,
-    },
     /// Boundary edges on no physical curve.
     #[error(
         "the boundary of surface `{name}` from node {from} to node {to} lies on no physical curve: every boundary curve needs a Physical Curve (its edge name)"
@@ -913,65 +903,67 @@ impl Mesh {
         Ok(backward.into_iter().map(|n| self.points[n]).collect())
     }
 
-    /// The body of physical surface `name` ([`MeshBody`]): its boundary loop as a [`Domain`]
-    /// whose edges are the physical curves along it, and its nodes.
+    /// The body of physical surface `name` ([`MeshBody`]): its boundary loops (the outer one,
+    /// then each hole's) as a [`Domain`] whose edges are the physical curves along them, and
+    /// its nodes.
     ///
     /// # Errors
-    /// As [`Self::boundary`]; [`GmshErrorKind::Holes`] for several loops,
-    /// [`GmshErrorKind::UnnamedBoundary`], [`GmshErrorKind::SplitCurve`], and
+    /// As [`Self::boundary`]; [`GmshErrorKind::UnnamedBoundary`], [`GmshErrorKind::SplitCurve`], and
     /// [`GmshErrorKind::Domain`] when the loop is not a valid domain.
     pub fn body(&self, name: &str) -> Result<MeshBody, GmshError> {
         let fail = |kind| GmshError { line: None, kind };
         let loops = self.boundary(name)?;
-        if loops.len() != 1 {
-            return Err(fail(GmshErrorKind::Holes { name: name.into(), loops: loops.len() }));
-        }
-        let edges = &loops[0].edges;
-        // Runs of equally named edges (the loop starts where the names change).
-        let mut runs: Vec<(Option<String>, Vec<usize>)> = Vec::new();
-        for e in edges {
-            let nodes = [e.middle, Some(e.b)].into_iter().flatten();
-            match runs.last_mut() {
-                Some((n, list)) if *n == e.name => list.extend(nodes),
-                _ => runs.push((e.name.clone(), std::iter::once(e.a).chain(nodes).collect())),
+        let mut curves_of_loops = Vec::with_capacity(loops.len());
+        let mut names = Vec::new();
+        for boundary_loop in &loops {
+            let edges = &boundary_loop.edges;
+            // Runs of equally named edges (the loop starts where the names change).
+            let mut runs: Vec<(Option<String>, Vec<usize>)> = Vec::new();
+            for e in edges {
+                let nodes = [e.middle, Some(e.b)].into_iter().flatten();
+                match runs.last_mut() {
+                    Some((n, list)) if *n == e.name => list.extend(nodes),
+                    _ => runs.push((e.name.clone(), std::iter::once(e.a).chain(nodes).collect())),
+                }
             }
-        }
-        let mut curves = Vec::with_capacity(runs.len());
-        let mut names = Vec::with_capacity(runs.len());
-        for (curve, list) in &runs {
-            let Some(curve) = curve else {
-                return Err(fail(GmshErrorKind::UnnamedBoundary {
-                    name: name.into(),
-                    from: self.node_tags[list[0]],
-                    to: self.node_tags[list[list.len() - 1]],
-                }));
-            };
-            let count = runs.iter().filter(|(n, _)| n.as_ref() == Some(curve)).count();
-            if count > 1 {
-                return Err(fail(GmshErrorKind::SplitCurve {
-                    name: name.into(),
-                    curve: curve.clone(),
-                    runs: count,
-                }));
-            }
-            let points: Vec<Point> = list.iter().map(|&i| self.points[i]).collect();
-            let (a, b) = (points[0], points[points.len() - 1]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            let len = dx.hypot(dy);
-            let straight = len > 0.0
-                && points.iter().all(|p| {
-                    ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() <= 1e-12 * len * len
-                        && (p[0] - a[0]) * dx + (p[1] - a[1]) * dy >= -1e-12 * len * len
-                        && (p[0] - b[0]) * dx + (p[1] - b[1]) * dy <= 1e-12 * len * len
+            let mut curves = Vec::with_capacity(runs.len());
+            for (curve, list) in &runs {
+                let Some(curve) = curve else {
+                    return Err(fail(GmshErrorKind::UnnamedBoundary {
+                        name: name.into(),
+                        from: self.node_tags[list[0]],
+                        to: self.node_tags[list[list.len() - 1]],
+                    }));
+                };
+                let count = runs.iter().filter(|(n, _)| n.as_ref() == Some(curve)).count()
+                    + usize::from(names.contains(curve));
+                if count > 1 {
+                    return Err(fail(GmshErrorKind::SplitCurve {
+                        name: name.into(),
+                        curve: curve.clone(),
+                        runs: count,
+                    }));
+                }
+                let points: Vec<Point> = list.iter().map(|&i| self.points[i]).collect();
+                let (a, b) = (points[0], points[points.len() - 1]);
+                let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+                let len = dx.hypot(dy);
+                let straight = len > 0.0
+                    && points.iter().all(|p| {
+                        ((p[0] - a[0]) * dy - (p[1] - a[1]) * dx).abs() <= 1e-12 * len * len
+                            && (p[0] - a[0]) * dx + (p[1] - a[1]) * dy >= -1e-12 * len * len
+                            && (p[0] - b[0]) * dx + (p[1] - b[1]) * dy <= 1e-12 * len * len
+                    });
+                curves.push(if straight {
+                    Curve::Segment { a, b }
+                } else {
+                    Curve::Polyline { points: Arc::from(points) }
                 });
-            curves.push(if straight {
-                Curve::Segment { a, b }
-            } else {
-                Curve::Polyline { points: Arc::from(points) }
-            });
-            names.push(curve.clone());
+            }
+            names.extend(runs.into_iter().filter_map(|(n, _)| n));
+            curves_of_loops.push(curves);
         }
-        let domain = Domain::from_curves(curves, names).map_err(|e| {
+        let domain = Domain::from_loops(curves_of_loops, names).map_err(|e| {
             fail(GmshErrorKind::Domain { name: name.into(), reason: e.to_string() })
         })?;
         // The surface's nodes and their spacing.

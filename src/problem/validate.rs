@@ -3,7 +3,7 @@
 
 use super::file::*;
 use super::*;
-use crate::geometry::{Curve, Domain, projects_onto};
+use crate::geometry::{Curve, Domain, GeometryError, projects_onto};
 use crate::material::Material;
 
 /// The largest magnitude accepted for a coordinate, a load or a modulus: products of two such
@@ -375,8 +375,8 @@ fn gmsh_obstacle(
 
 /// `[geometry]` → the domain, and for a Gmsh geometry the nodes of its mesh.
 fn domain(geometry: &GeometryFile) -> Result<(Domain, Option<gmsh::MeshBody>), ProblemError> {
-    match geometry {
-        GeometryFile::Rectangle { x, y } => {
+    let (outer, holes) = match geometry {
+        GeometryFile::Rectangle { x, y, holes } => {
             for (name, v) in [("geometry.x", x), ("geometry.y", y)] {
                 check_finite(name, v[0])?;
                 check_finite(name, v[1])?;
@@ -384,74 +384,125 @@ fn domain(geometry: &GeometryFile) -> Result<(Domain, Option<gmsh::MeshBody>), P
                     return Err(invalid(name, format!("{v:?}"), "needs min < max"));
                 }
             }
-            Domain::rectangle(*x, *y)
+            (Domain::rectangle(*x, *y), holes)
         }
-        GeometryFile::Polygon { vertices, edges } => {
-            for v in vertices {
-                check_finite("geometry.vertices", v[0])?;
-                check_finite("geometry.vertices", v[1])?;
-            }
-            Domain::polygon(vertices.clone(), edges.clone())
+        GeometryFile::Polygon { vertices, edges, holes } => {
+            (polygon_domain("geometry.", vertices, edges)?, holes)
         }
-        GeometryFile::Curves { start, curves } => {
-            check_finite("geometry.start", start[0])?;
-            check_finite("geometry.start", start[1])?;
-            let mut from = *start;
-            let mut list = Vec::with_capacity(curves.len());
-            for (i, c) in curves.iter().enumerate() {
-                let field = |f: &str| format!("geometry.curves[{i}].{f}");
-                check_finite(&field("to"), c.to[0])?;
-                check_finite(&field("to"), c.to[1])?;
-                let curve = match c.center {
-                    None => {
-                        if let Some(turn) = c.turn {
-                            return Err(invalid(
-                                &field("turn"),
-                                format!("{turn:?}").to_lowercase(),
-                                "only used with `center` (arcs)",
-                            ));
-                        }
-                        Curve::Segment { a: from, b: c.to }
-                    }
-                    Some(center) => {
-                        check_finite(&field("center"), center[0])?;
-                        check_finite(&field("center"), center[1])?;
-                        let ccw = c.turn.unwrap_or_default() == Turn::Ccw;
-                        let r0 = (from[0] - center[0]).hypot(from[1] - center[1]);
-                        let r1 = (c.to[0] - center[0]).hypot(c.to[1] - center[1]);
-                        if r0 <= 0.0 || (r1 - r0).abs() > 1e-9 * r0 {
-                            return Err(invalid(
-                                &field("center"),
-                                format!("{center:?}"),
-                                format!(
-                                    "the start point is at distance {r0} from the centre but `to` is at {r1}: both must lie on the arc's circle"
-                                ),
-                            ));
-                        }
-                        Curve::arc_between(from, c.to, center, ccw)
-                    }
-                };
-                list.push(curve);
-                from = c.to;
-            }
-            Domain::from_curves(list, curves.iter().map(|c| c.name.clone()).collect())
+        GeometryFile::Curves { start, curves, holes } => {
+            (curves_domain("geometry.", start, curves)?, holes)
         }
-        GeometryFile::Disk { center, radius } => {
-            check_finite("geometry.center", center[0])?;
-            check_finite("geometry.center", center[1])?;
-            if !(radius.is_finite() && *radius > 0.0) {
-                return Err(invalid("geometry.radius", radius, "must be a positive number"));
-            }
-            let p = [center[0] + radius, center[1]];
-            Domain::from_curves(vec![Curve::arc_between(p, p, *center, true)], vec!["rim".into()])
+        GeometryFile::Disk { center, radius, holes } => {
+            (disk_domain("geometry.", center, *radius, "rim")?, holes)
         }
         GeometryFile::Gmsh { file, surface } => {
             let body = gmsh_body(file, surface.as_deref())?;
             return Ok((body.domain.clone(), Some(body)));
         }
+    };
+    let outer = outer.map_err(|e| invalid("geometry", "", e.to_string()))?;
+    if holes.is_empty() {
+        return Ok((outer, None));
     }
-    .map(|d| (d, None))
-    .map_err(|e| invalid("geometry", "", e.to_string()))
+    let mut cut = Vec::with_capacity(holes.len());
+    for (k, hole) in holes.iter().enumerate() {
+        let prefix = format!("geometry.holes[{k}].");
+        let d = match hole {
+            HoleFile::Disk { center, radius, name } => {
+                let default = if holes.len() == 1 { "hole".into() } else { format!("hole{k}") };
+                let name = name.clone().unwrap_or(default);
+                disk_domain(&prefix, center, *radius, &name)?
+            }
+            HoleFile::Polygon { vertices, edges } => polygon_domain(&prefix, vertices, edges)?,
+            HoleFile::Curves { start, curves } => curves_domain(&prefix, start, curves)?,
+        };
+        cut.push(d.map_err(|e| invalid(&format!("geometry.holes[{k}]"), "", e.to_string()))?);
+    }
+    let domain = outer.with_holes(cut).map_err(|e| match e {
+        GeometryError::Hole { hole, reason } => {
+            invalid(&format!("geometry.holes[{hole}]"), "", format!("the hole {reason}"))
+        }
+        e => invalid("geometry.holes", "", e.to_string()),
+    })?;
+    Ok((domain, None))
+}
+
+/// A convex polygon (`vertices`, `edges` under the key `prefix`).
+fn polygon_domain(
+    prefix: &str,
+    vertices: &[[f64; 2]],
+    edges: &[String],
+) -> Result<Result<Domain, GeometryError>, ProblemError> {
+    for v in vertices {
+        check_finite(&format!("{prefix}vertices"), v[0])?;
+        check_finite(&format!("{prefix}vertices"), v[1])?;
+    }
+    Ok(Domain::polygon(vertices.to_vec(), edges.to_vec()))
+}
+
+/// A disk (`center`, `radius` under the key `prefix`) whose rim is the edge `name`.
+fn disk_domain(
+    prefix: &str,
+    center: &[f64; 2],
+    radius: f64,
+    name: &str,
+) -> Result<Result<Domain, GeometryError>, ProblemError> {
+    check_finite(&format!("{prefix}center"), center[0])?;
+    check_finite(&format!("{prefix}center"), center[1])?;
+    if !(radius.is_finite() && radius > 0.0) {
+        return Err(invalid(&format!("{prefix}radius"), radius, "must be a positive number"));
+    }
+    let p = [center[0] + radius, center[1]];
+    Ok(Domain::from_curves(vec![Curve::arc_between(p, p, *center, true)], vec![name.into()]))
+}
+
+/// A loop of segments and arcs (`start`, `curves` under the key `prefix`).
+fn curves_domain(
+    prefix: &str,
+    start: &[f64; 2],
+    curves: &[CurveFile],
+) -> Result<Result<Domain, GeometryError>, ProblemError> {
+    check_finite(&format!("{prefix}start"), start[0])?;
+    check_finite(&format!("{prefix}start"), start[1])?;
+    let mut from = *start;
+    let mut list = Vec::with_capacity(curves.len());
+    for (i, c) in curves.iter().enumerate() {
+        let field = |f: &str| format!("{prefix}curves[{i}].{f}");
+        check_finite(&field("to"), c.to[0])?;
+        check_finite(&field("to"), c.to[1])?;
+        let curve = match c.center {
+            None => {
+                if let Some(turn) = c.turn {
+                    return Err(invalid(
+                        &field("turn"),
+                        format!("{turn:?}").to_lowercase(),
+                        "only used with `center` (arcs)",
+                    ));
+                }
+                Curve::Segment { a: from, b: c.to }
+            }
+            Some(center) => {
+                check_finite(&field("center"), center[0])?;
+                check_finite(&field("center"), center[1])?;
+                let ccw = c.turn.unwrap_or_default() == Turn::Ccw;
+                let r0 = (from[0] - center[0]).hypot(from[1] - center[1]);
+                let r1 = (c.to[0] - center[0]).hypot(c.to[1] - center[1]);
+                if r0 <= 0.0 || (r1 - r0).abs() > 1e-9 * r0 {
+                    return Err(invalid(
+                        &field("center"),
+                        format!("{center:?}"),
+                        format!(
+                            "the start point is at distance {r0} from the centre but `to` is at {r1}: both must lie on the arc's circle"
+                        ),
+                    ));
+                }
+                Curve::arc_between(from, c.to, center, ccw)
+            }
+        };
+        list.push(curve);
+        from = c.to;
+    }
+    Ok(Domain::from_curves(list, curves.iter().map(|c| c.name.clone()).collect()))
 }
 
 /// `[nodes]` → the spacing and the layout (the FE path's restrictions included).
@@ -535,6 +586,25 @@ fn node_layout(
     if domain.area() / (h * h) > 2.0e7 {
         return Err(invalid("nodes.spacing", h, "would create more than 20 million nodes"));
     }
+    // A ligament narrower than the spacing (between a hole and another loop) has no node
+    // inside it: the layout would leave it unresolved.
+    for l in 1..domain.loop_count() {
+        let gap = domain.loop_clearance(l);
+        if gap < h {
+            let key = if mesh.is_some() {
+                "nodes.spacing".to_string()
+            } else {
+                format!("geometry.holes[{}]", l - 1)
+            };
+            return Err(invalid(
+                &key,
+                format!("{gap:.6}"),
+                format!(
+                    "the hole leaves a ligament {gap:.6} wide to the nearest other boundary, narrower than nodes.spacing = {h}: make the spacing finer or the ligament wider"
+                ),
+            ));
+        }
+    }
     let layout = match file.nodes.layout.unwrap_or_default() {
         LayoutKind::Structured => {
             if file.nodes.jitter.is_some() {
@@ -567,9 +637,10 @@ fn node_layout(
                 "discretisation.method = \"fem\" on a Gmsh geometry takes the mesh's own elements: set nodes.from = \"mesh\"",
             ));
         }
-        if !matches!(file.geometry, GeometryFile::Rectangle { .. }) {
+        if !matches!(file.geometry, GeometryFile::Rectangle { holes, .. } if holes.is_empty()) {
             let kind = match file.geometry {
-                GeometryFile::Rectangle { .. } | GeometryFile::Polygon { .. } => "polygon",
+                GeometryFile::Rectangle { .. } => "rectangle (with holes)",
+                GeometryFile::Polygon { .. } => "polygon",
                 GeometryFile::Curves { .. } => "curves",
                 GeometryFile::Disk { .. } => "disk",
                 GeometryFile::Gmsh { .. } => "gmsh",
@@ -577,7 +648,7 @@ fn node_layout(
             return Err(invalid(
                 "geometry.kind",
                 kind,
-                "discretisation.method = \"fem\" meshes rectangles (kind = \"rectangle\") and Gmsh meshes (kind = \"gmsh\" with nodes.from = \"mesh\")",
+                "discretisation.method = \"fem\" meshes rectangles (kind = \"rectangle\", no holes) and Gmsh meshes (kind = \"gmsh\" with nodes.from = \"mesh\")",
             ));
         }
         if layout != Layout::Structured {

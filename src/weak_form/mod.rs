@@ -37,6 +37,19 @@ pub enum CellError {
         /// Where.
         point: Point,
     },
+    /// Every cut joining the holes to the outer boundary passes through a node's cell (the
+    /// holes are too small or too close together for the node spacing).
+    #[error(
+        "the subdomain cell of node {node} at ({x}, {y}) cannot be built: the holes are too small or too close to each other for the node spacing (make the spacing finer than the holes' size and the ligaments between them)",
+        x = point[0],
+        y = point[1]
+    )]
+    HoleCut {
+        /// Node.
+        node: usize,
+        /// Where.
+        point: Point,
+    },
     /// A boundary face on a Dirichlet edge belongs to a node that is not on that edge.
     #[error(
         "the cell of node {node} reaches Dirichlet edge `{edge}` but the node is not on it; refine or regularise the node layout near that edge"

@@ -57,16 +57,36 @@ impl Cell {
 /// exact. Clipping a non-convex start polygon by half-planes is exact as long as each clipped
 /// piece stays connected, which holds when the domain's features are several spacings wide.
 ///
+/// A domain with holes starts from one polygon too: its rings ([`Domain::boundary_rings`])
+/// joined by cuts, a pair of opposite edges from each hole to the ring beyond it
+/// (see `keyhole`). The cuts are drawn in one of four directions (`+x`, `+y`, `−x`, `−y`);
+/// a node whose finished cell still has a cut edge (the cut passes through its cell) is
+/// built again from the next direction's polygon.
+///
 /// # Errors
-/// [`CellError::EmptyCell`] when a node's cell vanishes (duplicate or outside nodes).
+/// [`CellError::EmptyCell`] when a node's cell vanishes (duplicate or outside nodes);
+/// [`CellError::HoleCut`] when every direction's cut passes through a node's cell.
 pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellError> {
     let h = nodes.spacing.iter().fold(0.0f64, |m, &v| m.max(v));
     let grid = NeighbourGrid::new(&nodes.points, 2.0 * h);
-    let (vertices, labels) = domain.boundary_polygon(h);
-    let start = Cell { vertices, labels: labels.into_iter().map(EdgeLabel::Boundary).collect() };
+    let starts: Vec<Cell> = if domain.has_holes() {
+        let rings = domain.boundary_rings(h);
+        CUT_DIRECTIONS.iter().filter_map(|&e| keyhole(&rings, e)).collect()
+    } else {
+        let (vertices, labels) = domain.boundary_polygon(h);
+        vec![Cell { vertices, labels: labels.into_iter().map(EdgeLabel::Boundary).collect() }]
+    };
     (0..nodes.len())
         .into_par_iter()
-        .map_init(Vec::new, |scratch, i| voronoi_cell(i, nodes, &grid, &start, scratch))
+        .map_init(Vec::new, |scratch, i| {
+            for start in &starts {
+                let cell = voronoi_cell(i, nodes, &grid, start, domain.has_holes(), scratch)?;
+                if !cell.labels.contains(&EdgeLabel::Neighbour(CUT)) {
+                    return Ok(cell);
+                }
+            }
+            Err(CellError::HoleCut { node: i, point: nodes.points[i] })
+        })
         .collect()
 }
 
@@ -74,12 +94,90 @@ pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellErro
 const BOX_CLIP_VERTICES: usize = 32;
 /// Label of the box edges (never a node index; none survives in a finished cell).
 const BOX: u32 = u32::MAX;
+/// Label of the cuts joining a hole's ring to the ring beyond it (never a node index).
+const CUT: u32 = u32::MAX - 1;
+/// The directions of the cuts of [`keyhole`], tried in this order.
+const CUT_DIRECTIONS: [Point; 4] = [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]];
+
+/// One polygon from the rings of a domain with holes (outer ring counter-clockwise, holes
+/// clockwise): holes in order of their farthest vertex along `e` (farthest first), each
+/// joined to the polygon built so far by a cut from that vertex along `e` to the nearest
+/// crossing with the polygon, walked there and back (two opposite edges labelled
+/// `Neighbour(CUT)`; the crossing is a new vertex splitting the edge it lies on). The
+/// polygon bounds the domain with the cuts removed, a region of the same area. `None` when
+/// a cut finds no crossing (a hole outside the outer ring).
+fn keyhole(rings: &[(Vec<Point>, Vec<u32>)], e: Point) -> Option<Cell> {
+    let along = |p: Point| p[0] * e[0] + p[1] * e[1];
+    let across = |p: Point| -p[0] * e[1] + p[1] * e[0];
+    let (outer, outer_labels) = &rings[0];
+    let mut vertices = outer.clone();
+    let mut labels: Vec<EdgeLabel> = outer_labels.iter().map(|&k| EdgeLabel::Boundary(k)).collect();
+    let mut holes: Vec<(usize, f64)> = rings[1..]
+        .iter()
+        .enumerate()
+        .map(|(i, (v, _))| (i + 1, v.iter().map(|&p| along(p)).fold(f64::NEG_INFINITY, f64::max)))
+        .collect();
+    holes.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    for (r, _) in holes {
+        let (ring, ring_labels) = &rings[r];
+        let m = (0..ring.len()).fold(0, |m, i| if along(ring[i]) > along(ring[m]) { i } else { m });
+        let p = ring[m];
+        let (pa, pc) = (along(p), across(p));
+        // The nearest crossing of the ray from p along e (half-open rule on the edges).
+        let mut best: Option<(usize, Point, f64)> = None;
+        for k in 0..vertices.len() {
+            let (a, b) = (vertices[k], vertices[(k + 1) % vertices.len()]);
+            let (sa, sb) = (across(a) - pc, across(b) - pc);
+            if (sa > 0.0) == (sb > 0.0) {
+                continue;
+            }
+            let t = sa / (sa - sb);
+            let q = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+            let d = along(q) - pa;
+            if d > 0.0 && best.is_none_or(|(_, _, bd)| d < bd) {
+                best = Some((k, q, d));
+            }
+        }
+        let (k, q, _) = best?;
+        let n = ring.len();
+        let mut v = Vec::with_capacity(vertices.len() + n + 3);
+        let mut l = Vec::with_capacity(vertices.len() + n + 3);
+        v.extend_from_slice(&vertices[..=k]);
+        l.extend_from_slice(&labels[..=k]);
+        // q splits edge k; then the cut, the hole from p round to p, the cut back.
+        v.push(q);
+        l.push(EdgeLabel::Neighbour(CUT));
+        for i in 0..n {
+            v.push(ring[(m + i) % n]);
+            l.push(EdgeLabel::Boundary(ring_labels[(m + i) % n]));
+        }
+        v.push(p);
+        l.push(EdgeLabel::Neighbour(CUT));
+        v.push(q);
+        l.push(labels[k]);
+        v.extend_from_slice(&vertices[k + 1..]);
+        l.extend_from_slice(&labels[k + 1..]);
+        // A crossing at a vertex repeats it: drop the zero-length edge.
+        let mut i = 0;
+        while i < v.len() {
+            if v[i] == v[(i + 1) % v.len()] {
+                v.remove(i);
+                l.remove(i);
+            } else {
+                i += 1;
+            }
+        }
+        (vertices, labels) = (v, l);
+    }
+    Some(Cell { vertices, labels })
+}
 
 fn voronoi_cell(
     i: usize,
     nodes: &Nodes,
     grid: &NeighbourGrid,
     start: &Cell,
+    slits: bool,
     near: &mut Vec<usize>,
 ) -> Result<Cell, CellError> {
     let x = nodes.points[i];
@@ -113,11 +211,49 @@ fn voronoi_cell(
                 return Err(CellError::EmptyCell { node: i, point: x });
             }
         }
+        if slits {
+            remove_slits(&mut cell, 1e-9 * h);
+        }
         let reach = cell.vertices.iter().map(|v| dist2(*v, x)).fold(0.0f64, f64::max).sqrt();
         if 2.0 * reach <= radius && !cell.labels.contains(&EdgeLabel::Neighbour(BOX)) {
             return Ok(cell);
         }
         radius = 2.0 * reach * (1.0 + 1e-9);
+    }
+}
+
+/// Removes the slits of a clipped cell: pairs of consecutive edges with the same label that
+/// run back along the same line (to within `tol`), which clipping a polygon with holes
+/// leaves where a hole's boundary, outside a bisector's half-plane, was replaced by the
+/// bisector (it then runs into the hole and back), and where a cut was clipped on both
+/// sides. They enclose no area; the tip vertex is dropped, and the edge shortened. Two
+/// consecutive edges with the same label running on along one line (an edge split where a
+/// cut met it) become one, so that the face is the same piece as its twin's.
+fn remove_slits(cell: &mut Cell, tol: f64) {
+    let mut changed = true;
+    while changed && cell.vertices.len() > 2 {
+        changed = false;
+        let n = cell.vertices.len();
+        for k in 0..n {
+            let prev = (k + n - 1) % n;
+            let (a, t, b) = (cell.vertices[prev], cell.vertices[k], cell.vertices[(k + 1) % n]);
+            let (u, v) = ([t[0] - a[0], t[1] - a[1]], [b[0] - t[0], b[1] - t[1]]);
+            let longest = u[0].hypot(u[1]).max(v[0].hypot(v[1]));
+            let cross = (u[0] * v[1] - u[1] * v[0]).abs();
+            if cell.labels[prev] == cell.labels[k] && cross <= tol * longest {
+                // The edge from `a` now ends at `b`; drop it if `a` and `b` coincide.
+                cell.vertices.remove(k);
+                cell.labels.remove(k);
+                let m = cell.vertices.len();
+                let j = if k == 0 { m - 1 } else { k - 1 };
+                if m > 1 && dist2(cell.vertices[j], cell.vertices[(j + 1) % m]) <= tol * tol {
+                    cell.vertices.remove(j);
+                    cell.labels.remove(j);
+                }
+                changed = true;
+                break;
+            }
+        }
     }
 }
 
@@ -258,6 +394,101 @@ mod tests {
                             nodes.points[i],
                             d.edge_count()
                         );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The square `[-3, 3]²` with holes (a disk, and a square hole for straight ones).
+    fn holed_domains() -> Vec<Domain> {
+        use crate::geometry::Curve;
+        let outer = || Domain::rectangle([-3.0, 3.0], [-3.0, 3.0]).unwrap();
+        let disk = |c: [f64; 2], r: f64, name: &str| {
+            let p = [c[0] + r, c[1]];
+            Domain::from_curves(vec![Curve::arc_between(p, p, c, true)], vec![name.into()]).unwrap()
+        };
+        let square = Domain::polygon(
+            vec![[0.8, -0.6], [1.9, -0.6], [1.9, 0.5], [0.8, 0.5]],
+            ["s0", "s1", "s2", "s3"].map(String::from).to_vec(),
+        )
+        .unwrap();
+        vec![
+            outer().with_holes(vec![disk([0.0, 0.0], 1.0, "hole")]).unwrap(),
+            outer()
+                .with_holes(vec![disk([-1.2, 0.3], 0.7, "a"), square, disk([0.5, 1.9], 0.5, "b")])
+                .unwrap(),
+        ]
+    }
+
+    #[test]
+    fn cells_tile_domains_with_holes() {
+        for (n, d) in holed_domains().iter().enumerate() {
+            for h in [0.2, 0.1] {
+                for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 5 }] {
+                    let nodes = generate(d, h, layout).unwrap();
+                    assert!(
+                        nodes
+                            .points
+                            .iter()
+                            .all(|&p| d.contains(p) || d.boundary_distance(p) < 1e-12)
+                    );
+                    let cells = build_cells(d, &nodes).unwrap();
+                    let rings = d.boundary_rings(h);
+                    let ring_area = |v: &Vec<Point>| {
+                        0.5 * (0..v.len())
+                            .map(|k| {
+                                let (a, b) = (v[k], v[(k + 1) % v.len()]);
+                                a[0] * b[1] - b[0] * a[1]
+                            })
+                            .sum::<f64>()
+                    };
+                    let poly_area: f64 = rings.iter().map(|(v, _)| ring_area(v)).sum();
+                    let total = total_area(&cells);
+                    assert!(
+                        (total - poly_area).abs() < 1e-10 * poly_area,
+                        "domain {n}, h = {h}, {layout:?}: cells {total} vs polygon {poly_area}"
+                    );
+                    for (i, c) in cells.iter().enumerate() {
+                        assert!(c.area() > 0.0);
+                        assert!(!c.labels.contains(&EdgeLabel::Neighbour(CUT)));
+                        assert!(
+                            c.vertices
+                                .iter()
+                                .all(|&p| d.contains(p) || d.boundary_distance(p) < 0.1 * h),
+                            "domain {n}, h = {h}, {layout:?}: cell {i} at {:?}: {:?} {:?} {:?}",
+                            nodes.points[i],
+                            c.vertices
+                                .iter()
+                                .map(|&p| (d.contains(p), d.boundary_distance(p)))
+                                .collect::<Vec<_>>(),
+                            c.vertices,
+                            c.labels
+                        );
+                        if c.labels.iter().any(|l| matches!(l, EdgeLabel::Boundary(_))) {
+                            assert!(
+                                !nodes.edges[i].is_empty(),
+                                "interior node {i} reaches the boundary"
+                            );
+                        }
+                        // Every neighbour edge has a twin of the same length (no slit left).
+                        for (k, l) in c.labels.iter().enumerate() {
+                            if let EdgeLabel::Neighbour(j) = *l {
+                                let (a, b) = c.edge(k);
+                                let other = &cells[j as usize];
+                                let twin = (0..other.vertices.len()).any(|m| {
+                                    let (p, q) = other.edge(m);
+                                    other.labels[m] == EdgeLabel::Neighbour(i as u32)
+                                        && dist2(p, b).sqrt() < 1e-9
+                                        && dist2(q, a).sqrt() < 1e-9
+                                });
+                                assert!(
+                                    twin,
+                                    "domain {n}, h = {h}: edge {k} of cell {i} has no twin: {:?} {:?} / cell {j}: {:?} {:?}",
+                                    c.vertices, c.labels, other.vertices, other.labels
+                                );
+                            }
+                        }
                     }
                 }
             }
