@@ -258,22 +258,7 @@ impl FrictionProblem {
         let residuals = self.residuals(&p, &t);
         let (gap, s) = self.response(&p, &t);
         let ds: Vec<f64> = s.iter().zip(&self.previous_tangential).map(|(a, b)| a - b).collect();
-        let u = residuals.displacement_scale;
-        let state = (0..self.size())
-            .map(|c| {
-                if p[c] <= 0.0 {
-                    ContactState::Open
-                } else if ds[c].abs() <= 1e-10 * u {
-                    // No slip increment beyond round-off: stick, also without friction
-                    // (μ_c = 0, e.g. a candidate held tangentially by a support).
-                    ContactState::Stick
-                } else if ds[c] >= 0.0 {
-                    ContactState::SlipPositive
-                } else {
-                    ContactState::SlipNegative
-                }
-            })
-            .collect();
+        let state = classify(&p, &ds, residuals.displacement_scale);
         FrictionSolution {
             normal: p,
             tangential: t,
@@ -288,6 +273,27 @@ impl FrictionProblem {
             lemke_failure: None,
         }
     }
+}
+
+/// The state of each candidate from its normal force `p` and slip increment `ds`: open
+/// without force, stick when the slip increment is round-off (`|Δs| ≤ 1e-10 u`, `u` the
+/// problem's displacement scale; also without friction, e.g. a candidate held tangentially by
+/// a support), else slip in the direction of `Δs`.
+pub(crate) fn classify(p: &[f64], ds: &[f64], displacement_scale: f64) -> Vec<ContactState> {
+    p.iter()
+        .zip(ds)
+        .map(|(&p, &ds)| {
+            if p <= 0.0 {
+                ContactState::Open
+            } else if ds.abs() <= 1e-10 * displacement_scale {
+                ContactState::Stick
+            } else if ds >= 0.0 {
+                ContactState::SlipPositive
+            } else {
+                ContactState::SlipNegative
+            }
+        })
+        .collect()
 }
 
 /// Solves one frictional step (docs/method.md §8): with every `μ_c = 0`, Lemke on the normal

@@ -62,6 +62,77 @@ fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
 }
 
+/// The record of a load path (docs/method.md §8): the slip accumulated over the slipping
+/// increments, one [`solution::IncrementRecord`] per increment and, with `write_steps`, one
+/// [`solution::IncrementSnapshot`] per increment.
+struct History {
+    accumulated: Vec<f64>,
+    records: Vec<solution::IncrementRecord>,
+    snapshots: Vec<solution::IncrementSnapshot>,
+    write_steps: bool,
+}
+
+impl History {
+    fn new(candidates: usize, write_steps: bool) -> Self {
+        let accumulated = vec![0.0; candidates];
+        Self { accumulated, records: Vec::new(), snapshots: Vec::new(), write_steps }
+    }
+
+    /// Records increment `i` of step `k` (0-based) at load factor `lambda`.
+    fn record(
+        &mut self,
+        step: &lcp::FrictionSolution,
+        (k, i, lambda): (usize, usize, f64),
+        equilibrium_error: f64,
+        active_set_changes: Vec<usize>,
+        seconds: f64,
+    ) {
+        let count =
+            |f: &dyn Fn(&lcp::ContactState) -> bool| step.state.iter().filter(|s| f(s)).count();
+        self.records.push(solution::IncrementRecord {
+            step: k + 1,
+            increment: i,
+            load_factor: lambda,
+            normal_force: step.normal.iter().sum(),
+            tangential_force: step.tangential.iter().sum(),
+            solver: step.method,
+            pivots: step.pivots,
+            iterations: step.iterations,
+            active_set_changes,
+            complementarity: step.residuals.max(),
+            equilibrium_error,
+            stick: count(&|s| *s == lcp::ContactState::Stick),
+            slip: count(&|s| s.is_slip()),
+            open: count(&|s| *s == lcp::ContactState::Open),
+            seconds,
+        });
+        for ((a, s), ds) in self.accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment) {
+            if s.is_slip() {
+                *a += ds;
+            }
+        }
+        if self.write_steps {
+            self.snapshots.push(solution::IncrementSnapshot {
+                step: k + 1,
+                increment: i,
+                load_factor: lambda,
+                normal: step.normal.clone(),
+                tangential: step.tangential.clone(),
+                gap: step.gap.clone(),
+                slip: self.accumulated.clone(),
+                state: step.state.clone(),
+            });
+        }
+    }
+
+    /// Hands the path's record to the final frictional contact.
+    fn finish(self, friction: &mut solution::FrictionContact) {
+        friction.slip = self.accumulated;
+        friction.increments = self.records;
+        friction.snapshots = self.snapshots;
+    }
+}
+
 /// The second body of a two-body frictional contact: its model, normal operator and the
 /// ends of its load steps (the same steps and increments as the first body's).
 pub(super) struct Target<'a> {
@@ -220,9 +291,7 @@ pub(super) fn solve_frictional(
     // The second body's load and right-hand side at the end of the previous step.
     let n2 = target.as_ref().map_or(0, |tg| tg.model.system.rhs.len());
     let (mut load20, mut rhs20) = (vec![0.0; n2], vec![0.0; n2]);
-    let mut accumulated = vec![0.0; m];
-    let mut records = Vec::new();
-    let mut snapshots = Vec::new();
+    let mut history = History::new(m, problem.write_steps);
     let mut last = None;
     // A force-driven obstacle (docs/method.md §4.6): M_nn for the slopes, the force's
     // magnitude at the end of the previous step, and what the last search found.
@@ -424,45 +493,13 @@ pub(super) fn solve_frictional(
                     }
                     _ => None,
                 };
-                let count = |f: &dyn Fn(&lcp::ContactState) -> bool| {
-                    step.state.iter().filter(|s| f(s)).count()
-                };
-                records.push(solution::IncrementRecord {
-                    step: k + 1,
-                    increment: i,
-                    load_factor: lambda,
-                    normal_force: step.normal.iter().sum(),
-                    tangential_force: step.tangential.iter().sum(),
-                    solver: step.method,
-                    pivots: step.pivots,
-                    iterations: step.iterations,
-                    active_set_changes: Vec::new(),
-                    complementarity: step.residuals.max(),
-                    equilibrium_error: equilibrium,
-                    stick: count(&|s| *s == lcp::ContactState::Stick),
-                    slip: count(&|s| s.is_slip()),
-                    open: count(&|s| *s == lcp::ContactState::Open),
-                    seconds: started.elapsed().as_secs_f64(),
-                });
-                for ((a, s), ds) in
-                    accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment)
-                {
-                    if s.is_slip() {
-                        *a += ds;
-                    }
-                }
-                if problem.write_steps {
-                    snapshots.push(solution::IncrementSnapshot {
-                        step: k + 1,
-                        increment: i,
-                        load_factor: lambda,
-                        normal: step.normal.clone(),
-                        tangential: step.tangential.clone(),
-                        gap: step.gap.clone(),
-                        slip: accumulated.clone(),
-                        state: step.state.clone(),
-                    });
-                }
+                history.record(
+                    &step,
+                    (k, i, lambda),
+                    equilibrium,
+                    Vec::new(),
+                    started.elapsed().as_secs_f64(),
+                );
                 step_problem.previous_tangential.clone_from(&step.tangential_displacement);
                 last = Some((step, u, u2));
             }
@@ -521,9 +558,7 @@ pub(super) fn solve_frictional(
     let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
     let mut friction =
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
-    friction.slip = accumulated;
-    friction.increments = records;
-    friction.snapshots = snapshots;
+    history.finish(&mut friction);
     friction.target_operator = target_tangential;
     // A translation held by the contact without load steps is a frictionless one-step
     // problem (it only took this path for the search): no frictional record, as on the
@@ -565,8 +600,7 @@ pub(super) fn solve_frictional_active_set(
     let mut d0 = [0.0, 0.0];
     let mut previous = vec![0.0; m];
     let mut warm: Option<Vec<lcp::ContactState>> = None;
-    let mut accumulated = vec![0.0; m];
-    let (mut records, mut snapshots) = (Vec::new(), Vec::new());
+    let mut history = History::new(m, problem.write_steps);
     let (mut iterations, mut rescues, mut end_all) =
         (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
     let mut last = None;
@@ -632,45 +666,13 @@ pub(super) fn solve_frictional_active_set(
                     (&tangential, step.tangential.as_slice()),
                 ];
                 let equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
-                let count = |f: &dyn Fn(&lcp::ContactState) -> bool| {
-                    step.state.iter().filter(|s| f(s)).count()
-                };
-                records.push(solution::IncrementRecord {
-                    step: k + 1,
-                    increment: i,
-                    load_factor: lambda,
-                    normal_force: step.normal.iter().sum(),
-                    tangential_force: step.tangential.iter().sum(),
-                    solver: step.method,
-                    pivots: step.pivots,
-                    iterations: step.iterations,
-                    active_set_changes: answer.changes.clone(),
-                    complementarity: step.residuals.max(),
-                    equilibrium_error: equilibrium,
-                    stick: count(&|s| *s == lcp::ContactState::Stick),
-                    slip: count(&|s| s.is_slip()),
-                    open: count(&|s| *s == lcp::ContactState::Open),
-                    seconds: started.elapsed().as_secs_f64(),
-                });
-                for ((a, s), ds) in
-                    accumulated.iter_mut().zip(&step.state).zip(&step.slip_increment)
-                {
-                    if s.is_slip() {
-                        *a += ds;
-                    }
-                }
-                if problem.write_steps {
-                    snapshots.push(solution::IncrementSnapshot {
-                        step: k + 1,
-                        increment: i,
-                        load_factor: lambda,
-                        normal: step.normal.clone(),
-                        tangential: step.tangential.clone(),
-                        gap: step.gap.clone(),
-                        slip: accumulated.clone(),
-                        state: step.state.clone(),
-                    });
-                }
+                history.record(
+                    step,
+                    (k, i, lambda),
+                    equilibrium,
+                    answer.changes.clone(),
+                    started.elapsed().as_secs_f64(),
+                );
                 previous.clone_from(&step.tangential_displacement);
                 iterations += step.iterations;
                 rescues.extend_from_slice(&answer.rescues);
@@ -728,9 +730,7 @@ pub(super) fn solve_frictional_active_set(
     let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
     let mut friction =
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
-    friction.slip = accumulated;
-    friction.increments = records;
-    friction.snapshots = snapshots;
+    history.finish(&mut friction);
     contact.friction = Some(friction);
     Ok((u, None, contact))
 }

@@ -346,9 +346,7 @@ pub fn write_multibody(
             }],
         };
         let stem = plots.join(format!("contact_pressure_{k}"));
-        plot::write_chart(&stem, &chart)?;
-        written.push(stem.with_extension("svg"));
-        written.push(stem.with_extension("png"));
+        written.extend(plot::write_chart(&stem, &chart)?);
     }
     Ok(written)
 }
@@ -419,9 +417,7 @@ fn contact_outputs(
         ],
     };
     let stem = plots.join("contact_deflection");
-    plot::write_chart(&stem, &chart)?;
-    written.push(stem.with_extension("svg"));
-    written.push(stem.with_extension("png"));
+    written.extend(plot::write_chart(&stem, &chart)?);
     let pressure: Vec<(f64, f64)> =
         (0..cand.len()).map(|k| (cand.arc_length[k], c.pressure[k])).collect();
     let mut series = vec![plot::Series {
@@ -446,14 +442,10 @@ fn contact_outputs(
         series,
     };
     let stem = plots.join("contact_pressure");
-    plot::write_chart(&stem, &chart)?;
-    written.push(stem.with_extension("svg"));
-    written.push(stem.with_extension("png"));
+    written.extend(plot::write_chart(&stem, &chart)?);
     if let Some(f) = &c.friction {
         let stem = plots.join("contact_traction");
-        plot::write_chart(&stem, &traction_chart(problem, c, f, edge))?;
-        written.push(stem.with_extension("svg"));
-        written.push(stem.with_extension("png"));
+        written.extend(plot::write_chart(&stem, &traction_chart(problem, c, f, edge))?);
     }
     Ok(written)
 }

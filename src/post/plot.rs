@@ -3,7 +3,7 @@
 use super::OutputError;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Once;
 
 static FONT: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
@@ -190,11 +190,11 @@ fn draw_chart<DB: DrawingBackend>(
     area.present().map_err(|e| e.to_string())
 }
 
-/// Writes `<stem>.svg` and `<stem>.png` (1000 × 600).
+/// Writes `<stem>.svg` and `<stem>.png` (1000 × 600) and returns their paths.
 ///
 /// # Errors
 /// [`OutputError::Plot`] when plotters fails (e.g. the directory is not writable).
-pub fn write_chart(stem: &Path, chart: &Chart) -> Result<(), OutputError> {
+pub fn write_chart(stem: &Path, chart: &Chart) -> Result<[PathBuf; 2], OutputError> {
     ensure_font();
     let size = (1000, 600);
     let svg = stem.with_extension("svg");
@@ -202,7 +202,8 @@ pub fn write_chart(stem: &Path, chart: &Chart) -> Result<(), OutputError> {
         .map_err(|reason| OutputError::Plot { path: svg.display().to_string(), reason })?;
     let png = stem.with_extension("png");
     draw_chart(BitMapBackend::new(&png, size).into_drawing_area(), chart)
-        .map_err(|reason| OutputError::Plot { path: png.display().to_string(), reason })
+        .map_err(|reason| OutputError::Plot { path: png.display().to_string(), reason })?;
+    Ok([svg, png])
 }
 
 /// A scatter of points coloured by a scalar (e.g. the deformed nodes by von Mises stress),

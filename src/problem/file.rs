@@ -505,14 +505,7 @@ impl TryFrom<GeometryTable> for GeometryFile {
             );
         }
         let holes = g.holes.unwrap_or_default();
-        for (key, present) in given {
-            if present && !keys.contains(&key) {
-                return Err(format!(
-                    "`{key}` is not a key of kind = \"{name}\" (its keys are {})",
-                    keys.join(", ")
-                ));
-            }
-        }
+        foreign_key(&given, keys, &format!("kind = \"{name}\""))?;
         let missing = |key: &str| format!("kind = \"{name}\" needs `{key}`");
         Ok(match g.kind {
             GeometryKind::Rectangle => GeometryFile::Rectangle {
@@ -638,14 +631,7 @@ impl TryFrom<HoleTable> for HoleFile {
             ("start", g.start.is_some()),
             ("curves", g.curves.is_some()),
         ];
-        for (key, present) in given {
-            if present && !keys.contains(&key) {
-                return Err(format!(
-                    "`{key}` is not a key of a hole of kind = \"{kind}\" (its keys are {})",
-                    keys.join(", ")
-                ));
-            }
-        }
+        foreign_key(&given, keys, &format!("a hole of kind = \"{kind}\""))?;
         let missing = |key: &str| format!("a hole of kind = \"{kind}\" needs `{key}`");
         Ok(match g.kind {
             HoleKind::Disk => HoleFile::Disk {
@@ -1058,5 +1044,15 @@ mod exact {
             Some(list) => list.iter().map(|v| two(v)).collect::<Result<_, _>>().map(Some),
             None => Ok(None),
         }
+    }
+}
+
+/// Refuses the first key `given` (present) that is not among `keys`, the keys of `what`.
+fn foreign_key(given: &[(&str, bool)], keys: &[&str], what: &str) -> Result<(), String> {
+    match given.iter().find(|(key, present)| *present && !keys.contains(key)) {
+        Some((key, _)) => {
+            Err(format!("`{key}` is not a key of {what} (its keys are {})", keys.join(", ")))
+        }
+        None => Ok(()),
     }
 }

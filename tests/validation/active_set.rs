@@ -196,34 +196,7 @@ fn two_body_problems_equal_lemke() {
 /// The active-set answer equals Lemke's as above.
 #[test]
 fn auto_switches_at_the_threshold() {
-    let strip = |length: f64| {
-        Problem::from_toml(&format!(
-            r#"
-            name = "strip"
-            [geometry]
-            kind = "rectangle"
-            x = [0.0, {length:?}]
-            y = [-0.5, 0.5]
-            [nodes]
-            spacing = 0.1
-            [material]
-            young = 30000.0
-            poisson = 0.3
-            plane = "stress"
-            [[boundary]]
-            edge = "left"
-            displacement = {{ x = 0.0, y = 0.0 }}
-            [[boundary]]
-            edge = "top"
-            traction = {{ y = -1.0 }}
-            [contact]
-            edge = "bottom"
-            obstacle_point = [0.0, -0.51]
-            obstacle_normal = [0.0, 1.0]
-            "#
-        ))
-        .unwrap()
-    };
+    let strip = |length: f64| plain_strip(length, 0.1, "");
     let at = strip(100.0);
     assert_eq!(at.contact.unwrap().solver, ContactSolver::Auto);
     let s = mlpg_contact::solve(&at).unwrap();
@@ -401,4 +374,37 @@ fn two_body_system_equals_the_dense_lcp() {
     let answer = mlpg_contact::lcp::active_set::solve(&mut new_system(), &params).unwrap();
     assert_eq!(answer.end, ActiveSetEnd::ConvergedAfterRescue, "{:?}", answer.changes);
     close("forces after a rescue", &answer.lcp.z, &c.lcp.z);
+}
+
+/// The strip `length × 1` at node spacing `h` with the default discretisation: clamped on the
+/// left, a load 1 on its top, a rigid floor 0.01 below its bottom edge; `contact_keys` are
+/// added to its `[contact]` table (e.g. `friction = 0.3`).
+pub(super) fn plain_strip(length: f64, h: f64, contact_keys: &str) -> Problem {
+    Problem::from_toml(&format!(
+        r#"
+        name = "strip"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, {length:?}]
+        y = [-0.5, 0.5]
+        [nodes]
+        spacing = {h:?}
+        [material]
+        young = 30000.0
+        poisson = 0.3
+        plane = "stress"
+        [[boundary]]
+        edge = "left"
+        displacement = {{ x = 0.0, y = 0.0 }}
+        [[boundary]]
+        edge = "top"
+        traction = {{ y = -1.0 }}
+        [contact]
+        edge = "bottom"
+        obstacle_point = [0.0, -0.51]
+        obstacle_normal = [0.0, 1.0]
+        {contact_keys}
+        "#
+    ))
+    .unwrap()
 }

@@ -189,33 +189,7 @@ fn frictional_summary_records_the_solver() {
 #[test]
 fn auto_switches_at_the_friction_threshold() {
     let strip = |length: f64| {
-        let mut p = Problem::from_toml(&format!(
-            r#"
-            name = "strip"
-            [geometry]
-            kind = "rectangle"
-            x = [0.0, {length:?}]
-            y = [-0.5, 0.5]
-            [nodes]
-            spacing = 0.25
-            [material]
-            young = 30000.0
-            poisson = 0.3
-            plane = "stress"
-            [[boundary]]
-            edge = "left"
-            displacement = {{ x = 0.0, y = 0.0 }}
-            [[boundary]]
-            edge = "top"
-            traction = {{ y = -1.0 }}
-            [contact]
-            edge = "bottom"
-            obstacle_point = [0.0, -0.51]
-            obstacle_normal = [0.0, 1.0]
-            friction = 0.3
-            "#
-        ))
-        .unwrap();
+        let mut p = super::active_set::plain_strip(length, 0.25, "friction = 0.3");
         p.write_steps = true;
         p
     };

@@ -311,21 +311,8 @@ fn finish(
     }
     let ds: Vec<f64> = s.iter().zip(previous).map(|(a, b)| a - b).collect();
     let residuals = friction_residuals(free, (&p, &t), &g, &ds, mu);
-    let u = residuals.displacement_scale;
     // Reported as `lcp::solve_step` classifies its answers.
-    let state = (0..m)
-        .map(|c| {
-            if p[c] <= 0.0 {
-                ContactState::Open
-            } else if ds[c].abs() <= 1e-10 * u {
-                ContactState::Stick
-            } else if ds[c] >= 0.0 {
-                ContactState::SlipPositive
-            } else {
-                ContactState::SlipNegative
-            }
-        })
-        .collect();
+    let state = crate::lcp::friction::classify(&p, &ds, residuals.displacement_scale);
     FrictionSolution {
         normal: p,
         tangential: t,
