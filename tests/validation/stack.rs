@@ -327,3 +327,83 @@ obstacle_normal = [-1.0, 0.0]
         (s.contact_force[1] - fy).abs() < 1e-8 * fy && (s.contact_force[0] + fx).abs() < 1e-8 * fy
     );
 }
+
+/// The block between a floor and a wall of `block_between_floor_and_wall_is_exact`, pressed by
+/// a uniform traction `q = 10` on its top instead of a displacement: nothing but the floor
+/// holds it in y, so its translation in y is left to the two obstacle pairs (docs/method.md
+/// §4.7, "Between bodies", with `F_r = −2q ≠ 0`).
+///
+/// **Reference.** The uniform state `σ_yy = −q`, `σ_xx = ν σ_yy` (the wall stops the Poisson
+/// expansion), `σ_xy = 0`: floor pressure `q`, wall pressure `ν q`, `u = (0, −(1 − ν²) q y / E)`
+/// (`u_x = 0` on the roller and at the wall). Linear: round-off only, asserted to 1e-8.
+#[test]
+fn block_pressed_between_floor_and_wall_is_held_by_them() {
+    let text = r#"
+name = "walls_pressed"
+[discretisation]
+support_factor = 2.0
+[geometry]
+kind = "rectangle"
+x = [0.0, 2.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.1
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0 }
+[[boundary]]
+edge = "top"
+traction = { y = -10.0 }
+[[contact]]
+edge = "bottom"
+obstacle_point = [0.0, 0.0]
+obstacle_normal = [0.0, 1.0]
+[[contact]]
+edge = "right"
+obstacle_point = [2.0, 0.0]
+obstacle_normal = [-1.0, 0.0]
+"#;
+    let q = 10.0;
+    let problem = Problem::from_toml(text).unwrap();
+    let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+    let pin = model.system.pinned.expect("y is left to the contacts");
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    assert_lcp_residuals("walls pressed", &ms.lcp.residuals, 1e-10);
+    for (k, (c, exact)) in [(&ms.pairs[0], q), (&ms.pairs[1], POISSON * q)].into_iter().enumerate()
+    {
+        let worst = c.pressure.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+        println!("walls pressed, pair {k}: max |p/p_exact − 1| = {worst:.2e}");
+        assert!(worst < 1e-8, "pair {k}: {worst:.3e}");
+    }
+    let strain = (1.0 - POISSON * POISSON) * q / 1000.0;
+    let worst = model
+        .nodes
+        .points
+        .iter()
+        .zip(&s.displacement)
+        .map(|(x, u)| u[0].abs().max((u[1] + strain * x[1]).abs()))
+        .fold(0.0, f64::max);
+    let (held, mode) = ms.held.as_ref().expect("held by the contacts");
+    let x_pin = model.nodes.points[pin.node as usize];
+    let pin_reaction =
+        s.reactions.iter().find(|r| r.0 == pin.node && r.1 == pin.axis).expect("pin").2;
+    println!(
+        "walls pressed: max |u − u_exact| / (strain) = {:.2e}, translation {:.15} (exact {:.15}), load {}, pin reaction {pin_reaction:.2e}, {} LCP solves",
+        worst / strain,
+        mode.translation[1],
+        -strain * x_pin[1],
+        mode.load,
+        mode.evaluations
+    );
+    assert_eq!(*held, 0);
+    assert!(worst < 1e-8 * strain);
+    assert!((mode.load + 2.0 * q).abs() < 1e-12 * q);
+    assert!((mode.translation[1] + strain * x_pin[1]).abs() < 1e-8 * strain);
+    assert!(pin_reaction.abs() < 1e-8 * q, "{pin_reaction:e}");
+    assert!(s.equilibrium_error < 1e-9);
+}
