@@ -223,8 +223,9 @@ pub struct Body<'a> {
     /// Gauss points per segment (FE: per element side, and per direction for the body force)
     /// for applied tractions.
     pub load_quadrature_points: usize,
-    /// Whether a contact with a rigid obstacle may hold one rigid-body translation that the
-    /// displacement conditions leave free (MFVM: pinned, [`PinnedMode`], instead of refused).
+    /// Whether a contact (with a rigid obstacle, or any pair of several bodies) may hold one
+    /// rigid-body translation that the displacement conditions leave free (MFVM: pinned,
+    /// [`PinnedMode`], instead of refused).
     pub contact_may_hold: bool,
 }
 
@@ -238,10 +239,15 @@ impl<'a> Body<'a> {
             boundary: &problem.boundary,
             body_force: problem.body_force.as_ref(),
             load_quadrature_points: problem.discretisation.load_quadrature_points,
+            // One body against rigid obstacles; or the first of several bodies, touched by a
+            // contact pair (docs/method.md §4.7; the others: `pipeline::multibody`).
             contact_may_hold: problem
                 .contact
                 .as_ref()
-                .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. })),
+                .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. }))
+                || problem.multibody.as_ref().is_some_and(|m| {
+                    m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0))
+                }),
         }
     }
 }

@@ -85,6 +85,12 @@ pub enum Error {
     Output(#[from] OutputError),
 }
 
+impl From<crate::lcp::load_driven::LoadDrivenError> for Error {
+    fn from(e: crate::lcp::load_driven::LoadDrivenError) -> Self {
+        Error::Lcp(e.into())
+    }
+}
+
 impl Error {
     /// The problem-file keys that decide this error, for a message that names the input
     /// (`None` for a validation error, which names its key itself).
@@ -117,7 +123,11 @@ impl Error {
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
             Error::Lcp(L::ActiveSet(_)) => "contact.solver",
             Error::Lcp(L::LoadDriven(
-                D::NotRestrained { .. } | D::NotPressed { .. } | D::Unsupported { .. },
+                D::NotRestrained { .. }
+                | D::NotPressed { .. }
+                | D::Unsupported { .. }
+                | D::SeveralHeld { .. }
+                | D::FreeBody { .. },
             )) => "boundary[*].displacement, contact",
             Error::Lcp(L::LoadDriven(_)) => "step[*].obstacle_force",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",

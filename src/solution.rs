@@ -66,6 +66,9 @@ pub struct MultibodySolution {
     pub lcp: lcp::LcpSolution,
     /// The compliance checks that failed but were overridden (`allow_indefinite`).
     pub warning: Option<String>,
+    /// The body (0 the first) whose rigid translation the contact holds, and that
+    /// translation (docs/method.md §4.7); `None` when every body is restrained.
+    pub held: Option<(usize, RigidMode)>,
 }
 
 /// The solution of the contact problem on the candidates.

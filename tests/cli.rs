@@ -536,6 +536,34 @@ fn two_blocks_problem_total_force() {
     assert!(csv.is_ok(), "the second body's outputs go to <out>/lower/");
 }
 
+/// problems/three_block_stack.toml with the middle block's roller removed: it could then slide
+/// in x as well, and contact holds one free translation only — refused naming the body and
+/// the mode (docs/method.md §4.7); with the bottom block's roller removed too, two bodies
+/// would be held by contact in y — refused naming both.
+#[test]
+fn stack_with_a_body_free_in_two_directions_is_refused() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/three_block_stack.toml");
+    let stack = std::fs::read_to_string(path).unwrap();
+    let roller = "boundary = [{ edge = \"left\", displacement = { x = 0.0 } }]";
+    assert!(stack.contains(roller));
+    let bottom_roller = "  { edge = \"bottom\", displacement = { y = 0.0 } },\n";
+    assert!(stack.contains(bottom_roller));
+    let cases: &[(&str, String, &str)] = &[
+        (
+            "stack_middle_free_in_x",
+            stack.replace(roller, "boundary = []"),
+            "body `middle`: no displacement is prescribed on any of its edges, so both translations and the rotation are free; contact between bodies may hold one free rigid-body translation of one body",
+        ),
+        (
+            "stack_two_bodies_held",
+            stack.replace(bottom_roller, ""),
+            "bodies `bottom` (translation in y), `middle` (translation in y) each have a rigid-body translation that no displacement condition restrains",
+        ),
+    ];
+    expect_refusals(cases);
+}
+
 /// problems/three_block_stack.toml: three blocks (E = 1000, 300, 3000) with non-matching
 /// layouts pressed together, two contact pairs in one LCP; exact answer the same uniform
 /// pressure `p = δ / Σ L_i/E_i = 15/7` on both interfaces, total `2p = 30/7` each
@@ -560,6 +588,14 @@ fn three_block_stack_problem_total_forces() {
     for b in bodies {
         assert!(b["equilibrium_error"].as_f64().unwrap() < 1e-9, "{b}");
     }
+    // The middle block is held in y by the contacts alone: its translation, that of its
+    // central node (1, 1.5), is u_y(1) − 0.5 p/300 = −8/1400.
+    let held = &bodies[1]["rigid_mode"];
+    assert_eq!(held["mode"], "translation in y");
+    assert_eq!(held["pin_point"], serde_json::json!([1.0, 1.5]));
+    let t = held["translation"][1].as_f64().unwrap();
+    assert!((t + 8.0 / 1400.0).abs() < 1e-10, "{held}");
+    assert!(bodies[0].get("rigid_mode").is_none() && bodies[2].get("rigid_mode").is_none());
     assert!(s["lcp"]["max_complementarity"].as_f64().unwrap() < 1e-12);
     assert_eq!(
         s["lcp"]["size"],

@@ -79,6 +79,28 @@ pub enum LoadDrivenError {
         /// What is not supported.
         why: String,
     },
+    /// Several bodies of a problem each leave a rigid translation to the contact: one such
+    /// body per problem is solved (docs/method.md §4.7).
+    #[error(
+        "bodies {bodies} each have a rigid-body translation that no displacement condition restrains; contact may hold such a translation of one body per problem (add displacement conditions to all but one of them)"
+    )]
+    SeveralHeld {
+        /// The bodies' names with their free modes, e.g. "`a` (translation in y), `b` (…)".
+        bodies: String,
+    },
+    /// A body of several whose displacement conditions leave it free to move in more ways
+    /// than one translation, which is all the contact may hold (docs/method.md §4.7).
+    #[error(
+        "body `{body}`: {detail}; contact between bodies may hold one free rigid-body translation of one body (the other translation and the rotation restrained by displacement conditions), so add a displacement condition to body `{body}` that prevents the {mode}"
+    )]
+    FreeBody {
+        /// The body's name.
+        body: String,
+        /// A mode left free (`"translation in x"`, …).
+        mode: &'static str,
+        /// What assembly found.
+        detail: String,
+    },
     /// No displacement meeting the force equation was found.
     #[error(
         "the obstacle's displacement under the force {target:.6e} was not found after {evaluations} LCP solves: the last, at s = {displacement:.6e}, carried {force:.6e} (bracket {low:?} to {high:?}); the contact's force–displacement relation may have a jump (M is not a P-matrix) — try a displacement step instead"
@@ -219,6 +241,112 @@ pub fn find_displacement<S, E: From<LoadDrivenError>>(
     .into())
 }
 
+/// Solves `F(t) = aᵀ z(t) = target` for a free rigid translation `t` of a body held by
+/// contact between bodies (docs/method.md §4.7): `a_c` of either sign (`a_c = −s_c ν_c·r`,
+/// `s_c = +1` when the body carries candidate `c`, `−1` when it is `c`'s target) and a
+/// target of any sign, zero included (the applied load along the translation). `compliance`
+/// is `M`, `base_gap` the gaps `q_b` at `t = 0`; `solve(q)` answers the LCP with
+/// `q = q_b − a t`, `forces` reads `z` from its answer. `F` is non-decreasing in `t` (§4.6).
+/// The search starts at `t = 0` and moves in the direction of the residual's sign: Newton on
+/// the current piece (slope `a_Aᵀ M_AA⁻¹ a_A`), on a flat piece (no closed candidate with
+/// `a_c ≠ 0`) a jump to the next candidate that closes in that direction, safeguarded by a
+/// bracket as [`find_displacement`]; it stops at `|F − target| ≤ 10⁻¹² max(|target|,
+/// max_c |a_c z_c|)`.
+///
+/// # Errors
+/// [`LoadDrivenError::BadForce`] for a target that is not finite,
+/// [`LoadDrivenError::NotConverged`] after [`MAX_EVALUATIONS`] solves; `solve`'s own errors.
+pub fn find_translation<S, E: From<LoadDrivenError>>(
+    compliance: &[f64],
+    base_gap: &[f64],
+    along: &[f64],
+    target: f64,
+    mut solve: impl FnMut(&[f64]) -> Result<S, E>,
+    forces: impl Fn(&S) -> &[f64],
+) -> Result<ForceSearch<S>, E> {
+    let m = base_gap.len();
+    debug_assert_eq!(along.len(), m);
+    debug_assert_eq!(compliance.len(), m * m);
+    if !target.is_finite() {
+        return Err(LoadDrivenError::BadForce { force: target }.into());
+    }
+    let mut t = 0.0;
+    let (mut low, mut high): (Option<f64>, Option<f64>) = (None, None);
+    let mut last_step: f64 = 0.0;
+    let mut tried = (t, 0.0);
+    let gap_scale = base_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
+    for evaluation in 1..=MAX_EVALUATIONS {
+        let q: Vec<f64> = base_gap.iter().zip(along).map(|(g, a)| g - a * t).collect();
+        let answer = solve(&q)?;
+        let z = forces(&answer);
+        let force: f64 = z.iter().zip(along).map(|(z, a)| z * a).sum();
+        let residual = force - target;
+        tried = (t, force);
+        let carried = z.iter().zip(along).fold(0.0f64, |s, (z, a)| s.max((z * a).abs()));
+        if residual.abs() <= FORCE_TOLERANCE * target.abs().max(carried) {
+            return Ok(ForceSearch { displacement: t, force, answer, evaluations: evaluation });
+        }
+        if residual < 0.0 {
+            low = Some(low.map_or(t, |l| l.max(t)));
+        } else {
+            high = Some(high.map_or(t, |h| h.min(t)));
+        }
+        let scale = gap_scale.max(t.abs()).max(f64::MIN_POSITIVE);
+        let stuck = |lo: f64, hi: f64| hi - lo <= 4.0 * f64::EPSILON * scale.max(hi.abs());
+        if matches!((low, high), (Some(lo), Some(hi)) if stuck(lo, hi)) {
+            return Err(LoadDrivenError::NotConverged {
+                evaluations: evaluation,
+                displacement: t,
+                force,
+                target,
+                low,
+                high,
+            }
+            .into());
+        }
+        let w: Vec<f64> = (0..m)
+            .map(|i| q[i] + (0..m).map(|j| compliance[i * m + j] * z[j]).sum::<f64>())
+            .collect();
+        let active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
+        let slope = if active.is_empty() { 0.0 } else { slope(compliance, m, along, &active) };
+        // Towards larger F: t grows when the residual is negative.
+        let direction = if residual < 0.0 { 1.0 } else { -1.0 };
+        let inside = |x: f64| low.is_none_or(|l| x > l) && high.is_none_or(|h| x < h);
+        let newton = t - residual / slope;
+        // A flat piece: the next candidate to close in that direction (a_c has its sign).
+        let next_closure = (0..m)
+            .filter(|&c| direction * along[c] > 0.0 && z[c] == 0.0)
+            .map(|c| w[c] / along[c].abs())
+            .filter(|d| d.is_finite() && *d >= 0.0)
+            .min_by(f64::total_cmp)
+            .map(|d| t + direction * d);
+        let next = if slope.is_finite() && slope > 0.0 && inside(newton) {
+            newton
+        } else if let Some(x) = next_closure.filter(|&x| x != t && inside(x)) {
+            x
+        } else {
+            match (low, high) {
+                (Some(l), Some(h)) => 0.5 * (l + h),
+                _ => {
+                    let size = (2.0 * last_step.abs()).max(1e-6 * scale.max(1e-300));
+                    t + direction * size
+                }
+            }
+        };
+        last_step = next - t;
+        t = next;
+    }
+    Err(LoadDrivenError::NotConverged {
+        evaluations: MAX_EVALUATIONS,
+        displacement: tried.0,
+        force: tried.1,
+        target,
+        low,
+        high,
+    }
+    .into())
+}
+
 /// `a_Aᵀ M_AA⁻¹ a_A`: `dF/ds` on the piece where the closed set is `A` (`dz_A/ds =
 /// M_AA⁻¹ a_A`, the open candidates' forces stay zero).
 fn slope(compliance: &[f64], m: usize, along: &[f64], active: &[usize]) -> f64 {
@@ -287,6 +415,32 @@ mod tests {
             assert!(z[i] >= 0.0 && w >= -1e-12 && (z[i] * w).abs() < 1e-12, "{i}: {z:?} {w}");
         }
         assert_eq!(z[2], 0.0, "the candidate the motion opens");
+    }
+
+    /// A body between two springs (`a = (−1, +1)`: moving it by `t` opens the first gap and
+    /// closes the second), no load along the translation (target 0). With `M = diag(1, 3)`,
+    /// `q = (0, −4)` and both closed, `w = M z + q − a t = 0` gives `z_0 = −t`,
+    /// `z_1 = (4 + t)/3`, and `aᵀz = 0` gives `t = −1`, `z = (1, 1)`.
+    #[test]
+    fn body_between_two_springs() {
+        let m = [1.0, 0.0, 0.0, 3.0];
+        let out = find_translation(
+            &m,
+            &[0.0, -4.0],
+            &[-1.0, 1.0],
+            0.0,
+            |q| {
+                Ok::<_, LcpError>(
+                    lemke(&Lcp::new(2, m.to_vec(), q.to_vec())?, &LemkeParams::default())?.z,
+                )
+            },
+            |z| z.as_slice(),
+        )
+        .unwrap();
+        let t = out.displacement;
+        assert!((t + 1.0).abs() < 1e-14, "{t}");
+        assert!((out.answer[0] - 1.0).abs() < 1e-14 && (out.answer[1] - 1.0).abs() < 1e-14);
+        assert!(out.evaluations <= 4, "{} evaluations", out.evaluations);
     }
 
     /// A force the contact cannot carry (every `a_c ≤ 0`) and a force that is not positive

@@ -35,13 +35,28 @@ use std::path::{Path, PathBuf};
 /// # Errors
 /// Any stage's error, wrapped in [`Error`].
 pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+    discretise_held(problem, false, progress)
+}
+
+/// [`discretise`], with `held_by_contact` telling assembly that a contact pair touches the
+/// body, so that it may hold one free translation (`assembly::Body::contact_may_hold`; the
+/// second and later bodies of several, whose own `contact` is `None`; docs/method.md §4.7).
+fn discretise_held(
+    problem: &Problem,
+    held_by_contact: bool,
+    progress: &mut dyn Progress,
+) -> Result<Model, Error> {
     match problem.discretisation.method {
-        Method::Mfvm => discretise_mfvm(problem, progress),
+        Method::Mfvm => discretise_mfvm(problem, held_by_contact, progress),
         Method::Fem => discretise_fem(problem, progress),
     }
 }
 
-fn discretise_mfvm(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+fn discretise_mfvm(
+    problem: &Problem,
+    held_by_contact: bool,
+    progress: &mut dyn Progress,
+) -> Result<Model, Error> {
     let mut clock = Clock::new(progress, Vec::new());
     let disc = &problem.discretisation;
     let nodes = clock.run("nodes", || nodes::for_problem(problem))?;
@@ -67,7 +82,11 @@ fn discretise_mfvm(problem: &Problem, progress: &mut dyn Progress) -> Result<Mod
     let d = problem.material.constitutive();
     let system = clock.run("assembly", || {
         assembly::assemble(&AssemblyInput {
-            body: assembly::Body::new(problem, &nodes, &d),
+            body: assembly::Body {
+                contact_may_hold: held_by_contact
+                    || assembly::Body::new(problem, &nodes, &d).contact_may_hold,
+                ..assembly::Body::new(problem, &nodes, &d)
+            },
             cells: &cells,
             interior_faces: &faces.interior,
             boundary_faces: &faces.boundary,
@@ -144,7 +163,13 @@ fn discretise_all(
     if several {
         progress.section(&format!("body `{}` ({method})", problem.name));
     }
-    let model = discretise(problem, progress)?;
+    let model = discretise(problem, progress).map_err(|e| match &problem.multibody {
+        Some(m) => {
+            let held = m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0));
+            multibody::named(problem, held, e)
+        }
+        None => e,
+    })?;
     let second = match &problem.second_body {
         Some(p2) => {
             progress.section(&format!("body `{}` ({method})", p2.name));
@@ -609,6 +634,19 @@ impl std::fmt::Display for RunReport {
                 b.relative_residual,
                 b.equilibrium_error
             )?;
+            if let Some(r) = &b.rigid_mode {
+                writeln!(
+                    f,
+                    "    {} held by contact alone: the body translates by ({:.9e}, {:.9e}) (the point ({:.6}, {:.6})), load along it {:.6e} ({} LCP solves)",
+                    r.mode,
+                    r.translation[0],
+                    r.translation[1],
+                    r.pin_point[0],
+                    r.pin_point[1],
+                    r.load_along_mode,
+                    r.lcp_solves
+                )?;
+            }
         }
         for (k, p) in s.pairs.iter().flatten().enumerate() {
             let target = match (&p.target_body, &p.target_edge) {

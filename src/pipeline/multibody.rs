@@ -4,10 +4,12 @@
 //! then one solve per body with the contact forces of its pairs.
 
 use super::{final_gaps, finite};
+use crate::assembly::PinnedMode;
 use crate::contact::{self, BodyOperator, Candidates, ContactTarget};
 use crate::error::Error;
 use crate::geometry::{self, Point};
 use crate::lcp;
+use crate::lcp::load_driven::LoadDrivenError;
 use crate::mls::ShapeSet;
 use crate::model::Model;
 use crate::problem::{ContactPair, Multibody, Problem, ProblemError};
@@ -63,12 +65,100 @@ pub fn discretise_others(
 ) -> Result<Vec<Model>, Error> {
     let Some(several) = &problem.multibody else { return Ok(Vec::new()) };
     let mut models = Vec::with_capacity(several.bodies.len());
-    for p in &several.bodies {
+    for (k, p) in several.bodies.iter().enumerate() {
         progress.section(&format!("body `{}` ({})", p.name, crate::post::method_label(p)));
-        models.push(super::discretise(p, progress)?);
+        let held = several.pairs.iter().any(|c| c.body == k + 1 || c.target_body == Some(k + 1));
+        models.push(super::discretise_held(p, held, progress).map_err(|e| named(p, held, e))?);
     }
     progress.section("contact and recovery");
     Ok(models)
+}
+
+/// `err`, from discretising body `problem` of several: a body touched by a contact pair that
+/// its displacement conditions leave free in more ways than the one translation contact may
+/// hold is refused naming the body and a free mode ([`LoadDrivenError::FreeBody`],
+/// docs/method.md §4.7); other errors unchanged.
+pub(super) fn named(problem: &Problem, held: bool, err: Error) -> Error {
+    use crate::assembly::AssemblyError as A;
+    let (mode, detail) = match &err {
+        Error::Assembly(A::NoDirichlet) if held => (
+            "translation in x",
+            "no displacement is prescribed on any of its edges, so both translations and the rotation are free".to_string(),
+        ),
+        Error::Assembly(A::RigidBodyMotion { mode }) if held => (
+            *mode,
+            format!("its displacement conditions leave rigid-body {mode} free, with more than one translation or with the rotation"),
+        ),
+        _ => return err,
+    };
+    lcp::LcpError::from(LoadDrivenError::FreeBody { body: problem.name.clone(), mode, detail })
+        .into()
+}
+
+/// A body held by contact: its index, pin, `a` over all candidates and the load along `r`.
+type Held = (usize, PinnedMode, Vec<f64>, f64);
+
+/// The body of several whose free translation the contact holds (docs/method.md §4.7): its
+/// index, pin, the `a_c = −s_c ν_c·r` over all candidates (`s_c = +1` on the candidate's
+/// body, `−1` on its target body) and the applied load along `r`. `None` when no body is
+/// pinned.
+///
+/// # Errors
+/// [`LoadDrivenError::SeveralHeld`] for more than one pinned body,
+/// [`LoadDrivenError::NotRestrained`] when every `ν_c·r` vanishes,
+/// [`LoadDrivenError::Unsupported`] when the pinned node carries contact forces.
+fn held_body(
+    problems: &[&Problem],
+    models: &[&Model],
+    pairs: &[ContactPair],
+    found: &[PairCandidates],
+    operators: &[Option<(BodyOperator, Vec<usize>)>],
+) -> Result<Option<Held>, LoadDrivenError> {
+    let pinned: Vec<(usize, PinnedMode)> =
+        models.iter().enumerate().filter_map(|(b, m)| m.system.pinned.map(|p| (b, p))).collect();
+    let (b, pin) = match pinned.as_slice() {
+        [] => return Ok(None),
+        [one] => *one,
+        several => {
+            let bodies = several
+                .iter()
+                .map(|(b, p)| format!("`{}` ({})", problems[*b].name, p.name()))
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(LoadDrivenError::SeveralHeld { bodies });
+        }
+    };
+    if let Some((op, _)) = &operators[b]
+        && op.owners.iter().flatten().any(|&(i, _)| i == pin.node)
+    {
+        return Err(LoadDrivenError::Unsupported {
+            mode: pin.name(),
+            why: format!(
+                "the pinned node {} of body `{}` carries contact forces",
+                pin.node, problems[b].name
+            ),
+        });
+    }
+    let axis = pin.axis as usize;
+    let along: Vec<f64> = pairs
+        .iter()
+        .zip(found)
+        .flat_map(|(pair, f)| {
+            let side = if pair.body == b {
+                1.0
+            } else if pair.target_body == Some(b) {
+                -1.0
+            } else {
+                0.0
+            };
+            (0..f.candidates.len()).map(move |c| -side * f.candidates.normal(c)[axis])
+        })
+        .collect();
+    if along.iter().all(|a| a.abs() <= 1e-12) {
+        return Err(LoadDrivenError::NotRestrained { mode: pin.name() });
+    }
+    let load: f64 = models[b].system.load.iter().skip(axis).step_by(2).sum();
+    Ok(Some((b, pin, along, load)))
 }
 
 /// One pair's candidates and target operator.
@@ -91,7 +181,7 @@ struct PairCandidates {
 pub fn solve_bodies(
     problem: &Problem,
     mut model: Model,
-    others: Vec<Model>,
+    mut others: Vec<Model>,
     progress: &mut dyn Progress,
     lemke: &lcp::LemkeParams,
 ) -> Result<(Model, Vec<Model>, Solution), Error> {
@@ -151,20 +241,66 @@ pub fn solve_bodies(
             Err(err) if allow => Some(err.to_string()),
             Err(err) => return Err(err.into()),
         };
-    let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
-    let result =
-        clock.run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
-    let result = match result {
-        Ok(r) => r,
-        Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
-            return Err(cause.into());
-        }
-        Err(cause) => {
-            let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
-            let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, false)?;
-            return Err(Error::LemkeRefused(Box::new(refusal)));
+    let held =
+        held_body(&problems, &models, pairs, &found, &operators).map_err(lcp::LcpError::from)?;
+    let lemke_on = |q: &[f64], clock: &mut Clock| -> Result<lcp::LcpSolution, Error> {
+        let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), q.to_vec())?;
+        let result = clock
+            .run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
+        match result {
+            Ok(r) => Ok(r),
+            Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
+                Err(cause.into())
+            }
+            Err(cause) => {
+                let extremes =
+                    [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
+                let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, false)?;
+                Err(Error::LemkeRefused(Box::new(refusal)))
+            }
         }
     };
+    // A body held by the contact alone (docs/method.md §4.7): its translation t along r
+    // moves the gaps by −a t, and its pin's reaction vanishes when aᵀz = F_r.
+    let (result, rigid) = match &held {
+        None => (lemke_on(&condensed.free_gap, &mut clock)?, None),
+        Some((b, pin, along, load)) => {
+            let search = lcp::load_driven::find_translation(
+                &condensed.compliance,
+                &condensed.free_gap,
+                along,
+                *load,
+                |q| lemke_on(q, &mut clock),
+                |r| r.z.as_slice(),
+            )?;
+            let mut translation = [0.0; 2];
+            translation[pin.axis as usize] = search.displacement;
+            let mode = solution::RigidMode {
+                mode: pin.name(),
+                pin_point: models[*b].nodes.points[pin.node as usize],
+                translation,
+                load: *load,
+                evaluations: search.evaluations,
+                total_evaluations: search.evaluations,
+            };
+            (search.answer, Some((*b, *pin, mode)))
+        }
+    };
+    // The pin's value is the translation found, so that the system each solution answers
+    // (its residual, its reactions) is the one solved.
+    drop(models);
+    if let Some((b, pin, r)) = &rigid {
+        let target = if *b == 0 { &mut model } else { &mut others[*b - 1] };
+        let value = r.translation[pin.axis as usize];
+        let d = crate::nodes::dof(pin.node as usize, pin.axis);
+        target.system.rhs[d] = target.system.collocation_scale * value;
+        if let Some(c) =
+            target.system.constraints.iter_mut().find(|c| c.node == pin.node && c.axis == pin.axis)
+        {
+            c.value = value;
+        }
+    }
+    let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
     // One solve per body with the forces of the pairs that touch it.
     let mut u = Vec::with_capacity(problems.len());
     for (b, op) in operators.iter().enumerate() {
@@ -243,6 +379,7 @@ pub fn solve_bodies(
         condensed,
         lcp: result,
         warning,
+        held: rigid.map(|(b, _, r)| (b, r)),
     }));
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;

@@ -362,6 +362,20 @@ pub struct RigidModeSummary {
     pub lcp_solves_all_increments: usize,
 }
 
+impl RigidModeSummary {
+    /// The summary of `r`.
+    fn new(r: &crate::solution::RigidMode) -> Self {
+        Self {
+            mode: r.mode,
+            pin_point: r.pin_point,
+            translation: r.translation,
+            load_along_mode: r.load,
+            lcp_solves: r.evaluations,
+            lcp_solves_all_increments: r.total_evaluations,
+        }
+    }
+}
+
 /// A rigid obstacle pressed by a prescribed force: the force and the displacement it found
 /// (docs/method.md §4.6).
 #[derive(Clone, Debug, Serialize)]
@@ -434,6 +448,10 @@ pub struct SecondBody {
     pub reaction_force: [f64; 2],
     /// `Σ ν P`.
     pub contact_force: [f64; 2],
+    /// Several bodies: this body's rigid translation held by contact alone
+    /// (docs/method.md §4.7).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rigid_mode: Option<RigidModeSummary>,
 }
 
 impl Summary {
@@ -571,14 +589,7 @@ impl Summary {
                     lcp_solves: l.evaluations,
                     lcp_solves_all_increments: l.total_evaluations,
                 }),
-                rigid_mode: c.rigid_mode.as_ref().map(|r| RigidModeSummary {
-                    mode: r.mode,
-                    pin_point: r.pin_point,
-                    translation: r.translation,
-                    load_along_mode: r.load,
-                    lcp_solves: r.evaluations,
-                    lcp_solves_all_increments: r.total_evaluations,
-                }),
+                rigid_mode: c.rigid_mode.as_ref().map(RigidModeSummary::new),
             }),
             second_body: solution.second_body.as_deref().map(|s2| SecondBody {
                 name: problem.second_body.as_ref().map(|p| p.name.clone()),
@@ -589,6 +600,7 @@ impl Summary {
                 applied_force: s2.applied_force,
                 reaction_force: s2.reaction_force,
                 contact_force: s2.contact_force,
+                rigid_mode: None,
             }),
             bodies: multibody_bodies(problem, solution),
             pairs: multibody_pairs(problem, solution),
@@ -633,6 +645,11 @@ fn multibody_bodies(problem: &Problem, solution: &Solution) -> Option<Vec<Second
                 applied_force: s.applied_force,
                 reaction_force: s.reaction_force,
                 contact_force: s.contact_force,
+                rigid_mode: ms
+                    .held
+                    .as_ref()
+                    .filter(|(b, _)| *b == k)
+                    .map(|(_, r)| RigidModeSummary::new(r)),
             })
             .collect(),
     )

@@ -8,10 +8,9 @@
 //! block's top edge, the top block's bottom edge against the middle block's top edge. The top
 //! block's top edge is pushed down by `δ = 0.01`, the bottom block's bottom edge is on a roller
 //! (`u_y = 0`), every left edge on a roller (`u_x = 0`). The middle block is held vertically by
-//! the contacts only; until such bodies can be solved, the middle third of its left side
-//! (`1.25 ≤ y ≤ 1.75`, an edge of its own so that the corners on the contact edges stay free)
-//! also prescribes `u_y` at the exact values below, which the exact solution satisfies with a
-//! zero reaction (asserted: the restraint carries nothing).
+//! the contacts only: its translation in y is pinned at its central node and found from the
+//! pin's zero reaction (docs/method.md §4.7; asserted: the pin carries nothing, and the
+//! translation is the exact displacement of the pinned point).
 //!
 //! **Reference (closed form).** Every block is in uniaxial stress `σ_yy = −p`,
 //! `σ_xx = σ_xy = 0`: this satisfies equilibrium in each block, the traction-free right
@@ -36,6 +35,7 @@
 
 use super::common::{assert_lcp_residuals, shipped_problem};
 use mlpg_contact::Solution;
+use mlpg_contact::pipeline::multibody::discretise_others;
 use mlpg_contact::problem::Problem;
 
 const DELTA: f64 = 0.01;
@@ -95,10 +95,10 @@ fn three_block_stack_is_uniaxial_to_round_off() {
     }
 
     // Every body's displacement field, the interfaces included.
-    let models: Vec<_> = std::iter::once(&problem)
-        .chain(several.bodies.iter())
-        .map(|b| mlpg_contact::discretise(b, &mut mlpg_contact::Silent).unwrap())
-        .collect();
+    let models: Vec<_> =
+        std::iter::once(mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap())
+            .chain(discretise_others(&problem, &mut mlpg_contact::Silent).unwrap())
+            .collect();
     let bodies: Vec<&Solution> = std::iter::once(&s).chain(ms.bodies.iter()).collect();
     for (i, (b, m)) in bodies.iter().zip(&models).enumerate() {
         let worst = m
@@ -147,10 +147,33 @@ fn three_block_stack_is_uniaxial_to_round_off() {
     let close = |a: f64, b: f64| (a - b).abs() < 1e-8 * force;
     // Bottom: pushed down by pair 0, held up by its roller.
     assert!(close(s.contact_force[1], -force) && close(s.reaction_force[1], force));
-    // Middle: pushed up by pair 0 and down by pair 1; its restraint carries nothing.
+    // Middle: pushed up by pair 0 and down by pair 1; held by them alone: pinned at one node
+    // in y, whose reaction vanishes, and translated by the exact displacement of that node.
     let middle = bodies[1];
     assert!(close(middle.contact_force[1], 0.0) && close(middle.reaction_force[1], 0.0));
+    let pin = models[1].system.pinned.expect("the middle block's free translation is pinned");
+    assert_eq!(pin.axis, mlpg_contact::nodes::Axis::Y);
+    let pin_reaction = middle
+        .reactions
+        .iter()
+        .find(|r| r.0 == pin.node && r.1 == pin.axis)
+        .expect("the pin's reaction")
+        .2;
+    println!("middle block: pin reaction {pin_reaction:.2e} (contact force {force})");
+    assert!(pin_reaction.abs() < 1e-8 * force, "pin reaction {pin_reaction:.3e}");
     assert!(middle.reactions.iter().all(|r| r.2.abs() < 1e-8 * force), "middle reactions");
+    let (held, mode) = ms.held.as_ref().expect("the middle block is held by contact");
+    assert_eq!((*held, mode.mode), (1, "translation in y"));
+    let x_pin = models[1].nodes.points[pin.node as usize];
+    assert_eq!(mode.pin_point, x_pin);
+    let exact_pin = exact(1, x_pin);
+    println!(
+        "middle block: translation {:.15} at ({}, {}), exact {:.15}, {} LCP solves",
+        mode.translation[1], x_pin[0], x_pin[1], exact_pin[1], mode.evaluations
+    );
+    assert!(mode.translation[0] == 0.0 && mode.load == 0.0);
+    assert!((mode.translation[1] - exact_pin[1]).abs() < 1e-8 * DELTA);
+    assert!((middle.displacement[pin.node as usize][1] - mode.translation[1]).abs() < 1e-8 * DELTA);
     // Top: pushed up by pair 1, pushed down by its prescribed edge.
     assert!(close(bodies[2].contact_force[1], force) && close(bodies[2].reaction_force[1], -force));
 }
@@ -168,6 +191,7 @@ fn three_block_stack_is_identical_on_one_and_two_threads() {
             .collect::<Vec<_>>()
     };
     assert_eq!(bodies(&a, ma), bodies(&b, mb));
+    assert_eq!(ma.held, mb.held, "the middle block's translation");
 }
 
 /// Two blocks pressed together (`problems/two_blocks.toml`, identical blocks, non-matching
@@ -302,4 +326,84 @@ obstacle_normal = [-1.0, 0.0]
     assert!(
         (s.contact_force[1] - fy).abs() < 1e-8 * fy && (s.contact_force[0] + fx).abs() < 1e-8 * fy
     );
+}
+
+/// The block between a floor and a wall of `block_between_floor_and_wall_is_exact`, pressed by
+/// a uniform traction `q = 10` on its top instead of a displacement: nothing but the floor
+/// holds it in y, so its translation in y is left to the two obstacle pairs (docs/method.md
+/// §4.7, "Between bodies", with `F_r = −2q ≠ 0`).
+///
+/// **Reference.** The uniform state `σ_yy = −q`, `σ_xx = ν σ_yy` (the wall stops the Poisson
+/// expansion), `σ_xy = 0`: floor pressure `q`, wall pressure `ν q`, `u = (0, −(1 − ν²) q y / E)`
+/// (`u_x = 0` on the roller and at the wall). Linear: round-off only, asserted to 1e-8.
+#[test]
+fn block_pressed_between_floor_and_wall_is_held_by_them() {
+    let text = r#"
+name = "walls_pressed"
+[discretisation]
+support_factor = 2.0
+[geometry]
+kind = "rectangle"
+x = [0.0, 2.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.1
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = { x = 0.0 }
+[[boundary]]
+edge = "top"
+traction = { y = -10.0 }
+[[contact]]
+edge = "bottom"
+obstacle_point = [0.0, 0.0]
+obstacle_normal = [0.0, 1.0]
+[[contact]]
+edge = "right"
+obstacle_point = [2.0, 0.0]
+obstacle_normal = [-1.0, 0.0]
+"#;
+    let q = 10.0;
+    let problem = Problem::from_toml(text).unwrap();
+    let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+    let pin = model.system.pinned.expect("y is left to the contacts");
+    let s = mlpg_contact::solve(&problem).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    assert_lcp_residuals("walls pressed", &ms.lcp.residuals, 1e-10);
+    for (k, (c, exact)) in [(&ms.pairs[0], q), (&ms.pairs[1], POISSON * q)].into_iter().enumerate()
+    {
+        let worst = c.pressure.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
+        println!("walls pressed, pair {k}: max |p/p_exact − 1| = {worst:.2e}");
+        assert!(worst < 1e-8, "pair {k}: {worst:.3e}");
+    }
+    let strain = (1.0 - POISSON * POISSON) * q / 1000.0;
+    let worst = model
+        .nodes
+        .points
+        .iter()
+        .zip(&s.displacement)
+        .map(|(x, u)| u[0].abs().max((u[1] + strain * x[1]).abs()))
+        .fold(0.0, f64::max);
+    let (held, mode) = ms.held.as_ref().expect("held by the contacts");
+    let x_pin = model.nodes.points[pin.node as usize];
+    let pin_reaction =
+        s.reactions.iter().find(|r| r.0 == pin.node && r.1 == pin.axis).expect("pin").2;
+    println!(
+        "walls pressed: max |u − u_exact| / (strain) = {:.2e}, translation {:.15} (exact {:.15}), load {}, pin reaction {pin_reaction:.2e}, {} LCP solves",
+        worst / strain,
+        mode.translation[1],
+        -strain * x_pin[1],
+        mode.load,
+        mode.evaluations
+    );
+    assert_eq!(*held, 0);
+    assert!(worst < 1e-8 * strain);
+    assert!((mode.load + 2.0 * q).abs() < 1e-12 * q);
+    assert!((mode.translation[1] + strain * x_pin[1]).abs() < 1e-8 * strain);
+    assert!(pin_reaction.abs() < 1e-8 * q, "{pin_reaction:e}");
+    assert!(s.equilibrium_error < 1e-9);
 }
