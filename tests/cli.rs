@@ -560,6 +560,14 @@ fn stack_with_a_body_free_in_two_directions_is_refused() {
             stack.replace(bottom_roller, ""),
             "bodies `bottom` (translation in y), `middle` (translation in y) each have a rigid-body translation that no displacement condition restrains",
         ),
+
+        (
+            // The top block lifted instead of pressed: the middle block rests on the bottom
+            // one with no force, free to rise: its position is not determined.
+            "stack_middle_undetermined",
+            stack.replace("displacement = { y = -0.01 }", "displacement = { y = 0.01 }"),
+            "body `middle`: its translation in y is left to the contact, but no load acts along it and its contacts carry no force, so its position is not determined",
+        ),
     ];
     expect_refusals(cases);
 }
@@ -836,6 +844,8 @@ fn outputs_are_deterministic_across_thread_counts() {
         ),
         ("cylinder_indenter_force.toml", &["contact.csv"][..]),
         ("block_on_flat_held_by_contact.toml", &["contact.csv"][..]),
+        ("plate_with_central_hole.toml", &[][..]),
+        ("cylinder_indenter_adaptive.toml", &["contact.csv", "plots/node_spacing.svg"][..]),
     ] {
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(problem);
         let mut dirs = Vec::new();

@@ -101,6 +101,18 @@ pub enum LoadDrivenError {
         /// What assembly found.
         detail: String,
     },
+    /// A body held by contact between bodies with no load along its free translation, whose
+    /// contacts carry no force and do not block the translation both ways: every position of
+    /// an interval answers, so none is reported (docs/method.md §4.7).
+    #[error(
+        "body `{body}`: its {mode} is left to the contact, but no load acts along it and its contacts carry no force, so its position is not determined (press the bodies together, load the body along the {mode}, or add a displacement condition that prevents it)"
+    )]
+    Undetermined {
+        /// The body's name.
+        body: String,
+        /// The free mode.
+        mode: &'static str,
+    },
     /// No displacement meeting the force equation was found.
     #[error(
         "the obstacle's displacement under the force {target:.6e} was not found after {evaluations} LCP solves: the last, at s = {displacement:.6e}, carried {force:.6e} (bracket {low:?} to {high:?}); the contact's force–displacement relation may have a jump (M is not a P-matrix) — try a displacement step instead"

@@ -273,6 +273,21 @@ pub fn solve_bodies(
                 |q| lemke_on(q, &mut clock),
                 |r| r.z.as_slice(),
             )?;
+            // No load and no force along the translation: the position is determined only
+            // if touching gaps block it both ways (F(t) = aᵀz(t) is flat on an interval
+            // otherwise, and every t of it answers).
+            let (z, w) = (&search.answer.z, &search.answer.w);
+            let carries = z.iter().zip(along.iter()).any(|(z, a)| *z * a != 0.0);
+            let touching = 1e-12 * condensed.free_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
+            let blocked =
+                |sign: f64| along.iter().zip(w).any(|(a, w)| sign * a > 0.0 && *w <= touching);
+            if *load == 0.0 && !carries && !(blocked(1.0) && blocked(-1.0)) {
+                return Err(lcp::load_driven::LoadDrivenError::Undetermined {
+                    body: problems[*b].name.clone(),
+                    mode: pin.name(),
+                }
+                .into());
+            }
             let mut translation = [0.0; 2];
             translation[pin.axis as usize] = search.displacement;
             let mode = solution::RigidMode {
