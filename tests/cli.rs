@@ -560,7 +560,6 @@ fn stack_with_a_body_free_in_two_directions_is_refused() {
             stack.replace(bottom_roller, ""),
             "bodies `bottom` (translation in y), `middle` (translation in y) each have a rigid-body translation that no displacement condition restrains",
         ),
-
         (
             // The top block lifted instead of pressed: the middle block rests on the bottom
             // one with no force, free to rise: its position is not determined.
