@@ -185,7 +185,7 @@ pub fn find_displacement<S, E: From<LoadDrivenError>>(
     };
     let c0 = first(base_gap);
     let mut s = base_gap[c0] / along[c0];
-    let (mut low, mut high): (Option<f64>, Option<f64>) = (None, None);
+    let mut bracket = Bracket::default();
     let mut last_step: f64 = 0.0;
     let mut tried = (s, 0.0);
     let scale = 1.0 + s.abs();
@@ -199,41 +199,26 @@ pub fn find_displacement<S, E: From<LoadDrivenError>>(
         if residual.abs() <= FORCE_TOLERANCE * target {
             return Ok(ForceSearch { displacement: s, force, answer, evaluations: evaluation });
         }
-        if residual < 0.0 {
-            low = Some(low.map_or(s, |l| l.max(s)));
-        } else {
-            high = Some(high.map_or(s, |h| h.min(s)));
-        }
-        let stuck = |lo: f64, hi: f64| hi - lo <= 4.0 * f64::EPSILON * scale.max(hi.abs());
-        if matches!((low, high), (Some(lo), Some(hi)) if stuck(lo, hi)) {
-            return Err(LoadDrivenError::NotConverged {
-                evaluations: evaluation,
-                displacement: s,
-                force,
-                target,
-                low,
-                high,
-            }
-            .into());
+        bracket.record(s, residual);
+        if bracket.collapsed(scale) {
+            return Err(bracket.not_converged(evaluation, (s, force), target).into());
         }
         // The closed set of this answer; none closed: the next to close.
-        let w: Vec<f64> = (0..m)
-            .map(|i| q[i] + (0..m).map(|j| compliance[i * m + j] * z[j]).sum::<f64>())
-            .collect();
+        let w = gaps(compliance, &q, z);
         let mut active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
         if active.is_empty() {
             active.push(first(&w));
         }
         let slope = slope(compliance, m, along, &active);
         let newton = s - residual / slope;
-        let inside = |x: f64| low.is_none_or(|l| x > l) && high.is_none_or(|h| x < h);
+        let inside = |x: f64| bracket.contains(x);
         let next = if slope.is_finite() && slope > 0.0 && inside(newton) {
             newton
         } else {
-            match (low, high) {
-                (Some(l), Some(h)) => 0.5 * (l + h),
+            match bracket.midpoint() {
+                Some(mid) => mid,
                 // One side only: double the last step towards the other.
-                _ => {
+                None => {
                     let size = (2.0 * last_step.abs()).max(1e-6 * scale);
                     if residual < 0.0 { s + size } else { s - size }
                 }
@@ -242,15 +227,7 @@ pub fn find_displacement<S, E: From<LoadDrivenError>>(
         last_step = next - s;
         s = next;
     }
-    Err(LoadDrivenError::NotConverged {
-        evaluations: MAX_EVALUATIONS,
-        displacement: tried.0,
-        force: tried.1,
-        target,
-        low,
-        high,
-    }
-    .into())
+    Err(bracket.not_converged(MAX_EVALUATIONS, tried, target).into())
 }
 
 /// Solves `F(t) = aᵀ z(t) = target` for a free rigid translation `t` of a body held by
@@ -283,7 +260,7 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
         return Err(LoadDrivenError::BadForce { force: target }.into());
     }
     let mut t = 0.0;
-    let (mut low, mut high): (Option<f64>, Option<f64>) = (None, None);
+    let mut bracket = Bracket::default();
     let mut last_step: f64 = 0.0;
     let mut tried = (t, 0.0);
     let gap_scale = base_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
@@ -298,32 +275,17 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
         if residual.abs() <= FORCE_TOLERANCE * target.abs().max(carried) {
             return Ok(ForceSearch { displacement: t, force, answer, evaluations: evaluation });
         }
-        if residual < 0.0 {
-            low = Some(low.map_or(t, |l| l.max(t)));
-        } else {
-            high = Some(high.map_or(t, |h| h.min(t)));
-        }
+        bracket.record(t, residual);
         let scale = gap_scale.max(t.abs()).max(f64::MIN_POSITIVE);
-        let stuck = |lo: f64, hi: f64| hi - lo <= 4.0 * f64::EPSILON * scale.max(hi.abs());
-        if matches!((low, high), (Some(lo), Some(hi)) if stuck(lo, hi)) {
-            return Err(LoadDrivenError::NotConverged {
-                evaluations: evaluation,
-                displacement: t,
-                force,
-                target,
-                low,
-                high,
-            }
-            .into());
+        if bracket.collapsed(scale) {
+            return Err(bracket.not_converged(evaluation, (t, force), target).into());
         }
-        let w: Vec<f64> = (0..m)
-            .map(|i| q[i] + (0..m).map(|j| compliance[i * m + j] * z[j]).sum::<f64>())
-            .collect();
+        let w = gaps(compliance, &q, z);
         let active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
         let slope = if active.is_empty() { 0.0 } else { slope(compliance, m, along, &active) };
         // Towards larger F: t grows when the residual is negative.
         let direction = if residual < 0.0 { 1.0 } else { -1.0 };
-        let inside = |x: f64| low.is_none_or(|l| x > l) && high.is_none_or(|h| x < h);
+        let inside = |x: f64| bracket.contains(x);
         let newton = t - residual / slope;
         // A flat piece: the next candidate to close in that direction (a_c has its sign).
         let next_closure = (0..m)
@@ -337,9 +299,9 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
         } else if let Some(x) = next_closure.filter(|&x| x != t && inside(x)) {
             x
         } else {
-            match (low, high) {
-                (Some(l), Some(h)) => 0.5 * (l + h),
-                _ => {
+            match bracket.midpoint() {
+                Some(mid) => mid,
+                None => {
                     let size = (2.0 * last_step.abs()).max(1e-6 * scale.max(1e-300));
                     t + direction * size
                 }
@@ -348,15 +310,61 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
         last_step = next - t;
         t = next;
     }
-    Err(LoadDrivenError::NotConverged {
-        evaluations: MAX_EVALUATIONS,
-        displacement: tried.0,
-        force: tried.1,
-        target,
-        low,
-        high,
+    Err(bracket.not_converged(MAX_EVALUATIONS, tried, target).into())
+}
+
+/// The trial displacements of a search known to carry less (`low`) and more (`high`) than
+/// the target: a Newton step leaving it is replaced (docs/method.md §4.6).
+#[derive(Clone, Copy, Debug, Default)]
+struct Bracket {
+    low: Option<f64>,
+    high: Option<f64>,
+}
+
+impl Bracket {
+    /// Records the trial `x`, whose force missed the target by `residual`.
+    fn record(&mut self, x: f64, residual: f64) {
+        if residual < 0.0 {
+            self.low = Some(self.low.map_or(x, |l| l.max(x)));
+        } else {
+            self.high = Some(self.high.map_or(x, |h| h.min(x)));
+        }
     }
-    .into())
+
+    /// Whether both sides are known and lie within round-off of each other at `scale`.
+    fn collapsed(&self, scale: f64) -> bool {
+        matches!((self.low, self.high),
+            (Some(lo), Some(hi)) if hi - lo <= 4.0 * f64::EPSILON * scale.max(hi.abs()))
+    }
+
+    /// Whether `x` lies strictly inside the known sides.
+    fn contains(&self, x: f64) -> bool {
+        self.low.is_none_or(|l| x > l) && self.high.is_none_or(|h| x < h)
+    }
+
+    /// The midpoint, once both sides are known.
+    fn midpoint(&self) -> Option<f64> {
+        Some(0.5 * (self.low? + self.high?))
+    }
+
+    /// The search's failure after `evaluations` solves, the last trial `(x, force)`.
+    fn not_converged(&self, evaluations: usize, tried: (f64, f64), target: f64) -> LoadDrivenError {
+        let (low, high) = (self.low, self.high);
+        LoadDrivenError::NotConverged {
+            evaluations,
+            displacement: tried.0,
+            force: tried.1,
+            target,
+            low,
+            high,
+        }
+    }
+}
+
+/// The gaps `w = q + M z` of an LCP answer (`compliance` row-major `m × m`).
+fn gaps(compliance: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
+    let m = q.len();
+    (0..m).map(|i| q[i] + (0..m).map(|j| compliance[i * m + j] * z[j]).sum::<f64>()).collect()
 }
 
 /// `a_Aᵀ M_AA⁻¹ a_A`: `dF/ds` on the piece where the closed set is `A` (`dz_A/ds =

@@ -258,36 +258,8 @@ fn reversed_pair_reproduces_the_two_blocks() {
 /// that. Linear field: exact up to round-off, asserted to 1e-8.
 #[test]
 fn block_between_floor_and_wall_is_exact() {
-    let text = r#"
-name = "walls"
-[discretisation]
-support_factor = 2.0
-[geometry]
-kind = "rectangle"
-x = [0.0, 2.0]
-y = [0.0, 1.0]
-[nodes]
-spacing = 0.1
-[material]
-young = 1000.0
-poisson = 0.3
-plane = "stress"
-[[boundary]]
-edge = "left"
-displacement = { x = 0.0 }
-[[boundary]]
-edge = "top"
-displacement = { y = -0.01 }
-[[contact]]
-edge = "bottom"
-obstacle_point = [0.0, 0.0]
-obstacle_normal = [0.0, 1.0]
-[[contact]]
-edge = "right"
-obstacle_point = [2.0, 0.0]
-obstacle_normal = [-1.0, 0.0]
-"#;
-    let problem = Problem::from_toml(text).unwrap();
+    let text = walls("walls", "displacement = { y = -0.01 }");
+    let problem = Problem::from_toml(&text).unwrap();
     let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
     let s = mlpg_contact::solve(&problem).unwrap();
     let ms = s.multibody.as_deref().unwrap();
@@ -338,37 +310,9 @@ obstacle_normal = [-1.0, 0.0]
 /// (`u_x = 0` on the roller and at the wall). Linear: round-off only, asserted to 1e-8.
 #[test]
 fn block_pressed_between_floor_and_wall_is_held_by_them() {
-    let text = r#"
-name = "walls_pressed"
-[discretisation]
-support_factor = 2.0
-[geometry]
-kind = "rectangle"
-x = [0.0, 2.0]
-y = [0.0, 1.0]
-[nodes]
-spacing = 0.1
-[material]
-young = 1000.0
-poisson = 0.3
-plane = "stress"
-[[boundary]]
-edge = "left"
-displacement = { x = 0.0 }
-[[boundary]]
-edge = "top"
-traction = { y = -10.0 }
-[[contact]]
-edge = "bottom"
-obstacle_point = [0.0, 0.0]
-obstacle_normal = [0.0, 1.0]
-[[contact]]
-edge = "right"
-obstacle_point = [2.0, 0.0]
-obstacle_normal = [-1.0, 0.0]
-"#;
+    let text = walls("walls_pressed", "traction = { y = -10.0 }");
     let q = 10.0;
-    let problem = Problem::from_toml(text).unwrap();
+    let problem = Problem::from_toml(&text).unwrap();
     let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
     let pin = model.system.pinned.expect("y is left to the contacts");
     let s = mlpg_contact::solve(&problem).unwrap();
@@ -406,4 +350,41 @@ obstacle_normal = [-1.0, 0.0]
     assert!((mode.translation[1] + strain * x_pin[1]).abs() < 1e-8 * strain);
     assert!(pin_reaction.abs() < 1e-8 * q, "{pin_reaction:e}");
     assert!(s.equilibrium_error < 1e-9);
+}
+
+/// The block `[0, 2] × [0, 1]` of the floor-and-wall cases: a rigid floor `y = 0` under its
+/// bottom edge and a rigid wall `x = 2` beside its right edge (two obstacle pairs), a roller on
+/// its left edge and `top` (a condition of `[[boundary]]`) on its top edge.
+fn walls(name: &str, top: &str) -> String {
+    format!(
+        r#"
+name = "{name}"
+[discretisation]
+support_factor = 2.0
+[geometry]
+kind = "rectangle"
+x = [0.0, 2.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.1
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "stress"
+[[boundary]]
+edge = "left"
+displacement = {{ x = 0.0 }}
+[[boundary]]
+edge = "top"
+{top}
+[[contact]]
+edge = "bottom"
+obstacle_point = [0.0, 0.0]
+obstacle_normal = [0.0, 1.0]
+[[contact]]
+edge = "right"
+obstacle_point = [2.0, 0.0]
+obstacle_normal = [-1.0, 0.0]
+"#
+    )
 }
