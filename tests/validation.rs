@@ -60,4 +60,6 @@ mod validation {
     mod lemke_fallback;
     // Friction on the active-set path equals the Lemke-based step, increment by increment.
     mod active_set_friction;
+    // Active-set iterations against the number of candidates (at most 30, not growing).
+    mod active_set_iterations;
 }
