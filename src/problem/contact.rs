@@ -422,6 +422,20 @@ impl ContactSolver {
     /// against 4.6 s at 384. Above every shipped frictional problem (at most 192 candidates).
     pub const FRICTION_AUTO_THRESHOLD: usize = 500;
 
+    /// Candidates from which `Auto` takes the active-set method for two bodies with friction
+    /// (or load steps) (docs/dev/active_set.md, "Friction between two bodies").
+    pub const FRICTION_PAIR_AUTO_THRESHOLD: usize = 500;
+
+    /// Whether a frictional problem (or one with load steps) between two bodies with
+    /// `candidates` candidates is solved by the active-set method.
+    pub fn is_active_set_frictional_pair(self, candidates: usize) -> bool {
+        match self {
+            ContactSolver::Lemke => false,
+            ContactSolver::ActiveSet => true,
+            ContactSolver::Auto => candidates >= Self::FRICTION_PAIR_AUTO_THRESHOLD,
+        }
+    }
+
     /// Whether a frictional problem (or one with load steps) against a rigid obstacle with
     /// `candidates` candidates is solved by the active-set method (two bodies with friction
     /// always take Lemke's path).

@@ -84,6 +84,15 @@ fn compare(name: &str, problem: &Problem) -> (f64, f64) {
         .fold(0.0_f64, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
     let scale = lemke.displacement.iter().fold(0.0_f64, |m, p| m.max(p[0].hypot(p[1])));
     assert!(du < AGREEMENT * scale, "{name}: displacements differ by {du:e} of {scale:e}");
+    if let (Some(a2), Some(b2)) = (active.second_body.as_deref(), lemke.second_body.as_deref()) {
+        let du2 = a2
+            .displacement
+            .iter()
+            .zip(&b2.displacement)
+            .fold(0.0_f64, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
+        assert!(du2 < AGREEMENT * scale, "{name}: body 2 displacements differ by {du2:e}");
+        assert!(a2.equilibrium_error <= 1e-8, "{name}: body 2 equilibrium");
+    }
     let iterations: Vec<usize> = fa.increments.iter().map(|r| r.iterations).collect();
     println!(
         "{name}: closed gaps: active set {:.1e}, Lemke {:.1e}, λ_min {lambda_min:.2e}",
@@ -142,16 +151,88 @@ fn fem_beam_with_friction_equals_lemke() {
     compare("beam_on_foundation_fem.toml, μ = 0.3", &problem);
 }
 
-/// Two bodies with friction: `"active_set"` is refused with the key path; `"auto"` solves
-/// `problems/cattaneo_mindlin.toml`'s kind of problem on Lemke's path.
+/// `problems/cattaneo_mindlin.toml` as shipped (a cylinder cap on a block, h = 0.01 on both,
+/// a frictionless press then a shear in 4 increments with μ = 0.3): two bodies with friction
+/// and `[[step]]` on the active-set path (`lcp::active_set::TwoBodies`) against Lemke's path,
+/// every increment; both bodies' equilibrium is in each increment's record
+/// (`check_frictional`).
 #[test]
-fn two_bodies_with_friction_are_refused() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cattaneo_mindlin.toml");
-    let text = std::fs::read_to_string(path).unwrap();
-    let text = text.replacen("[contact]\n", "[contact]\nsolver = \"active_set\"\n", 1);
-    let e = Problem::from_toml(&text).unwrap_err().to_string();
-    assert!(e.contains("contact.solver") && e.contains("rigid obstacles only"), "{e}");
+fn cattaneo_mindlin_equals_lemke() {
+    let problem = shipped("cattaneo_mindlin.toml");
+    compare("cattaneo_mindlin.toml", &problem);
+    let s = solve_with(&problem, ContactSolver::ActiveSet);
+    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    assert!(f.increments.iter().any(|r| r.stick > 0 && r.slip > 0), "no partial slip");
+}
+
+/// Two identical 2 × 1 blocks (h = 0.1, E = 1000, ν = 0.3, plane stress), the lower one
+/// clamped at its bottom, the upper one's top pressed by 0.01 (2 increments) and sheared by
+/// `shear` (4 increments), then the lower block's bottom moved by −0.02 along x (4
+/// increments: the relative shear reverses to `shear + 0.02`): stick, slip and its reversal
+/// between two bodies, each body moved by its own step values; `upper_spacing` sets the upper
+/// block's spacing (0.1: matching layouts, 0.08: not) and `method` the discretisation.
+fn two_blocks_path(method: &str, upper_spacing: f64, mu: f64, shear: f64) -> Problem {
+    Problem::from_toml(&format!(
+        r#"
+        [discretisation]
+        method = "{method}"
+        [[body]]
+        name = "upper"
+        geometry = {{ kind = "rectangle", x = [0.0, 2.0], y = [1.0, 2.0] }}
+        nodes = {{ spacing = {upper_spacing:e} }}
+        material = {{ young = 1000.0, poisson = 0.3, plane = "stress" }}
+        boundary = [{{ edge = "top", displacement = {{ x = 0.0, y = 0.0 }} }}]
+        [[body]]
+        name = "lower"
+        geometry = {{ kind = "rectangle", x = [0.0, 2.0], y = [0.0, 1.0] }}
+        nodes = {{ spacing = 0.1 }}
+        material = {{ young = 1000.0, poisson = 0.3, plane = "stress" }}
+        boundary = [{{ edge = "bottom", displacement = {{ x = 0.0, y = 0.0 }} }}]
+        [contact]
+        edge = "bottom"
+        target_edge = "top"
+        friction = {mu:e}
+        [output]
+        steps = true
+        [[step]]
+        increments = 2
+        boundary = [{{ body = "upper", edge = "top", displacement = {{ y = -0.01 }} }}]
+        [[step]]
+        increments = 4
+        boundary = [{{ body = "upper", edge = "top", displacement = {{ x = {shear:e} }} }}]
+        [[step]]
+        increments = 4
+        boundary = [{{ body = "lower", edge = "bottom", displacement = {{ x = -0.02 }} }}]
+        "#
+    ))
+    .unwrap()
+}
+
+/// Two blocks pressed, sheared into partial slip and back (the last step moves the lower
+/// block), matching and non-matching layouts: equal to Lemke's
+/// path at every increment, and the path visits stick, both slip directions and a mixed
+/// state.
+#[test]
+fn two_blocks_press_shear_and_reverse_equal_lemke() {
+    for (spacing, name) in [(0.1, "matching"), (0.08, "non-matching")] {
+        let problem = two_blocks_path("mfvm", spacing, 0.3, -0.012);
+        let name = format!("two blocks, {name} layouts");
+        compare(&name, &problem);
+        let s = solve_with(&problem, ContactSolver::ActiveSet);
+        let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+        let seen = |state: ContactState| f.snapshots.iter().any(|x| x.state.contains(&state));
+        assert!(seen(ContactState::Stick), "{name}: no stick");
+        assert!(seen(ContactState::SlipPositive), "{name}: no slip+");
+        assert!(seen(ContactState::SlipNegative), "{name}: no slip−");
+        assert!(f.increments.iter().any(|r| r.stick > 0 && r.slip > 0), "{name}: no mixed");
+    }
+}
+
+/// The same path on two finite element blocks (nodal candidates, the target's forces spread
+/// over tributary segments).
+#[test]
+fn fem_two_blocks_press_shear_and_reverse_equal_lemke() {
+    compare("two FE blocks", &two_blocks_path("fem", 0.1, 0.3, -0.012));
 }
 
 /// `summary.json` of a frictional active-set run: the solver, its iterations, the changes per

@@ -469,7 +469,7 @@ impl FrictionSystem for DenseFriction<'_> {
 
 /// The reduced [`FrictionProblem`] of the candidates `free` from the held problem's response
 /// `base` and the responses `columns` to unit `P` (first `|free|`) and `T` (then) on each.
-fn reduced_blocks(
+pub(super) fn reduced_blocks(
     base: &StateResponse,
     columns: &[StateResponse],
     free: &[usize],
@@ -499,21 +499,22 @@ fn reduced_blocks(
     }
 }
 
-impl RigidObstacle<'_> {
-    /// The mode of candidate `c` in `state`.
-    fn mode_of(&self, c: usize, state: ContactState) -> Mode {
-        let mu = self.friction.get(c).copied().unwrap_or(0.0);
-        match state {
-            ContactState::Open => OPEN,
-            _ if mu == 0.0 => CLOSED,
-            ContactState::Stick => STICK,
-            ContactState::SlipPositive => SLIP_POSITIVE,
-            ContactState::SlipNegative => SLIP_NEGATIVE,
-        }
+/// The mode of a candidate with friction coefficient `mu` in `state` (a rigid obstacle's or
+/// two bodies' rows).
+pub(super) fn mode_of(mu: f64, state: ContactState) -> Mode {
+    match state {
+        ContactState::Open => OPEN,
+        _ if mu == 0.0 => CLOSED,
+        ContactState::Stick => STICK,
+        ContactState::SlipPositive => SLIP_POSITIVE,
+        ContactState::SlipNegative => SLIP_NEGATIVE,
     }
+}
 
+impl RigidObstacle<'_> {
     fn modes_of(&self, states: &[ContactState]) -> Vec<Mode> {
-        states.iter().enumerate().map(|(c, &s)| self.mode_of(c, s)).collect()
+        let mu = |c: usize| self.friction.get(c).copied().unwrap_or(0.0);
+        states.iter().enumerate().map(|(c, &s)| mode_of(mu(c), s)).collect()
     }
 
     /// `(g, s)` of displacements `u`: `g0 + ν·u^h(x_c)`, `t·u^h(x_c) − o_c`.
