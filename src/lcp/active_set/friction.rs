@@ -23,11 +23,10 @@ use super::{
 };
 use crate::lcp::friction::{
     ContactState, FRICTION_TOLERANCE, FrictionMethod, FrictionProblem, FrictionResiduals,
-    FrictionSolution, solve_step as lemke_step,
+    FrictionSolution, solve_states, solve_step as lemke_step,
 };
 use crate::nodes::{Axis, dof};
 use faer::Mat;
-use faer::linalg::solvers::Solve;
 use std::collections::HashMap;
 
 /// `(q_n, q_t)`: gaps and tangential displacements without contact forces.
@@ -359,55 +358,8 @@ impl<'a> DenseFriction<'a> {
             (vec![0.0; m], vec![0.0; m])
         };
         let prev: Vec<f64> = if with_free { previous.to_vec() } else { vec![0.0; m] };
-        let mu = &pr.friction;
-        let n = 2 * m;
-        let mut a = Mat::<f64>::zeros(n, n);
-        let mut b = Mat::<f64>::zeros(n, 1);
-        for c in 0..m {
-            if let Some((pf, tf)) = fixed[c] {
-                a[(c, c)] = 1.0;
-                a[(m + c, m + c)] = 1.0;
-                b[(c, 0)] = pf;
-                b[(m + c, 0)] = tf;
-                continue;
-            }
-            match states[c] {
-                ContactState::Open => {
-                    a[(c, c)] = 1.0;
-                    a[(m + c, m + c)] = 1.0;
-                }
-                closed => {
-                    for j in 0..m {
-                        a[(c, j)] = pr.nn[c * m + j];
-                        a[(c, m + j)] = pr.nt[c * m + j];
-                    }
-                    b[(c, 0)] = -qn[c];
-                    match closed {
-                        ContactState::Stick if mu[c] > 0.0 => {
-                            for j in 0..m {
-                                a[(m + c, j)] = pr.tn[c * m + j];
-                                a[(m + c, m + j)] = pr.tt[c * m + j];
-                            }
-                            b[(m + c, 0)] = prev[c] - qt[c];
-                        }
-                        ContactState::SlipPositive | ContactState::Stick => {
-                            a[(m + c, m + c)] = 1.0;
-                            a[(m + c, c)] = mu[c];
-                        }
-                        _ => {
-                            a[(m + c, m + c)] = 1.0;
-                            a[(m + c, c)] = -mu[c];
-                        }
-                    }
-                }
-            }
-        }
-        let x = a.partial_piv_lu().solve(&b);
-        if (0..n).any(|i| !x[(i, 0)].is_finite()) {
-            return Err(super::singular("the dense frictional step"));
-        }
-        let p: Vec<f64> = (0..m).map(|c| x[(c, 0)]).collect();
-        let t: Vec<f64> = (0..m).map(|c| x[(m + c, 0)]).collect();
+        let (p, t) = solve_states(pr, states, fixed, (&qn, &qt), &prev)
+            .ok_or_else(|| super::singular("the dense frictional step"))?;
         let dot = |row: &[f64], v: &[f64]| row.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
         let gap = (0..m)
             .map(|i| {

@@ -17,6 +17,16 @@
 //! bodies' own factorisations (no new factorisation until the update would cost more than
 //! one), later bases a factorisation of the combined matrix. No dense `M = G K⁻¹ E` is formed.
 //!
+//! With friction ([`TwoBodies::set_friction`], [`FrictionSystem`]) a candidate is open, closed
+//! (frictionless, the terms above), sticking or slipping along `±t`, as against a rigid
+//! obstacle: both forces come from the residuals `r` of the owner node's two rows of body 1,
+//! `P = ν·r/w`, `T = t·r/w`; body 2's owner rows gain `(w_j/w)(d₂ νᵀ + d₂ₜ tᵀ) r` (two terms
+//! `u_a K₁_aᵀ`, `u_b K₁_bᵀ`), row `a` is the gap row and row `b` the relative tangential
+//! displacement condition (stick) or `(t ± μν)·r = 0` (slip±). Each mode is a set of rank-one
+//! terms; modes share terms and update columns (`K_B⁻¹ e_a`, `K_B⁻¹ e_b`, `K_B⁻¹ u_a`,
+//! `K_B⁻¹ u_b`), so a change between stick and slip is of rank one and a closing candidate of
+//! rank four (docs/method.md §5.1 "Friction").
+//!
 //! [`RigidObstacle`]: super::RigidObstacle
 
 use super::friction::{FreeResponse, FrictionSystem, StateResponse, mode_of, reduced_blocks};
