@@ -467,6 +467,73 @@ fn fixed_point(
     (p, t, pivots, max_rounds, change)
 }
 
+/// The forces `(P, T)` of fixed states (docs/method.md §8): the 2m linear conditions "open:
+/// `P = T = 0`; closed: `g = 0` and stick: `Δs = 0` (with `μ_c > 0`), slip±: `T = ∓μP`
+/// (`T = 0` with `μ_c = 0`)", one dense LU. `fixed[c] = Some((P, T))` prescribes a
+/// candidate's forces instead; `free = (q_n, q_t)` and `previous = s_prev` are the right-hand
+/// sides (zeros give the response to the prescribed forces alone). `None` when the system is
+/// singular (a non-finite solution). Serves the exact active-set step here and the dense
+/// frictional system of `lcp::active_set`.
+pub(crate) fn solve_states(
+    problem: &FrictionProblem,
+    states: &[ContactState],
+    fixed: &[Option<(f64, f64)>],
+    free: (&[f64], &[f64]),
+    previous: &[f64],
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let m = problem.size();
+    let mu = &problem.friction;
+    let (qn, qt) = free;
+    let n = 2 * m;
+    let mut a = Mat::<f64>::zeros(n, n);
+    let mut b = Mat::<f64>::zeros(n, 1);
+    for c in 0..m {
+        if let Some((pf, tf)) = fixed[c] {
+            a[(c, c)] = 1.0;
+            a[(m + c, m + c)] = 1.0;
+            b[(c, 0)] = pf;
+            b[(m + c, 0)] = tf;
+            continue;
+        }
+        match states[c] {
+            ContactState::Open => {
+                a[(c, c)] = 1.0;
+                a[(m + c, m + c)] = 1.0;
+            }
+            closed => {
+                for j in 0..m {
+                    a[(c, j)] = problem.nn[c * m + j];
+                    a[(c, m + j)] = problem.nt[c * m + j];
+                }
+                b[(c, 0)] = -qn[c];
+                match closed {
+                    ContactState::Stick if mu[c] > 0.0 => {
+                        for j in 0..m {
+                            a[(m + c, j)] = problem.tn[c * m + j];
+                            a[(m + c, m + j)] = problem.tt[c * m + j];
+                        }
+                        b[(m + c, 0)] = previous[c] - qt[c];
+                    }
+                    // T = −μP (slip+), T = +μP (slip−); T = 0 when μ = 0.
+                    ContactState::SlipPositive | ContactState::Stick => {
+                        a[(m + c, m + c)] = 1.0;
+                        a[(m + c, c)] = mu[c];
+                    }
+                    _ => {
+                        a[(m + c, m + c)] = 1.0;
+                        a[(m + c, c)] = -mu[c];
+                    }
+                }
+            }
+        }
+    }
+    let x = a.partial_piv_lu().solve(&b);
+    if (0..n).any(|i| !x[(i, 0)].is_finite()) {
+        return None;
+    }
+    Some(((0..m).map(|c| x[(c, 0)]).collect(), (0..m).map(|c| x[(m + c, 0)]).collect()))
+}
+
 /// The exact active-set step from forces `(P, T)`: solve the linear conditions of the current
 /// open / stick / slip± sets, move every candidate whose sign condition fails, repeat (at most
 /// `max_rounds` rounds). Returns the last forces and the rounds made.
@@ -485,49 +552,13 @@ fn active_set(
     let (fs, us) = (r0.force_scale, r0.displacement_scale);
     let (tol_f, tol_u) = (1e-13 * fs, 1e-13 * us);
     for round in 1..=max_rounds {
-        let n = 2 * m;
-        let mut a = Mat::<f64>::zeros(n, n);
-        let mut b = Mat::<f64>::zeros(n, 1);
-        for c in 0..m {
-            match state[c] {
-                ContactState::Open => {
-                    a[(c, c)] = 1.0;
-                    a[(m + c, m + c)] = 1.0;
-                }
-                closed => {
-                    for j in 0..m {
-                        a[(c, j)] = problem.nn[c * m + j];
-                        a[(c, m + j)] = problem.nt[c * m + j];
-                    }
-                    b[(c, 0)] = -problem.free_gap[c];
-                    match closed {
-                        ContactState::Stick if mu[c] > 0.0 => {
-                            for j in 0..m {
-                                a[(m + c, j)] = problem.tn[c * m + j];
-                                a[(m + c, m + j)] = problem.tt[c * m + j];
-                            }
-                            b[(m + c, 0)] =
-                                problem.previous_tangential[c] - problem.free_tangential[c];
-                        }
-                        // T = −μP (slip+), T = +μP (slip−); T = 0 when μ = 0.
-                        ContactState::SlipPositive | ContactState::Stick => {
-                            a[(m + c, m + c)] = 1.0;
-                            a[(m + c, c)] = mu[c];
-                        }
-                        _ => {
-                            a[(m + c, m + c)] = 1.0;
-                            a[(m + c, c)] = -mu[c];
-                        }
-                    }
-                }
-            }
-        }
-        let x = a.partial_piv_lu().solve(&b);
-        if (0..n).any(|i| !x[(i, 0)].is_finite()) {
+        let free = (&problem.free_gap[..], &problem.free_tangential[..]);
+        let Some(forces) =
+            solve_states(problem, &state, &vec![None; m], free, &problem.previous_tangential)
+        else {
             return (p, t, round);
-        }
-        p = (0..m).map(|c| x[(c, 0)]).collect();
-        t = (0..m).map(|c| x[(m + c, 0)]).collect();
+        };
+        (p, t) = forces;
         for c in 0..m {
             if state[c] == ContactState::Open {
                 p[c] = 0.0;

@@ -141,37 +141,29 @@ pub(super) struct Target<'a> {
     pub(super) steps: Vec<StepEnd>,
 }
 
-/// Frictional contact against a rigid obstacle or a second body (`target`; one step) along
-/// the load path `steps` (docs/method.md §8): the tangential operators (the second body's
-/// with direction `−t` at the paired points, so that `s` is the relative tangential
-/// displacement, as §4.3 does for the gap), the four condensed blocks of each body from its
-/// one factorisation (with the model's right-hand side, the last step's), summed over the
-/// bodies, the checks of `M_nn`, the free gaps and
-/// tangential displacements of each step's end (one solve per step; linear in between), and
-/// the step solver per increment, carrying the tangential displacements `s` and the
-/// accumulated slip. Returns the last increment's solution (whose `gap` the caller replaces
-/// by the MLS gaps) with the nodal parameters of both bodies.
-pub(super) fn solve_frictional(
-    problem: &Problem,
-    spec: &ContactSpec,
+/// The tangential operators of a frictional contact (docs/method.md §8): the candidate body's
+/// (direction `t`), and with a second body (`target`: its model and normal operator) the
+/// target's, direction `−t` at the paired points, so that `s` is the relative tangential
+/// displacement; a candidate whose tangential row on either body is a displacement condition
+/// is frictionless (`free[c] = false`, its tangential owners cleared on both bodies when there
+/// is a second body).
+pub(super) fn tangential_operators(
+    candidates: &contact::Candidates,
     model: &Model,
-    mut candidates: contact::Candidates,
-    target: Option<Target<'_>>,
-    steps: &[StepEnd],
-    clock: &mut Clock<'_>,
-) -> Result<ContactOutcome, Error> {
+    target: Option<(&Model, &contact::BodyOperator)>,
+) -> (contact::BodyOperator, Vec<bool>, Option<contact::BodyOperator>) {
     let (mut tangential, mut free) = candidates.tangential_operator(&model.system);
     // The second body: direction −t at the paired points; a candidate whose partner's
     // tangential row is a displacement condition is frictionless too.
-    let target_tangential = target.as_ref().map(|tg| {
-        let mut op = tg.operator.clone();
+    let target_tangential = target.map(|(target_model, target_operator)| {
+        let mut op = target_operator.clone();
         op.directions = (0..candidates.len())
             .map(|c| {
                 let t = candidates.tangent(c);
                 [-t[0], -t[1]]
             })
             .collect();
-        let sys = &tg.model.system;
+        let sys = &target_model.system;
         for (c, owners) in op.owners.iter().enumerate() {
             let t = candidates.tangent(c);
             let fixed = owners.iter().any(|&(i, _)| {
@@ -194,6 +186,33 @@ pub(super) fn solve_frictional(
         }
         op
     });
+    (tangential, free, target_tangential)
+}
+
+/// Frictional contact against a rigid obstacle or a second body (`target`; one step) along
+/// the load path `steps` (docs/method.md §8): the tangential operators (the second body's
+/// with direction `−t` at the paired points, so that `s` is the relative tangential
+/// displacement, as §4.3 does for the gap), the four condensed blocks of each body from its
+/// one factorisation (with the model's right-hand side, the last step's), summed over the
+/// bodies, the checks of `M_nn`, the free gaps and
+/// tangential displacements of each step's end (one solve per step; linear in between), and
+/// the step solver per increment, carrying the tangential displacements `s` and the
+/// accumulated slip. Returns the last increment's solution (whose `gap` the caller replaces
+/// by the MLS gaps) with the nodal parameters of both bodies.
+pub(super) fn solve_frictional(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    mut candidates: contact::Candidates,
+    target: Option<Target<'_>>,
+    steps: &[StepEnd],
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let (tangential, free, target_tangential) = tangential_operators(
+        &candidates,
+        model,
+        target.as_ref().map(|tg| (tg.model, &tg.operator)),
+    );
     let (blocks, condensed) = clock.run("condensation", || -> Result<_, Error> {
         let mut blocks = contact::condense_blocks(
             &model.factorisation,
@@ -571,32 +590,49 @@ pub(super) fn solve_frictional(
     Ok((u, u2, contact))
 }
 
-/// Frictional contact (or load steps) against a rigid obstacle by the active-set method on
-/// the sparse system (docs/method.md §5.1, §8): no blocks `M_**`, no condensation. Each
-/// increment sets the load `f_λ`, the obstacle's displacement `d_λ` (through `g0 − d_λ·ν`
-/// and `o = d_λ·t`) and the step's `μ` on one [`lcp::active_set::RigidObstacle`], whose
-/// factorisations and update columns carry over, and starts from the previous increment's
-/// states. The displacements are those of each increment's final states.
+/// The sparse frictional system of the active-set path: one body against a rigid obstacle,
+/// or two bodies.
+enum SparseFriction<'a> {
+    Rigid(lcp::active_set::RigidObstacle<'a>),
+    Pair(lcp::active_set::TwoBodies<'a>),
+}
+
+/// Frictional contact (or load steps) against a rigid obstacle or a second body (`target`) by
+/// the active-set method on the sparse system (docs/method.md §5.1, §8): no blocks `M_**`, no
+/// condensation. Each increment sets the load `f_λ` (of both bodies), the obstacle's
+/// displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the step's `μ` on one
+/// [`lcp::active_set::RigidObstacle`] or [`lcp::active_set::TwoBodies`], whose factorisations
+/// and update columns carry over, and starts from the previous increment's states. The
+/// displacements are those of each increment's final states.
 pub(super) fn solve_frictional_active_set(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     mut candidates: contact::Candidates,
+    target: Option<Target<'_>>,
     steps: &[StepEnd],
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let (tangential, free) = candidates.tangential_operator(&model.system);
+    let (tangential, free, target_tangential) = tangential_operators(
+        &candidates,
+        model,
+        target.as_ref().map(|tg| (tg.model, &tg.operator)),
+    );
     let m = candidates.len();
-    let points = match model.scheme {
-        Scheme::Mfvm(_) => Some(model.nodes.points.as_slice()),
-        Scheme::Fem(_) => None,
-    };
+    fn points(m: &Model) -> Option<&[geometry::Point]> {
+        match m.scheme {
+            Scheme::Mfvm(_) => Some(m.nodes.points.as_slice()),
+            Scheme::Fem(_) => None,
+        }
+    }
     let friction_in = |k: usize| -> Vec<f64> {
         free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect()
     };
     let params = lcp::active_set::ActiveSetParams::default();
     let n = model.system.rhs.len();
     let (mut load0, mut rhs0) = (vec![0.0; n], vec![0.0; n]);
+    let n2 = target.as_ref().map_or(0, |tg| tg.model.system.rhs.len());
+    let (mut load20, mut rhs20) = (vec![0.0; n2], vec![0.0; n2]);
     let mut d0 = [0.0, 0.0];
     let mut previous = vec![0.0; m];
     let mut warm: Option<Vec<lcp::ContactState>> = None;
@@ -605,45 +641,56 @@ pub(super) fn solve_frictional_active_set(
         (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
     let mut last = None;
     let work = clock.run("friction", || -> Result<_, Error> {
-        let mut system = lcp::active_set::RigidObstacle::new(
-            &model.system.matrix,
-            &model.system.rhs,
-            &model.factorisation,
-            &candidates.operator,
-            &candidates.initial_gap,
-            model.system.collocation_scale,
-            points,
-        )
-        .map_err(lcp::LcpError::from)?;
+        let mut system = match (&target, &target_tangential) {
+            (Some(tg), Some(_)) => {
+                fn parts<'a>(
+                    m: &'a Model,
+                    op: &'a contact::BodyOperator,
+                ) -> lcp::active_set::BodyParts<'a> {
+                    lcp::active_set::BodyParts {
+                        matrix: &m.system.matrix,
+                        rhs: &m.system.rhs,
+                        factorisation: &m.factorisation,
+                        operator: op,
+                        points: points(m),
+                    }
+                }
+                SparseFriction::Pair(
+                    lcp::active_set::TwoBodies::new(
+                        parts(model, &candidates.operator),
+                        parts(tg.model, &tg.operator),
+                        &candidates.initial_gap,
+                        model.system.collocation_scale,
+                    )
+                    .map_err(lcp::LcpError::from)?,
+                )
+            }
+            _ => SparseFriction::Rigid(
+                lcp::active_set::RigidObstacle::new(
+                    &model.system.matrix,
+                    &model.system.rhs,
+                    &model.factorisation,
+                    &candidates.operator,
+                    &candidates.initial_gap,
+                    model.system.collocation_scale,
+                    points(model),
+                )
+                .map_err(lcp::LcpError::from)?,
+            ),
+        };
         for (k, end) in steps.iter().enumerate() {
-            system.set_friction(&friction_in(k)).map_err(lcp::LcpError::from)?;
+            let mu = friction_in(k);
+            match (&mut system, &target_tangential) {
+                (SparseFriction::Pair(s), Some(op_t)) => s.set_friction(&mu, [&tangential, op_t]),
+                (SparseFriction::Rigid(s), _) => s.set_friction(&mu),
+                (SparseFriction::Pair(_), None) => unreachable!("two bodies have both operators"),
+            }
+            .map_err(lcp::LcpError::from)?;
             for i in 1..=end.increments {
                 let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
                 let rhs = lerp(&rhs0, &end.rhs, lambda);
-                let d = [
-                    (1.0 - lambda) * d0[0] + lambda * end.obstacle[0],
-                    (1.0 - lambda) * d0[1] + lambda * end.obstacle[1],
-                ];
-                let (g0, offset): (Vec<f64>, Vec<f64>) = (0..m)
-                    .map(|c| {
-                        let (nu, t) = (candidates.normal(c), candidates.tangent(c));
-                        let g0 = candidates.initial_gap[c];
-                        if d == [0.0, 0.0] {
-                            (g0, 0.0)
-                        } else {
-                            (g0 - (d[0] * nu[0] + d[1] * nu[1]), d[0] * t[0] + d[1] * t[1])
-                        }
-                    })
-                    .unzip();
-                system.set_load(&rhs, &g0, &offset);
-                let answer = lcp::active_set::solve_friction_step(
-                    &mut system,
-                    &previous,
-                    warm.as_deref(),
-                    &params,
-                )
-                .map_err(|e| {
+                let at_step = |e: lcp::active_set::ActiveSetError| {
                     let e = lcp::LcpError::from(e);
                     if problem.steps.is_empty() {
                         Error::from(e)
@@ -655,17 +702,74 @@ pub(super) fn solve_frictional_active_set(
                             cause: Box::new(e.into()),
                         }
                     }
-                })?;
-                let u = system
-                    .final_friction_displacements(&answer.states)
-                    .map_err(lcp::LcpError::from)?;
+                };
+                let (answer, u, u2) = match &mut system {
+                    SparseFriction::Rigid(system) => {
+                        let d = [
+                            (1.0 - lambda) * d0[0] + lambda * end.obstacle[0],
+                            (1.0 - lambda) * d0[1] + lambda * end.obstacle[1],
+                        ];
+                        let (g0, offset): (Vec<f64>, Vec<f64>) = (0..m)
+                            .map(|c| {
+                                let (nu, t) = (candidates.normal(c), candidates.tangent(c));
+                                let g0 = candidates.initial_gap[c];
+                                if d == [0.0, 0.0] {
+                                    (g0, 0.0)
+                                } else {
+                                    (g0 - (d[0] * nu[0] + d[1] * nu[1]), d[0] * t[0] + d[1] * t[1])
+                                }
+                            })
+                            .unzip();
+                        system.set_load(&rhs, &g0, &offset);
+                        let answer = lcp::active_set::solve_friction_step(
+                            system,
+                            &previous,
+                            warm.as_deref(),
+                            &params,
+                        )
+                        .map_err(at_step)?;
+                        let u = system
+                            .final_friction_displacements(&answer.states)
+                            .map_err(lcp::LcpError::from)?;
+                        (answer, u, None)
+                    }
+                    SparseFriction::Pair(system) => {
+                        let end2 = &target.as_ref().expect("two bodies").steps[k];
+                        system.set_load(&rhs, &lerp(&rhs20, &end2.rhs, lambda));
+                        let answer = lcp::active_set::solve_friction_step(
+                            system,
+                            &previous,
+                            warm.as_deref(),
+                            &params,
+                        )
+                        .map_err(at_step)?;
+                        let (u, u2) = system
+                            .final_friction_displacements(&answer.states)
+                            .map_err(lcp::LcpError::from)?;
+                        (answer, u, Some(u2))
+                    }
+                };
                 let step = &answer.step;
                 let load = lerp(&load0, &end.load, lambda);
                 let ops = [
                     (&candidates.operator, step.normal.as_slice()),
                     (&tangential, step.tangential.as_slice()),
                 ];
-                let equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
+                let mut equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
+                // The second body: its step k, with the same load factor.
+                if let (Some(tg), Some(op_t), Some(u2)) = (&target, &target_tangential, &u2) {
+                    let load2 = lerp(&load20, &tg.steps[k].load, lambda);
+                    let ops2 = [
+                        (&tg.operator, step.normal.as_slice()),
+                        (op_t, step.tangential.as_slice()),
+                    ];
+                    equilibrium = equilibrium.max(solution::equilibrium_error(
+                        &tg.model.system,
+                        &load2,
+                        u2,
+                        &ops2,
+                    ));
+                }
                 history.record(
                     step,
                     (k, i, lambda),
@@ -680,14 +784,20 @@ pub(super) fn solve_frictional_active_set(
                     end_all = answer.end;
                 }
                 warm = Some(answer.states.clone());
-                last = Some((answer, u));
+                last = Some((answer, u, u2));
             }
             (load0, rhs0) = (end.load.clone(), end.rhs.clone());
+            if let Some(tg) = &target {
+                (load20, rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
+            }
             d0 = end.obstacle;
         }
-        Ok(system.stats)
+        Ok(match system {
+            SparseFriction::Rigid(s) => s.stats,
+            SparseFriction::Pair(s) => s.stats,
+        })
     })?;
-    let Some((answer, u)) = last else {
+    let Some((answer, u, u2)) = last else {
         unreachable!("validated: at least one step with at least one increment")
     };
     let step = answer.step;
@@ -709,10 +819,11 @@ pub(super) fn solve_frictional_active_set(
     }
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();
+    let target_operator = target.map(|tg| tg.operator);
     let mut contact = ContactSolution::new(
         spec,
         candidates,
-        None,
+        target_operator,
         Vec::new(),
         None,
         &answer.free_gap,
@@ -731,6 +842,7 @@ pub(super) fn solve_frictional_active_set(
     let mut friction =
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
     history.finish(&mut friction);
+    friction.target_operator = target_tangential;
     contact.friction = Some(friction);
-    Ok((u, None, contact))
+    Ok((u, u2, contact))
 }

@@ -90,7 +90,10 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
         let active_set = if frictionless {
             spec.solver.is_active_set(m as usize)
         } else {
-            problem.second_body.is_none() && spec.solver.is_active_set_frictional(m as usize)
+            match problem.second_body {
+                None => spec.solver.is_active_set_frictional(m as usize),
+                Some(_) => spec.solver.is_active_set_frictional_pair(m as usize),
+            }
         };
         if active_set {
             // A second factorisation (of the row-replaced matrix) and at most 1 GB of stored

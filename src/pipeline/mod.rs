@@ -376,12 +376,6 @@ fn solve_contact(
             }]
         };
         let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
-        if target.is_none() && spec.solver.is_active_set_frictional(candidates.len()) {
-            let (u1, u2, mut contact) =
-                solve_frictional_active_set(problem, spec, model, candidates, &steps1, clock)?;
-            contact.gap = final_gaps(model, &contact.candidates, &u1, None);
-            return Ok((u1, u2, contact));
-        }
         let target = match (target, second) {
             (Some(op), Some((_, m2))) => Some(Target {
                 model: m2,
@@ -390,8 +384,18 @@ fn solve_contact(
             }),
             _ => None,
         };
-        let (u1, u2, mut contact) =
-            solve_frictional(problem, spec, model, candidates, target, &steps1, clock)?;
+        let active_set = match &target {
+            None => spec.solver.is_active_set_frictional(candidates.len()),
+            Some(_) => {
+                model.system.pinned.is_none()
+                    && spec.solver.is_active_set_frictional_pair(candidates.len())
+            }
+        };
+        let (u1, u2, mut contact) = if active_set {
+            solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)?
+        } else {
+            solve_frictional(problem, spec, model, candidates, target, &steps1, clock)?
+        };
         contact.paired_points = paired_points;
         contact.unpaired = unpaired;
         let second_gap = contact.target.as_ref().zip(u2.as_deref());

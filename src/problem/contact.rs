@@ -387,12 +387,12 @@ pub enum ContactSolver {
     /// Lemke's method on the dense condensed compliance `M = G K⁻¹ E` (docs/method.md §5).
     Lemke,
     /// The primal–dual active-set method on the sparse system, without `M` (docs/method.md
-    /// §5.1); a rigid obstacle (with friction and load steps too) or two bodies
-    /// (frictionless, one load step).
+    /// §5.1); a rigid obstacle or two bodies, with friction and load steps too.
     ActiveSet,
     /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (frictional problems against
     /// a rigid obstacle: [`ContactSolver::FRICTION_AUTO_THRESHOLD`]; two bodies with friction
-    /// or load steps: always), the active-set method from there on.
+    /// or load steps: [`ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD`]), the active-set method
+    /// from there on.
     #[default]
     Auto,
 }
@@ -422,9 +422,26 @@ impl ContactSolver {
     /// against 4.6 s at 384. Above every shipped frictional problem (at most 192 candidates).
     pub const FRICTION_AUTO_THRESHOLD: usize = 500;
 
+    /// Candidates from which `Auto` takes the active-set method for two bodies with friction
+    /// (or load steps) (docs/dev/active_set.md, "Friction between two bodies"): with μ = 0.3,
+    /// one step, on the strip `L × 1` at spacing 0.05 pressed onto an elastic block, Lemke's
+    /// path (both bodies' four blocks, Lemke on the 3m step LCP) took 5.0 s wall against
+    /// 7.1 s at 500 candidates, 11.3 s against 12.2 s at 750 and 19.3 s against 13.5 s at
+    /// 1 000 (under load). Above every shipped two-body problem (at most 52 candidates).
+    pub const FRICTION_PAIR_AUTO_THRESHOLD: usize = 800;
+
+    /// Whether a frictional problem (or one with load steps) between two bodies with
+    /// `candidates` candidates is solved by the active-set method.
+    pub fn is_active_set_frictional_pair(self, candidates: usize) -> bool {
+        match self {
+            ContactSolver::Lemke => false,
+            ContactSolver::ActiveSet => true,
+            ContactSolver::Auto => candidates >= Self::FRICTION_PAIR_AUTO_THRESHOLD,
+        }
+    }
+
     /// Whether a frictional problem (or one with load steps) against a rigid obstacle with
-    /// `candidates` candidates is solved by the active-set method (two bodies with friction
-    /// always take Lemke's path).
+    /// `candidates` candidates is solved by the active-set method.
     pub fn is_active_set_frictional(self, candidates: usize) -> bool {
         match self {
             ContactSolver::Lemke => false,

@@ -178,16 +178,6 @@ impl TryFrom<ProblemFile> for Problem {
         if let Some(p2) = problem.second_body.as_deref_mut() {
             p2.steps = second_steps;
         }
-        if !problem.steps.is_empty()
-            && problem.second_body.is_some()
-            && problem.contact.is_some_and(|c| c.solver == ContactSolver::ActiveSet)
-        {
-            return Err(invalid(
-                "contact.solver",
-                "active_set",
-                "the active-set solver takes load steps against rigid obstacles only; two bodies with [[step]] use \"lemke\" or \"auto\"",
-            ));
-        }
         problem.adaptive = match &file.refinement {
             None => None,
             Some(r) => Some(adaptive(r, &problem)?),
@@ -1145,14 +1135,6 @@ fn contact_spec(
     let condensation = c.condensation.unwrap_or_default();
     let friction = c.friction.unwrap_or(0.0);
     let solver = c.solver.unwrap_or_default();
-    if solver == ContactSolver::ActiveSet {
-        let refuse = |why: &str| Err(invalid("contact.solver", "active_set", why));
-        if friction > 0.0 && problem.second_body.is_some() {
-            return refuse(
-                "the active-set solver takes friction against rigid obstacles only; two bodies with contact.friction use \"lemke\" or \"auto\"",
-            );
-        }
-    }
     if !(friction.is_finite() && friction >= 0.0) {
         return Err(invalid(
             "contact.friction",

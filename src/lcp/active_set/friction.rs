@@ -23,11 +23,10 @@ use super::{
 };
 use crate::lcp::friction::{
     ContactState, FRICTION_TOLERANCE, FrictionMethod, FrictionProblem, FrictionResiduals,
-    FrictionSolution, solve_step as lemke_step,
+    FrictionSolution, solve_states, solve_step as lemke_step,
 };
 use crate::nodes::{Axis, dof};
 use faer::Mat;
-use faer::linalg::solvers::Solve;
 use std::collections::HashMap;
 
 /// `(q_n, q_t)`: gaps and tangential displacements without contact forces.
@@ -359,55 +358,8 @@ impl<'a> DenseFriction<'a> {
             (vec![0.0; m], vec![0.0; m])
         };
         let prev: Vec<f64> = if with_free { previous.to_vec() } else { vec![0.0; m] };
-        let mu = &pr.friction;
-        let n = 2 * m;
-        let mut a = Mat::<f64>::zeros(n, n);
-        let mut b = Mat::<f64>::zeros(n, 1);
-        for c in 0..m {
-            if let Some((pf, tf)) = fixed[c] {
-                a[(c, c)] = 1.0;
-                a[(m + c, m + c)] = 1.0;
-                b[(c, 0)] = pf;
-                b[(m + c, 0)] = tf;
-                continue;
-            }
-            match states[c] {
-                ContactState::Open => {
-                    a[(c, c)] = 1.0;
-                    a[(m + c, m + c)] = 1.0;
-                }
-                closed => {
-                    for j in 0..m {
-                        a[(c, j)] = pr.nn[c * m + j];
-                        a[(c, m + j)] = pr.nt[c * m + j];
-                    }
-                    b[(c, 0)] = -qn[c];
-                    match closed {
-                        ContactState::Stick if mu[c] > 0.0 => {
-                            for j in 0..m {
-                                a[(m + c, j)] = pr.tn[c * m + j];
-                                a[(m + c, m + j)] = pr.tt[c * m + j];
-                            }
-                            b[(m + c, 0)] = prev[c] - qt[c];
-                        }
-                        ContactState::SlipPositive | ContactState::Stick => {
-                            a[(m + c, m + c)] = 1.0;
-                            a[(m + c, c)] = mu[c];
-                        }
-                        _ => {
-                            a[(m + c, m + c)] = 1.0;
-                            a[(m + c, c)] = -mu[c];
-                        }
-                    }
-                }
-            }
-        }
-        let x = a.partial_piv_lu().solve(&b);
-        if (0..n).any(|i| !x[(i, 0)].is_finite()) {
-            return Err(super::singular("the dense frictional step"));
-        }
-        let p: Vec<f64> = (0..m).map(|c| x[(c, 0)]).collect();
-        let t: Vec<f64> = (0..m).map(|c| x[(m + c, 0)]).collect();
+        let (p, t) = solve_states(pr, states, fixed, (&qn, &qt), &prev)
+            .ok_or_else(|| super::singular("the dense frictional step"))?;
         let dot = |row: &[f64], v: &[f64]| row.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
         let gap = (0..m)
             .map(|i| {
@@ -469,7 +421,7 @@ impl FrictionSystem for DenseFriction<'_> {
 
 /// The reduced [`FrictionProblem`] of the candidates `free` from the held problem's response
 /// `base` and the responses `columns` to unit `P` (first `|free|`) and `T` (then) on each.
-fn reduced_blocks(
+pub(super) fn reduced_blocks(
     base: &StateResponse,
     columns: &[StateResponse],
     free: &[usize],
@@ -499,21 +451,22 @@ fn reduced_blocks(
     }
 }
 
-impl RigidObstacle<'_> {
-    /// The mode of candidate `c` in `state`.
-    fn mode_of(&self, c: usize, state: ContactState) -> Mode {
-        let mu = self.friction.get(c).copied().unwrap_or(0.0);
-        match state {
-            ContactState::Open => OPEN,
-            _ if mu == 0.0 => CLOSED,
-            ContactState::Stick => STICK,
-            ContactState::SlipPositive => SLIP_POSITIVE,
-            ContactState::SlipNegative => SLIP_NEGATIVE,
-        }
+/// The mode of a candidate with friction coefficient `mu` in `state` (a rigid obstacle's or
+/// two bodies' rows).
+pub(super) fn mode_of(mu: f64, state: ContactState) -> Mode {
+    match state {
+        ContactState::Open => OPEN,
+        _ if mu == 0.0 => CLOSED,
+        ContactState::Stick => STICK,
+        ContactState::SlipPositive => SLIP_POSITIVE,
+        ContactState::SlipNegative => SLIP_NEGATIVE,
     }
+}
 
+impl RigidObstacle<'_> {
     fn modes_of(&self, states: &[ContactState]) -> Vec<Mode> {
-        states.iter().enumerate().map(|(c, &s)| self.mode_of(c, s)).collect()
+        let mu = |c: usize| self.friction.get(c).copied().unwrap_or(0.0);
+        states.iter().enumerate().map(|(c, &s)| mode_of(mu(c), s)).collect()
     }
 
     /// `(g, s)` of displacements `u`: `g0 + ν·u^h(x_c)`, `t·u^h(x_c) − o_c`.
