@@ -56,6 +56,8 @@ mod validation {
     mod fem_friction;
     // The active-set contact solver equals Lemke on the shipped rigid-obstacle problems.
     mod active_set;
+    // The active-set solver on every shipped contact problem (directory listing) or refused.
+    mod active_set_shipped;
     // Lemke's numerical failure: a refusal naming M's conditioning; "auto" falls back to the active set.
     mod lemke_fallback;
     // Friction on the active-set path equals the Lemke-based step, increment by increment.

@@ -995,6 +995,12 @@ impl<'a> RigidObstacle<'a> {
 
     /// `P_c` for the active candidates from their removed rows, given `û`.
     fn forces(&self, modes: &[Mode], u: &[f64]) -> Vec<f64> {
+        self.forces_with(modes, u, &self.rhs)
+    }
+
+    /// [`RigidObstacle::forces`] with the right-hand side `rhs` of the removed rows (zero for
+    /// the forces' rates, [`RigidObstacle::force_rate`]).
+    fn forces_with(&self, modes: &[Mode], u: &[f64], rhs: &[f64]) -> Vec<f64> {
         self.replacements
             .iter()
             .enumerate()
@@ -1003,7 +1009,7 @@ impl<'a> RigidObstacle<'a> {
                     return 0.0;
                 }
                 let (row, wn) = &r.normal_row;
-                (row.iter().map(|&(j, v)| v * u[j]).sum::<f64>() - self.rhs[r.dofs[0]]) / wn
+                (row.iter().map(|&(j, v)| v * u[j]).sum::<f64>() - rhs[r.dofs[0]]) / wn
             })
             .collect()
     }

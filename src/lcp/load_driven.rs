@@ -147,28 +147,109 @@ pub struct ForceSearch<S> {
     pub evaluations: usize,
 }
 
+/// The LCP of a search at its trial displacements (docs/method.md §4.6): what
+/// [`find_displacement_with`] needs of a solver. Lemke's method on the dense `M` is one
+/// ([`find_displacement`]); the active-set method on the sparse system, whose answer at a
+/// trial is a warm-started solve with the obstacle's offset in the gap rows, is another
+/// (`pipeline`). Both answer `w = M z + q_b − a s`, `0 ≤ z ⊥ w ≥ 0`.
+pub trait Trials {
+    /// The answer at one trial.
+    type Answer;
+    /// The solver's error.
+    type Error: From<LoadDrivenError>;
+    /// Solves the LCP at the displacement `s`, where `q = q_b − a s`.
+    ///
+    /// # Errors
+    /// The solver's.
+    fn solve(&mut self, s: f64, q: &[f64]) -> Result<Self::Answer, Self::Error>;
+    /// The forces `z` of an answer.
+    fn forces<'b>(&self, answer: &'b Self::Answer) -> &'b [f64];
+    /// The gaps `w = q + M z` of an answer at `q`.
+    fn gaps(&self, q: &[f64], answer: &Self::Answer) -> Vec<f64>;
+    /// `dF/ds = a_Aᵀ M_AA⁻¹ a_A` on the piece where the closed set is `active` (`answer` is
+    /// the last trial's; `active` may hold the next candidate to close, open in it).
+    ///
+    /// # Errors
+    /// The solver's.
+    fn slope(
+        &mut self,
+        answer: &Self::Answer,
+        along: &[f64],
+        active: &[usize],
+    ) -> Result<f64, Self::Error>;
+}
+
+/// Lemke's trials: `solve(q)` answers the LCP, `forces` reads `z`, and the gaps and slopes
+/// come from the dense `M` (`compliance`, row-major `m × m`).
+struct Condensed<'c, F, G, S, E> {
+    compliance: &'c [f64],
+    solve: F,
+    forces: G,
+    answer: std::marker::PhantomData<fn() -> (S, E)>,
+}
+
+impl<F, G, S, E> Trials for Condensed<'_, F, G, S, E>
+where
+    F: FnMut(&[f64]) -> Result<S, E>,
+    G: Fn(&S) -> &[f64],
+    E: From<LoadDrivenError>,
+{
+    type Answer = S;
+    type Error = E;
+    fn solve(&mut self, _s: f64, q: &[f64]) -> Result<S, E> {
+        (self.solve)(q)
+    }
+    fn forces<'b>(&self, answer: &'b S) -> &'b [f64] {
+        (self.forces)(answer)
+    }
+    fn gaps(&self, q: &[f64], answer: &S) -> Vec<f64> {
+        gaps(self.compliance, q, (self.forces)(answer))
+    }
+    fn slope(&mut self, _answer: &S, along: &[f64], active: &[usize]) -> Result<f64, E> {
+        Ok(slope(self.compliance, along.len(), along, active))
+    }
+}
+
 /// Solves `F(s) = aᵀ z(s) = target` (docs/method.md §4.6) for the displacement `s` of the
-/// obstacle along `e`. `compliance` is `M` (row-major `m × m`, for the slopes), `base_gap`
-/// the gaps `q_b` with the obstacle at `s = 0`, `along` the components `a_c = ν_c·e`;
-/// `solve(q)` answers the LCP with `q = q_b − a s`, and `forces` reads `z` from its answer.
-/// The search starts at the displacement where the first gap with `a_c > 0` closes.
+/// obstacle along `e` by Lemke's method: [`find_displacement_with`] on the dense `M`.
+/// `compliance` is `M` (row-major `m × m`, for the slopes and gaps), `base_gap` the gaps
+/// `q_b` with the obstacle at `s = 0`, `along` the components `a_c = ν_c·e`; `solve(q)`
+/// answers the LCP with `q = q_b − a s`, and `forces` reads `z` from its answer.
 ///
 /// # Errors
-/// [`LoadDrivenError::NotCarried`] when no `a_c` is positive,
-/// [`LoadDrivenError::BadForce`] for a target that is not positive and finite,
-/// [`LoadDrivenError::NotConverged`] after [`MAX_EVALUATIONS`] solves; `solve`'s own errors.
+/// As [`find_displacement_with`].
 pub fn find_displacement<S, E: From<LoadDrivenError>>(
     compliance: &[f64],
     base_gap: &[f64],
     along: &[f64],
     direction: [f64; 2],
     target: f64,
-    mut solve: impl FnMut(&[f64]) -> Result<S, E>,
+    solve: impl FnMut(&[f64]) -> Result<S, E>,
     forces: impl Fn(&S) -> &[f64],
 ) -> Result<ForceSearch<S>, E> {
+    debug_assert_eq!(compliance.len(), base_gap.len() * base_gap.len());
+    let mut trials = Condensed { compliance, solve, forces, answer: std::marker::PhantomData };
+    find_displacement_with(&mut trials, base_gap, along, direction, target)
+}
+
+/// Solves `F(s) = aᵀ z(s) = target` (docs/method.md §4.6) for the displacement `s` of the
+/// obstacle along `e`, whatever answers the LCP at each trial (`trials`). `base_gap` are the
+/// gaps `q_b` with the obstacle at `s = 0` (they fix the first trial: the displacement where
+/// the first gap with `a_c > 0` closes), `along` the components `a_c = ν_c·e`.
+///
+/// # Errors
+/// [`LoadDrivenError::NotCarried`] when no `a_c` is positive,
+/// [`LoadDrivenError::BadForce`] for a target that is not positive and finite,
+/// [`LoadDrivenError::NotConverged`] after [`MAX_EVALUATIONS`] solves; the solver's own errors.
+pub fn find_displacement_with<T: Trials + ?Sized>(
+    trials: &mut T,
+    base_gap: &[f64],
+    along: &[f64],
+    direction: [f64; 2],
+    target: f64,
+) -> Result<ForceSearch<T::Answer>, T::Error> {
     let m = base_gap.len();
     debug_assert_eq!(along.len(), m);
-    debug_assert_eq!(compliance.len(), m * m);
     if !(target.is_finite() && target > 0.0) {
         return Err(LoadDrivenError::BadForce { force: target }.into());
     }
@@ -191,8 +272,8 @@ pub fn find_displacement<S, E: From<LoadDrivenError>>(
     let scale = 1.0 + s.abs();
     for evaluation in 1..=MAX_EVALUATIONS {
         let q: Vec<f64> = base_gap.iter().zip(along).map(|(g, a)| g - a * s).collect();
-        let answer = solve(&q)?;
-        let z = forces(&answer);
+        let answer = trials.solve(s, &q)?;
+        let z = trials.forces(&answer);
         let force: f64 = z.iter().zip(along).map(|(z, a)| z * a).sum();
         let residual = force - target;
         tried = (s, force);
@@ -204,12 +285,12 @@ pub fn find_displacement<S, E: From<LoadDrivenError>>(
             return Err(bracket.not_converged(evaluation, (s, force), target).into());
         }
         // The closed set of this answer; none closed: the next to close.
-        let w = gaps(compliance, &q, z);
+        let w = trials.gaps(&q, &answer);
         let mut active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
         if active.is_empty() {
             active.push(first(&w));
         }
-        let slope = slope(compliance, m, along, &active);
+        let slope = trials.slope(&answer, along, &active)?;
         let newton = s - residual / slope;
         let inside = |x: f64| bracket.contains(x);
         let next = if slope.is_finite() && slope > 0.0 && inside(newton) {

@@ -318,45 +318,7 @@ pub(super) fn solve_frictional(
     // per candidate for its unit vector r; only frictionless, without a force-driven
     // obstacle or a second body, and with a pinned node that carries no contact force.
     let pinned = model.system.pinned;
-    let mode_projection: Option<Vec<f64>> = match pinned {
-        None => None,
-        Some(pin) => {
-            let unsupported = |why: String| {
-                Error::from(lcp::LcpError::from(lcp::load_driven::LoadDrivenError::Unsupported {
-                    mode: pin.name(),
-                    why,
-                }))
-            };
-            if let Some(k) = steps.iter().position(|s| s.friction > 0.0) {
-                return Err(unsupported(format!(
-                    "the contact has friction μ = {} (in step {})",
-                    steps[k].friction,
-                    k + 1
-                )));
-            }
-            if steps.iter().any(|s| s.force.is_some()) {
-                return Err(unsupported("the obstacle is pressed by a force as well".into()));
-            }
-            if target.is_some() {
-                return Err(unsupported("the contact is with a second body".into()));
-            }
-            if candidates.operator.owners.iter().flatten().any(|&(i, _)| i == pin.node) {
-                return Err(unsupported(format!(
-                    "the pinned node {} carries contact forces",
-                    pin.node
-                )));
-            }
-            let a = pin.axis as usize;
-            let projection: Vec<f64> = (0..m).map(|c| candidates.normal(c)[a]).collect();
-            if projection.iter().all(|p| p.abs() <= 1e-12) {
-                return Err(lcp::LcpError::from(
-                    lcp::load_driven::LoadDrivenError::NotRestrained { mode: pin.name() },
-                )
-                .into());
-            }
-            Some(projection)
-        }
-    };
+    let mode_projection = held_projection(pinned, steps, target.is_some(), &candidates)?;
     let compliance = (steps.iter().any(|s| s.force.is_some()) || pinned.is_some())
         .then(|| step_problem.nn.clone());
     let mut force0 = 0.0;
@@ -373,14 +335,7 @@ pub(super) fn solve_frictional(
                 step_problem.free_tangential = lerp(&qt0, qt1, lambda);
                 let solved = match (end.force, &compliance) {
                     (Some(f), Some(compliance)) => {
-                        let size = f[0].hypot(f[1]);
-                        let e = [f[0] / size, f[1] / size];
-                        let along: Vec<f64> = (0..m)
-                            .map(|c| {
-                                let nu = candidates.normal(c);
-                                nu[0] * e[0] + nu[1] * e[1]
-                            })
-                            .collect();
+                        let (e, size, along) = force_along(f, &candidates);
                         let target = (1.0 - lambda) * force0 + lambda * size;
                         let base = step_problem.free_gap.clone();
                         lcp::load_driven::find_displacement(
@@ -419,47 +374,40 @@ pub(super) fn solve_frictional(
                         };
                         let a = pin.axis as usize;
                         let load = lerp(&load0, &end.load, lambda);
-                        let along_load: f64 = load.iter().skip(a).step_by(2).sum();
-                        let sign = if along_load > 0.0 { 1.0 } else { -1.0 };
-                        let along: Vec<f64> = projection.iter().map(|p| -sign * p).collect();
-                        if along_load == 0.0 || along.iter().all(|&x| x <= 0.0) {
-                            Err(lcp::LcpError::from(
-                                lcp::load_driven::LoadDrivenError::NotPressed {
-                                    mode: pin.name(),
-                                    load: along_load,
-                                },
-                            ))
-                        } else {
-                            let mut r = [0.0; 2];
-                            r[a] = sign;
-                            let base = step_problem.free_gap.clone();
-                            lcp::load_driven::find_displacement(
-                                compliance,
-                                &base,
-                                &along,
-                                r,
-                                along_load.abs(),
-                                |q| {
-                                    step_problem.free_gap = q.to_vec();
-                                    lcp::solve_step(&step_problem)
-                                },
-                                |answer| answer.normal.as_slice(),
-                            )
-                            .map(|search| {
-                                total_evaluations += search.evaluations;
-                                let t = sign * search.displacement;
-                                let mut translation = [0.0; 2];
-                                translation[a] = t;
-                                rigid_mode = Some(solution::RigidMode {
-                                    mode: pin.name(),
-                                    pin_point: model.nodes.points[pin.node as usize],
-                                    translation,
-                                    load: along_load,
-                                    evaluations: search.evaluations,
-                                    total_evaluations,
-                                });
-                                search.answer
-                            })
+                        match pin_along(pin, projection, &load) {
+                            Err(e) => Err(e),
+                            Ok((along_load, sign, along)) => {
+                                let mut r = [0.0; 2];
+                                r[a] = sign;
+                                let base = step_problem.free_gap.clone();
+                                lcp::load_driven::find_displacement(
+                                    compliance,
+                                    &base,
+                                    &along,
+                                    r,
+                                    along_load.abs(),
+                                    |q| {
+                                        step_problem.free_gap = q.to_vec();
+                                        lcp::solve_step(&step_problem)
+                                    },
+                                    |answer| answer.normal.as_slice(),
+                                )
+                                .map(|search| {
+                                    total_evaluations += search.evaluations;
+                                    let t = sign * search.displacement;
+                                    let mut translation = [0.0; 2];
+                                    translation[a] = t;
+                                    rigid_mode = Some(solution::RigidMode {
+                                        mode: pin.name(),
+                                        pin_point: model.nodes.points[pin.node as usize],
+                                        translation,
+                                        load: along_load,
+                                        evaluations: search.evaluations,
+                                        total_evaluations,
+                                    });
+                                    search.answer
+                                })
+                            }
                         }
                     }
                     _ => lcp::solve_step(&step_problem),
@@ -590,6 +538,94 @@ pub(super) fn solve_frictional(
     Ok((u, u2, contact))
 }
 
+/// The checks of a rigid translation of the body held by the contact alone (docs/method.md
+/// §4.7) and `ν_c·r` per candidate for its unit vector `r` (`None` without a pin): only
+/// frictionless, without a force-driven obstacle or a second body, and with a pinned node
+/// that carries no contact force.
+fn held_projection(
+    pinned: Option<assembly::PinnedMode>,
+    steps: &[StepEnd],
+    has_target: bool,
+    candidates: &contact::Candidates,
+) -> Result<Option<Vec<f64>>, Error> {
+    let m = candidates.len();
+    match pinned {
+        None => Ok(None),
+        Some(pin) => {
+            let unsupported = |why: String| {
+                Error::from(lcp::LcpError::from(lcp::load_driven::LoadDrivenError::Unsupported {
+                    mode: pin.name(),
+                    why,
+                }))
+            };
+            if let Some(k) = steps.iter().position(|s| s.friction > 0.0) {
+                return Err(unsupported(format!(
+                    "the contact has friction μ = {} (in step {})",
+                    steps[k].friction,
+                    k + 1
+                )));
+            }
+            if steps.iter().any(|s| s.force.is_some()) {
+                return Err(unsupported("the obstacle is pressed by a force as well".into()));
+            }
+            if has_target {
+                return Err(unsupported("the contact is with a second body".into()));
+            }
+            if candidates.operator.owners.iter().flatten().any(|&(i, _)| i == pin.node) {
+                return Err(unsupported(format!(
+                    "the pinned node {} carries contact forces",
+                    pin.node
+                )));
+            }
+            let a = pin.axis as usize;
+            let projection: Vec<f64> = (0..m).map(|c| candidates.normal(c)[a]).collect();
+            if projection.iter().all(|p| p.abs() <= 1e-12) {
+                return Err(lcp::LcpError::from(
+                    lcp::load_driven::LoadDrivenError::NotRestrained { mode: pin.name() },
+                )
+                .into());
+            }
+            Ok(Some(projection))
+        }
+    }
+}
+
+/// The direction `e = F/|F|` of the force pressing the obstacle, `|F|`, and `a_c = ν_c·e` per
+/// candidate (docs/method.md §4.6).
+fn force_along(f: geometry::Point, candidates: &contact::Candidates) -> ([f64; 2], f64, Vec<f64>) {
+    let size = f[0].hypot(f[1]);
+    let e = [f[0] / size, f[1] / size];
+    let along: Vec<f64> = (0..candidates.len())
+        .map(|c| {
+            let nu = candidates.normal(c);
+            nu[0] * e[0] + nu[1] * e[1]
+        })
+        .collect();
+    (e, size, along)
+}
+
+/// For a translation held by the contact (docs/method.md §4.7) under the load `load`: the
+/// load along the mode, its sign `σ` and `a_c = −σ ν_c·r` (the gaps move by `(ν_c·r) t =
+/// −a_c s` for `t = σ s`); refused when the load does not press the body onto the obstacle.
+fn pin_along(
+    pin: assembly::PinnedMode,
+    projection: &[f64],
+    load: &[f64],
+) -> Result<(f64, f64, Vec<f64>), lcp::LcpError> {
+    let a = pin.axis as usize;
+    let along_load: f64 = load.iter().skip(a).step_by(2).sum();
+    let sign = if along_load > 0.0 { 1.0 } else { -1.0 };
+    let along: Vec<f64> = projection.iter().map(|p| -sign * p).collect();
+    if along_load == 0.0 || along.iter().all(|&x| x <= 0.0) {
+        Err(lcp::LcpError::from(lcp::load_driven::LoadDrivenError::NotPressed {
+            mode: pin.name(),
+            load: along_load,
+        }))
+    } else {
+        Ok((along_load, sign, along))
+    }
+}
+
 /// The sparse frictional system of the active-set path: one body against a rigid obstacle,
 /// or two bodies.
 enum SparseFriction<'a> {
@@ -602,7 +638,9 @@ enum SparseFriction<'a> {
 /// condensation. Each increment sets the load `f_λ` (of both bodies), the obstacle's
 /// displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the step's `μ` on one
 /// [`lcp::active_set::RigidObstacle`] or [`lcp::active_set::TwoBodies`], whose factorisations
-/// and update columns carry over, and starts from the previous increment's states. The
+/// and update columns carry over, and starts from the previous increment's states. An
+/// obstacle pressed by a force (§4.6) or a translation held by the contact (§4.7) is found by
+/// the search of `lcp::load_driven` over warm-started solves (rigid obstacle only). The
 /// displacements are those of each increment's final states.
 pub(super) fn solve_frictional_active_set(
     problem: &Problem,
@@ -640,6 +678,14 @@ pub(super) fn solve_frictional_active_set(
     let (mut iterations, mut rescues, mut end_all) =
         (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
     let mut last = None;
+    // An obstacle pressed by a force (docs/method.md §4.6), a translation held by the contact
+    // (§4.7): as on Lemke's path, with each trial a warm-started active-set solve.
+    let pinned = model.system.pinned;
+    let mode_projection = held_projection(pinned, steps, target.is_some(), &candidates)?;
+    let mut force0 = 0.0;
+    let mut load_driven: Option<solution::LoadDriven> = None;
+    let mut rigid_mode: Option<solution::RigidMode> = None;
+    let mut total_evaluations = 0;
     let work = clock.run("friction", || -> Result<_, Error> {
         let mut system = match (&target, &target_tangential) {
             (Some(tg), Some(_)) => {
@@ -690,8 +736,7 @@ pub(super) fn solve_frictional_active_set(
                 let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
                 let rhs = lerp(&rhs0, &end.rhs, lambda);
-                let at_step = |e: lcp::active_set::ActiveSetError| {
-                    let e = lcp::LcpError::from(e);
+                let at_step = |e: lcp::LcpError| {
                     if problem.steps.is_empty() {
                         Error::from(e)
                     } else {
@@ -703,7 +748,7 @@ pub(super) fn solve_frictional_active_set(
                         }
                     }
                 };
-                let (answer, u, u2) = match &mut system {
+                let (answer, u, u2, step_iterations, step_rescues) = match &mut system {
                     SparseFriction::Rigid(system) => {
                         let d = [
                             (1.0 - lambda) * d0[0] + lambda * end.obstacle[0],
@@ -721,17 +766,104 @@ pub(super) fn solve_frictional_active_set(
                             })
                             .unzip();
                         system.set_load(&rhs, &g0, &offset);
-                        let answer = lcp::active_set::solve_friction_step(
-                            system,
-                            &previous,
-                            warm.as_deref(),
-                            &params,
-                        )
-                        .map_err(at_step)?;
+                        let mut trials = ActiveSetTrials {
+                            system: &mut *system,
+                            rhs: &rhs,
+                            initial_gap: &g0,
+                            offset: &offset,
+                            previous: &previous,
+                            along: Vec::new(),
+                            warm: warm.clone(),
+                            params,
+                            iterations: 0,
+                            rescues: Vec::new(),
+                        };
+                        // An obstacle pressed by a force, or the body's translation held by the
+                        // contact: the search of docs/method.md §4.6–4.7 over warm-started
+                        // solves.
+                        let solved = match (end.force, &mode_projection) {
+                            (Some(f), _) => {
+                                let (e, size, along) = force_along(f, &candidates);
+                                let target = (1.0 - lambda) * force0 + lambda * size;
+                                trials.along.clone_from(&along);
+                                trials.base_gap().and_then(|base| {
+                                    lcp::load_driven::find_displacement_with(
+                                        &mut trials,
+                                        &base,
+                                        &along,
+                                        e,
+                                        target,
+                                    )
+                                    .map(|search| {
+                                        total_evaluations += search.evaluations;
+                                        let s = search.displacement;
+                                        load_driven = Some(solution::LoadDriven {
+                                            force: [target * e[0], target * e[1]],
+                                            displacement_along: s,
+                                            displacement: [s * e[0], s * e[1]],
+                                            carried: search.force,
+                                            evaluations: search.evaluations,
+                                            total_evaluations,
+                                        });
+                                        (search.answer, None)
+                                    })
+                                })
+                            }
+                            (None, Some(projection)) => {
+                                let pin = pinned.expect("a projection comes with a pin");
+                                let a = pin.axis as usize;
+                                let load = lerp(&load0, &end.load, lambda);
+                                pin_along(pin, projection, &load).and_then(
+                                    |(along_load, sign, along)| {
+                                        let mut r = [0.0; 2];
+                                        r[a] = sign;
+                                        trials.along.clone_from(&along);
+                                        let base = trials.base_gap()?;
+                                        lcp::load_driven::find_displacement_with(
+                                            &mut trials,
+                                            &base,
+                                            &along,
+                                            r,
+                                            along_load.abs(),
+                                        )
+                                        .map(|search| {
+                                            total_evaluations += search.evaluations;
+                                            let t = sign * search.displacement;
+                                            let mut translation = [0.0; 2];
+                                            translation[a] = t;
+                                            rigid_mode = Some(solution::RigidMode {
+                                                mode: pin.name(),
+                                                pin_point: model.nodes.points[pin.node as usize],
+                                                translation,
+                                                load: along_load,
+                                                evaluations: search.evaluations,
+                                                total_evaluations,
+                                            });
+                                            (search.answer, Some((pin, t)))
+                                        })
+                                    },
+                                )
+                            }
+                            (None, None) => {
+                                use lcp::load_driven::Trials;
+                                trials.solve(0.0, &g0).map(|answer| (answer, None))
+                            }
+                        };
+                        let (trial_iterations, trial_rescues) = (trials.iterations, trials.rescues);
+                        let (answer, held) = solved.map_err(at_step)?;
+                        // The body's translation found: the pin's value, the gaps without the
+                        // shift (the system the displacements answer is the one reported, as
+                        // on Lemke's path).
+                        if let Some((pin, t)) = held {
+                            let mut rhs = rhs.clone();
+                            let d = crate::nodes::dof(pin.node as usize, pin.axis);
+                            rhs[d] = model.system.collocation_scale * t;
+                            system.set_load(&rhs, &g0, &offset);
+                        }
                         let u = system
                             .final_friction_displacements(&answer.states)
                             .map_err(lcp::LcpError::from)?;
-                        (answer, u, None)
+                        (answer, u, None, trial_iterations, trial_rescues)
                     }
                     SparseFriction::Pair(system) => {
                         let end2 = &target.as_ref().expect("two bodies").steps[k];
@@ -742,11 +874,12 @@ pub(super) fn solve_frictional_active_set(
                             warm.as_deref(),
                             &params,
                         )
-                        .map_err(at_step)?;
+                        .map_err(|e| at_step(e.into()))?;
                         let (u, u2) = system
                             .final_friction_displacements(&answer.states)
                             .map_err(lcp::LcpError::from)?;
-                        (answer, u, Some(u2))
+                        let (n, r) = (answer.step.iterations, answer.rescues.clone());
+                        (answer, u, Some(u2), n, r)
                     }
                 };
                 let step = &answer.step;
@@ -778,8 +911,8 @@ pub(super) fn solve_frictional_active_set(
                     started.elapsed().as_secs_f64(),
                 );
                 previous.clone_from(&step.tangential_displacement);
-                iterations += step.iterations;
-                rescues.extend_from_slice(&answer.rescues);
+                iterations += step_iterations;
+                rescues.extend_from_slice(&step_rescues);
                 if answer.end != lcp::active_set::ActiveSetEnd::Converged {
                     end_all = answer.end;
                 }
@@ -791,6 +924,7 @@ pub(super) fn solve_frictional_active_set(
                 (load20, rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
             }
             d0 = end.obstacle;
+            force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
         }
         Ok(match system {
             SparseFriction::Rigid(s) => s.stats,
@@ -807,9 +941,9 @@ pub(super) fn solve_frictional_active_set(
         z: step.normal.clone(),
         pivots: iterations,
     };
-    // The gaps from the obstacle's final position.
+    // The gaps from the obstacle's final position (the force's: where the search put it).
     if let Some(end) = steps.last() {
-        let d = end.obstacle;
+        let d = load_driven.as_ref().map_or(end.obstacle, |l| l.displacement);
         for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
             let dn = d[0] * nu[0] + d[1] * nu[1];
             if dn != 0.0 {
@@ -843,6 +977,91 @@ pub(super) fn solve_frictional_active_set(
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
     history.finish(&mut friction);
     friction.target_operator = target_tangential;
-    contact.friction = Some(friction);
+    // A translation held by the contact without load steps is a frictionless one-step
+    // problem: no frictional record, as on Lemke's path.
+    if pinned.is_none() || !problem.steps.is_empty() {
+        contact.friction = Some(friction);
+    }
+    contact.load_driven = load_driven;
+    contact.rigid_mode = rigid_mode;
     Ok((u, u2, contact))
+}
+
+/// The trials of a force search (docs/method.md §4.6–4.7) on the active-set path: each is
+/// the increment's problem with the gaps without displacement moved to `g0 − a s`, solved
+/// by [`lcp::active_set::solve_friction_step`] from the last trial's states; the slope is
+/// one solve with the closed set's matrix ([`lcp::active_set::RigidObstacle::force_rate`]).
+struct ActiveSetTrials<'s, 'a> {
+    system: &'s mut lcp::active_set::RigidObstacle<'a>,
+    rhs: &'s [f64],
+    initial_gap: &'s [f64],
+    offset: &'s [f64],
+    previous: &'s [f64],
+    /// `a_c` of the search (empty without one).
+    along: Vec<f64>,
+    /// The states to start the next solve from.
+    warm: Option<Vec<lcp::ContactState>>,
+    params: lcp::active_set::ActiveSetParams,
+    /// Linear solves and Lemke rescues over the trials.
+    iterations: usize,
+    rescues: Vec<usize>,
+}
+
+impl ActiveSetTrials<'_, '_> {
+    /// `q_b`, the gaps without contact forces at `s = 0` (one solve with `K`; `g0` when `K`
+    /// alone fails its accuracy check: then only the first trial is a worse guess).
+    fn base_gap(&mut self) -> Result<Vec<f64>, lcp::LcpError> {
+        use lcp::active_set::FrictionSystem;
+        self.system.set_load(self.rhs, self.initial_gap, self.offset);
+        Ok(match self.system.free_response().map_err(lcp::LcpError::from)? {
+            Some((q, _)) => q,
+            None => self.initial_gap.to_vec(),
+        })
+    }
+}
+
+impl lcp::load_driven::Trials for ActiveSetTrials<'_, '_> {
+    type Answer = lcp::active_set::FrictionStepSolution;
+    type Error = lcp::LcpError;
+    fn solve(&mut self, s: f64, _q: &[f64]) -> Result<Self::Answer, lcp::LcpError> {
+        if s == 0.0 {
+            self.system.set_load(self.rhs, self.initial_gap, self.offset);
+        } else {
+            let g0 = self.initial_gap.iter().zip(&self.along);
+            let shifted: Vec<f64> = g0.map(|(g, a)| g - a * s).collect();
+            self.system.set_load(self.rhs, &shifted, self.offset);
+        }
+        let answer = lcp::active_set::solve_friction_step(
+            self.system,
+            self.previous,
+            self.warm.as_deref(),
+            &self.params,
+        )?;
+        self.iterations += answer.step.iterations;
+        self.rescues.extend_from_slice(&answer.rescues);
+        self.warm = Some(answer.states.clone());
+        Ok(answer)
+    }
+    fn forces<'b>(&self, answer: &'b Self::Answer) -> &'b [f64] {
+        &answer.step.normal
+    }
+    fn gaps(&self, _q: &[f64], answer: &Self::Answer) -> Vec<f64> {
+        answer.step.gap.clone()
+    }
+    fn slope(
+        &mut self,
+        answer: &Self::Answer,
+        along: &[f64],
+        active: &[usize],
+    ) -> Result<f64, lcp::LcpError> {
+        let mut states = vec![lcp::ContactState::Open; answer.states.len()];
+        for &c in active {
+            states[c] = match answer.states[c] {
+                lcp::ContactState::Open => lcp::ContactState::Stick,
+                s => s,
+            };
+        }
+        let rate = self.system.force_rate(&states, along)?;
+        Ok(active.iter().map(|&c| along[c] * rate[c]).sum())
+    }
 }

@@ -487,7 +487,12 @@ impl RigidObstacle<'_> {
     /// `(P_c, T_c)` from the removed rows' residuals `r = K û − f` on the owner's rows:
     /// `P = ν·r/w`, `T = t·r/w` (frictionless closed candidates: `P` from row `a`, `T = 0`).
     fn friction_forces(&self, modes: &[Mode], u: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        let normal = self.forces(modes, u);
+        self.friction_forces_with(modes, u, &self.rhs)
+    }
+
+    /// [`RigidObstacle::friction_forces`] with the right-hand side `rhs` of the removed rows.
+    fn friction_forces_with(&self, modes: &[Mode], u: &[f64], rhs: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let normal = self.forces_with(modes, u, rhs);
         let mut p = Vec::with_capacity(modes.len());
         let mut t = Vec::with_capacity(modes.len());
         for (c, rep) in self.replacements.iter().enumerate() {
@@ -499,8 +504,8 @@ impl RigidObstacle<'_> {
             let [ra, rb] = rep.dofs;
             let dot = |row: &[(usize, f64)]| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
             let mut r = [0.0; 2];
-            r[rep.axes[0] as usize] = dot(&rep.normal_row.0) - self.rhs[ra];
-            r[rep.axes[1] as usize] = dot(&rep.other_row) - self.rhs[rb];
+            r[rep.axes[0] as usize] = dot(&rep.normal_row.0) - rhs[ra];
+            r[rep.axes[1] as usize] = dot(&rep.other_row) - rhs[rb];
             let nu = self.operator.direction(c);
             let tc = crate::contact::tangent(nu);
             p.push((nu[0] * r[0] + nu[1] * r[1]) / rep.weight);
@@ -520,6 +525,33 @@ impl RigidObstacle<'_> {
     ) -> Result<Vec<f64>, ActiveSetError> {
         let modes = self.modes_of(states);
         self.final_displacements_of(&modes)
+    }
+
+    /// The rates `dP/ds` of the normal forces of the problem of `states` (each candidate's
+    /// rows as its state, `Open` ones free) when the gaps without displacement move as
+    /// `g0 − a s` (an obstacle, or the body itself, translated by `s`; `along` = `a`): one
+    /// solve with that problem's matrix, whose right-hand side is `s_g a_c` on the closed
+    /// candidates' gap rows and zero elsewhere, the rates read from the removed rows as the
+    /// forces are (docs/method.md §4.6, §5.1). With `μ = 0` this is `M_AA⁻¹ a_A` on the
+    /// closed set `A`, the slope of the force search being `a_Aᵀ M_AA⁻¹ a_A`.
+    ///
+    /// # Errors
+    /// A failed solve.
+    pub fn force_rate(
+        &mut self,
+        states: &[ContactState],
+        along: &[f64],
+    ) -> Result<Vec<f64>, ActiveSetError> {
+        let modes = self.modes_of(states);
+        let n = self.matrix.n;
+        let mut b = vec![0.0; n];
+        for (c, rep) in self.replacements.iter().enumerate() {
+            if modes[c] != OPEN {
+                b[rep.rows[0].0] = self.scale * along[c];
+            }
+        }
+        let du = super::solve_refined(self, &modes, &b)?;
+        Ok(self.friction_forces_with(&modes, &du, &vec![0.0; n]).0)
     }
 
     fn set_targets(&mut self, previous: &[f64]) {

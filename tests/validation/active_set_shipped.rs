@@ -1,0 +1,168 @@
+//! The active-set solver (docs/method.md §5.1, `contact.solver = "active_set"`) against
+//! Lemke's method on every shipped problem with contact: the files of `problems/` are listed
+//! at run time, so a new problem file is covered without touching this test. Each file is
+//! read twice, with `solver = "lemke"` and with `solver = "active_set"` set in its contact
+//! table(s); both answers are checked on their own (scaled complementarity, equilibrium) and
+//! against each other as `active_set::compare_solutions` does: forces and gaps within 1e-10
+//! of the largest force resp. gap (the same LCP solved two ways: round-off times the
+//! condition of the two routes), the same closed set. With friction the tangential forces are
+//! compared too, and for a load-driven obstacle or a translation held by the contact
+//! (docs/method.md §4.6–4.7) the displacement found.
+//!
+//! Files the active set cannot take yet are listed in [`REFUSED`] with the reason; each must
+//! be refused with a message naming `contact.solver` (or `contact[k].solver`) and the value,
+//! and an entry whose file is solved, or no longer exists, fails the test: the list can only
+//! shrink.
+
+use super::active_set::{compare_solutions, max_abs};
+use mlpg_contact::problem::Problem;
+use mlpg_contact::solution::Solution;
+
+/// Agreement of displacements found by the searches and of tangential forces (relative).
+const AGREEMENT: f64 = 1e-10;
+
+/// Shipped files the active-set solver refuses, with the reason.
+const REFUSED: &[(&str, &str)] = &[(
+    "three_block_stack.toml",
+    "several [[contact]] pairs: one LCP over all pairs, solved by Lemke's method only",
+)];
+
+/// Whether the problem text has a contact table.
+fn has_contact(text: &str) -> bool {
+    text.lines().any(|l| matches!(l.trim(), "[contact]" | "[[contact]]"))
+}
+
+/// `text` with `solver = "<solver>"` in every contact table (any `solver` key there
+/// replaced).
+fn with_solver(text: &str, solver: &str) -> String {
+    let mut out = String::new();
+    let mut in_contact = false;
+    for line in text.lines() {
+        let t = line.trim();
+        if t.starts_with('[') {
+            in_contact = matches!(t, "[contact]" | "[[contact]]");
+            out.push_str(line);
+            out.push('\n');
+            if in_contact {
+                out.push_str(&format!("solver = \"{solver}\"\n"));
+            }
+            continue;
+        }
+        if in_contact && t.split('=').next().is_some_and(|k| k.trim() == "solver") {
+            continue;
+        }
+        out.push_str(line);
+        out.push('\n');
+    }
+    out
+}
+
+/// The shipped problem files with contact, sorted, with their text.
+fn contact_files() -> Vec<(String, String)> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let mut files: Vec<(String, String)> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .map(|p| {
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read_to_string(&p).unwrap())
+        })
+        .filter(|(_, text)| has_contact(text))
+        .collect();
+    files.sort();
+    files
+}
+
+fn solve(file: &str, text: &str, solver: &str) -> Result<Solution, String> {
+    let problem = Problem::from_toml(&with_solver(text, solver)).map_err(|e| e.to_string())?;
+    mlpg_contact::solve(&problem).map_err(|e| format!("{file}: {e}"))
+}
+
+/// Relative difference of two values of a search (displacement, translation).
+fn relative(a: f64, b: f64) -> f64 {
+    (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE)
+}
+
+#[test]
+fn every_shipped_contact_problem_equals_lemke_or_is_refused() {
+    let files = contact_files();
+    assert!(files.len() >= 10, "{} contact problem files", files.len());
+    for (file, _) in REFUSED {
+        assert!(files.iter().any(|(f, _)| f == file), "{file} is listed but not shipped");
+    }
+    for (file, text) in &files {
+        if let Some((_, why)) = REFUSED.iter().find(|(f, _)| f == file) {
+            let message = match solve(file, text, "active_set") {
+                Err(e) => e,
+                Ok(_) => panic!("{file} is listed as refused ({why}) but the active set solved it"),
+            };
+            assert!(
+                message.contains("solver`") && message.contains("active_set"),
+                "{file}: the refusal does not name the key and the value: {message}"
+            );
+            println!("{file}: refused ({why}): {message}");
+            continue;
+        }
+        let lemke = solve(file, text, "lemke").unwrap();
+        let active = solve(file, text, "active_set").unwrap();
+        let (force, gap) = compare_solutions(file, &lemke, &active);
+        let (a, b) = (active.contact.as_ref().unwrap(), lemke.contact.as_ref().unwrap());
+        let mut extra = String::new();
+        match (&a.friction, &b.friction) {
+            (Some(fa), Some(fb)) => {
+                let p_max = max_abs(&b.lcp.z).max(f64::MIN_POSITIVE);
+                let t = fa
+                    .step
+                    .tangential
+                    .iter()
+                    .zip(&fb.step.tangential)
+                    .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()))
+                    / p_max;
+                assert!(t < AGREEMENT, "{file}: tangential forces differ by {t:e}");
+                assert_eq!(fa.step.state, fb.step.state, "{file}: stick/slip states differ");
+                extra += &format!(", tangential {t:.1e}");
+            }
+            (None, None) => {}
+            _ => panic!("{file}: one answer has a frictional record, the other not"),
+        }
+        match (&a.load_driven, &b.load_driven) {
+            (Some(la), Some(lb)) => {
+                let d = relative(la.displacement_along, lb.displacement_along);
+                assert!(d < AGREEMENT, "{file}: obstacle displacements differ by {d:e}");
+                extra += &format!(
+                    ", obstacle s {d:.1e} ({} against {} LCP solves)",
+                    la.evaluations, lb.evaluations
+                );
+            }
+            (None, None) => {}
+            _ => panic!("{file}: one answer is load-driven, the other not"),
+        }
+        match (&a.rigid_mode, &b.rigid_mode) {
+            (Some(ra), Some(rb)) => {
+                let t = ra.translation.iter().zip(&rb.translation);
+                let d = t.fold(0.0_f64, |m, (x, y)| m.max(relative(*x, *y)));
+                assert!(d < AGREEMENT, "{file}: held translations differ by {d:e}");
+                extra += &format!(
+                    ", translation {d:.1e} ({} against {} LCP solves)",
+                    ra.evaluations, rb.evaluations
+                );
+            }
+            (None, None) => {}
+            _ => panic!("{file}: one answer has a held translation, the other not"),
+        }
+        println!("{file}: forces {force:.1e}, gaps {gap:.1e}{extra}");
+    }
+}
+
+/// [`with_solver`] sets the key in single and repeated contact tables and replaces one given.
+#[test]
+fn with_solver_sets_every_contact_table() {
+    let text = "[contact]\nedge = \"a\"\nsolver = \"auto\"\n[[step]]\nsolver_x = 1\n";
+    assert_eq!(
+        with_solver(text, "lemke"),
+        "[contact]\nsolver = \"lemke\"\nedge = \"a\"\n[[step]]\nsolver_x = 1\n"
+    );
+    let pairs = "[[contact]]\nbody = \"a\"\n[[contact]]\nbody = \"b\"\n";
+    assert_eq!(with_solver(pairs, "active_set").matches("solver = \"active_set\"").count(), 2);
+}
