@@ -26,7 +26,7 @@ use super::{
 use crate::assembly::SystemMatrix;
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
-use crate::linear_solve::Factorisation;
+use crate::linear_solve::{ColumnOrdering, Factorisation};
 use crate::nodes::{Axis, dof};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Mat, MatMut};
@@ -341,8 +341,13 @@ impl<'a> TwoBodies<'a> {
             self.columns.clear();
             let t = Instant::now();
             let matrix = self.matrix_of(active);
+            // With the options of the first body's own factorisation (its precision).
             let f = match &self.points {
-                Some(p) => Factorisation::with_node_coordinates(&matrix, p)?,
+                Some(p) => Factorisation::with_options(
+                    &matrix,
+                    ColumnOrdering::NestedDissection(p),
+                    self.bodies[0].factorisation.options(),
+                )?,
                 None => Factorisation::new(&matrix)?,
             };
             drop(matrix);
