@@ -66,7 +66,7 @@ pub enum Error {
     },
     /// The run would need more memory than the process may use.
     #[error(
-        "this problem needs about {gb:.1} GB ({nodes:.0} nodes), more than the {avail:.1} GB {limit} leaves: increase nodes.spacing (the memory grows as 1/spacing²), or lower discretisation.support_factor",
+        "this problem needs about {gb:.1} GB ({nodes:.0} nodes), more than the {avail:.1} GB {limit} leaves: increase nodes.spacing (the memory grows as 1/spacing²), lower discretisation.support_factor, or set discretisation.precision = \"mixed\" (MFVM)",
         gb = estimate / 1e9,
         avail = available / 1e9
     )]
@@ -134,7 +134,9 @@ impl Error {
             Error::LemkeRefused(_) => "contact.solver, nodes.spacing",
             Error::Increment { cause, .. } => return cause.input_keys(),
             Error::NonFinite { .. } => "material.young, boundary[*] values, body_force",
-            Error::Memory { .. } => "nodes.spacing, discretisation.support_factor",
+            Error::Memory { .. } => {
+                "nodes.spacing, discretisation.support_factor, discretisation.precision"
+            }
             Error::Output(_) => "--out",
         })
     }

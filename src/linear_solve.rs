@@ -68,6 +68,15 @@ pub enum SolveError {
         /// What was detected.
         detail: String,
     },
+    /// The single-precision factors with refinement and GMRES-IR did not reach the accepted
+    /// backward error ([`FactorPrecision::Mixed`]).
+    #[error(
+        "the mixed-precision solve did not converge ({detail}); use solver.precision = \"double\""
+    )]
+    NotConverged {
+        /// What was reached.
+        detail: String,
+    },
     /// faer failed for another reason (e.g. memory).
     #[error("sparse LU failed: {0}")]
     Backend(String),
@@ -101,11 +110,12 @@ pub enum FactorPrecision {
     Double,
     /// Factors in `f32` (half the memory, ~1.5× faster numeric factorisation measured) and iterative
     /// refinement with `f64` residuals against `K` to the same backward error as
-    /// [`Self::Double`]; a column that does not get there is solved again with `f64`
-    /// factors, computed on first need. Not the default: on the cantilever (β = 0) it
-    /// factorises 1.4× faster at 100k nodes but needs 8 refinement steps per solve, and at
-    /// 250k nodes (κ · ε_f32 ≳ 1) refinement stalls and the `f64` factors must be computed
-    /// as well (docs/dev/performance.md).
+    /// [`Self::Double`]; a column whose refinement stalls (at 250k nodes on the cantilever,
+    /// κ · ε_f32 ≳ 1) is finished by GMRES-IR (`f64` GMRES preconditioned by the `f32`
+    /// factors), and rejected ([`SolveError::NotConverged`]) if even that does not reach
+    /// [`ACCEPTED_BACKWARD_ERROR`]. Not the default: it factorises 1.4× faster at 100k nodes
+    /// but needs ~8 refinement steps per solve (docs/dev/performance.md); it is the way to
+    /// fit a problem whose double-precision factors do not fit in memory.
     Mixed,
 }
 
@@ -120,6 +130,9 @@ pub struct FactorOptions {
     pub pivot_tolerance: f64,
     /// Precision of the static-pivoting factors. Default [`FactorPrecision::Double`].
     pub precision: FactorPrecision,
+    /// [`FactorPrecision::Mixed`]: GMRES iterations per column at most in GMRES-IR (each one
+    /// substitution with the factors and one product with `K`). Default 200.
+    pub gmres_max_iterations: usize,
     /// Entries with `|K_ij| ≤ void_tolerance · max|K|` are left out of the factorised matrix
     /// (`0` keeps every entry). Default `1e-14`.
     pub void_tolerance: f64,
@@ -151,6 +164,7 @@ impl Default for FactorOptions {
             method: FactorMethod::Auto,
             pivot_tolerance: f64::EPSILON.sqrt(),
             precision: FactorPrecision::Double,
+            gmres_max_iterations: 200,
             void_tolerance: 1e-14,
             tasks: 2,
             leaf_nodes: 64,
@@ -209,9 +223,12 @@ pub struct FactorStats {
     /// Precision of the stored factors ([`FactorPrecision::Double`] or
     /// [`FactorPrecision::Mixed`]).
     pub precision: FactorPrecision,
-    /// Columns that single-precision refinement could not finish and that were solved again
-    /// with double-precision factors ([`FactorPrecision::Mixed`]).
-    pub columns_in_double: usize,
+    /// Columns that single-precision refinement could not finish and that GMRES-IR finished
+    /// or rejected ([`FactorPrecision::Mixed`]).
+    pub gmres_columns: usize,
+    /// GMRES iterations over those columns (each one substitution with the factors and one
+    /// product with `K`).
+    pub gmres_iterations: usize,
 }
 
 /// A sparse LU factorisation `P K Q = L U` of the system matrix.
@@ -219,6 +236,8 @@ pub struct Factorisation {
     inner: Inner,
     n: usize,
     stats: FactorStats,
+    /// The options it was made with (a related matrix is factorised alike).
+    options: FactorOptions,
 }
 
 /// The factors of either method.
@@ -594,9 +613,9 @@ impl Factorisation {
             Ordered::Symmetric(perm, graph) => {
                 let settings = symmetric::Settings {
                     pivot_tolerance: options.pivot_tolerance,
-                    void_tolerance: options.void_tolerance,
                     parallel: options.tasks > 1,
                     precision: options.precision,
+                    gmres_max_iterations: options.gmres_max_iterations,
                 };
                 let (lu, symbolic_seconds, numeric_seconds) =
                     symmetric::StaticLu::new(matrix, pruned, graph, &perm, settings)?;
@@ -606,7 +625,8 @@ impl Factorisation {
                 stats.factor_nnz = lu.factor_nnz;
                 stats.perturbed_pivots = lu.perturbed;
                 stats.precision = lu.precision();
-                return Ok(Self { inner: Inner::Static(lu), n, stats });
+                let options = options.clone();
+                return Ok(Self { inner: Inner::Static(lu), n, stats, options });
             }
         };
         let sym =
@@ -644,7 +664,7 @@ impl Factorisation {
         stats.supernodes = lu.n_supernodes();
         stats.precision = FactorPrecision::Double;
         let inner = Inner::Partial { lu, row_perm, row_perm_inv, col_perm, col_perm_inv };
-        Ok(Self { inner, n, stats })
+        Ok(Self { inner, n, stats, options: options.clone() })
     }
 
     /// The ordering and the fill bound a factorisation with these settings would use, without
@@ -695,6 +715,12 @@ impl Factorisation {
         Ok((lu, row_perm, row_perm_inv))
     }
 
+    /// The options this factorisation was made with (to factorise a related matrix, such as a
+    /// row-replaced `K`, alike).
+    pub fn options(&self) -> &FactorOptions {
+        &self.options
+    }
+
     /// Order of the matrix.
     pub fn size(&self) -> usize {
         self.n
@@ -705,11 +731,12 @@ impl Factorisation {
     pub fn stats(&self) -> FactorStats {
         let mut stats = self.stats;
         if let Inner::Static(lu) = &self.inner {
-            let (steps, columns, in_double, worst) = lu.refinement();
-            stats.refinement_steps = steps;
-            stats.columns_solved = columns;
-            stats.columns_in_double = in_double;
-            stats.worst_backward_error = worst;
+            let r = lu.refinement();
+            stats.refinement_steps = r.steps;
+            stats.columns_solved = r.columns;
+            stats.gmres_columns = r.gmres_columns;
+            stats.gmres_iterations = r.gmres_iterations;
+            stats.worst_backward_error = r.worst_backward_error;
         }
         stats
     }
@@ -747,6 +774,14 @@ impl Factorisation {
         let mut x = b.to_vec();
         self.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, self.n, 1));
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            if self.stats.precision == FactorPrecision::Mixed {
+                return Err(SolveError::NotConverged {
+                    detail: format!(
+                        "iterative refinement and GMRES-IR with the single-precision factors \
+                         did not reach a backward error of {ACCEPTED_BACKWARD_ERROR:e}"
+                    ),
+                });
+            }
             let detail = match self.inner {
                 Inner::Static(_) => format!(
                     "iterative refinement did not reach a backward error of \
@@ -917,27 +952,8 @@ mod tests {
         }
     }
 
-    #[test]
-    fn mixed_precision_refines_to_double_accuracy_and_falls_back_when_it_cannot() {
-        let mixed = FactorOptions { precision: FactorPrecision::Mixed, ..static_options() };
-        // Well conditioned: single-precision factors (solution errors ~1e-7 unrefined) are
-        // refined to the double-precision target.
-        let (m, points) = grid(40);
-        let b: Vec<f64> = (0..m.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
-        let f = Factorisation::with_options(&m, ColumnOrdering::NestedDissection(&points), &mixed)
-            .unwrap();
-        let x = f.solve(&b).unwrap();
-        let r = residual(&m, &x, &b);
-        let s = f.stats();
-        assert_eq!(s.precision, FactorPrecision::Mixed);
-        assert!(r < 1e-14, "residual {r:e}");
-        assert!(s.refinement_steps > 0, "single-precision factors need refinement");
-        assert_eq!(s.columns_in_double, 0);
-        assert!(s.worst_backward_error <= 1e-14);
-        // Ill conditioned: the 1-D Laplacian of order 20 000 has κ ≈ 4n²/π² ≈ 1.6e8 >
-        // 1/ε_f32, so refinement with single-precision factors cannot converge; the column
-        // is solved again with double-precision factors.
-        let n = 20_000;
+    /// The 1-D Laplacian `tridiag(−1, 2, −1)` of order `n`.
+    fn laplacian(n: usize) -> SystemMatrix {
         let mut lap = SystemMatrix { n, col_ptr: vec![0], row_idx: Vec::new(), values: Vec::new() };
         for c in 0..n {
             for (r, v) in [(c.wrapping_sub(1), -1.0), (c, 2.0), (c + 1, -1.0)] {
@@ -948,16 +964,73 @@ mod tests {
             }
             lap.col_ptr.push(lap.row_idx.len());
         }
+        lap
+    }
+
+    #[test]
+    fn mixed_precision_refines_to_double_accuracy_and_finishes_with_gmres_when_refinement_stalls() {
+        let mixed = FactorOptions { precision: FactorPrecision::Mixed, ..static_options() };
+        // Well conditioned: single-precision factors (solution errors ~1e-7 unrefined) are
+        // refined to the double-precision target by plain refinement alone.
+        let (m, points) = grid(40);
+        let b: Vec<f64> = (0..m.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let f = Factorisation::with_options(&m, ColumnOrdering::NestedDissection(&points), &mixed)
+            .unwrap();
+        let x = f.solve(&b).unwrap();
+        let r = residual(&m, &x, &b);
+        let s = f.stats();
+        assert_eq!(s.precision, FactorPrecision::Mixed);
+        assert!(r < 1e-14, "residual {r:e}");
+        assert!(s.refinement_steps > 0, "single-precision factors need refinement");
+        assert_eq!(s.gmres_columns, 0);
+        assert!(s.worst_backward_error <= 1e-14);
+        // Ill conditioned: the 1-D Laplacian of order 20 000 has κ ≈ 4n²/π² ≈ 1.6e8 >
+        // 1/ε_f32, so plain refinement with single-precision factors stalls; GMRES-IR, with
+        // the same factors as preconditioner, reaches the double-precision target.
+        let n = 20_000;
+        let lap = laplacian(n);
         let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
         let order: Vec<usize> = (0..n).collect();
         let f =
             Factorisation::with_options(&lap, ColumnOrdering::Permutation(&order), &mixed).unwrap();
         let x = f.solve(&b).unwrap();
         let s = f.stats();
-        assert_eq!(s.columns_in_double, 1);
+        println!("Laplacian n = {n}: {s:?}");
+        assert_eq!(s.gmres_columns, 1, "plain refinement must have stalled");
+        assert!(s.gmres_iterations > 0);
         assert!(s.worst_backward_error <= 1e-14, "{:e}", s.worst_backward_error);
         let r = residual(&lap, &x, &b);
         assert!(r < 1e-12, "residual {r:e}");
+    }
+
+    #[test]
+    fn mixed_precision_refuses_a_column_gmres_ir_cannot_finish() {
+        // The Laplacian above needs ~100 GMRES iterations; with at most 5 the column cannot
+        // reach the accepted backward error, and the solve must say so (a typed error, not a
+        // wrong answer), while the double-precision factors solve it.
+        let n = 20_000;
+        let lap = laplacian(n);
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let order: Vec<usize> = (0..n).collect();
+        let double = Factorisation::with_options(
+            &lap,
+            ColumnOrdering::Permutation(&order),
+            &static_options(),
+        )
+        .unwrap();
+        assert!(residual(&lap, &double.solve(&b).unwrap(), &b) < 1e-12);
+        let mixed = FactorOptions {
+            precision: FactorPrecision::Mixed,
+            gmres_max_iterations: 5,
+            ..static_options()
+        };
+        let f =
+            Factorisation::with_options(&lap, ColumnOrdering::Permutation(&order), &mixed).unwrap();
+        let out = f.solve(&b);
+        let s = f.stats();
+        assert!(matches!(out, Err(SolveError::NotConverged { .. })), "{:?}", out.err());
+        assert_eq!((s.gmres_columns, s.gmres_iterations), (1, 5));
+        assert!(s.worst_backward_error.is_infinite());
     }
 
     #[test]

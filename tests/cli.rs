@@ -449,6 +449,71 @@ fn unstable_discretisations_are_refused() {
     assert_eq!(disc["mls"]["basis"], "linear");
 }
 
+/// `discretisation.precision`: bad values and mixed precision with the finite elements are
+/// refused naming the key; `"mixed"` solves the base problem (with a traction, through the
+/// static-pivoting LU with single-precision factors) to the double-precision answer, and
+/// `summary.json` records the precision and the GMRES-IR record, which double-precision
+/// summaries do not carry (their layout is unchanged). Tolerance 1e-9 relative: both solves
+/// reach a backward error of ~1e-14 (`TARGET_BACKWARD_ERROR`) on a matrix with κ ≲ 1e5.
+#[test]
+fn precision_switch_is_validated_recorded_and_gives_the_double_answer() {
+    let loaded = format!("{BASE}[[boundary]]\nedge = \"right\"\ntraction = {{ x = 1.0 }}\n");
+    let with =
+        |keys: &str| loaded.replace("[nodes]", &format!("[discretisation]\n{keys}\n[nodes]"));
+    let cases: &[(&str, String, &str)] = &[
+        ("precision_unknown", with("precision = \"half\""), "discretisation.precision"),
+        ("precision_unknown_lists", with("precision = \"half\""), "`double`, `mixed`"),
+        (
+            "precision_mixed_fem",
+            with("method = \"fem\"\nprecision = \"mixed\""),
+            "discretisation.precision",
+        ),
+    ];
+    expect_refusals(cases);
+    let displacement = |name: &str| -> Vec<f64> {
+        let text = std::fs::read_to_string(scratch(name).join("out/displacement.csv")).unwrap();
+        text.lines()
+            .skip(1)
+            .flat_map(|l| {
+                l.split(',').skip(3).take(2).map(|v| v.parse::<f64>().unwrap()).collect::<Vec<_>>()
+            })
+            .collect()
+    };
+    let summary = |name: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(scratch(name).join("out/summary.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let (code, stderr) = run_text("precision_default", &loaded);
+    assert_eq!(code, Some(0), "{stderr}");
+    for precision in ["mixed", "auto"] {
+        let name = format!("precision_{precision}");
+        let (code, stderr) = run_text(&name, &with(&format!("precision = \"{precision}\"")));
+        assert_eq!(code, Some(0), "{stderr}");
+        let s = summary(&name);
+        assert_eq!(s["problem"]["discretisation"]["precision"], precision);
+        let (a, b) = (displacement("precision_default"), displacement(&name));
+        assert_eq!(a.len(), b.len());
+        let scale = a.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let diff = a.iter().zip(&b).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+        assert!(diff <= 1e-9 * scale, "{precision}: relative difference {:e}", diff / scale);
+        let solve = &s["linear_solve"];
+        if precision == "mixed" {
+            assert_eq!(solve["precision"], "Mixed");
+            assert_eq!(solve["method"], "StaticPivoting");
+            assert!(solve["gmres_iterations"].is_u64(), "{solve}");
+            assert!(solve["worst_backward_error"].as_f64().unwrap() <= 1e-14, "{solve}");
+        } else {
+            // A small problem fits in double precision.
+            assert_eq!(solve["precision"], "Double");
+            assert!(solve.get("gmres_iterations").is_none(), "{solve}");
+        }
+    }
+    let s = summary("precision_default");
+    assert!(s["problem"]["discretisation"].get("precision").is_none());
+    assert!(s["linear_solve"].get("gmres_iterations").is_none());
+    assert!(s["input"]["discretisation"].get("precision").is_none());
+}
+
 #[test]
 fn missing_file_is_exit_code_2() {
     let out = Command::new(binary()).arg("no/such/file.toml").arg("--quiet").output().unwrap();

@@ -183,7 +183,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "{v:<28} total {total:7.3} s (order {:.3}, symbolic {:.3}, numeric {:.3}); nnz {} -> {}; \
              {} supernodes; bound nnz {:.1} M, flops {:.2e}; solve {solve:.3} s; residual {r:.1e}, backward error {berr:.1e}; \
              hash {hash:016x}; factor nnz {:.1} M ({:?}), {} perturbed pivots, {} refinement steps, \
-             {} columns re-solved in double, worst refined backward error {:.1e}",
+             {} columns finished by GMRES-IR ({} iterations), worst refined backward error {:.1e}",
             s.ordering_seconds,
             s.symbolic_seconds,
             s.numeric_seconds,
@@ -196,7 +196,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             s.precision,
             s.perturbed_pivots,
             s.refinement_steps,
-            s.columns_in_double,
+            s.gmres_columns,
+            s.gmres_iterations,
             s.worst_backward_error
         );
     }

@@ -27,7 +27,7 @@ use super::{Lcp, LcpError, LcpResiduals, LcpSolution, LemkeParams, lemke};
 use crate::assembly::SystemMatrix;
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
-use crate::linear_solve::{Factorisation, SolveError};
+use crate::linear_solve::{ColumnOrdering, Factorisation, SolveError};
 use crate::nodes::{Axis, dof};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Mat, MatMut};
@@ -861,8 +861,13 @@ impl<'a> RigidObstacle<'a> {
             self.columns.clear();
             let t = Instant::now();
             let matrix = self.matrix_of(modes);
+            // With the options of `K`'s own factorisation (its precision).
             let f = match self.points {
-                Some(p) => Factorisation::with_node_coordinates(&matrix, p)?,
+                Some(p) => Factorisation::with_options(
+                    &matrix,
+                    ColumnOrdering::NestedDissection(p),
+                    self.model.options(),
+                )?,
                 None => Factorisation::new(&matrix)?,
             };
             drop(matrix);

@@ -27,8 +27,11 @@
 //! - **Precision.** The factors are `f64` by default; [`super::FactorPrecision::Mixed`]
 //!   stores them in `f32` (half the memory, ~1.5× faster numeric factorisation) and relies
 //!   on the refinement below, with `f64` residuals, to reach the same backward error;
-//!   columns whose refinement stalls are solved again with `f64` factors computed on first
-//!   need.
+//!   columns whose refinement stalls (`κ ε_f32 ≳ 1`, the cantilever from ~250k nodes) are
+//!   finished by GMRES-IR: GMRES in `f64` on the correction equation, right-preconditioned
+//!   by the `f32` factors, restarted from the true residual (Carson & Higham, SIAM J. Sci.
+//!   Comput. 40(2):A817–A847, 2018). A column that does not reach the accepted backward
+//!   error even so is rejected (NaN, reported as an error); no `f64` factors are computed.
 //! - **Solve.** Forward and backward supernodal substitution for a block of right-hand
 //!   sides, then iterative refinement against the *full* `K` (not the pruned, scaled copy):
 //!   per column, until the normwise backward error (relative residual)
@@ -70,6 +73,10 @@ const TARGET_BACKWARD_ERROR: f64 = 1e-14;
 const PANEL: usize = 16;
 /// Subtrees with fewer estimated flops than this are factorised by one task.
 const PARALLEL_SUBTREE_FLOPS: f64 = 2e7;
+/// GMRES-IR: iterations per GMRES cycle (one cycle per refinement step).
+const GMRES_RESTART: usize = 20;
+/// GMRES-IR: a cycle stops once its residual estimate fell by this factor.
+const GMRES_INNER_TOLERANCE: f64 = 1e-6;
 /// Dense products with more flops than this use `Par::rayon(2)` (fixed, not the pool size).
 const PARALLEL_DENSE_FLOPS: f64 = 2e7;
 
@@ -457,12 +464,6 @@ impl RowMatrix {
         Self { row_ptr, col_idx, values }
     }
 
-    /// `K` by columns again.
-    fn transposed(&self, n: usize) -> SystemMatrix {
-        let (col_ptr, row_idx, values) = transpose(n, &self.row_ptr, &self.col_idx, &self.values);
-        SystemMatrix { n, col_ptr, row_idx, values }
-    }
-
     /// `‖K‖∞`, the largest absolute row sum.
     fn norm(&self) -> f64 {
         self.row_ptr
@@ -486,17 +487,13 @@ pub(super) struct StaticLu {
     row_scale: Vec<f64>,
     col_scale: Vec<f64>,
     nodes: Vec<Supernode>,
-    /// `first[s]`: the first supernode of the subtree rooted at `s` (postorder).
-    first: Vec<usize>,
     factors: Factors,
-    /// Double-precision factors computed on demand when single-precision refinement fails
-    /// for some column (same structure, scaling and order).
-    double: OnceLock<Result<Vec<NodeFactor<f64>>, SolveError>>,
     /// The full, unscaled `K` for refinement, by rows.
     rows: RowMatrix,
     /// `‖K‖∞`.
     norm: f64,
-    settings: Settings,
+    /// GMRES iterations per column at most in GMRES-IR.
+    gmres_max_iterations: usize,
     /// Pivots replaced by `±tolerance`.
     pub perturbed: usize,
     /// Nonzeros stored in `L` and `U` (diagonal once).
@@ -505,8 +502,10 @@ pub(super) struct StaticLu {
     refinement_steps: AtomicUsize,
     /// Columns solved so far.
     columns_solved: AtomicUsize,
-    /// Columns re-solved with the double-precision factors.
-    columns_in_double: AtomicUsize,
+    /// Columns finished by GMRES-IR (single-precision factors).
+    gmres_columns: AtomicUsize,
+    /// GMRES iterations over those columns.
+    gmres_iterations: AtomicUsize,
     /// Largest final backward error so far (`f64` bits; non-negative floats order as bits).
     worst_backward_error: AtomicU64,
 }
@@ -930,15 +929,29 @@ fn factorise<T: Scalar>(
     Ok((factors, perturbed))
 }
 
-/// Settings of [`StaticLu::new`] (kept to recompute the factors in double precision).
+/// The refinement record of a [`StaticLu`] ([`StaticLu::refinement`]).
+pub(super) struct Refinement {
+    /// Refinement corrections over all columns.
+    pub steps: usize,
+    /// Columns solved.
+    pub columns: usize,
+    /// Columns finished by GMRES-IR.
+    pub gmres_columns: usize,
+    /// GMRES iterations over them.
+    pub gmres_iterations: usize,
+    /// Largest final backward error.
+    pub worst_backward_error: f64,
+}
+
+/// Settings of [`StaticLu::new`].
 pub(super) struct Settings {
     /// Pivot tolerance of the double-precision factors; single precision uses at least
     /// `√ε_f32`.
     pub pivot_tolerance: f64,
-    /// Void tolerance the pruned matrix was made with (to rebuild it for the fallback).
-    pub void_tolerance: f64,
     pub parallel: bool,
     pub precision: FactorPrecision,
+    /// GMRES iterations per column at most in GMRES-IR.
+    pub gmres_max_iterations: usize,
 }
 
 impl StaticLu {
@@ -1037,17 +1050,16 @@ impl StaticLu {
             row_scale,
             col_scale,
             nodes,
-            first,
             factors,
-            double: OnceLock::new(),
             norm: full_rows.norm(),
             rows: full_rows,
-            settings,
+            gmres_max_iterations: settings.gmres_max_iterations,
             perturbed,
             factor_nnz,
             refinement_steps: AtomicUsize::new(0),
             columns_solved: AtomicUsize::new(0),
-            columns_in_double: AtomicUsize::new(0),
+            gmres_columns: AtomicUsize::new(0),
+            gmres_iterations: AtomicUsize::new(0),
             worst_backward_error: AtomicU64::new(0),
         };
         Ok((lu, symbolic_seconds, numeric_seconds))
@@ -1066,30 +1078,15 @@ impl StaticLu {
         }
     }
 
-    /// `(refinement corrections, columns solved, columns re-solved in double precision,
-    /// largest final backward error)` so far.
-    pub(super) fn refinement(&self) -> (usize, usize, usize, f64) {
-        (
-            self.refinement_steps.load(Ordering::Relaxed),
-            self.columns_solved.load(Ordering::Relaxed),
-            self.columns_in_double.load(Ordering::Relaxed),
-            f64::from_bits(self.worst_backward_error.load(Ordering::Relaxed)),
-        )
-    }
-
-    /// The double-precision factors of the same matrix, structure, scaling and order,
-    /// recomputed from the kept `K` (for columns that single-precision refinement could not
-    /// bring to the accepted backward error).
-    fn double_factors(&self) -> Result<Vec<NodeFactor<f64>>, SolveError> {
-        let full = self.rows.transposed(self.n);
-        let pruned = super::without_void_entries(&full, self.settings.void_tolerance);
-        drop(full);
-        let perm_inv = super::inverse(&self.perm);
-        let first = first_columns(&self.nodes, self.n);
-        let permuted = Permuted::new(&pruned, &perm_inv, &first, &self.row_scale, &self.col_scale)?;
-        drop(pruned);
-        let (tol, parallel) = (self.settings.pivot_tolerance, self.settings.parallel);
-        factorise::<f64>(&self.nodes, &self.first, &permuted, tol, parallel).map(|(f, _)| f)
+    /// The refinement record so far.
+    pub(super) fn refinement(&self) -> Refinement {
+        Refinement {
+            steps: self.refinement_steps.load(Ordering::Relaxed),
+            columns: self.columns_solved.load(Ordering::Relaxed),
+            gmres_columns: self.gmres_columns.load(Ordering::Relaxed),
+            gmres_iterations: self.gmres_iterations.load(Ordering::Relaxed),
+            worst_backward_error: f64::from_bits(self.worst_backward_error.load(Ordering::Relaxed)),
+        }
     }
 
     /// Solves `K X = B` with the factors `factors` only (no refinement); `x` holds `B` on
@@ -1285,9 +1282,156 @@ impl StaticLu {
         (rejected, worst)
     }
 
+    /// `y = K x` with the kept, unscaled `K`.
+    fn mul(&self, x: &[f64], y: &mut [f64]) {
+        let a = &self.rows;
+        for (r, yr) in y.iter_mut().enumerate() {
+            let mut s = 0.0;
+            for k in a.row_ptr[r]..a.row_ptr[r + 1] {
+                s += a.values[k] * x[a.col_idx[k]];
+            }
+            *yr = s;
+        }
+    }
+
+    /// One application of the preconditioner: `z = (L U)⁻¹ v` with the stored factors.
+    fn precondition<T: Scalar>(&self, factors: &[NodeFactor<T>], z: &mut [f64]) {
+        let n = self.n;
+        self.substitute(factors, MatMut::from_column_major_slice_mut(z, n, 1));
+    }
+
+    /// GMRES-IR for one column (docs/dev/performance.md, "Mixed precision"): iterative
+    /// refinement whose correction equation `K d = r` (true residual `r = b − K x` in `f64`)
+    /// is solved by flexible GMRES in `f64`, right-preconditioned by the stored factors
+    /// (`2 · GMRES_RESTART` vectors of `n` doubles at most), to a relative
+    /// residual of [`GMRES_INNER_TOLERANCE`] or [`GMRES_RESTART`] iterations. Stops when the
+    /// normwise backward error of `x` is at most `TARGET_BACKWARD_ERROR`, when it stops
+    /// falling, or after `gmres_max_iterations` (`super::FactorOptions`) GMRES iterations. Returns the backward error
+    /// reached and the GMRES iterations taken; `x` holds the starting guess on entry (a NaN
+    /// guess starts from zero).
+    fn gmres_ir<T: Scalar>(
+        &self,
+        factors: &[NodeFactor<T>],
+        b: &[f64],
+        x: &mut [f64],
+    ) -> (f64, usize) {
+        let n = self.n;
+        if x.iter().any(|v| !v.is_finite()) {
+            x.fill(0.0);
+        }
+        let inf = |v: &[f64]| v.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+        let bn = inf(b);
+        let mut r = vec![0.0; n];
+        let residual = |x: &[f64], r: &mut Vec<f64>| {
+            self.mul(x, r);
+            for (ri, bi) in r.iter_mut().zip(b) {
+                *ri = bi - *ri;
+            }
+            let den = self.norm * inf(x) + bn;
+            let rn = inf(r);
+            if rn == 0.0 {
+                0.0
+            } else if den > 0.0 && rn.is_finite() {
+                rn / den
+            } else {
+                f64::NAN
+            }
+        };
+        let mut berr = residual(x, &mut r);
+        let mut iterations = 0;
+        let mut best = (if berr.is_nan() { f64::INFINITY } else { berr }, x.to_vec());
+        while berr > TARGET_BACKWARD_ERROR
+            && iterations < self.gmres_max_iterations
+            && berr.is_finite()
+        {
+            // Arnoldi with modified Gram–Schmidt on K M⁻¹, Givens rotations for the
+            // least-squares problem (Saad, Iterative Methods for Sparse Linear Systems, §6.5).
+            let beta = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let m = GMRES_RESTART;
+            let mut v: Vec<Vec<f64>> = Vec::with_capacity(m + 1);
+            v.push(r.iter().map(|ri| ri / beta).collect());
+            let mut h = vec![vec![0.0; m]; m + 1];
+            let (mut cs, mut sn) = (vec![0.0; m], vec![0.0; m]);
+            let mut g = vec![0.0; m + 1];
+            g[0] = beta;
+            let mut k = 0;
+            // Flexible GMRES: the preconditioned vectors are kept (the single-precision
+            // substitution is not exactly linear, so `M⁻¹ (V y)` ≠ `Σ y_j M⁻¹ v_j` to
+            // `κ ε_f32`, which is what makes plain refinement stall).
+            let mut zs: Vec<Vec<f64>> = Vec::with_capacity(m);
+            let mut w = vec![0.0; n];
+            while k < m && iterations < self.gmres_max_iterations {
+                let mut z = v[k].clone();
+                self.precondition(factors, &mut z);
+                self.mul(&z, &mut w);
+                zs.push(z);
+                iterations += 1;
+                for (i, vi) in v.iter().enumerate() {
+                    let hik = w.iter().zip(vi).map(|(a, b)| a * b).sum::<f64>();
+                    h[i][k] = hik;
+                    for (wj, vj) in w.iter_mut().zip(vi) {
+                        *wj -= hik * vj;
+                    }
+                }
+                let hn = w.iter().map(|a| a * a).sum::<f64>().sqrt();
+                h[k + 1][k] = hn;
+                for i in 0..k {
+                    let t = cs[i] * h[i][k] + sn[i] * h[i + 1][k];
+                    h[i + 1][k] = -sn[i] * h[i][k] + cs[i] * h[i + 1][k];
+                    h[i][k] = t;
+                }
+                let d = h[k][k].hypot(h[k + 1][k]);
+                if d == 0.0 || !d.is_finite() {
+                    break;
+                }
+                (cs[k], sn[k]) = (h[k][k] / d, h[k + 1][k] / d);
+                h[k][k] = d;
+                h[k + 1][k] = 0.0;
+                g[k + 1] = -sn[k] * g[k];
+                g[k] *= cs[k];
+                k += 1;
+                if g[k].abs() <= GMRES_INNER_TOLERANCE * beta || hn == 0.0 {
+                    break;
+                }
+                v.push(w.iter().map(|a| a / hn).collect());
+            }
+            if k == 0 {
+                break;
+            }
+            // y = H⁻¹ g (upper triangular k × k), x += Z y.
+            let mut y = vec![0.0; k];
+            for i in (0..k).rev() {
+                let s = (i + 1..k).fold(g[i], |s, j| s - h[i][j] * y[j]);
+                y[i] = s / h[i][i];
+            }
+            drop(v);
+            for (zi, yi) in zs.iter().zip(&y) {
+                for (xj, zj) in x.iter_mut().zip(zi) {
+                    *xj += yi * zj;
+                }
+            }
+            drop(zs);
+            let previous = berr;
+            berr = residual(x, &mut r);
+            if berr.is_finite() && berr < best.0 {
+                best = (berr, x.to_vec());
+            }
+            // Stop when a whole cycle no longer gains a factor of two.
+            if berr.is_nan() || berr > 0.5 * previous {
+                break;
+            }
+        }
+        if berr.is_nan() || berr > best.0 {
+            x.copy_from_slice(&best.1);
+            berr = best.0;
+        }
+        (berr, iterations)
+    }
+
     /// Solves `K X = B` in place with iterative refinement (see the module documentation);
-    /// with single-precision factors, columns that do not reach the accepted backward error
-    /// are solved again with double-precision factors; rejected columns are set to NaN.
+    /// with single-precision factors, columns that refinement does not bring to the accepted
+    /// backward error are finished by GMRES-IR ([`Self::gmres_ir`]); rejected columns are set
+    /// to NaN.
     pub(super) fn solve_in_place(&self, mut rhs: MatMut<'_, f64>) {
         let k = rhs.ncols();
         if k == 0 {
@@ -1298,19 +1442,28 @@ impl StaticLu {
             Factors::Double(f) => self.solve_refined(f, b.as_ref(), rhs.rb_mut()),
             Factors::Single(f) => self.solve_refined(f, b.as_ref(), rhs.rb_mut()),
         };
-        if !rejected.is_empty()
-            && matches!(self.factors, Factors::Single(_))
-            && let Ok(f) = self.double.get_or_init(|| self.double_factors())
+        if let Factors::Single(f) = &self.factors
+            && !rejected.is_empty()
         {
-            self.columns_in_double.fetch_add(rejected.len(), Ordering::Relaxed);
-            let sb = Mat::<f64>::from_fn(self.n, rejected.len(), |i, t| b[(i, rejected[t])]);
-            let mut sub = sb.clone();
-            let (again, w) = self.solve_refined(f, sb.as_ref(), sub.as_mut());
-            worst = worst.max(w);
-            for (t, &c) in rejected.iter().enumerate() {
-                rhs.rb_mut().col_mut(c).copy_from(sub.col(t));
+            let mut again = Vec::new();
+            let mut iterations = 0;
+            for &c in &rejected {
+                let mut x: Vec<f64> = rhs.rb().col(c).iter().copied().collect();
+                let bc: Vec<f64> = b.col(c).iter().copied().collect();
+                let (e, it) = self.gmres_ir(f, &bc, &mut x);
+                iterations += it;
+                if e.is_nan() || e > ACCEPTED_BACKWARD_ERROR {
+                    again.push(c);
+                } else {
+                    worst = worst.max(e);
+                    for (i, v) in x.into_iter().enumerate() {
+                        rhs[(i, c)] = v;
+                    }
+                }
             }
-            rejected = again.iter().map(|&t| rejected[t]).collect();
+            self.gmres_columns.fetch_add(rejected.len(), Ordering::Relaxed);
+            self.gmres_iterations.fetch_add(iterations, Ordering::Relaxed);
+            rejected = again;
         }
         for &c in &rejected {
             rhs.rb_mut().col_mut(c).fill(f64::NAN);

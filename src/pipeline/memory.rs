@@ -12,9 +12,18 @@
 //! 17–20 kB at 100k–250k nodes). Contact adds the dense `M` and Lemke's tableau, about
 //! `4 · 8 m²` bytes for `m` candidates, or, with the active-set solver, half the body's
 //! estimate again and 1 GB.
+//!
+//! With `discretisation.precision = "mixed"` the MFVM body's share is multiplied by
+//! [`MIXED_FRACTION`] (single-precision factors and fronts; the matrix, its copies, shape
+//! functions and cells stay double); `"auto"` is resolved by [`precision`] against the
+//! estimate in double precision.
 
-use crate::linear_solve::STATIC_PIVOTING_MIN_DOFS;
-use crate::problem::{Method, Problem};
+use crate::linear_solve::{FactorPrecision, STATIC_PIVOTING_MIN_DOFS};
+use crate::problem::{Method, Precision, Problem};
+
+/// The MFVM body's memory with single-precision factors, as a fraction of that with
+/// double-precision ones (docs/dev/performance.md, "10⁶ nodes").
+pub const MIXED_FRACTION: f64 = 0.6;
 
 /// Bytes per node of the paper's operator at `α_s = 2` with faer's LU (measured up to 88 kB).
 const BYTES_PER_NODE_FAER: f64 = 90e3;
@@ -26,6 +35,27 @@ const BASE_BYTES: f64 = 64e6;
 /// The estimated peak memory of solving `problem` (and its second body), in bytes, with the
 /// node count it assumes.
 pub fn estimate(problem: &Problem) -> (f64, f64) {
+    estimate_in(problem, precision(problem))
+}
+
+/// The precision the factors of `problem`'s MFVM bodies will have: `"auto"` is mixed when
+/// the estimate in double precision exceeds what the process may use ([`limit`]).
+pub fn precision(problem: &Problem) -> FactorPrecision {
+    match problem.discretisation.precision {
+        Precision::Double => FactorPrecision::Double,
+        Precision::Mixed => FactorPrecision::Mixed,
+        Precision::Auto => match limit() {
+            Some((available, _)) if estimate_in(problem, FactorPrecision::Double).0 > available => {
+                FactorPrecision::Mixed
+            }
+            _ => FactorPrecision::Double,
+        },
+    }
+}
+
+/// [`estimate`] with the factors' precision given.
+fn estimate_in(problem: &Problem, precision: FactorPrecision) -> (f64, f64) {
+    let mixed = precision == FactorPrecision::Mixed;
     let body = |p: &Problem| {
         let h = p.node_spacing;
         let perimeter: f64 = p.domain.curves().iter().map(|c| c.length()).sum();
@@ -44,7 +74,10 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
             Method::Mfvm => {
                 let reach = (disc.mls.support_factor / 2.0).powi(2);
                 let blend = if disc.beta > 0.0 { 0.7 } else { 1.0 };
-                let lu = if 2.0 * nodes >= STATIC_PIVOTING_MIN_DOFS as f64 {
+                // Mixed precision always uses the static-pivoting LU.
+                let lu = if mixed {
+                    BYTES_PER_NODE_STATIC * MIXED_FRACTION
+                } else if 2.0 * nodes >= STATIC_PIVOTING_MIN_DOFS as f64 {
                     BYTES_PER_NODE_STATIC
                 } else {
                     BYTES_PER_NODE_FAER

@@ -16,7 +16,9 @@ use crate::error::Error;
 use crate::fem;
 use crate::geometry;
 use crate::lcp;
-use crate::linear_solve::Factorisation;
+use crate::linear_solve::{
+    ColumnOrdering, FactorMethod, FactorOptions, FactorPrecision, Factorisation,
+};
 use crate::mls;
 use crate::model::{self, Model, Scheme};
 use crate::neighbours::Supports;
@@ -97,7 +99,8 @@ fn discretise_mfvm(
         })
     })?;
     let factorisation = clock.run("factorisation", || {
-        Factorisation::with_node_coordinates(&system.matrix, &nodes.points)
+        let ordering = ColumnOrdering::NestedDissection(&nodes.points);
+        Factorisation::with_options(&system.matrix, ordering, &factor_options(problem))
     })?;
     Ok(Model {
         nodes,
@@ -113,6 +116,20 @@ fn discretise_mfvm(
         })),
         timings: clock.timings,
     })
+}
+
+/// The options of the factorisation of `problem`'s MFVM matrix: the defaults, or with
+/// mixed precision (`discretisation.precision`, [`memory::precision`]) the static-pivoting
+/// LU with single-precision factors whatever the size.
+fn factor_options(problem: &Problem) -> FactorOptions {
+    match memory::precision(problem) {
+        FactorPrecision::Double => FactorOptions::default(),
+        FactorPrecision::Mixed => FactorOptions {
+            method: FactorMethod::StaticPivoting,
+            precision: FactorPrecision::Mixed,
+            ..FactorOptions::default()
+        },
+    }
 }
 
 fn discretise_fem(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {

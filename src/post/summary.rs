@@ -183,8 +183,16 @@ pub struct LinearSolve {
     pub columns_solved: Option<usize>,
     /// Iterative refinement steps.
     pub refinement_steps: Option<usize>,
-    /// Columns solved again with double-precision factors.
+    /// Columns solved again with double-precision factors: 0 (mixed precision finishes
+    /// stalled columns with GMRES-IR instead, below); kept so that summaries keep their keys.
     pub columns_in_double: Option<usize>,
+    /// Mixed precision only: columns that plain refinement could not finish and that
+    /// GMRES-IR did (absent in double precision).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gmres_columns: Option<usize>,
+    /// Mixed precision only: GMRES iterations over those columns.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gmres_iterations: Option<usize>,
     /// Largest normwise backward error after refinement.
     pub worst_backward_error: Option<f64>,
 }
@@ -461,6 +469,7 @@ impl Summary {
         // The factor size and the refinement record exist for the static-pivoting LU only.
         let is_static = f.method == FactorMethod::StaticPivoting;
         let only_static = |v| is_static.then_some(v);
+        let mixed = is_static && f.precision == FactorPrecision::Mixed;
         let matrix = &model.system.matrix;
         let von_mises = |s: &[f64; 3]| problem.material.von_mises(*s);
         Self {
@@ -492,7 +501,9 @@ impl Summary {
                 perturbed_pivots: only_static(f.perturbed_pivots),
                 columns_solved: only_static(f.columns_solved),
                 refinement_steps: only_static(f.refinement_steps),
-                columns_in_double: only_static(f.columns_in_double),
+                columns_in_double: only_static(0),
+                gmres_columns: mixed.then_some(f.gmres_columns),
+                gmres_iterations: mixed.then_some(f.gmres_iterations),
                 worst_backward_error: is_static.then_some(f.worst_backward_error),
             },
             checks: Checks {

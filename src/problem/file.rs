@@ -1,7 +1,7 @@
 //! The raw problem file: TOML deserialised as written ([`ProblemFile`] and its tables), before
 //! any range check. [`super::Problem::try_from`] validates it.
 
-use super::{Basis, Condensation, ContactSolver, Method, Preset, ProblemError};
+use super::{Basis, Condensation, ContactSolver, Method, Precision, Preset, ProblemError};
 use crate::material::PlaneState;
 use serde::{Deserialize, Serialize};
 
@@ -768,6 +768,10 @@ pub struct DiscretisationFile {
     /// warning (default false).
     #[serde(default)]
     pub allow_unstable: Option<bool>,
+    /// `"double"` (default), `"mixed"` or `"auto"` ([`super::Precision`]). Not echoed when
+    /// absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub precision: Option<Precision>,
 }
 
 /// `[output]`.

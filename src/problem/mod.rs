@@ -21,7 +21,7 @@ pub use contact::{
 };
 pub use discretisation::{
     Basis, Discretisation, Layout, MIN_STABILISING_BETA, MIXED_LINEAR_MAX_SUPPORT_FACTOR,
-    MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Preset,
+    MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Precision, Preset,
 };
 pub use file::*;
 pub use refine::{Adaptive, Indicator, RefineBox, Refinement, SpacingIndex};

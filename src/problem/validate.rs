@@ -238,7 +238,15 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         load_quadrature_points,
         beta,
         allow_unstable: d.allow_unstable.unwrap_or(false),
+        precision: d.precision.unwrap_or_default(),
     };
+    if discretisation.precision == Precision::Mixed && method == Method::Fem {
+        return Err(invalid(
+            "discretisation.precision",
+            "\"mixed\"",
+            "single-precision factors are for the MFVM (method = \"mfvm\"); the finite element model is factorised in double precision: use \"double\" or \"auto\"",
+        ));
+    }
     if let Some(why) = discretisation.stability_warning() {
         if !discretisation.allow_unstable && method == Method::Mfvm {
             return Err(invalid("discretisation.support_factor", support_factor, why));

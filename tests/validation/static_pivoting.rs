@@ -34,12 +34,12 @@ fn agree(label: &str, p: &Problem) {
         assert_eq!(stats.precision, precision, "{label}");
         let diff = partial.iter().zip(&fixed).fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
         println!(
-            "static pivoting ({precision:?}), {label}: {} DOFs, max |x_static − x_partial| / max |x| = {:.2e}, perturbed pivots {}, refinement steps {}, columns in double {}",
+            "static pivoting ({precision:?}), {label}: {} DOFs, max |x_static − x_partial| / max |x| = {:.2e}, perturbed pivots {}, refinement steps {}, columns finished by GMRES-IR {}",
             matrix.n,
             diff / scale,
             stats.perturbed_pivots,
             stats.refinement_steps,
-            stats.columns_in_double
+            stats.gmres_columns
         );
         let tolerance = match precision {
             FactorPrecision::Mixed => 1e-9,

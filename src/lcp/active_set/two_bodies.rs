@@ -39,7 +39,7 @@ use crate::assembly::SystemMatrix;
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
 use crate::lcp::friction::{ContactState, FrictionProblem};
-use crate::linear_solve::Factorisation;
+use crate::linear_solve::{ColumnOrdering, Factorisation};
 use crate::nodes::{Axis, dof};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Mat, MatMut};
@@ -579,8 +579,13 @@ impl<'a> TwoBodies<'a> {
             self.columns.clear();
             let t = Instant::now();
             let matrix = self.matrix_of(modes);
+            // With the options of the first body's own factorisation (its precision).
             let f = match &self.points {
-                Some(p) => Factorisation::with_node_coordinates(&matrix, p)?,
+                Some(p) => Factorisation::with_options(
+                    &matrix,
+                    ColumnOrdering::NestedDissection(p),
+                    self.bodies[0].factorisation.options(),
+                )?,
                 None => Factorisation::new(&matrix)?,
             };
             drop(matrix);
