@@ -193,3 +193,58 @@ fn fe_reference_ladder() {
     assert!((last.0 - FE_FORCE).abs() < 1e-7, "ΣP {}", last.0);
     assert!((last.1 - FE_ONSET).abs() < 1e-4, "l_c {}", last.1);
 }
+
+/// Friction and load steps in the two-body loop: the shipped problem with `μ = 0.3` and the
+/// beam's load applied in a `[[step]]` of four increments, two refinement steps. At every solve
+/// the frictional step's residuals (normal and Coulomb complementarity, cone) and every
+/// increment's complementarity and equilibrium ([`super::friction::check_frictional`]), the
+/// second body's equilibrium and action and reaction in both directions; the contact marks
+/// follow the open/stick/slip transitions onto both bodies.
+#[test]
+fn adaptive_beam_on_block_with_friction_and_steps() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("problems/beam_on_block_adaptive.toml");
+    let text = std::fs::read_to_string(path).unwrap();
+    let loaded = r#"{ edge = "top", traction = { y = -1.0 } }"#;
+    assert!(text.contains(loaded) && text.contains("steps = 10"));
+    let text = text
+        .replace(loaded, r#"{ edge = "top", traction = { y = 0.0 } }"#)
+        .replace("steps = 10", "steps = 2")
+        .replace("target_edge = \"top\"", "target_edge = \"top\"\nfriction = 0.3")
+        + "\n[[step]]\nincrements = 4\nboundary = [{ body = \"beam\", edge = \"top\", traction = { y = -1.0 } }]\n";
+    let problem = Problem::from_toml(&text).unwrap();
+    let adaptive = problem.adaptive.unwrap();
+    let mut solves = 0;
+    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
+        &problem,
+        &adaptive,
+        &mut mlpg_contact::Silent,
+        &mut |_, m, s, _| {
+            solves += 1;
+            let label = format!("friction, {} nodes in the beam", m.nodes.len());
+            super::friction::check_frictional(s, &label);
+            let c = s.contact.as_ref().unwrap();
+            let s2 = s.second_body.as_deref().unwrap();
+            assert!(s2.equilibrium_error <= 1e-8, "{label}: block equilibrium");
+            for axis in 0..2 {
+                let action = s.contact_force[axis] + s2.contact_force[axis];
+                assert!(action.abs() <= 1e-12 * c.total_force, "{label}: axis {axis}: {action}");
+            }
+            let f = c.friction.as_ref().unwrap();
+            assert!(f.stick_zones >= 1 && f.slip_zones >= 1, "{label}: stick and slip");
+        },
+    )
+    .unwrap();
+    assert_eq!(solves, 3);
+    assert_eq!(run.summary.stopped_by, "steps");
+    for row in &run.summary.steps[..2] {
+        let bodies = row.bodies.as_ref().unwrap();
+        println!("step {}: {bodies:?}", row.step);
+        assert!(bodies.iter().all(|b| b.marked > 0), "step {}", row.step);
+    }
+    let paired: usize =
+        run.summary.steps.iter().map(|r| r.bodies.as_ref().unwrap()[1].marked_contact).sum();
+    let first: usize =
+        run.summary.steps.iter().map(|r| r.bodies.as_ref().unwrap()[0].marked_contact).sum();
+    assert!(first > 0 && paired > 0, "contact marks beyond the bulk: beam {first}, block {paired}");
+}
