@@ -28,7 +28,7 @@
 //! more than three times the adaptive nodes for this accuracy. Measured
 //! (`cargo test --release --test validation adaptive_beam_on_block -- --nocapture`):
 //! adaptive 21 746 nodes `ΣP` 8.954193 (−1.5e-4), `l_c` 9.0390 (−0.0046); uniform h = 0.03125
-//! (66 690 nodes) `ΣP` 8.954052 (−2.9e-4), `l_c` 9.03125 (−0.0124, the bracket `[9.0,
+//! (66 690 nodes) `ΣP` 8.954052 (−2.9e-4), `l_c` 9.03125 (−0.0123, the bracket `[9.0,
 //! 9.03125]` excludes the reference's).
 
 use super::common::shipped_problem;
