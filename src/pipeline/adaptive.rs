@@ -9,13 +9,19 @@
 //! - **Refine** ([`refined`]): every marked node becomes a refinement region of the graded
 //!   generator (`Refinement::around`: spacing `h_I/2` within `h_I` of the node), and the node
 //!   set is regenerated from scratch (its layout quality is the generator's).
+//! - **Two bodies** (one contact pair): each body has its own estimate, Dörfler marks,
+//!   regions and node set; the contact marks of the first body's transition candidates are
+//!   carried to the second body's contact edge at their paired points ([`paired_marks`]), so
+//!   that the target refines where the candidate edge opens and closes. `max_nodes` counts
+//!   both bodies.
 
 use crate::error::Error;
+use crate::geometry::{Domain, Point};
 use crate::lcp::ContactState;
 use crate::model::Model;
 use crate::nodes::{self, Nodes};
-use crate::post::summary::{AdaptiveStep, AdaptiveSummary, OnsetEstimate};
-use crate::problem::{Adaptive, Indicator, Problem, Refinement};
+use crate::post::summary::{AdaptiveBodyStep, AdaptiveStep, AdaptiveSummary, OnsetEstimate};
+use crate::problem::{Adaptive, ContactTarget, Indicator, Problem, Refinement};
 use crate::progress::Progress;
 use crate::solution::Solution;
 
@@ -26,6 +32,8 @@ pub struct Estimate {
     pub node: Vec<f64>,
     /// The relative global estimate `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`.
     pub relative: f64,
+    /// The denominator `Σ h_I² ε̂_Iᵀ D ε̂_I` (to combine the estimates of two bodies).
+    pub energy: f64,
 }
 
 /// `aᵀ D a` for a strain-like triple `a`.
@@ -75,7 +83,7 @@ pub fn estimate(
     }
     let total: f64 = node.iter().sum();
     let relative = if norm > 0.0 { (total / norm).sqrt() } else { 0.0 };
-    Estimate { node, relative }
+    Estimate { node, relative, energy: norm }
 }
 
 /// Dörfler marking: the fewest nodes (largest `η_I²` first; ties by index) whose `η_I²` sum
@@ -104,6 +112,17 @@ pub fn mark(eta2: &[f64], fraction: f64) -> Vec<usize> {
 /// change (so that the onset's bracket is halved by each refinement).
 pub fn contact_marks(solution: &Solution) -> Vec<usize> {
     let Some(c) = &solution.contact else { return Vec::new() };
+    let mut marked: Vec<usize> =
+        transition_candidates(solution).iter().map(|&k| c.candidates.nodes[k] as usize).collect();
+    marked.sort_unstable();
+    marked.dedup();
+    marked
+}
+
+/// The candidates (indices into the contact table) of [`contact_marks`]: the two on either
+/// side of every change of state along the contact edge, ascending.
+pub fn transition_candidates(solution: &Solution) -> Vec<usize> {
+    let Some(c) = &solution.contact else { return Vec::new() };
     let mut order: Vec<usize> = (0..c.candidates.len()).collect();
     order.sort_by(|&a, &b| c.candidates.arc_length[a].total_cmp(&c.candidates.arc_length[b]));
     let state = |k: usize| -> u8 {
@@ -119,7 +138,45 @@ pub fn contact_marks(solution: &Solution) -> Vec<usize> {
         if state(order[w - 1]) != state(order[w]) {
             let lo = w.saturating_sub(2);
             let hi = (w + 2).min(order.len());
-            marked.extend(order[lo..hi].iter().map(|&k| c.candidates.nodes[k] as usize));
+            marked.extend_from_slice(&order[lo..hi]);
+        }
+    }
+    marked.sort_unstable();
+    marked.dedup();
+    marked
+}
+
+/// The second body's nodes to refine where the first body's contact marks lie: for each
+/// `point` of the first body's contact edge, its closest point `y` on the target edge `edge`
+/// of `domain` (the pairing of docs/method.md §4.3), and the target edge's nodes of `nodes`
+/// next to `y` on either side along the edge (one node when `y` is a node, or lies beyond
+/// the edge's last node). Ascending, without repeats.
+pub fn paired_marks(domain: &Domain, edge: usize, nodes: &Nodes, points: &[Point]) -> Vec<usize> {
+    let (a, b) = domain.edge(edge);
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let length2 = dx * dx + dy * dy;
+    // The target edge's nodes by their parameter along the (straight) edge.
+    let mut along: Vec<(f64, usize)> = (0..nodes.len())
+        .filter(|&i| nodes.edges[i].contains(edge))
+        .map(|i| {
+            let p = nodes.points[i];
+            (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length2, i)
+        })
+        .collect();
+    along.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let mut marked = Vec::new();
+    if along.is_empty() || length2 <= 0.0 || length2.is_nan() {
+        return marked;
+    }
+    for x in points {
+        let t = (((x[0] - a[0]) * dx + (x[1] - a[1]) * dy) / length2).clamp(0.0, 1.0);
+        // The first node at or beyond `t`, and the one before it.
+        let k = along.partition_point(|&(s, _)| s < t);
+        if k < along.len() {
+            marked.push(along[k].1);
+        }
+        if k > 0 && (k == along.len() || along[k].0 > t) {
+            marked.push(along[k - 1].1);
         }
     }
     marked.sort_unstable();
@@ -141,77 +198,161 @@ pub fn refined(problem: &Problem, nodes: &Nodes, marked: &[usize]) -> Problem {
 /// The adaptive loop's result: the last solved problem (its refinement regions included),
 /// its model and solution, and the record of the loop.
 pub struct AdaptiveRun {
-    /// The problem of the final node set.
+    /// The problem of the final node set (with two bodies, the second body's inside it).
     pub problem: Problem,
     /// The final model.
     pub model: Model,
+    /// The second body's final model (two-body contact only).
+    pub second: Option<Model>,
     /// The final solution.
     pub solution: Solution,
     /// The loop's record (`summary.json`'s `refinement`).
     pub summary: AdaptiveSummary,
 }
 
+/// `Err` with `reason`, naming the `refinement` key.
+fn refuse(problem: &Problem, reason: &str) -> Result<(), Error> {
+    Err(crate::problem::ProblemError::Invalid {
+        field: "refinement".into(),
+        value: problem.name.clone(),
+        reason: reason.into(),
+    }
+    .into())
+}
+
+/// What the loop needs of a body: MFVM on a rectangle.
+fn check_body(problem: &Problem) -> Result<(), Error> {
+    if problem.discretisation.method != crate::problem::Method::Mfvm {
+        return refuse(problem, "adaptive refinement needs method = \"mfvm\"");
+    }
+    if problem.domain.as_rectangle().is_none() {
+        return refuse(problem, "adaptive refinement is implemented for rectangles only");
+    }
+    Ok(())
+}
+
+/// One body's part of a step: its estimate, marks and row.
+struct BodyPart {
+    estimate: Estimate,
+    marked: Vec<usize>,
+    marked_contact: usize,
+}
+
+impl BodyPart {
+    /// The row of `summary.json`'s `refinement.steps[].bodies`.
+    fn row(&self, name: &str, nodes: &Nodes) -> AdaptiveBodyStep {
+        AdaptiveBodyStep {
+            name: name.to_string(),
+            nodes: nodes.len(),
+            min_spacing: nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min),
+            estimated_error: self.estimate.relative,
+            marked: self.marked.len(),
+            marked_contact: self.marked_contact,
+        }
+    }
+}
+
+/// The marks of one body: Dörfler on its estimate, plus `contact` (deduplicated); the count
+/// of marks the contact added.
+fn marks(estimate: &Estimate, fraction: f64, contact: Vec<usize>) -> (Vec<usize>, usize) {
+    let mut marked = mark(&estimate.node, fraction);
+    let bulk = marked.len();
+    marked.extend(contact);
+    marked.sort_unstable();
+    marked.dedup();
+    let added = marked.len() - bulk;
+    (marked, added)
+}
+
 /// Solves `problem` adaptively with the parameters `adaptive` (docs/method.md §2.2): solve,
 /// estimate, stop (tolerance, steps), mark, refine, stop when the refined node set would
-/// exceed `max_nodes`, repeat. `observe` sees every solve (for studies). One progress line
-/// per solve.
+/// exceed `max_nodes`, repeat. `observe` sees every solve (for studies; with two bodies the
+/// first body's model and estimate, the second body's solution inside the solution). One
+/// progress line per solve.
+///
+/// Two bodies (`problem.second_body`): each body is estimated, marked and refined on its
+/// own; the contact marks are the first body's transition candidates and, on the second
+/// body, the target-edge nodes at their paired points ([`paired_marks`]); the estimate the
+/// tolerance tests is the two bodies' combined `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`, and
+/// `max_nodes` counts both node sets.
 ///
 /// # Errors
-/// [`Error::Problem`] for two bodies, the FE method or a domain that is not a rectangle (what
-/// `[refinement]`'s validation refuses); any stage's error of any solve.
+/// [`Error::Problem`] for several bodies or contact pairs, the FE method or a domain that is
+/// not a rectangle (what `[refinement]`'s validation refuses); any stage's error of any
+/// solve.
 pub fn solve_adaptive(
     problem: &Problem,
     adaptive: &Adaptive,
     progress: &mut dyn Progress,
     observe: &mut dyn FnMut(&Problem, &Model, &Solution, &Estimate),
 ) -> Result<AdaptiveRun, Error> {
-    let refuse = |reason: &str| -> Result<AdaptiveRun, Error> {
-        Err(crate::problem::ProblemError::Invalid {
-            field: "refinement".into(),
-            value: problem.name.clone(),
-            reason: reason.into(),
-        }
-        .into())
-    };
-    if problem.second_body.is_some() {
-        return refuse("adaptive refinement is implemented for one body");
+    if problem.multibody.is_some() {
+        refuse(
+            problem,
+            "adaptive refinement is implemented for one body or two bodies in one contact pair",
+        )?;
     }
-    if problem.discretisation.method != crate::problem::Method::Mfvm {
-        return refuse("adaptive refinement needs method = \"mfvm\"");
-    }
-    if problem.domain.as_rectangle().is_none() {
-        return refuse("adaptive refinement is implemented for rectangles only");
+    check_body(problem)?;
+    if let Some(p2) = problem.second_body.as_deref() {
+        check_body(p2)?;
     }
     let mut current = problem.clone();
     current.adaptive = None;
     let mut rows: Vec<AdaptiveStep> = Vec::new();
     let mut step = 0;
     loop {
+        let regions = current.refinement.boxes.len()
+            + current.second_body.as_ref().map_or(0, |p2| p2.refinement.boxes.len());
         progress.section(&format!(
-            "refinement step {step} of at most {}: {} refinement regions",
+            "refinement step {step} of at most {}: {regions} refinement regions",
             adaptive.steps,
-            current.refinement.boxes.len()
         ));
         let (model, second) = super::discretise_all(&current, progress)?;
-        let (model, _, solution) = super::solve_model(&current, model, second, progress)?;
+        let (model, second, solution) = super::solve_model(&current, model, second, progress)?;
         let est = estimate(&current, &model, &solution, adaptive.indicator);
         observe(&current, &model, &solution, &est);
+        // The second body's estimate, with its problem and model.
+        let pair = match (current.second_body.as_deref(), &second, solution.second_body.as_deref())
+        {
+            (Some(p2), Some(m2), Some(s2)) => {
+                Some((p2, m2, estimate(p2, m2, s2, adaptive.indicator)))
+            }
+            _ => None,
+        };
+        let relative = match &pair {
+            Some((_, _, e2)) => {
+                let norm = est.energy + e2.energy;
+                let total: f64 = est.node.iter().chain(&e2.node).sum();
+                if norm > 0.0 { (total / norm).sqrt() } else { 0.0 }
+            }
+            None => est.relative,
+        };
+        let total_nodes = model.nodes.len() + second.as_ref().map_or(0, |m| m.nodes.len());
+        let min_spacing = std::iter::once(&model)
+            .chain(second.as_ref())
+            .flat_map(|m| m.nodes.spacing.iter().copied())
+            .fold(f64::INFINITY, f64::min);
         let contact = solution.contact.as_ref();
         let mut row = AdaptiveStep {
             step,
-            nodes: model.nodes.len(),
-            min_spacing: model.nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min),
-            estimated_error: est.relative,
+            nodes: total_nodes,
+            min_spacing,
+            estimated_error: relative,
             marked: 0,
             marked_contact: 0,
             total_contact_force: contact.map(|c| c.total_force),
             onset_x: contact.and_then(|c| c.onset.from_gap),
             last_open_x: contact.and_then(|c| c.onset.last_open),
             first_closed_x: contact.and_then(|c| c.onset.first_closed),
+            bodies: None,
         };
         let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
+        let per_body = match (&pair, &second) {
+            (Some(_), Some(m2)) => format!(" ({} + {})", model.nodes.len(), m2.nodes.len()),
+            _ => String::new(),
+        };
         progress.section(&format!(
-            "refinement step {step}: {} nodes, estimated error {:.3e}, contact force {}, onset {} in [{}, {}]",
+            "refinement step {step}: {} nodes{per_body}, estimated error {:.3e}, contact force {}, onset {} in [{}, {}]",
             row.nodes,
             row.estimated_error,
             opt(row.total_contact_force),
@@ -219,55 +360,101 @@ pub fn solve_adaptive(
             opt(row.last_open_x),
             opt(row.first_closed_x)
         ));
-        let stop =
-            |why: &'static str, rows: Vec<AdaptiveStep>, p: Problem, m: Model, s: Solution| {
-                let onset = s.contact.as_ref().map(|c| {
-                    let o = &c.onset;
-                    OnsetEstimate {
-                        estimate: o.from_gap,
-                        estimator: if o.from_gap == o.from_gap_raw {
-                            "gap_extrapolation"
-                        } else {
-                            "clipped"
-                        },
-                        last_open_x: o.last_open,
-                        first_closed_x: o.first_closed,
-                        bracket_width: o.last_open.zip(o.first_closed).map(|(a, b)| b - a),
-                    }
+        // Marks per body: Dörfler on the body's own estimate, and the contact marks.
+        let transitions =
+            if adaptive.contact { transition_candidates(&solution) } else { Vec::new() };
+        let first_contact: Vec<usize> = match contact {
+            Some(c) => transitions.iter().map(|&k| c.candidates.nodes[k] as usize).collect(),
+            None => Vec::new(),
+        };
+        let (marked, marked_contact) = marks(&est, adaptive.fraction, first_contact);
+        let first = BodyPart { estimate: est, marked, marked_contact };
+        let second_part = match (&pair, contact) {
+            (Some((p2, m2, e2)), c) => {
+                let target_edge = current.contact.as_ref().and_then(|s| match s.target {
+                    ContactTarget::Body { edge } => Some(edge),
+                    _ => None,
                 });
-                let summary =
-                    AdaptiveSummary { parameters: *adaptive, stopped_by: why, steps: rows, onset };
-                Ok(AdaptiveRun { problem: p, model: m, solution: s, summary })
-            };
-        if adaptive.tolerance.is_some_and(|t| est.relative <= t) {
-            rows.push(row);
-            return stop("tolerance", rows, current, model, solution);
+                let paired = match (c, target_edge) {
+                    (Some(c), Some(edge)) => {
+                        let points: Vec<Point> =
+                            transitions.iter().map(|&k| c.candidates.points[k]).collect();
+                        paired_marks(&p2.domain, edge, &m2.nodes, &points)
+                    }
+                    _ => Vec::new(),
+                };
+                let (marked, marked_contact) = marks(e2, adaptive.fraction, paired);
+                Some(BodyPart { estimate: e2.clone(), marked, marked_contact })
+            }
+            _ => None,
+        };
+        if let (Some(p2), Some(m2), Some(b2)) =
+            (current.second_body.as_deref(), &second, &second_part)
+        {
+            row.bodies =
+                Some(vec![first.row(&current.name, &model.nodes), b2.row(&p2.name, &m2.nodes)]);
+        }
+        let stop = |why: &'static str,
+                    rows: Vec<AdaptiveStep>,
+                    p: Problem,
+                    m: Model,
+                    m2: Option<Model>,
+                    s: Solution| {
+            let onset = s.contact.as_ref().map(|c| {
+                let o = &c.onset;
+                OnsetEstimate {
+                    estimate: o.from_gap,
+                    estimator: if o.from_gap == o.from_gap_raw {
+                        "gap_extrapolation"
+                    } else {
+                        "clipped"
+                    },
+                    last_open_x: o.last_open,
+                    first_closed_x: o.first_closed,
+                    bracket_width: o.last_open.zip(o.first_closed).map(|(a, b)| b - a),
+                }
+            });
+            let summary =
+                AdaptiveSummary { parameters: *adaptive, stopped_by: why, steps: rows, onset };
+            Ok(AdaptiveRun { problem: p, model: m, second: m2, solution: s, summary })
+        };
+        // The rows of a step that stops: nothing marked.
+        let unmarked = |mut row: AdaptiveStep| {
+            for b in row.bodies.iter_mut().flatten() {
+                b.marked = 0;
+                b.marked_contact = 0;
+            }
+            row
+        };
+        if adaptive.tolerance.is_some_and(|t| relative <= t) {
+            rows.push(unmarked(row));
+            return stop("tolerance", rows, current, model, second, solution);
         }
         if step == adaptive.steps {
+            rows.push(unmarked(row));
+            return stop("steps", rows, current, model, second, solution);
+        }
+        let parts = std::iter::once(&first).chain(second_part.as_ref());
+        row.marked = parts.clone().map(|b| b.marked.len()).sum();
+        row.marked_contact = parts.map(|b| b.marked_contact).sum();
+        if row.marked == 0 {
             rows.push(row);
-            return stop("steps", rows, current, model, solution);
+            return stop("no_marks", rows, current, model, second, solution);
         }
-        let mut marked = mark(&est.node, adaptive.fraction);
-        let bulk = marked.len();
-        if adaptive.contact {
-            marked.extend(contact_marks(&solution));
-            marked.sort_unstable();
-            marked.dedup();
+        let mut next = refined(&current, &model.nodes, &first.marked);
+        if let (Some(p2), Some(m2), Some(b2)) =
+            (current.second_body.as_deref(), &second, &second_part)
+        {
+            next.second_body = Some(Box::new(refined(p2, &m2.nodes, &b2.marked)));
         }
-        row.marked = marked.len();
-        row.marked_contact = marked.len() - bulk;
-        if marked.is_empty() {
-            rows.push(row);
-            return stop("no_marks", rows, current, model, solution);
-        }
-        let next = refined(&current, &model.nodes, &marked);
         // The generator refuses only sets beyond its own size limits: too many as well.
-        let too_many = nodes::for_problem(&next).map_or(true, |n| n.len() > adaptive.max_nodes);
-        if too_many {
+        let count = |p: &Problem| nodes::for_problem(p).map_or(usize::MAX, |n| n.len());
+        let next_nodes = count(&next).saturating_add(next.second_body.as_deref().map_or(0, count));
+        if next_nodes > adaptive.max_nodes {
             row.marked = 0;
             row.marked_contact = 0;
-            rows.push(row);
-            return stop("max_nodes", rows, current, model, solution);
+            rows.push(unmarked(row));
+            return stop("max_nodes", rows, current, model, second, solution);
         }
         rows.push(row);
         current = next;
@@ -287,6 +474,34 @@ mod tests {
         assert_eq!(mark(&eta2, 0.8), vec![1, 3, 4]);
         assert_eq!(mark(&eta2, 1.0).len(), 5);
         assert!(mark(&[0.0; 3], 0.5).is_empty());
+    }
+
+    #[test]
+    fn paired_marks_are_the_target_nodes_on_either_side_of_the_closest_point() {
+        // Target edge: the top of [0, 2] × [0, 1] (from (2, 1) to (0, 1)), nodes at x = 0,
+        // 0.5, …, 2 on it, and interior nodes that must never be marked.
+        let domain = Domain::rectangle([0.0, 2.0], [0.0, 1.0]).unwrap();
+        let top = domain.edge_index("top").unwrap();
+        let mut nodes = Nodes { points: Vec::new(), spacing: Vec::new(), edges: Vec::new() };
+        for k in 0..5 {
+            for (y, on_top) in [(1.0, true), (0.5, false)] {
+                let mut tags = crate::nodes::EdgeSet::default();
+                if on_top {
+                    tags.insert(top);
+                }
+                nodes.points.push([0.5 * f64::from(k), y]);
+                nodes.spacing.push(0.5);
+                nodes.edges.push(tags);
+            }
+        }
+        // Nodes on the top edge: x = 0 → 0, 0.5 → 2, 1 → 4, 1.5 → 6, 2 → 8.
+        // A point above x = 0.7 pairs with (0.7, 1): the nodes at 0.5 and 1.
+        assert_eq!(paired_marks(&domain, top, &nodes, &[[0.7, 1.01]]), vec![2, 4]);
+        // Exactly above a node: that node only; beyond the edge: its end node.
+        assert_eq!(paired_marks(&domain, top, &nodes, &[[1.5, 1.2]]), vec![6]);
+        assert_eq!(paired_marks(&domain, top, &nodes, &[[2.3, 1.0]]), vec![8]);
+        // Several points: the union, ascending.
+        assert_eq!(paired_marks(&domain, top, &nodes, &[[0.2, 1.0], [1.9, 1.0]]), vec![0, 2, 6, 8]);
     }
 
     #[test]

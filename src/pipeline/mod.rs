@@ -793,6 +793,13 @@ impl std::fmt::Display for RunReport {
                     opt(row.last_open_x),
                     opt(row.first_closed_x)
                 )?;
+                for b in row.bodies.iter().flatten() {
+                    writeln!(
+                        f,
+                        "         {:>8} {:>9.3e} {:>11.3e} {:>7}  body {}",
+                        b.nodes, b.min_spacing, b.estimated_error, b.marked, b.name
+                    )?;
+                }
             }
         }
         let dir = self.files.last().and_then(|p| p.parent());
@@ -876,16 +883,9 @@ impl Outcome {
             let run = adaptive::solve_adaptive(&problem, &a, progress, &mut |_, _, _, _| {})?;
             let mut summary = Summary::new(input, &run.problem, &run.model, &run.solution);
             summary.refinement = Some(run.summary);
-            let adaptive::AdaptiveRun { mut problem, model, solution, .. } = run;
+            let adaptive::AdaptiveRun { mut problem, model, second, solution, .. } = run;
             problem.adaptive = Some(a);
-            return Ok(Self {
-                problem,
-                model,
-                second: None,
-                others: Vec::new(),
-                solution,
-                summary,
-            });
+            return Ok(Self { problem, model, second, others: Vec::new(), solution, summary });
         }
         let (model, second) = discretise_all(&problem, progress)?;
         if problem.multibody.is_some() {
@@ -941,6 +941,9 @@ fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
         (problem.second_body.as_deref(), second, solution.second_body.as_deref())
     {
         files.extend(post::write_solution(&out.join(&p2.name), p2, m2, None, s2)?);
+        if o.summary.refinement.is_some() {
+            files.extend(post::write_node_spacing(&out.join(&p2.name), p2, &m2.nodes)?);
+        }
     }
     let path = out.join("summary.json");
     post::write_text(&path, &o.summary.to_json())?;

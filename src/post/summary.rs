@@ -100,6 +100,30 @@ pub struct AdaptiveStep {
     pub last_open_x: Option<f64>,
     /// First closed candidate.
     pub first_closed_x: Option<f64>,
+    /// Two bodies: each body's part of the step, the first body first (absent for one body,
+    /// so that one-body summaries are unchanged). `nodes`, `min_spacing`, `marked` and
+    /// `marked_contact` above are then the two bodies' totals (least spacing) and
+    /// `estimated_error` their combined estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<Vec<AdaptiveBodyStep>>,
+}
+
+/// One body's part of a step of the adaptive loop with two bodies.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdaptiveBodyStep {
+    /// The body's name.
+    pub name: String,
+    /// Its nodes.
+    pub nodes: usize,
+    /// Its smallest node spacing `h_I`.
+    pub min_spacing: f64,
+    /// Its relative estimated error.
+    pub estimated_error: f64,
+    /// Its nodes marked after this solve (0 after the last).
+    pub marked: usize,
+    /// Of those, marked at the contact transitions (the second body: at the paired points of
+    /// the first body's transition candidates).
+    pub marked_contact: usize,
 }
 
 /// The final onset estimate, its bracket and its estimator.

@@ -425,8 +425,13 @@ plane = "stress"
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
         let two = std::fs::read_to_string(path).unwrap();
-        let e = Problem::from_toml(&format!("{two}\n[refinement]\n")).unwrap_err().to_string();
-        assert!(e.contains("`refinement`") && e.contains("one body"), "{e}");
+        let p = Problem::from_toml(&format!("{two}\n[refinement]\n")).unwrap();
+        assert!(p.adaptive.is_some() && p.second_body.is_some());
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("problems/three_block_stack.toml");
+        let three = std::fs::read_to_string(path).unwrap();
+        let e = Problem::from_toml(&format!("{three}\n[refinement]\n")).unwrap_err().to_string();
+        assert!(e.contains("`refinement`") && e.contains("two bodies in one contact pair"), "{e}");
     }
 
     #[test]

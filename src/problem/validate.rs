@@ -660,21 +660,29 @@ fn node_layout(
     Ok((h, layout, None))
 }
 
-/// `[refinement]` → the adaptive loop's parameters (rectangles, one body, MFVM only).
+/// `[refinement]` → the adaptive loop's parameters (rectangles, one body or two in one
+/// contact pair, MFVM only).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
-    if problem.second_body.is_some() || problem.multibody.is_some() {
+    if problem.multibody.is_some() {
         return Err(invalid(
             "refinement",
-            "(two [[body]] tables)",
-            "adaptive refinement is implemented for one body; refine two bodies statically with [[body]] nodes.refine tables",
+            "(several bodies or contact pairs)",
+            "adaptive refinement is implemented for one body or two bodies in one contact pair; refine more bodies statically with [[body]] nodes.refine tables",
         ));
     }
-    if problem.domain.as_rectangle().is_none() {
-        return Err(invalid(
-            "refinement",
-            "(not a rectangle)",
-            "adaptive refinement is implemented for geometry kind = \"rectangle\" only",
-        ));
+    for (k, p) in std::iter::once(problem).chain(problem.second_body.as_deref()).enumerate() {
+        if p.domain.as_rectangle().is_none() {
+            let which = if problem.second_body.is_some() {
+                format!("(body[{k}] is not a rectangle)")
+            } else {
+                "(not a rectangle)".into()
+            };
+            return Err(invalid(
+                "refinement",
+                which,
+                "adaptive refinement is implemented for geometry kind = \"rectangle\" only",
+            ));
+        }
     }
     if problem.discretisation.method == Method::Fem {
         return Err(invalid(
