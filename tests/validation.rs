@@ -36,6 +36,9 @@ mod validation {
     mod load_driven;
     // Adaptive refinement (docs/method.md §2.2) on the rigid cylinder indenter against uniform.
     mod adaptive_hertz;
+    // Adaptive refinement against uniform on the fully clamped cantilever (FE reference).
+    mod clamped_cantilever;
+    mod clamped_cantilever_measure;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.

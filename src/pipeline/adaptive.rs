@@ -186,13 +186,21 @@ pub fn solve_adaptive(
     current.adaptive = None;
     let mut rows: Vec<AdaptiveStep> = Vec::new();
     let mut step = 0;
+    // The refined node set, generated to count it (reused, it is `nodes::for_problem`'s).
+    let mut counted: Option<Nodes> = None;
     loop {
         progress.section(&format!(
             "refinement step {step} of at most {}: {} refinement regions",
             adaptive.steps,
             current.refinement.boxes.len()
         ));
-        let (model, second) = super::discretise_all(&current, progress)?;
+        let (model, second) = match counted.take() {
+            Some(nodes) if current.multibody.is_none() => {
+                super::check_memory(&current)?;
+                (super::discretise_mfvm_nodes(&current, false, Some(nodes), progress)?, None)
+            }
+            _ => super::discretise_all(&current, progress)?,
+        };
         let (model, _, solution) = super::solve_model(&current, model, second, progress)?;
         let est = estimate(&current, &model, &solution, adaptive.indicator);
         observe(&current, &model, &solution, &est);
@@ -261,9 +269,13 @@ pub fn solve_adaptive(
             return stop("no_marks", rows, current, model, solution);
         }
         let next = refined(&current, &model.nodes, &marked);
-        // The generator refuses only sets beyond its own size limits: too many as well.
-        let too_many = nodes::for_problem(&next).map_or(true, |n| n.len() > adaptive.max_nodes);
-        if too_many {
+        // The generator refuses only sets beyond its own size limits: too many as well. A set
+        // known to exceed `max_nodes` from its quadtree's leaves is not generated.
+        counted = nodes::for_problem_at_most(&next, adaptive.max_nodes)
+            .ok()
+            .flatten()
+            .filter(|n| n.len() <= adaptive.max_nodes);
+        if counted.is_none() {
             row.marked = 0;
             row.marked_contact = 0;
             rows.push(row);
