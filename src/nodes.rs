@@ -176,7 +176,8 @@ pub fn for_problem(problem: &crate::problem::Problem) -> Result<Nodes, GeometryE
         generate(&problem.domain, h, problem.layout)
     } else {
         let index = refinement.index(h);
-        generate_graded(&problem.domain, h, problem.layout, |lo, hi| index.min_spacing_in(lo, hi))
+        let query = index.nested();
+        generate_graded(&problem.domain, h, problem.layout, |lo, hi| query.min_spacing_in(lo, hi))
     }
 }
 
@@ -196,8 +197,9 @@ pub fn for_problem_at_most(
         return for_problem(problem).map(Some);
     }
     let (h, index) = (problem.node_spacing, problem.refinement.index(problem.node_spacing));
+    let query = index.nested();
     generate_graded_at_most(&problem.domain, h, problem.layout, max_nodes, |lo, hi| {
-        index.min_spacing_in(lo, hi)
+        query.min_spacing_in(lo, hi)
     })
 }
 
