@@ -176,8 +176,31 @@ pub fn for_problem(problem: &crate::problem::Problem) -> Result<Nodes, GeometryE
         generate(&problem.domain, h, problem.layout)
     } else {
         let index = refinement.index(h);
-        generate_graded(&problem.domain, h, problem.layout, |lo, hi| index.min_spacing_in(lo, hi))
+        let query = index.nested();
+        generate_graded(&problem.domain, h, problem.layout, |lo, hi| query.min_spacing_in(lo, hi))
     }
+}
+
+/// [`for_problem`], or `None` when the node set would have more than `max_nodes` nodes. A
+/// graded set is abandoned as soon as its quadtree has more leaves than that bound allows
+/// (see [`generate_graded_at_most`]), without generating it; `Some` sets are exactly those of
+/// [`for_problem`] (their size may still exceed `max_nodes`: the caller compares).
+///
+/// # Errors
+/// As [`for_problem`].
+pub fn for_problem_at_most(
+    problem: &crate::problem::Problem,
+    max_nodes: usize,
+) -> Result<Option<Nodes>, GeometryError> {
+    let geometry = problem.domain.as_rectangle();
+    if problem.mesh_nodes.is_some() || problem.refinement.is_empty() || geometry.is_none() {
+        return for_problem(problem).map(Some);
+    }
+    let (h, index) = (problem.node_spacing, problem.refinement.index(problem.node_spacing));
+    let query = index.nested();
+    generate_graded_at_most(&problem.domain, h, problem.layout, max_nodes, |lo, hi| {
+        query.min_spacing_in(lo, hi)
+    })
 }
 
 /// Deepest quadtree level of [`generate_graded`]: cells of `h₀ / 4096`.
@@ -218,6 +241,26 @@ pub fn generate_graded(
     layout: Layout,
     min_spacing: impl Fn(Point, Point) -> f64,
 ) -> Result<Nodes, GeometryError> {
+    generate_graded_at_most(domain, h0, layout, usize::MAX, min_spacing)
+        .map(|n| n.expect("no node bound"))
+}
+
+/// [`generate_graded`], abandoned (`None`) as soon as the set is known to have more than
+/// `max_nodes` nodes: while the quadtree is split, a tree with `F` leaves on an `nx × ny` root
+/// grid has at least `F + nx + ny + 1` cell corners (each leaf's lower-left corner is a node,
+/// no two leaves share it, and the top row and right column of the root grid's corners are
+/// no leaf's lower-left corner), and balancing only adds leaves. `Some` holds exactly the set
+/// of [`generate_graded`].
+///
+/// # Errors
+/// As [`generate_graded`].
+pub fn generate_graded_at_most(
+    domain: &Domain,
+    h0: f64,
+    layout: Layout,
+    max_nodes: usize,
+    min_spacing: impl Fn(Point, Point) -> f64,
+) -> Result<Option<Nodes>, GeometryError> {
     let (lo, hi) = domain.bounding_box();
     let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
     let Some((x, y)) = domain.as_rectangle() else {
@@ -246,6 +289,9 @@ pub fn generate_graded(
         let nominal = h0 / (1u64 << level) as f64;
         if level < MAX_LEVEL && nominal > min_spacing(a, b) * (1.0 + 1e-9) {
             cells += 3;
+            if (nx * ny + cells + nx + ny + 1) as f64 > max_nodes as f64 {
+                return Ok(None);
+            }
             if cells as f64 > 5.0e7 {
                 return Err(GeometryError::Spacing {
                     spacing: h0,
@@ -334,7 +380,7 @@ pub fn generate_graded(
             }
         }
     }
-    Ok(Nodes { points, spacing, edges })
+    Ok(Some(Nodes { points, spacing, edges }))
 }
 
 /// Balances the quadtree of [`generate_graded`], finest level first: a split cell at level
@@ -534,6 +580,39 @@ mod tests {
         };
         let n = generate_graded(&d, 0.25, layout, |lo, hi| r.min_spacing_in(0.25, lo, hi)).unwrap();
         (d, n)
+    }
+
+    /// The bounded generator abandons exactly the sets larger than the bound, and returns the
+    /// unbounded generator's set otherwise (its leaf bound never exceeds the node count).
+    #[test]
+    fn bounded_graded_generation_refuses_exactly_the_sets_beyond_the_bound() {
+        use crate::problem::{RefineBox, Refinement};
+        let r = Refinement {
+            boxes: vec![
+                RefineBox { x: [0.0, 8.0], y: [-1.0, -0.8], spacing: 0.0625 },
+                RefineBox { x: [5.0, 5.5], y: [0.2, 0.4], spacing: 0.03 },
+            ],
+        };
+        let spacing = |lo, hi| r.min_spacing_in(0.25, lo, hi);
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 7 }] {
+            let (d, full) = graded(layout);
+            let n = full.len();
+            for bound in [n / 2, n - 1, n, n + 1] {
+                let got = generate_graded_at_most(&d, 0.25, layout, bound, spacing).unwrap();
+                if bound < n {
+                    // Abandoned, or (when the leaf bound stayed below) the whole set, refused
+                    // by its size.
+                    assert!(got.as_ref().is_none_or(|g| g.len() == n), "bound {bound}");
+                } else {
+                    let got = got.expect("within the bound");
+                    assert_eq!(
+                        (got.points, got.spacing),
+                        (full.points.clone(), full.spacing.clone())
+                    );
+                }
+            }
+            assert!(generate_graded_at_most(&d, 0.25, layout, n / 2, spacing).unwrap().is_none());
+        }
     }
 
     #[test]

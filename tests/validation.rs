@@ -38,6 +38,9 @@ mod validation {
     mod adaptive_hertz;
     // Adaptive refinement of two bodies: a beam on an elastic block against FE and uniform.
     mod adaptive_two_bodies;
+    // Adaptive refinement against uniform on the fully clamped cantilever (FE reference).
+    mod clamped_cantilever;
+    mod clamped_cantilever_measure;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.

@@ -300,6 +300,8 @@ pub fn solve_adaptive(
     current.adaptive = None;
     let mut rows: Vec<AdaptiveStep> = Vec::new();
     let mut step = 0;
+    // The refined node set, generated to count it (reused, it is `nodes::for_problem`'s).
+    let mut counted: Option<Nodes> = None;
     loop {
         let regions = current.refinement.boxes.len()
             + current.second_body.as_ref().map_or(0, |p2| p2.refinement.boxes.len());
@@ -307,7 +309,13 @@ pub fn solve_adaptive(
             "refinement step {step} of at most {}: {regions} refinement regions",
             adaptive.steps,
         ));
-        let (model, second) = super::discretise_all(&current, progress)?;
+        let (model, second) = match counted.take() {
+            Some(nodes) if current.multibody.is_none() && current.second_body.is_none() => {
+                super::check_memory(&current)?;
+                (super::discretise_mfvm_nodes(&current, false, Some(nodes), progress)?, None)
+            }
+            _ => super::discretise_all(&current, progress)?,
+        };
         let (model, second, solution) = super::solve_model(&current, model, second, progress)?;
         let est = estimate(&current, &model, &solution, adaptive.indicator);
         observe(&current, &model, &solution, &est);
@@ -447,10 +455,21 @@ pub fn solve_adaptive(
         {
             next.second_body = Some(Box::new(refined(p2, &m2.nodes, &b2.marked)));
         }
-        // The generator refuses only sets beyond its own size limits: too many as well.
-        let count = |p: &Problem| nodes::for_problem(p).map_or(usize::MAX, |n| n.len());
-        let next_nodes = count(&next).saturating_add(next.second_body.as_deref().map_or(0, count));
-        if next_nodes > adaptive.max_nodes {
+        // The generator refuses only sets beyond its own size limits: too many as well. One
+        // body's set known to exceed `max_nodes` from its quadtree's leaves is not generated,
+        // and the set generated to count it is the next step's.
+        let fits = if next.second_body.is_none() {
+            counted = nodes::for_problem_at_most(&next, adaptive.max_nodes)
+                .ok()
+                .flatten()
+                .filter(|n| n.len() <= adaptive.max_nodes);
+            counted.is_some()
+        } else {
+            let count = |p: &Problem| nodes::for_problem(p).map_or(usize::MAX, |n| n.len());
+            let total = count(&next).saturating_add(next.second_body.as_deref().map_or(0, count));
+            total <= adaptive.max_nodes
+        };
+        if !fits {
             row.marked = 0;
             row.marked_contact = 0;
             rows.push(unmarked(row));

@@ -59,9 +59,23 @@ fn discretise_mfvm(
     held_by_contact: bool,
     progress: &mut dyn Progress,
 ) -> Result<Model, Error> {
+    discretise_mfvm_nodes(problem, held_by_contact, None, progress)
+}
+
+/// [`discretise_mfvm`] on the node set `given` when there is one (it must be
+/// `nodes::for_problem(problem)`'s: the adaptive loop has generated it already to count it).
+fn discretise_mfvm_nodes(
+    problem: &Problem,
+    held_by_contact: bool,
+    given: Option<nodes::Nodes>,
+    progress: &mut dyn Progress,
+) -> Result<Model, Error> {
     let mut clock = Clock::new(progress, Vec::new());
     let disc = &problem.discretisation;
-    let nodes = clock.run("nodes", || nodes::for_problem(problem))?;
+    let nodes = match given {
+        Some(nodes) => clock.run("nodes", || nodes),
+        None => clock.run("nodes", || nodes::for_problem(problem))?,
+    };
     let supports = clock.run("supports", || Supports::new(&nodes, disc.mls.support_factor));
     let cells = clock.run("cells", || weak_form::build_cells(&problem.domain, &nodes))?;
     let (faces, face_quadrature) = clock.run("faces", || {

@@ -24,7 +24,7 @@ pub use discretisation::{
     MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Precision, Preset,
 };
 pub use file::*;
-pub use refine::{Adaptive, Indicator, RefineBox, Refinement, SpacingIndex};
+pub use refine::{Adaptive, Indicator, NestedQuery, RefineBox, Refinement, SpacingIndex};
 
 use crate::geometry::{Domain, Point};
 use crate::material::Material;

@@ -178,6 +178,71 @@ impl SpacingIndex<'_> {
     }
 }
 
+impl<'r> SpacingIndex<'r> {
+    /// [`Self::min_spacing_in`] for queries that descend nested boxes, as the graded
+    /// generator's quadtree split asks them (each cell after its parent): see [`NestedQuery`].
+    pub fn nested(&self) -> NestedQuery<'_, 'r> {
+        NestedQuery { index: self, stack: Default::default() }
+    }
+}
+
+/// [`SpacingIndex::min_spacing_in`] with the regions inherited from the enclosing box of the
+/// previous queries. A query keeps, for the boxes inside it, the regions whose value over it
+/// is at most `(m + g·diam)(1 + 10⁻⁹)`, `m` its least spacing: over a box inside it every
+/// region's value is at least its value over the query box (the distance only grows) and the
+/// least one at most `m + g·diam` (the region giving `m` is at most `diam` farther), so a region
+/// left out is never the least. A query inside the last kept box (or one of its enclosing
+/// boxes) scans only those regions; any other query starts from the bins. The returned value
+/// is exactly [`SpacingIndex::min_spacing_in`]'s for every query, in any order; in the
+/// quadtree's depth-first order a fine cell scans a handful of regions instead of every region
+/// within reach.
+#[derive(Debug)]
+pub struct NestedQuery<'i, 'r> {
+    index: &'i SpacingIndex<'r>,
+    /// The enclosing boxes of the last query, outermost first, with their kept regions.
+    stack: std::cell::RefCell<Vec<(Point, Point, Vec<u32>)>>,
+}
+
+impl NestedQuery<'_, '_> {
+    /// The least `h` over the box `[lo, hi]`, as [`SpacingIndex::min_spacing_in`].
+    pub fn min_spacing_in(&self, lo: Point, hi: Point) -> f64 {
+        let index = self.index;
+        let boxes = &index.refinement.boxes;
+        let value = |k: u32| {
+            let b = &boxes[k as usize];
+            b.spacing + Refinement::GROWTH * b.box_distance(lo, hi)
+        };
+        let mut stack = self.stack.borrow_mut();
+        let inside =
+            |a: &Point, b: &Point| a[0] <= lo[0] && a[1] <= lo[1] && hi[0] <= b[0] && hi[1] <= b[1];
+        while stack.last().is_some_and(|(a, b, _)| !inside(a, b)) {
+            stack.pop();
+        }
+        let values: Vec<(u32, f64)> = match stack.last() {
+            Some((_, _, kept)) => kept.iter().map(|&k| (k, value(k))).collect(),
+            None => {
+                let mut listed = Vec::new();
+                if let Some([rx, ry]) = index.range(lo, hi) {
+                    for j in ry[0]..=ry[1] {
+                        for i in rx[0]..=rx[1] {
+                            listed.extend_from_slice(&index.bins[j * index.dims[0] + i]);
+                        }
+                    }
+                }
+                listed.sort_unstable();
+                listed.dedup();
+                listed.into_iter().map(|k| (k, value(k))).collect()
+            }
+        };
+        let least = values.iter().fold(index.h0, |h, &(_, v)| h.min(v));
+        let diam = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let bound = (least + Refinement::GROWTH * diam) * (1.0 + 1e-9);
+        let kept = values.into_iter().filter(|&(_, v)| v <= bound).map(|(k, _)| k).collect();
+        stack.push((lo, hi, kept));
+        least
+    }
+}
+
 /// Which error indicator drives adaptive refinement (docs/method.md §2.2).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -283,6 +348,51 @@ mod tests {
             assert_eq!(index.min_spacing_in(lo, hi), r.min_spacing_in(0.5, lo, hi), "{lo:?}");
         }
         assert_eq!(Refinement::default().index(0.5).min_spacing_in([0.0; 2], [1.0; 2]), 0.5);
+    }
+
+    /// The nested query gives the plain minimum on quadtree cells visited depth first (and
+    /// on boxes in any order: a box outside the kept ones starts from the bins).
+    #[test]
+    fn the_nested_query_gives_the_plain_minimum() {
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut boxes = Vec::new();
+        for _ in 0..400 {
+            let (x, y, w) = (8.0 * next(), 2.0 * next(), 0.2 * next());
+            boxes.push(RefineBox { x: [x, x + w], y: [y, y + w], spacing: 0.005 + 0.3 * next() });
+        }
+        let r = Refinement { boxes };
+        let (h0, index) = (0.5, r.index(0.5));
+        let nested = index.nested();
+        // Depth first over a quadtree on [0, 8] × [0, 2] with cells of h0, split while the
+        // spacing asks for it (as nodes::generate_graded does), to depth 6.
+        let mut stack: Vec<(u32, f64, f64)> = (0..4)
+            .flat_map(|j| (0..16).map(move |i| (0, 0.5 * i as f64, 0.5 * j as f64)))
+            .collect();
+        let mut queries = 0;
+        while let Some((level, x, y)) = stack.pop() {
+            let a = h0 / f64::from(1u32 << level);
+            let (lo, hi) = ([x, y], [x + a, y + a]);
+            let m = nested.min_spacing_in(lo, hi);
+            assert_eq!(m, r.min_spacing_in(h0, lo, hi), "{lo:?} {hi:?}");
+            queries += 1;
+            if level < 6 && a > m {
+                let b = 0.5 * a;
+                stack.extend(
+                    [(x, y), (x + b, y), (x, y + b), (x + b, y + b)]
+                        .map(|(u, v)| (level + 1, u, v)),
+                );
+            }
+        }
+        assert!(queries > 1000, "{queries} queries");
+        for _ in 0..2000 {
+            let (x, y, w) = (10.0 * next() - 1.0, 4.0 * next() - 1.0, 0.5 * next());
+            let (lo, hi) = ([x, y], [x + w, y + w]);
+            assert_eq!(nested.min_spacing_in(lo, hi), r.min_spacing_in(h0, lo, hi), "{lo:?}");
+        }
     }
 
     #[test]
