@@ -139,6 +139,15 @@ pub struct FactorOptions {
     pub thin_boxes: Vec<f64>,
 }
 
+impl FactorOptions {
+    /// Static pivoting with nested dissection only (no banded candidate): the elimination
+    /// tree then has short leaf-to-root paths, which [`Factorisation::sparse_products`]
+    /// needs to pay (a banded order's tree is one path).
+    pub fn nested_dissection_static() -> Self {
+        Self { method: FactorMethod::StaticPivoting, thin_boxes: vec![2.0], ..Self::default() }
+    }
+}
+
 /// [`FactorMethod::Auto`] uses static pivoting from this many unknowns on.
 pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
 
@@ -212,6 +221,17 @@ pub struct FactorStats {
     /// Columns that single-precision refinement could not finish and that were solved again
     /// with double-precision factors ([`FactorPrecision::Mixed`]).
     pub columns_in_double: usize,
+}
+
+/// The result of [`Factorisation::sparse_products`].
+#[derive(Clone, Debug)]
+pub struct SparseProducts {
+    /// `G K⁻¹ E`, row-major.
+    pub values: Vec<f64>,
+    /// Estimated flops of the reach-restricted route that computed it.
+    pub sparse_flops: f64,
+    /// Estimated flops of the same product by full forward and backward substitutions.
+    pub full_flops: f64,
 }
 
 /// A sparse LU factorisation `P K Q = L U` of the system matrix.
@@ -737,6 +757,26 @@ impl Factorisation {
             }
             Inner::Static(lu) => lu.solve_in_place(rhs),
         }
+    }
+
+    /// `G K⁻¹ E` (row-major `rows.len() × columns.len()`) for sparse columns of `E` and rows
+    /// of `G` (`(DOF, value)` entries), by triangular solves restricted to the reach of each
+    /// vector in the static-pivoting LU's own supernodal factors (`symmetric/reach.rs`),
+    /// without forming `K⁻¹ E`. `None` when that route does not apply or would not pay:
+    /// faer's LU, single-precision factors, perturbed pivots (the unrefined solves could
+    /// have lost accuracy), or an estimate of its flops above that of `columns.len()` full
+    /// solves (as with a banded order, whose elimination tree is a path).
+    pub fn sparse_products(
+        &self,
+        columns: &[Vec<(usize, f64)>],
+        rows: &[Vec<(usize, f64)>],
+    ) -> Option<SparseProducts> {
+        let Inner::Static(lu) = &self.inner else { return None };
+        if lu.perturbed > 0 {
+            return None;
+        }
+        let (values, cost) = lu.sparse_products(columns, rows, Some(1.0))?;
+        Some(SparseProducts { values, sparse_flops: cost.sparse, full_flops: cost.full })
     }
 
     /// Solves `K x = b`.
