@@ -152,6 +152,15 @@ pub struct FactorOptions {
     pub thin_boxes: Vec<f64>,
 }
 
+impl FactorOptions {
+    /// Static pivoting with nested dissection only (no banded candidate): the elimination
+    /// tree then has short leaf-to-root paths, which [`Factorisation::sparse_products`]
+    /// needs to pay (a banded order's tree is one path).
+    pub fn nested_dissection_static() -> Self {
+        Self { method: FactorMethod::StaticPivoting, thin_boxes: vec![2.0], ..Self::default() }
+    }
+}
+
 /// [`FactorMethod::Auto`] uses static pivoting from this many unknowns on.
 pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
 
@@ -229,6 +238,17 @@ pub struct FactorStats {
     /// GMRES iterations over those columns (each one substitution with the factors and one
     /// product with `K`).
     pub gmres_iterations: usize,
+}
+
+/// The result of [`Factorisation::sparse_products`].
+#[derive(Clone, Debug)]
+pub struct SparseProducts {
+    /// `G K⁻¹ E`, row-major.
+    pub values: Vec<f64>,
+    /// Estimated flops of the reach-restricted route that computed it.
+    pub sparse_flops: f64,
+    /// Estimated flops of the same product by full forward and backward substitutions.
+    pub full_flops: f64,
 }
 
 /// A sparse LU factorisation `P K Q = L U` of the system matrix.
@@ -766,6 +786,26 @@ impl Factorisation {
         }
     }
 
+    /// `G K⁻¹ E` (row-major `rows.len() × columns.len()`) for sparse columns of `E` and rows
+    /// of `G` (`(DOF, value)` entries), by triangular solves restricted to the reach of each
+    /// vector in the static-pivoting LU's own supernodal factors (`symmetric/reach.rs`),
+    /// without forming `K⁻¹ E`. `None` when that route does not apply or would not pay:
+    /// faer's LU, single-precision factors, perturbed pivots (the unrefined solves could
+    /// have lost accuracy), or an estimate of its flops above that of `columns.len()` full
+    /// solves (as with a banded order, whose elimination tree is a path).
+    pub fn sparse_products(
+        &self,
+        columns: &[Vec<(usize, f64)>],
+        rows: &[Vec<(usize, f64)>],
+    ) -> Option<SparseProducts> {
+        let Inner::Static(lu) = &self.inner else { return None };
+        if lu.perturbed > 0 {
+            return None;
+        }
+        let (values, cost) = lu.sparse_products(columns, rows, Some(1.0))?;
+        Some(SparseProducts { values, sparse_flops: cost.sparse, full_flops: cost.full })
+    }
+
     /// Solves `K x = b`.
     ///
     /// # Errors
@@ -1058,6 +1098,62 @@ mod tests {
         let x = f.solve(&b).unwrap();
         let r = residual(&m, &x, &b);
         assert!(r < 1e-13, "residual {r:e}");
+    }
+
+    #[test]
+    fn reach_restricted_products_equal_full_solves_with_row_swaps() {
+        // The matrix of `static_pivoting_pivots_inside_node_blocks` (every diagonal block
+        // pivots), sparse columns of E and rows of G of a few entries each, G K⁻¹ E by
+        // reach-restricted solves against G times full solves with the same factors.
+        let (mut m, points) = grid(20);
+        for c in 0..m.n {
+            for k in m.col_ptr[c]..m.col_ptr[c + 1] {
+                let r = m.row_idx[k];
+                if r == c {
+                    m.values[k] = 1e-3;
+                } else if r / 2 == c / 2 {
+                    m.values[k] = 4.5;
+                }
+            }
+        }
+        let f = Factorisation::with_options(
+            &m,
+            ColumnOrdering::NestedDissection(&points),
+            &FactorOptions::nested_dissection_static(),
+        )
+        .unwrap();
+        let Inner::Static(lu) = &f.inner else { panic!("static pivoting") };
+        assert_eq!(lu.perturbed, 0);
+        let n = m.n;
+        let columns: Vec<Vec<(usize, f64)>> = (0..30)
+            .map(|c| vec![((c * 97) % n, 1.0 + c as f64), ((c * 31 + 5) % n, -0.5)])
+            .collect();
+        let rows: Vec<Vec<(usize, f64)>> = (0..25)
+            .map(|r| (0..6).map(|t| ((r * 53 + t * 11) % n, 0.3 * t as f64 - 0.7)).collect())
+            .collect();
+        let (sparse, _) = lu.sparse_products(&columns, &rows, None).unwrap();
+        let mut e = Mat::<f64>::zeros(n, columns.len());
+        for (c, col) in columns.iter().enumerate() {
+            for &(i, v) in col {
+                e[(i, c)] += v;
+            }
+        }
+        f.solve_in_place(e.as_mut());
+        let mut worst = 0.0f64;
+        let mut scale = 0.0f64;
+        for (r, row) in rows.iter().enumerate() {
+            for c in 0..columns.len() {
+                let full: f64 = row.iter().map(|&(i, v)| v * e[(i, c)]).sum();
+                worst = worst.max((full - sparse[r * columns.len() + c]).abs());
+                scale = scale.max(full.abs());
+            }
+        }
+        assert!(scale > 0.0);
+        assert!(worst <= 1e-12 * scale, "max difference {worst:e} of {scale:e}");
+        // The same bits with the public entry point when it accepts the route.
+        if let Some(p) = f.sparse_products(&columns, &rows) {
+            assert_eq!(p.values, sparse);
+        }
     }
 
     #[test]

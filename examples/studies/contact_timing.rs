@@ -6,14 +6,17 @@
 //! Run with
 //!
 //! ```text
-//! cargo run --release --example contact_timing -- [--spacing h] [--length L] [--repeats r] [--blocks 32,64,...]
+//! cargo run --release --example contact_timing -- [--spacing h] [--length L] [--repeats r] [--blocks 32,64,...] [--sparse n [--compare-static]]
 //! ```
 //!
 //! (defaults `--spacing 0.05 --length 100`: 42 021 nodes and 2 000 candidates; `--repeats 3`;
 //! without `--blocks`, the library's default block width). Prints the discretisation stages
 //! once, then for each block width the condensation `M = G K⁻¹ E` `repeats` times (min and
 //! max) with a hash of `M`, the checks of `M` (Cholesky and Lanczos, `contact::spectrum`), and
-//! Lemke (pivots, seconds). Nothing is asserted.
+//! Lemke (pivots, seconds). With `--sparse n` it also factorises `K` with static pivoting and
+//! nested dissection and condenses `n` times by reach-restricted solves
+//! (`contact::sparse_compliance`), compares that `M` with the blocked one and uses it for the
+//! checks and Lemke. Nothing is asserted.
 
 mod args;
 mod strip;
@@ -25,6 +28,7 @@ use std::time::Instant;
 
 use mlpg_contact::contact::{self, ContactTarget};
 use mlpg_contact::lcp::{Lcp, LemkeParams, lemke};
+use mlpg_contact::linear_solve::{ColumnOrdering, FactorOptions, Factorisation};
 use mlpg_contact::{Silent, discretise};
 
 /// Timing of the contact stages (candidates, condensation, checks of M, Lemke) on a long strip
@@ -43,6 +47,31 @@ struct Cli {
     /// Block widths of the condensation, comma-separated (default: the library's width)
     #[arg(long, value_name = "WIDTH", value_delimiter = ',')]
     blocks: Vec<usize>,
+    /// Also factorise with static pivoting and nested dissection and condense by
+    /// reach-restricted solves (`contact::sparse_compliance`) `SPARSE` times; its `M` is
+    /// compared with the blocked one and used for the checks and Lemke
+    #[arg(long, value_name = "SPARSE", default_value_t = 0)]
+    sparse: usize,
+    /// With `--sparse`: also condense by blocked full solves with the same static-pivoting
+    /// factors and compare (slow: refined full solves)
+    #[arg(long)]
+    compare_static: bool,
+}
+
+/// CPU seconds (user + system, all threads) of this process so far.
+fn cpu_seconds() -> f64 {
+    std::fs::read_to_string("/proc/self/stat")
+        .ok()
+        .and_then(|s| {
+            let rest = s.rsplit_once(')')?.1.split_whitespace().collect::<Vec<_>>();
+            let t: f64 = rest.get(11)?.parse::<f64>().ok()? + rest.get(12)?.parse::<f64>().ok()?;
+            Some(t / 100.0)
+        })
+        .unwrap_or(f64::NAN)
+}
+
+fn hash(m: &[f64]) -> u64 {
+    m.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, v| (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3))
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -77,9 +106,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     println!("{} candidates in {:.3} s", cand.len(), t.elapsed().as_secs_f64());
     let mut last = None;
-    for block in blocks {
+    for block in blocks.into_iter().filter(|_| repeats > 0) {
         let mut times = Vec::new();
-        for _ in 0..repeats.max(1) {
+        let cpu = cpu_seconds();
+        for _ in 0..repeats {
             let t = Instant::now();
             let (f, b, op) = (&model.factorisation, &model.system.rhs, &cand.operator);
             last = Some(match block {
@@ -90,17 +120,68 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         }
         let (min, max) =
             times.iter().fold((f64::INFINITY, 0.0f64), |(a, b), &t| (a.min(t), b.max(t)));
-        let hash = last.as_ref().map_or(0, |p: &contact::CondensedPart| {
-            p.compliance.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, v| {
-                (h ^ v.to_bits()).wrapping_mul(0x100_0000_01b3)
-            })
-        });
+        let hash = last.as_ref().map_or(0, |p: &contact::CondensedPart| hash(&p.compliance));
         let label = block.map_or("default".to_string(), |w| w.to_string());
         println!(
-            "condense (G K^-1 E), block {label}: min {min:.3} s, max {max:.3} s over {} runs; \
-             hash of M {hash:016x}",
-            times.len()
+            "condense (G K^-1 E), block {label}: min {min:.3} s, max {max:.3} s over {} runs \
+             (cpu {:.3} s per run); hash of M {hash:016x}",
+            times.len(),
+            (cpu_seconds() - cpu) / times.len() as f64
         );
+    }
+    if cli.sparse > 0 {
+        let (t, cpu) = (Instant::now(), cpu_seconds());
+        let f = Factorisation::with_options(
+            &model.system.matrix,
+            ColumnOrdering::NestedDissection(&model.nodes.points),
+            &FactorOptions::nested_dissection_static(),
+        )?;
+        println!(
+            "static ND factorisation: {:.3} s (cpu {:.3} s); {:?}",
+            t.elapsed().as_secs_f64(),
+            cpu_seconds() - cpu,
+            f.stats()
+        );
+        let mut sparse = None;
+        for _ in 0..cli.sparse {
+            let (t, cpu) = (Instant::now(), cpu_seconds());
+            let op = &cand.operator;
+            sparse = Some(contact::sparse_compliance(&f, op)?.ok_or("sparse route refused")?);
+            println!(
+                "sparse condensation: {:.3} s (cpu {:.3} s)",
+                t.elapsed().as_secs_f64(),
+                cpu_seconds() - cpu
+            );
+        }
+        let compliance = sparse.ok_or("no sparse condensation")?;
+        if let Some(old) = &last {
+            let scale = old.compliance.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let diff = old
+                .compliance
+                .iter()
+                .zip(&compliance)
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            println!("sparse vs blocked M: max |diff| / max |M| = {:.3e}", diff / scale);
+        }
+        if cli.compare_static {
+            let t = Instant::now();
+            let full = contact::condense_blocked(&f, &model.system.rhs, &cand.operator, 64)?;
+            let scale = full.compliance.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let diff = full
+                .compliance
+                .iter()
+                .zip(&compliance)
+                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+            println!(
+                "blocked full solves with the static factors: {:.3} s; sparse vs those: max \
+                 |diff| / max |M| = {:.3e}",
+                t.elapsed().as_secs_f64(),
+                diff / scale
+            );
+        }
+        let free_gap = cand.operator.gap_contribution(&f.solve(&model.system.rhs)?);
+        println!("hash of sparse M {:016x}", hash(&compliance));
+        last = Some(contact::CondensedPart { compliance, free_gap });
     }
     let part = last.ok_or("no condensation")?;
     let t = Instant::now();

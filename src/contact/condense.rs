@@ -12,7 +12,8 @@
 
 use super::spectrum::{EigenvalueMethod, symmetric_extremes};
 use super::{BodyOperator, ContactError};
-use crate::linear_solve::{Factorisation, SolveError};
+use crate::linear_solve::{ColumnOrdering, FactorMethod, FactorOptions, Factorisation, SolveError};
+use crate::model::Model;
 use crate::nodes::{Axis, dof};
 use faer::Mat;
 use rayon::prelude::*;
@@ -54,8 +55,11 @@ pub struct CondensedContact {
     pub skew_ratio: f64,
 }
 
-/// One body's `M_k` and `G_k K_k⁻¹ f_k` with one factorisation: `K⁻¹E` in blocks of `BLOCK`
-/// right-hand sides (in parallel over blocks), each block reduced to its `G` rows at once.
+/// One body's `M_k` and `G_k K_k⁻¹ f_k` with one factorisation: by reach-restricted solves
+/// in the factorisation's own supernodal factors when they apply and pay
+/// ([`sparse_compliance`]: the static-pivoting LU with a nested-dissection order), otherwise
+/// `K⁻¹E` in blocks of `BLOCK` right-hand sides (in parallel over blocks), each block reduced
+/// to its `G` rows at once.
 ///
 /// # Errors
 /// [`ContactError::Solve`] when a solve is not finite.
@@ -64,11 +68,59 @@ pub fn condense(
     rhs: &[f64],
     operator: &BodyOperator,
 ) -> Result<CondensedPart, ContactError> {
-    condense_blocked(factorisation, rhs, operator, BLOCK)
+    condense_with(factorisation, rhs, operator, BLOCK, true, &mut |_, _| {})
 }
 
-/// [`condense`] with `block` right-hand sides per blocked solve (for tuning; results may
-/// differ from [`condense`]'s in the last bits, but never with the thread count).
+/// From this many candidates, [`condense_model_observed`] factorises a body's `K` a second
+/// time (static pivoting, nested dissection) when its own factorisation is faer's, to
+/// condense by reach-restricted solves: on the 2 000-candidate strip (84k unknowns) the
+/// second factorisation and the sparse condensation took 2.8 s + 0.5 s against 16.8 s for
+/// the blocked solves in the same minutes (docs/dev/performance.md, "Sparse condensation
+/// for the Lemke path").
+/// Below it the blocked solves are kept (and every shipped problem's outputs with them).
+pub const SPARSE_CONDENSATION_MIN_CANDIDATES: usize = 1000;
+
+/// One body's condensation for the Lemke path: [`condense_observed`] with the model's
+/// factorisation, except from [`SPARSE_CONDENSATION_MIN_CANDIDATES`] candidates on a model
+/// factorised by faer's LU, where `M` comes from reach-restricted solves
+/// ([`sparse_compliance`]) in a second factorisation with static pivoting and nested
+/// dissection; `G K⁻¹ f` always comes from the model's own factorisation (the one the final
+/// displacements are solved with). Falls back to [`condense_observed`] when the second
+/// factorisation refuses the sparse route (perturbed pivots).
+///
+/// # Errors
+/// [`ContactError::Solve`] when a solve or the second factorisation fails.
+pub fn condense_model_observed(
+    model: &Model,
+    operator: &BodyOperator,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<CondensedPart, ContactError> {
+    let (factorisation, rhs) = (&model.factorisation, &model.system.rhs);
+    let matrix = &model.system.matrix;
+    let points = &model.nodes.points;
+    let m = operator.len();
+    if m >= SPARSE_CONDENSATION_MIN_CANDIDATES
+        && factorisation.stats().method != FactorMethod::StaticPivoting
+        && 2 * points.len() == matrix.n
+    {
+        let second = Factorisation::with_options(
+            matrix,
+            ColumnOrdering::NestedDissection(points),
+            &FactorOptions::nested_dissection_static(),
+        )?;
+        if let Some(compliance) = sparse_compliance(&second, operator)? {
+            drop(second);
+            let free_gap = operator.gap_contribution(&factorisation.solve(rhs)?);
+            progress(m, m);
+            return Ok(CondensedPart { compliance, free_gap });
+        }
+    }
+    condense_observed(factorisation, rhs, operator, progress)
+}
+
+/// [`condense`] by blocked full solves with `block` right-hand sides each, never by
+/// [`sparse_compliance`] (for tuning and comparisons; results may differ from [`condense`]'s
+/// in the last bits, but never with the thread count).
 ///
 /// # Errors
 /// [`ContactError::Solve`] when a solve is not finite.
@@ -78,7 +130,7 @@ pub fn condense_blocked(
     operator: &BodyOperator,
     block: usize,
 ) -> Result<CondensedPart, ContactError> {
-    condense_with(factorisation, rhs, operator, block, &mut |_, _| {})
+    condense_with(factorisation, rhs, operator, block, false, &mut |_, _| {})
 }
 
 /// [`condense`], reporting `(columns done, columns)` to `progress` as the column blocks
@@ -92,7 +144,7 @@ pub fn condense_observed(
     operator: &BodyOperator,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<CondensedPart, ContactError> {
-    condense_with(factorisation, rhs, operator, BLOCK, progress)
+    condense_with(factorisation, rhs, operator, BLOCK, true, progress)
 }
 
 fn condense_with(
@@ -100,6 +152,7 @@ fn condense_with(
     rhs: &[f64],
     operator: &BodyOperator,
     block: usize,
+    sparse: bool,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<CondensedPart, ContactError> {
     let m = operator.len();
@@ -107,6 +160,10 @@ fn condense_with(
     let block = block.max(1);
     let free_solution = factorisation.solve(rhs)?;
     let free_gap = operator.gap_contribution(&free_solution);
+    if sparse && let Some(compliance) = sparse_compliance(factorisation, operator)? {
+        progress(m, m);
+        return Ok(CondensedPart { compliance, free_gap });
+    }
     let starts: Vec<usize> = (0..m).step_by(block).collect();
     // Column blocks of M (column c = G K⁻¹ E e_c), each `m × width` column-major.
     let column_block = |&start: &usize| {
@@ -149,6 +206,61 @@ fn condense_with(
         );
     }
     Ok(CondensedPart { compliance, free_gap })
+}
+
+/// The columns of `E` (`E e_c`: the force `d_c` on the owners' rows, as
+/// [`BodyOperator::add_forces`]) and the rows of `G` (`G_c û = d_c·u^h(x_c)`, as
+/// [`BodyOperator::gap_contribution`]) as `(DOF, value)` lists.
+#[allow(clippy::type_complexity)]
+fn sparse_operator(operator: &BodyOperator) -> (Vec<Vec<(usize, f64)>>, Vec<Vec<(usize, f64)>>) {
+    let m = operator.len();
+    let columns = (0..m)
+        .map(|c| {
+            let d = operator.direction(c);
+            operator.owners[c]
+                .iter()
+                .flat_map(|&(i, w)| {
+                    [(dof(i as usize, Axis::X), d[0] * w), (dof(i as usize, Axis::Y), d[1] * w)]
+                })
+                .collect()
+        })
+        .collect();
+    let rows = (0..m)
+        .map(|c| {
+            let d = operator.direction(c);
+            let shapes = &operator.shapes;
+            shapes
+                .support(c)
+                .iter()
+                .zip(shapes.phi(c))
+                .flat_map(|(&j, &p)| {
+                    [(dof(j as usize, Axis::X), d[0] * p), (dof(j as usize, Axis::Y), d[1] * p)]
+                })
+                .collect()
+        })
+        .collect();
+    (columns, rows)
+}
+
+/// `M = G K⁻¹ E` by reach-restricted solves in the factorisation's own supernodal factors
+/// ([`Factorisation::sparse_products`]), or `None` when that route does not apply (faer's
+/// LU, perturbed pivots) or is estimated to cost more than the blocked full solves of
+/// [`condense`] (a banded order).
+///
+/// # Errors
+/// [`ContactError::Solve`] when an entry is not finite.
+pub fn sparse_compliance(
+    factorisation: &Factorisation,
+    operator: &BodyOperator,
+) -> Result<Option<Vec<f64>>, ContactError> {
+    let (columns, rows) = sparse_operator(operator);
+    let Some(products) = factorisation.sparse_products(&columns, &rows) else { return Ok(None) };
+    if let Some(i) = products.values.iter().position(|v| !v.is_finite()) {
+        return Err(
+            SolveError::Singular { detail: format!("non-finite compliance entry {i}") }.into()
+        );
+    }
+    Ok(Some(products.values))
 }
 
 impl CondensedContact {

@@ -56,6 +56,8 @@ use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
 use super::{FactorPrecision, SolveError, backend, buffer};
+
+mod reach;
 use crate::assembly::SystemMatrix;
 
 /// Refinement stops after this many corrections.

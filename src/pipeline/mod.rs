@@ -441,11 +441,10 @@ fn solve_contact(
         return Ok((u1, u2, contact));
     }
     let condensed = clock.run_counted("condensation", |progress| {
-        let (factors, rhs, op) = (&model.factorisation, &model.system.rhs, &candidates.operator);
-        let mut parts = vec![contact::condense_observed(factors, rhs, op, progress)?];
+        let op = &candidates.operator;
+        let mut parts = vec![contact::condense_model_observed(model, op, progress)?];
         if let (Some(op), Some((_, m2))) = (&target, second) {
-            let (factors, rhs) = (&m2.factorisation, &m2.system.rhs);
-            parts.push(contact::condense_observed(factors, rhs, op, progress)?);
+            parts.push(contact::condense_model_observed(m2, op, progress)?);
         }
         contact::CondensedContact::combine(&candidates.initial_gap, &parts)
     })?;

@@ -222,8 +222,7 @@ pub fn solve_bodies(
             contact::CondensedPart { compliance: vec![0.0; m * m], free_gap: vec![0.0; m] };
         for (b, op) in operators.iter().enumerate() {
             let Some((op, index)) = op else { continue };
-            let (factors, rhs) = (&models[b].factorisation, &models[b].system.rhs);
-            let part = contact::condense_observed(factors, rhs, op, progress)?;
+            let part = contact::condense_model_observed(models[b], op, progress)?;
             let mb = index.len();
             for (i, &gi) in index.iter().enumerate() {
                 total.free_gap[gi] += part.free_gap[i];

@@ -178,3 +178,96 @@ fn tangentially_clamped_candidate_is_frictionless() {
     assert!(cand.points[0][0] == 0.0 && op.owners[0].is_empty());
     assert!(op.owners[1..].iter().all(|o| o.len() == 1));
 }
+
+/// `M` by reach-restricted solves in the static-pivoting LU's own supernodal factors
+/// (`contact::sparse_compliance`, nested dissection) on the shipped contact problems with a
+/// rigid line obstacle, against
+/// 1. blocked full solves with the same factors (`condense_blocked`): the same arithmetic up
+///    to the order of the sums, so round-off: 1e-12 of max |M| (observed ≤ 2e-12 on the
+///    84k-unknown strip of `examples/studies/contact_timing.rs`, whose `K` is far worse
+///    conditioned than these);
+/// 2. the current `M` (faer's partial-pivoting LU, blocked solves): two different backward
+///    stable LUs, so round-off amplified by cond(K), 1e-10 of max |M| as the dense check
+///    above.
+///
+/// Lemke (same `q`) on the three `M`: the same pivots and the same active set, and contact
+/// forces within 10 κ times the relative difference of the `M` compared (at least 1e-15),
+/// κ = λ_max/λ_min of the symmetric part: Lemke's own round-off is amplified by about κ (on
+/// the refined beam, κ = 2.9e5, `M` differing by 4e-15 gave forces differing by 4.7e-10; on
+/// the beam, κ = 1.3e4, 1.1e-11). Every solution satisfies complementarity and
+/// `w = M z + q` to 1e-12 (scaled residuals, `common::assert_lcp_residuals`). The spacing is
+/// 1 for the beams, 0.05 for the Hertz cylinder (the refined beam is refined to 0.0625
+/// along its contact edge: 768 candidates).
+#[test]
+fn sparse_condensation_equals_blocked_solves_on_shipped_problems() {
+    use mlpg_contact::lcp::{Lcp, LemkeParams, lemke};
+    use mlpg_contact::linear_solve::{ColumnOrdering, FactorOptions, Factorisation};
+    let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    let max_diff =
+        |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    for file in [
+        "beam_on_foundation.toml",
+        "beam_on_foundation_stabilised.toml",
+        "beam_on_foundation_refined.toml",
+        "hertz_cylinder.toml",
+    ] {
+        let shipped = shipped_problem(file, 1.0);
+        let h = if file.starts_with("hertz") { 0.05 } else { 1.0 };
+        let problem = mlpg_contact::problem::Problem { node_spacing: h, ..shipped };
+        let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+        let spec = problem.contact.unwrap();
+        let contact::ContactTarget::Rigid(line) = spec.target else { panic!("{file}: rigid line") };
+        let target = |x| (line.gap(x), line.normal);
+        let cand = contact::candidates_on(&problem, &model, spec.edge, &target, spec.condensation)
+            .unwrap();
+        let (rhs, op) = (&model.system.rhs, &cand.operator);
+        let current = contact::condense(&model.factorisation, rhs, op).unwrap();
+        let nd = Factorisation::with_options(
+            &model.system.matrix,
+            ColumnOrdering::NestedDissection(&model.nodes.points),
+            &FactorOptions::nested_dissection_static(),
+        )
+        .unwrap();
+        let sparse =
+            contact::sparse_compliance(&nd, op).unwrap().expect("the sparse route applies");
+        let full = contact::condense_blocked(&nd, rhs, op, 64).unwrap();
+        let scale = max_abs(&current.compliance);
+        let same_factors = max_diff(&sparse, &full.compliance) / scale;
+        let other_lu = max_diff(&sparse, &current.compliance) / scale;
+        println!(
+            "{file}: m = {}, sparse vs full solves (same factors) {same_factors:.2e}, vs faer's \
+             LU {other_lu:.2e} of max |M|",
+            cand.len()
+        );
+        assert!(same_factors <= 1e-12, "{file}: {same_factors:e}");
+        assert!(other_lu <= 1e-10, "{file}: {other_lu:e}");
+        let q: Vec<f64> =
+            cand.initial_gap.iter().zip(&current.free_gap).map(|(g, f)| g + f).collect();
+        let m = cand.len();
+        let solve = |compliance: Vec<f64>| {
+            let lcp = Lcp::new(m, compliance, q.clone()).unwrap();
+            let s = lemke(&lcp, &LemkeParams::default()).unwrap();
+            super::common::assert_lcp_residuals(file, &s.residuals, 1e-12);
+            s
+        };
+        let checks =
+            contact::CondensedContact::combine(&cand.initial_gap, std::slice::from_ref(&full))
+                .unwrap();
+        let kappa = checks.max_symmetric_eigenvalue / checks.min_symmetric_eigenvalue;
+        let (a, b, c) =
+            (solve(sparse), solve(full.compliance.clone()), solve(current.compliance.clone()));
+        assert_eq!(a.pivots, b.pivots, "{file}: pivots");
+        let dz = max_diff(&a.z, &b.z) / max_abs(&a.z);
+        let dz_faer = max_diff(&a.z, &c.z) / max_abs(&a.z);
+        println!(
+            "{file}: Lemke {} pivots; forces differ by {dz:.2e} (same factors), {dz_faer:.2e} \
+             (faer's LU; κ = {kappa:.2e}) of the largest",
+            a.pivots
+        );
+        let active = |z: &[f64]| z.iter().map(|&v| v > 0.0).collect::<Vec<_>>();
+        assert_eq!(active(&a.z), active(&b.z), "{file}: active set");
+        assert_eq!(active(&a.z), active(&c.z), "{file}: active set");
+        assert!(dz <= 10.0 * kappa * same_factors.max(1e-15), "{file}: {dz:e}");
+        assert!(dz_faer <= 10.0 * kappa * other_lu.max(1e-15), "{file}: {dz_faer:e}");
+    }
+}
