@@ -157,7 +157,7 @@ pub struct AdaptiveRun {
 /// per solve.
 ///
 /// # Errors
-/// [`Error::Problem`] for two bodies, the FE method or a domain that is not a rectangle (what
+/// [`Error::Problem`] for two bodies, the FE method or a domain with holes (what
 /// `[refinement]`'s validation refuses); any stage's error of any solve.
 pub fn solve_adaptive(
     problem: &Problem,
@@ -179,8 +179,8 @@ pub fn solve_adaptive(
     if problem.discretisation.method != crate::problem::Method::Mfvm {
         return refuse("adaptive refinement needs method = \"mfvm\"");
     }
-    if problem.domain.as_rectangle().is_none() {
-        return refuse("adaptive refinement is implemented for rectangles only");
+    if problem.domain.has_holes() {
+        return refuse("adaptive refinement is not implemented for domains with holes");
     }
     let mut current = problem.clone();
     current.adaptive = None;

@@ -662,7 +662,8 @@ fn node_layout(
     Ok((h, layout, None))
 }
 
-/// `[refinement]` → the adaptive loop's parameters (rectangles, one body, MFVM only).
+/// `[refinement]` → the adaptive loop's parameters (one body without holes, not from Gmsh;
+/// MFVM only).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
     if problem.second_body.is_some() || problem.multibody.is_some() {
         return Err(invalid(
@@ -671,11 +672,16 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
             "adaptive refinement is implemented for one body; refine two bodies statically with [[body]] nodes.refine tables",
         ));
     }
-    if problem.domain.as_rectangle().is_none() {
+    let gmsh = problem
+        .domain
+        .curves()
+        .iter()
+        .any(|c| matches!(c, crate::geometry::Curve::Polyline { .. }));
+    if problem.domain.has_holes() || problem.mesh_nodes.is_some() || gmsh {
         return Err(invalid(
             "refinement",
-            "(not a rectangle)",
-            "adaptive refinement is implemented for geometry kind = \"rectangle\" only",
+            "(a domain with holes or a Gmsh body)",
+            "adaptive refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
         ));
     }
     if problem.discretisation.method == Method::Fem {
@@ -720,7 +726,8 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
     })
 }
 
-/// `[[nodes.refine]]` → the refinement regions (rectangles only, MFVM only).
+/// `[[nodes.refine]]` → the refinement regions (rectangles, polygons, curves and disks without
+/// holes; MFVM only).
 fn refinement(
     nodes: &NodesFile,
     geometry: &GeometryFile,
@@ -731,14 +738,26 @@ fn refinement(
     if nodes.refine.is_empty() {
         return Ok(Refinement::default());
     }
-    let Some((dx, dy)) =
-        domain.as_rectangle().filter(|_| matches!(geometry, GeometryFile::Rectangle { .. }))
-    else {
-        return Err(invalid(
-            "nodes.refine",
-            format!("{} table(s)", nodes.refine.len()),
-            "refinement is implemented for kind = \"rectangle\" only",
-        ));
+    // Rectangles: bands are boxes; other loops (no holes): bands are squares along the edge.
+    let rectangle =
+        domain.as_rectangle().filter(|_| matches!(geometry, GeometryFile::Rectangle { .. }));
+    let loop_kind = matches!(
+        geometry,
+        GeometryFile::Polygon { .. } | GeometryFile::Curves { .. } | GeometryFile::Disk { .. }
+    );
+    let (dx, dy) = match rectangle {
+        Some(r) => r,
+        None if loop_kind && !domain.has_holes() => {
+            let (lo, hi) = domain.bounding_box();
+            ([lo[0], hi[0]], [lo[1], hi[1]])
+        }
+        None => {
+            return Err(invalid(
+                "nodes.refine",
+                format!("{} table(s)", nodes.refine.len()),
+                "refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
+            ));
+        }
     };
     if method == Method::Fem {
         return Err(invalid(
@@ -775,9 +794,10 @@ fn refinement(
                         format!("no such edge; the edges are {:?}", domain.edge_names()),
                     )
                 })?;
-                let extent = match e {
-                    0 | 2 => dy[1] - dy[0],
-                    _ => dx[1] - dx[0],
+                let extent = match (rectangle, e) {
+                    (Some(_), 0 | 2) => dy[1] - dy[0],
+                    (Some(_), _) => dx[1] - dx[0],
+                    (None, _) => (dy[1] - dy[0]).min(dx[1] - dx[0]),
                 };
                 if !(width.is_finite() && width > 0.0 && width <= extent) {
                     return Err(invalid(
@@ -787,6 +807,32 @@ fn refinement(
                             "must be a positive number at most the extent across the edge ({extent})"
                         ),
                     ));
+                }
+                if rectangle.is_none() {
+                    // Squares of half-side `width` centred at points at most `width` apart
+                    // along the edge: every point within `width` of it (max norm).
+                    let c = domain.curve(e);
+                    let n = (c.length() / width).ceil().max(1.0);
+                    if n > 1.0e5 {
+                        return Err(invalid(
+                            &key("width"),
+                            width,
+                            format!(
+                                "is too small for edge {edge:?} (length {:.4e}): at most 100 000 widths along a curved or slanted edge",
+                                c.length()
+                            ),
+                        ));
+                    }
+                    let n = n as usize;
+                    boxes.extend((0..=n).map(|i| {
+                        let p = c.point_at(i as f64 / n as f64);
+                        RefineBox {
+                            x: [p[0] - width, p[0] + width],
+                            y: [p[1] - width, p[1] + width],
+                            spacing: s,
+                        }
+                    }));
+                    continue;
                 }
                 // Rectangle edges: bottom, right, top, left.
                 match e {
@@ -809,11 +855,12 @@ fn refinement(
                     }
                 }
                 if x[1] <= dx[0] || x[0] >= dx[1] || y[1] <= dy[0] || y[0] >= dy[1] {
+                    let what = if rectangle.is_some() { "rectangle" } else { "bounding box" };
                     return Err(invalid(
                         &key("x"),
                         format!("[{}, {}] (y = [{}, {}])", x[0], x[1], y[0], y[1]),
                         format!(
-                            "the box must overlap the rectangle x = [{}, {}], y = [{}, {}]",
+                            "the box must overlap the {what} x = [{}, {}], y = [{}, {}]",
                             dx[0], dx[1], dy[0], dy[1]
                         ),
                     ));

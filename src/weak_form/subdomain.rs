@@ -50,8 +50,9 @@ impl Cell {
 
 /// Builds the clipped Voronoi cell of every node.
 ///
-/// Each cell starts as the domain's polygonal approximation ([`Domain::boundary_polygon`];
-/// for polygons with many vertices, its part inside a box around the node) and is clipped by
+/// Each cell starts as the domain's polygonal approximation, its arcs as the chords between
+/// their boundary nodes ([`Domain::boundary_rings_through`]; for polygons with many vertices,
+/// its part inside a box around the node) and is clipped by
 /// the bisector half-planes of the nearby nodes, nearest first, until every node closer than
 /// twice the cell's radius has been used (the security-radius criterion), so the result is
 /// exact. Clipping a non-convex start polygon by half-planes is exact as long as each clipped
@@ -69,11 +70,12 @@ impl Cell {
 pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellError> {
     let h = nodes.spacing.iter().fold(0.0f64, |m, &v| m.max(v));
     let grid = NeighbourGrid::new(&nodes.points, 2.0 * h);
+    let on_arcs = arc_boundary_nodes(domain, nodes);
+    let rings = domain.boundary_rings_through(h, |k| on_arcs[k].clone());
     let starts: Vec<Cell> = if domain.has_holes() {
-        let rings = domain.boundary_rings(h);
         CUT_DIRECTIONS.iter().filter_map(|&e| keyhole(&rings, e)).collect()
     } else {
-        let (vertices, labels) = domain.boundary_polygon(h);
+        let (vertices, labels) = rings.into_iter().next().unwrap_or_default();
         vec![Cell { vertices, labels: labels.into_iter().map(EdgeLabel::Boundary).collect() }]
     };
     (0..nodes.len())
@@ -86,6 +88,36 @@ pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellErro
                 }
             }
             Err(CellError::HoleCut { node: i, point: nodes.points[i] })
+        })
+        .collect()
+}
+
+/// Per domain edge, the positions of the nodes on it when it is an arc (empty otherwise): the
+/// nodes tagged with the edge, from its start (included) to its end (excluded, unless it is
+/// also the start: a full circle), by their parameter along it. These are the vertices of the
+/// arc's chords in the cells' start polygon ([`Domain::boundary_rings_through`]), so that every
+/// boundary face lies between two boundary nodes of the arc at any grading (on a uniform set
+/// they are the arc's [`crate::geometry::Curve::division_points`]).
+fn arc_boundary_nodes(domain: &Domain, nodes: &Nodes) -> Vec<Vec<Point>> {
+    let mut on: Vec<Vec<(f64, usize)>> = vec![Vec::new(); domain.edge_count()];
+    for (i, set) in nodes.edges.iter().enumerate() {
+        for k in set.iter() {
+            let c = domain.curve(k);
+            if !matches!(c, crate::geometry::Curve::Arc { .. }) {
+                continue;
+            }
+            let p = nodes.points[i];
+            let tol2 = (1e-9 * nodes.spacing[i]).powi(2);
+            if dist2(p, c.end()) <= tol2 && dist2(p, c.start()) > tol2 {
+                continue;
+            }
+            on[k].push((domain.edge_parameter(k, p), i));
+        }
+    }
+    on.into_iter()
+        .map(|mut list| {
+            list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            list.into_iter().map(|(_, i)| nodes.points[i]).collect()
         })
         .collect()
 }
