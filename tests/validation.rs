@@ -36,6 +36,8 @@ mod validation {
     mod load_driven;
     // Adaptive refinement (docs/method.md §2.2) on the rigid cylinder indenter against uniform.
     mod adaptive_hertz;
+    // Adaptive refinement on a curved body: the Hertz quarter cylinder against uniform.
+    mod adaptive_hertz_cylinder;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
