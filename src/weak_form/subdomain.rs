@@ -432,6 +432,56 @@ mod tests {
         }
     }
 
+    /// A graded set on a quarter disk (`nodes::generate_graded_curved`, refined in a box at the
+    /// arc): the cells start from the chords between the arc's own boundary nodes, so they
+    /// tile that polygon and only boundary nodes own boundary faces (with the arc divided at
+    /// the largest spacing instead, fine-spaced arc nodes would lose their boundary faces).
+    #[test]
+    fn graded_curved_cells_tile_the_polygon_through_the_boundary_nodes() {
+        use crate::geometry::Curve;
+        use crate::problem::{RefineBox, Refinement};
+        let d = Domain::from_curves(
+            vec![
+                Curve::Segment { a: [0.0, 0.0], b: [1.0, 0.0] },
+                Curve::arc_between([1.0, 0.0], [0.0, 1.0], [0.0, 0.0], true),
+                Curve::Segment { a: [0.0, 1.0], b: [0.0, 0.0] },
+            ],
+            ["bottom", "arc", "left"].iter().map(|s| s.to_string()).collect(),
+        )
+        .unwrap();
+        let r =
+            Refinement { boxes: vec![RefineBox { x: [0.6, 0.8], y: [0.6, 0.8], spacing: 0.0125 }] };
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 5 }] {
+            let nodes = crate::nodes::generate_graded_curved(&d, 0.1, layout, |lo, hi| {
+                r.min_spacing_in(0.1, lo, hi)
+            })
+            .unwrap();
+            let cells = build_cells(&d, &nodes).unwrap();
+            let mut arc: Vec<(f64, Point)> = (0..nodes.len())
+                .filter(|&i| nodes.edges[i].contains(1))
+                .map(|i| (d.edge_parameter(1, nodes.points[i]), nodes.points[i]))
+                .collect();
+            arc.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // The polygon (0, 0) → the arc's nodes → back: its area.
+            let mut poly = vec![[0.0, 0.0]];
+            poly.extend(arc.iter().map(|a| a.1));
+            let poly_area = 0.5
+                * (0..poly.len())
+                    .map(|k| {
+                        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum::<f64>();
+            let total = total_area(&cells);
+            assert!((total - poly_area).abs() < 1e-12, "{layout:?}: {total} vs {poly_area}");
+            for (i, c) in cells.iter().enumerate() {
+                assert!(c.area() > 0.0);
+                let owns = c.labels.iter().any(|l| matches!(l, EdgeLabel::Boundary(_)));
+                assert_eq!(owns, !nodes.edges[i].is_empty(), "{layout:?}: node {i}");
+            }
+        }
+    }
+
     /// The square `[-3, 3]²` with holes (a disk, and a square hole for straight ones).
     fn holed_domains() -> Vec<Domain> {
         use crate::geometry::Curve;
