@@ -940,6 +940,42 @@ impl Domain {
         (vertices, labels)
     }
 
+    /// The polygonal approximation of every loop through given points on the arcs (as
+    /// [`Self::boundary_rings`], outer ring first): straight edges and polylines as there, and
+    /// arc `k` as the chords through `arc_points(k)`, its points from its start (included) to
+    /// its end (excluded) in order — a graded node set's boundary nodes on the arc
+    /// (docs/method.md §2.1). An arc for which `arc_points` gives no point is divided at `h`
+    /// ([`Curve::division_points`]).
+    pub fn boundary_rings_through(
+        &self,
+        h: f64,
+        arc_points: impl Fn(usize) -> Vec<Point>,
+    ) -> Vec<(Vec<Point>, Vec<u32>)> {
+        (0..self.loop_count())
+            .map(|l| {
+                let mut vertices = Vec::new();
+                let mut labels = Vec::new();
+                for k in self.loop_range(l) {
+                    let c = &self.curves[k];
+                    let given =
+                        if matches!(c, Curve::Arc { .. }) { arc_points(k) } else { Vec::new() };
+                    if c.is_straight() {
+                        vertices.push(c.start());
+                        labels.push(k as u32);
+                    } else if given.is_empty() {
+                        let points = c.division_points(h);
+                        labels.extend(std::iter::repeat_n(k as u32, points.len() - 1));
+                        vertices.extend_from_slice(&points[..points.len() - 1]);
+                    } else {
+                        labels.extend(std::iter::repeat_n(k as u32, given.len()));
+                        vertices.extend_from_slice(&given);
+                    }
+                }
+                (vertices, labels)
+            })
+            .collect()
+    }
+
     /// Whether the domain is an axis-aligned rectangle built by [`Self::rectangle`] order.
     pub fn as_rectangle(&self) -> Option<([f64; 2], [f64; 2])> {
         if self.curves.len() != 4 || !self.is_polygon() {

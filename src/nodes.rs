@@ -160,8 +160,8 @@ fn tag_edges(domain: &Domain, points: &[Point], tol: f64) -> Vec<EdgeSet> {
 
 /// Generates the nodes of `problem`'s (first) body: the mesh's nodes when it has them
 /// (`nodes.from = "mesh"`; tagged with the edges they lie on, to `1e-9` of the smallest
-/// spacing), else [`generate`] at the nominal spacing, or [`generate_graded`] when the problem
-/// has `[[nodes.refine]]` regions.
+/// spacing), else [`generate`] at the nominal spacing, or when the problem has refinement
+/// regions [`generate_graded`] (rectangles) or [`generate_graded_curved`] (other domains).
 ///
 /// # Errors
 /// As [`generate`] and [`generate_graded`].
@@ -177,7 +177,12 @@ pub fn for_problem(problem: &crate::problem::Problem) -> Result<Nodes, GeometryE
     } else {
         let index = refinement.index(h);
         let query = index.nested();
-        generate_graded(&problem.domain, h, problem.layout, |lo, hi| query.min_spacing_in(lo, hi))
+        let min_spacing = |lo, hi| query.min_spacing_in(lo, hi);
+        if problem.domain.as_rectangle().is_some() {
+            generate_graded(&problem.domain, h, problem.layout, min_spacing)
+        } else {
+            generate_graded_curved(&problem.domain, h, problem.layout, min_spacing)
+        }
     }
 }
 
@@ -381,6 +386,294 @@ pub fn generate_graded_at_most(
         }
     }
     Ok(Some(Nodes { points, spacing, edges }))
+}
+
+/// Generates a graded node set in a domain that is not a rectangle (a convex polygon, or a
+/// loop of segments and arcs) from a spacing function (docs/method.md §2.1): the curved
+/// counterpart of [`generate_graded`], laid out like [`generate`]'s curved sets.
+///
+/// `min_spacing(lo, hi)` is the least wanted spacing over the box `[lo, hi]` (at most `h0`).
+/// A quadtree covers the domain's bounding box with cells of `h0` anchored at its lower-left
+/// corner (the lattice of [`generate`]); a cell that meets the domain is split while its
+/// nominal size exceeds `min_spacing` over it, down to [`MAX_LEVEL`], and the tree is balanced
+/// (neighbouring cells within a factor 2). The local boundary spacing `σ(x)` is the size of
+/// the leaf holding `x`. Then, in this order:
+///
+/// - **boundary nodes** on every curve, from its start (its end is the next curve's start):
+///   `N = round(∫ ds/σ)` intervals (at least one, and one per 45° of an arc), placed where
+///   `∫ ds/σ` reaches `i/N` of its total, so that the chords follow `σ` and neighbouring
+///   chords differ by about the factor 2 of neighbouring leaves at most; with `σ` constant
+///   along the curve they are [`crate::geometry::Curve::division_points`]`(σ)`. A polyline
+///   keeps its points. A boundary node's `h_I` is the geometric mean of `σ` at the midpoints
+///   of its two chords;
+/// - **the inner layer** of every arc: a node at distance `h_I` inside each boundary node
+///   along the arc's normal, kept at least `0.7 h_I` from the boundary (as [`generate`]);
+/// - **lattice nodes**: the corners of the leaves (mid-side nodes of coarse leaves next to
+///   finer ones included), row by row, kept inside the domain at least `0.7 s` from the
+///   boundary, `1.6 S` from every arc and `0.6 h_L` from every layer node (its `h_L`: so that
+///   the lattice stays clear of a coarser layer; on uniform sets this follows from the arc
+///   clearance), with `s` and `S` the smallest and the largest leaf the corner touches; `h_I`
+///   as in [`generate_graded`], `√(s S)`.
+///
+/// A jittered layout moves interior nodes by at most `amplitude · s` (lattice) or
+/// `amplitude · h_I` (layer) in each coordinate, and keeps a node where a move would bring it
+/// closer than `0.7` of that to the boundary; two numbers are drawn per node in node order.
+/// Without any split the result is the node set of [`generate`] for a loop of curves.
+///
+/// # Errors
+/// [`GeometryError::Spacing`] for a domain with holes (not implemented), when `h0` is not
+/// usable (as for [`generate`]) or the graded set would have more than 50 million nodes.
+pub fn generate_graded_curved(
+    domain: &Domain,
+    h0: f64,
+    layout: Layout,
+    min_spacing: impl Fn(Point, Point) -> f64,
+) -> Result<Nodes, GeometryError> {
+    let (lo, hi) = domain.bounding_box();
+    let size = (hi[0] - lo[0]).min(hi[1] - lo[1]);
+    if domain.has_holes() {
+        return Err(GeometryError::Spacing {
+            spacing: h0,
+            size,
+            reason: "graded node sets are not implemented for domains with holes",
+        });
+    }
+    // The checks of the uniform generator.
+    generate(domain, h0, Layout::Structured).map(|_| ())?;
+    let nx = (((hi[0] - lo[0]) / h0).ceil() as u64).max(1);
+    let ny = (((hi[1] - lo[1]) / h0).ceil() as u64).max(1);
+    let cell_box = |level: u32, i: u64, j: u64| {
+        let s = h0 / (1u64 << level) as f64;
+        (
+            [lo[0] + i as f64 * s, lo[1] + j as f64 * s],
+            [lo[0] + (i + 1) as f64 * s, lo[1] + (j + 1) as f64 * s],
+        )
+    };
+    let meets = |a: Point, b: Point| {
+        let c = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        let r = 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]);
+        domain.contains(c) || domain.boundary_distance(c) <= r * (1.0 + 1e-9)
+    };
+    let mut split: Vec<std::collections::BTreeSet<(u64, u64)>> = vec![Default::default()];
+    let mut stack: Vec<(u32, u64, u64)> =
+        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
+    let mut cells = 0u64;
+    while let Some((level, i, j)) = stack.pop() {
+        let (a, b) = cell_box(level, i, j);
+        let nominal = h0 / (1u64 << level) as f64;
+        if level < MAX_LEVEL && nominal > min_spacing(a, b) * (1.0 + 1e-9) && meets(a, b) {
+            cells += 3;
+            if cells as f64 > 5.0e7 {
+                return Err(GeometryError::Spacing {
+                    spacing: h0,
+                    size,
+                    reason: "the refinement would create more than 50 million nodes",
+                });
+            }
+            if split.len() <= level as usize {
+                split.resize_with(level as usize + 1, Default::default);
+            }
+            split[level as usize].insert((i, j));
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                stack.push((level + 1, 2 * i + di, 2 * j + dj));
+            }
+        }
+    }
+    balance(&mut split, nx, ny);
+    let depth = split.iter().rposition(|s| !s.is_empty()).map_or(0, |l| l as u32 + 1);
+    let is_split =
+        |level: u32, c: (u64, u64)| split.get(level as usize).is_some_and(|s| s.contains(&c));
+    // σ(x): the size of the leaf holding x (points beyond the box: the nearest root cell).
+    let sigma = |p: Point| {
+        let clamp = |v: f64, n: u64| (v.max(0.0).floor() as u64).min(n - 1);
+        let (mut i, mut j) = (clamp((p[0] - lo[0]) / h0, nx), clamp((p[1] - lo[1]) / h0, ny));
+        let mut level = 0u32;
+        while is_split(level, (i, j)) {
+            let (a, b) = cell_box(level, i, j);
+            let mid = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+            i = 2 * i + u64::from(p[0] >= mid[0]);
+            j = 2 * j + u64::from(p[1] >= mid[1]);
+            level += 1;
+        }
+        h0 / (1u64 << level) as f64
+    };
+    let finest = h0 / (1u64 << depth) as f64;
+    // Boundary nodes, curve by curve (each from its start; its end is the next one's start).
+    let curves = domain.curves();
+    let mut boundary: Vec<Vec<Point>> = Vec::with_capacity(curves.len());
+    for c in curves {
+        let mut p = graded_division_points(c, &sigma, finest);
+        p.pop();
+        boundary.push(p);
+    }
+    let ring: Vec<Point> = boundary.iter().flatten().copied().collect();
+    let mid_sigma = |a: Point, b: Point| sigma([0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])]);
+    let geometric = |a: f64, b: f64| if a == b { a } else { (a * b).sqrt() };
+    let m = ring.len();
+    let ring_h: Vec<f64> = (0..m)
+        .map(|i| {
+            let (prev, next) = (ring[(i + m - 1) % m], ring[(i + 1) % m]);
+            geometric(mid_sigma(prev, ring[i]), mid_sigma(ring[i], next))
+        })
+        .collect();
+    let mut points = ring.clone();
+    let mut spacing = ring_h.clone();
+    let mut smallest = ring_h.clone();
+    // The inner layer along each arc's normals (the end's node belongs to the next curve when
+    // that is an arc too; else the arc's end gets one).
+    let clear = |p: Point, s: f64| {
+        domain.contains(p) && domain.boundary_distance(p) >= CURVED_CLEARANCE * s
+    };
+    let mut first = 0;
+    for (k, c) in curves.iter().enumerate() {
+        let count = boundary[k].len();
+        if !c.is_straight() {
+            let end_too = curves[domain.next_in_loop(k)].is_straight();
+            let at: Vec<(Point, f64)> = (first..first + count)
+                .map(|i| (ring[i], ring_h[i]))
+                .chain(end_too.then(|| (c.end(), ring_h[(first + count) % m])))
+                .collect();
+            for (b, s) in at {
+                let nrm = c.outward_normal_at(b);
+                let p = [b[0] - s * nrm[0], b[1] - s * nrm[1]];
+                if clear(p, s) {
+                    points.push(p);
+                    spacing.push(s);
+                    smallest.push(s);
+                }
+            }
+        }
+        first += count;
+    }
+    // Lattice nodes: leaf corners on the deepest level's lattice, row by row.
+    let mut leaves: Vec<(u32, u64, u64)> = Vec::new();
+    let mut stack: Vec<(u32, u64, u64)> =
+        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
+    while let Some((level, i, j)) = stack.pop() {
+        if is_split(level, (i, j)) {
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                stack.push((level + 1, 2 * i + di, 2 * j + dj));
+            }
+        } else {
+            leaves.push((level, i, j));
+        }
+    }
+    let mut sizes: std::collections::BTreeMap<(u64, u64), (f64, f64)> = Default::default();
+    for &(level, i, j) in &leaves {
+        let k = 1u64 << (depth - level);
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            sizes.insert(((j + dj) * k, (i + di) * k), (0.0, f64::INFINITY));
+        }
+    }
+    for &(level, i, j) in &leaves {
+        let k = 1u64 << (depth - level);
+        let s = h0 / (1u64 << level) as f64;
+        for (di, dj) in [(0, 0), (2, 0), (0, 2), (2, 2), (1, 0), (0, 1), (2, 1), (1, 2)] {
+            if k == 1 && (di == 1 || dj == 1) {
+                continue;
+            }
+            let key = ((2 * j + dj) * k / 2, (2 * i + di) * k / 2);
+            if let Some(e) = sizes.get_mut(&key) {
+                e.0 = e.0.max(s);
+                e.1 = e.1.min(s);
+            }
+        }
+    }
+    let arcs: Vec<&crate::geometry::Curve> = curves.iter().filter(|c| !c.is_straight()).collect();
+    // The layer nodes by bins of h0 (each with its distance from the arc).
+    let bin =
+        |p: Point| (((p[0] - lo[0]) / h0).floor() as i64, ((p[1] - lo[1]) / h0).floor() as i64);
+    let mut layer: std::collections::HashMap<(i64, i64), Vec<(Point, f64)>> = Default::default();
+    for i in ring.len()..points.len() {
+        layer.entry(bin(points[i])).or_default().push((points[i], spacing[i]));
+    }
+    let near_arc = |p: Point, largest: f64| {
+        if arcs.iter().any(|c| c.distance(p) < ARC_GRID_CLEARANCE * largest) {
+            return true;
+        }
+        // A layer node coarser than the lattice here is farther from the arc than `largest`:
+        // keep the lattice `(ARC_GRID_CLEARANCE − 1)` of its distance away from it, as on
+        // uniform sets (where this follows from the arc clearance).
+        let (bi, bj) = bin(p);
+        (bi - 1..=bi + 1).any(|i| {
+            (bj - 1..=bj + 1).any(|j| {
+                layer.get(&(i, j)).is_some_and(|list| {
+                    list.iter().any(|&(q, s)| {
+                        (p[0] - q[0]).hypot(p[1] - q[1])
+                            < (ARC_GRID_CLEARANCE - 1.0) * s * (1.0 - 1e-9)
+                    })
+                })
+            })
+        })
+    };
+    let step = h0 / (1u64 << depth) as f64;
+    for (&(row, col), &(largest, least)) in &sizes {
+        let p = [lo[0] + col as f64 * step, lo[1] + row as f64 * step];
+        if clear(p, least) && !near_arc(p, largest) {
+            points.push(p);
+            spacing.push(geometric(least, largest));
+            smallest.push(least);
+        }
+    }
+    let edges = tag_edges(domain, &points, 1e-9 * finest);
+    if let Layout::Jittered { amplitude, seed } = layout {
+        let mut rng = SplitMix64::new(seed);
+        for ((p, on), &s) in points.iter_mut().zip(&edges).zip(&smallest) {
+            let (dx, dy) = (rng.uniform_symmetric(), rng.uniform_symmetric());
+            let q = [p[0] + amplitude * s * dx, p[1] + amplitude * s * dy];
+            if on.is_empty() && domain.boundary_distance(q) >= CURVED_CLEARANCE * s {
+                *p = q;
+            }
+        }
+    }
+    Ok(Nodes { points, spacing, edges })
+}
+
+/// The points dividing `curve` at the local spacing `sigma(x)` ([`generate_graded_curved`]),
+/// start and end included: `N = round(∫ ds/σ)` intervals (at least one; for an arc at least
+/// one per 45°) where `∫ ds/σ` reaches `i/N` of its total, `σ` sampled at the midpoints of
+/// pieces of at most `finest / 8`; [`crate::geometry::Curve::division_points`] when `σ` is
+/// constant along the curve (a polyline always keeps its points).
+fn graded_division_points(
+    curve: &crate::geometry::Curve,
+    sigma: &impl Fn(Point) -> f64,
+    finest: f64,
+) -> Vec<Point> {
+    use crate::geometry::Curve;
+    if matches!(curve, Curve::Polyline { .. }) {
+        return curve.division_points(finest);
+    }
+    let length = curve.length();
+    let pieces = ((8.0 * length / finest).ceil() as usize).clamp(1, 10_000_000);
+    let local: Vec<f64> =
+        (0..pieces).map(|j| sigma(curve.point_at((j as f64 + 0.5) / pieces as f64))).collect();
+    if local.iter().all(|&s| s == local[0]) {
+        return curve.division_points(local[0]);
+    }
+    // Cumulative ∫ ds/σ at the piece ends.
+    let ds = length / pieces as f64;
+    let mut cumulative = Vec::with_capacity(pieces + 1);
+    cumulative.push(0.0);
+    for s in &local {
+        cumulative.push(cumulative.last().copied().unwrap_or(0.0) + ds / s);
+    }
+    let total = cumulative[pieces];
+    let mut n = total.round().max(1.0) as usize;
+    if let Curve::Arc { sweep, .. } = curve {
+        n = n.max((sweep.abs() / (0.25 * std::f64::consts::PI)).ceil() as usize);
+    }
+    let mut points = vec![curve.start()];
+    let mut j = 0;
+    for i in 1..n {
+        let target = total * i as f64 / n as f64;
+        while j + 1 < pieces && cumulative[j + 1] <= target {
+            j += 1;
+        }
+        let u = (target - cumulative[j]) / (cumulative[j + 1] - cumulative[j]);
+        points.push(curve.point_at((j as f64 + u) / pieces as f64));
+    }
+    points.push(curve.end());
+    points
 }
 
 /// Balances the quadtree of [`generate_graded`], finest level first: a split cell at level
@@ -720,6 +1013,101 @@ mod tests {
                 assert!(k >= 4, "{layout:?}: corner {c:?} has {k} support nodes");
             }
         }
+    }
+
+    /// The Hertz quarter cylinder (two arcs, two segments).
+    fn quarter_cylinder() -> Domain {
+        use crate::geometry::Curve;
+        let c = [0.0, 1.0];
+        let split = [0.5, 1.0 - 0.75f64.sqrt()];
+        Domain::from_curves(
+            vec![
+                Curve::arc_between([0.0, 0.0], split, c, true),
+                Curve::arc_between(split, [1.0, 1.0], c, true),
+                Curve::Segment { a: [1.0, 1.0], b: [0.0, 1.0] },
+                Curve::Segment { a: [0.0, 1.0], b: [0.0, 0.0] },
+            ],
+            ["arc", "rim", "top", "axis"].iter().map(|s| s.to_string()).collect(),
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn graded_curved_without_refinement_is_the_uniform_set() {
+        let d = quarter_cylinder();
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 7 }] {
+            let a = generate(&d, 0.05, layout).unwrap();
+            let b = generate_graded_curved(&d, 0.05, layout, |_, _| 0.05).unwrap();
+            assert_eq!(a.points, b.points);
+            assert_eq!(a.spacing, b.spacing);
+            assert_eq!(a.edges, b.edges);
+        }
+    }
+
+    #[test]
+    fn graded_curved_set_follows_the_spacing_on_the_arcs_and_inside() {
+        use crate::problem::{RefineBox, Refinement};
+        let d = quarter_cylinder();
+        let r = Refinement {
+            boxes: vec![RefineBox { x: [0.0, 0.15], y: [0.0, 0.03], spacing: 0.0125 }],
+        };
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 3 }] {
+            let n = generate_graded_curved(&d, 0.1, layout, |lo, hi| r.min_spacing_in(0.1, lo, hi))
+                .unwrap();
+            // Boundary nodes lie on their edges; interior nodes at least 0.7 of their (smallest
+            // touched) spacing inside, less the jitter.
+            for (i, (p, e)) in n.points.iter().zip(&n.edges).enumerate() {
+                if e.is_empty() {
+                    assert!(d.contains(*p), "{p:?}");
+                    let least = n.spacing[i] / 2f64.sqrt();
+                    assert!(d.boundary_distance(*p) >= 0.7 * least * (1.0 - 1e-12), "{p:?}");
+                } else {
+                    assert!(e.iter().all(|k| d.edge_distance(k, *p).abs() < 1e-12), "{p:?}");
+                }
+            }
+            // Along the contact arc, neighbouring chords differ by at most 2:1 (plus the
+            // sampling's margin) and reach the finest spacing, 0.1 / 8, near x = 0.
+            let mut arc: Vec<(f64, Point)> = (0..n.len())
+                .filter(|&i| n.edges[i].contains(0))
+                .map(|i| (d.edge_parameter(0, n.points[i]), n.points[i]))
+                .collect();
+            arc.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let chords: Vec<f64> = arc
+                .windows(2)
+                .map(|w| (w[1].1[0] - w[0].1[0]).hypot(w[1].1[1] - w[0].1[1]))
+                .collect();
+            assert!(chords[0] < 0.0125 * 1.1 && chords[0] > 0.0125 / 1.1, "{}", chords[0]);
+            assert!(chords.iter().fold(0.0f64, |m, &c| m.max(c)) > 0.04);
+            for w in chords.windows(2) {
+                let ratio = w[0].max(w[1]) / w[0].min(w[1]);
+                assert!(ratio <= 2.1, "{chords:?}");
+            }
+            // No two nodes closer than half the finer one's spacing (structured).
+            let structured = layout == Layout::Structured;
+            for i in (0..n.len()).filter(|_| structured) {
+                for j in 0..i {
+                    let (p, q) = (n.points[i], n.points[j]);
+                    let dist = (p[0] - q[0]).hypot(p[1] - q[1]);
+                    assert!(dist > n.spacing[i].min(n.spacing[j]) / 2.0, "{p:?} {q:?}");
+                }
+            }
+            // Far fewer nodes than the uniform set at the finest spacing.
+            let fine = generate(&d, 0.0125, Layout::Structured).unwrap();
+            assert!(n.len() * 5 < fine.len(), "{} vs {}", n.len(), fine.len());
+        }
+    }
+
+    #[test]
+    fn graded_curved_refuses_holes() {
+        use crate::geometry::Curve;
+        let hole = Domain::from_curves(
+            vec![Curve::arc_between([1.5, 1.0], [1.5, 1.0], [1.0, 1.0], true)],
+            vec!["hole".into()],
+        )
+        .unwrap();
+        let d = Domain::rectangle([0.0, 2.0], [0.0, 2.0]).unwrap().with_holes(vec![hole]).unwrap();
+        let e = generate_graded_curved(&d, 0.25, Layout::Structured, |_, _| 0.1).unwrap_err();
+        assert!(e.to_string().contains("holes"), "{e}");
     }
 
     #[test]

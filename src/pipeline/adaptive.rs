@@ -220,13 +220,20 @@ fn refuse(problem: &Problem, reason: &str) -> Result<(), Error> {
     .into())
 }
 
-/// What the loop needs of a body: MFVM on a rectangle.
-fn check_body(problem: &Problem) -> Result<(), Error> {
+/// What the loop needs of a body: MFVM on a domain without holes; with two bodies
+/// (`pair`), rectangles (the two-body loop is tested on rectangles only).
+fn check_body(problem: &Problem, pair: bool) -> Result<(), Error> {
     if problem.discretisation.method != crate::problem::Method::Mfvm {
         return refuse(problem, "adaptive refinement needs method = \"mfvm\"");
     }
-    if problem.domain.as_rectangle().is_none() {
-        return refuse(problem, "adaptive refinement is implemented for rectangles only");
+    if problem.domain.has_holes() {
+        return refuse(problem, "adaptive refinement is not implemented for domains with holes");
+    }
+    if pair && problem.domain.as_rectangle().is_none() {
+        return refuse(
+            problem,
+            "adaptive refinement of two bodies is implemented for rectangles only",
+        );
     }
     Ok(())
 }
@@ -277,9 +284,9 @@ fn marks(estimate: &Estimate, fraction: f64, contact: Vec<usize>) -> (Vec<usize>
 /// `max_nodes` counts both node sets.
 ///
 /// # Errors
-/// [`Error::Problem`] for several bodies or contact pairs, the FE method or a domain that is
-/// not a rectangle (what `[refinement]`'s validation refuses); any stage's error of any
-/// solve.
+/// [`Error::Problem`] for several bodies or contact pairs, the FE method, a domain with holes
+/// or two bodies that are not both rectangles (what `[refinement]`'s validation refuses); any
+/// stage's error of any solve.
 pub fn solve_adaptive(
     problem: &Problem,
     adaptive: &Adaptive,
@@ -292,9 +299,10 @@ pub fn solve_adaptive(
             "adaptive refinement is implemented for one body or two bodies in one contact pair",
         )?;
     }
-    check_body(problem)?;
+    let pair = problem.second_body.is_some();
+    check_body(problem, pair)?;
     if let Some(p2) = problem.second_body.as_deref() {
-        check_body(p2)?;
+        check_body(p2, pair)?;
     }
     let mut current = problem.clone();
     current.adaptive = None;

@@ -415,13 +415,19 @@ plane = "stress"
         .unwrap_err()
         .to_string();
         assert!(fem.contains("`refinement`") && fem.contains("mfvm"), "{fem}");
-        let disk = Problem::from_toml(&(BODY.replace(
+        // Polygons (and curves) are refined; domains with holes are refused.
+        let polygon = BODY.replace(
             "kind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]",
             "kind = \"polygon\"\nvertices = [[0.0, 0.0], [4.0, 0.0], [0.0, 1.0]]\nedges = [\"a\", \"b\", \"c\"]",
+        );
+        assert!(Problem::from_toml(&(polygon + "\n[refinement]\n")).unwrap().adaptive.is_some());
+        let holed = Problem::from_toml(&(BODY.replace(
+            "y = [0.0, 1.0]",
+            "y = [0.0, 1.0]\nholes = [{ kind = \"disk\", center = [2.0, 0.5], radius = 0.2, name = \"hole\" }]",
         ) + "\n[refinement]\n"))
         .unwrap_err()
         .to_string();
-        assert!(disk.contains("`refinement`") && disk.contains("rectangle"), "{disk}");
+        assert!(holed.contains("`refinement`") && holed.contains("without holes"), "{holed}");
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
         let two = std::fs::read_to_string(path).unwrap();
@@ -454,6 +460,15 @@ plane = "stress"
             ]
         );
         assert!(with("").unwrap().refinement.is_empty());
+        // A band along a curved edge: squares of half-side `width` along it.
+        let quarter = Problem::from_toml(&(BODY.replace(
+            "kind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]",
+            "kind = \"curves\"\nstart = [1.0, 0.0]\ncurves = [{ name = \"arc\", to = [0.0, 1.0], center = [0.0, 0.0] }, { name = \"left\", to = [0.0, 0.0] }, { name = \"bottom\", to = [1.0, 0.0] }]",
+        ) + "\n[[nodes.refine]]\nedge = \"arc\"\nspacing = 0.05\nwidth = 0.1"))
+        .unwrap();
+        let boxes = &quarter.refinement.boxes;
+        assert_eq!(boxes.len(), 17, "{boxes:?}");
+        assert_eq!(boxes[0], RefineBox { x: [0.9, 1.1], y: [-0.1, 0.1], spacing: 0.05 });
         for (tables, key) in [
             (
                 "[[nodes.refine]]\nedge = \"bottom\"\nspacing = 0.5\nwidth = 0.5",

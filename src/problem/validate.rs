@@ -660,8 +660,8 @@ fn node_layout(
     Ok((h, layout, None))
 }
 
-/// `[refinement]` → the adaptive loop's parameters (rectangles, one body or two in one
-/// contact pair, MFVM only).
+/// `[refinement]` → the adaptive loop's parameters (one body without holes, not from Gmsh, or
+/// two rectangles in one contact pair; MFVM only).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
     if problem.multibody.is_some() {
         return Err(invalid(
@@ -670,18 +670,27 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
             "adaptive refinement is implemented for one body or two bodies in one contact pair; refine more bodies statically with [[body]] nodes.refine tables",
         ));
     }
-    for (k, p) in std::iter::once(problem).chain(problem.second_body.as_deref()).enumerate() {
-        if p.domain.as_rectangle().is_none() {
-            let which = if problem.second_body.is_some() {
-                format!("(body[{k}] is not a rectangle)")
-            } else {
-                "(not a rectangle)".into()
-            };
-            return Err(invalid(
-                "refinement",
-                which,
-                "adaptive refinement is implemented for geometry kind = \"rectangle\" only",
-            ));
+    let gmsh = problem
+        .domain
+        .curves()
+        .iter()
+        .any(|c| matches!(c, crate::geometry::Curve::Polyline { .. }));
+    if problem.domain.has_holes() || problem.mesh_nodes.is_some() || gmsh {
+        return Err(invalid(
+            "refinement",
+            "(a domain with holes or a Gmsh body)",
+            "adaptive refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
+        ));
+    }
+    if problem.second_body.is_some() {
+        for (k, p) in std::iter::once(problem).chain(problem.second_body.as_deref()).enumerate() {
+            if p.domain.as_rectangle().is_none() {
+                return Err(invalid(
+                    "refinement",
+                    format!("(body[{k}] is not a rectangle)"),
+                    "adaptive refinement of two bodies is implemented for geometry kind = \"rectangle\" only",
+                ));
+            }
         }
     }
     if problem.discretisation.method == Method::Fem {
@@ -726,7 +735,8 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
     })
 }
 
-/// `[[nodes.refine]]` → the refinement regions (rectangles only, MFVM only).
+/// `[[nodes.refine]]` → the refinement regions (rectangles, polygons, curves and disks without
+/// holes; MFVM only).
 fn refinement(
     nodes: &NodesFile,
     geometry: &GeometryFile,
@@ -737,14 +747,26 @@ fn refinement(
     if nodes.refine.is_empty() {
         return Ok(Refinement::default());
     }
-    let Some((dx, dy)) =
-        domain.as_rectangle().filter(|_| matches!(geometry, GeometryFile::Rectangle { .. }))
-    else {
-        return Err(invalid(
-            "nodes.refine",
-            format!("{} table(s)", nodes.refine.len()),
-            "refinement is implemented for kind = \"rectangle\" only",
-        ));
+    // Rectangles: bands are boxes; other loops (no holes): bands are squares along the edge.
+    let rectangle =
+        domain.as_rectangle().filter(|_| matches!(geometry, GeometryFile::Rectangle { .. }));
+    let loop_kind = matches!(
+        geometry,
+        GeometryFile::Polygon { .. } | GeometryFile::Curves { .. } | GeometryFile::Disk { .. }
+    );
+    let (dx, dy) = match rectangle {
+        Some(r) => r,
+        None if loop_kind && !domain.has_holes() => {
+            let (lo, hi) = domain.bounding_box();
+            ([lo[0], hi[0]], [lo[1], hi[1]])
+        }
+        None => {
+            return Err(invalid(
+                "nodes.refine",
+                format!("{} table(s)", nodes.refine.len()),
+                "refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
+            ));
+        }
     };
     if method == Method::Fem {
         return Err(invalid(
@@ -781,9 +803,10 @@ fn refinement(
                         format!("no such edge; the edges are {:?}", domain.edge_names()),
                     )
                 })?;
-                let extent = match e {
-                    0 | 2 => dy[1] - dy[0],
-                    _ => dx[1] - dx[0],
+                let extent = match (rectangle, e) {
+                    (Some(_), 0 | 2) => dy[1] - dy[0],
+                    (Some(_), _) => dx[1] - dx[0],
+                    (None, _) => (dy[1] - dy[0]).min(dx[1] - dx[0]),
                 };
                 if !(width.is_finite() && width > 0.0 && width <= extent) {
                     return Err(invalid(
@@ -793,6 +816,32 @@ fn refinement(
                             "must be a positive number at most the extent across the edge ({extent})"
                         ),
                     ));
+                }
+                if rectangle.is_none() {
+                    // Squares of half-side `width` centred at points at most `width` apart
+                    // along the edge: every point within `width` of it (max norm).
+                    let c = domain.curve(e);
+                    let n = (c.length() / width).ceil().max(1.0);
+                    if n > 1.0e5 {
+                        return Err(invalid(
+                            &key("width"),
+                            width,
+                            format!(
+                                "is too small for edge {edge:?} (length {:.4e}): at most 100 000 widths along a curved or slanted edge",
+                                c.length()
+                            ),
+                        ));
+                    }
+                    let n = n as usize;
+                    boxes.extend((0..=n).map(|i| {
+                        let p = c.point_at(i as f64 / n as f64);
+                        RefineBox {
+                            x: [p[0] - width, p[0] + width],
+                            y: [p[1] - width, p[1] + width],
+                            spacing: s,
+                        }
+                    }));
+                    continue;
                 }
                 // Rectangle edges: bottom, right, top, left.
                 match e {
@@ -815,11 +864,12 @@ fn refinement(
                     }
                 }
                 if x[1] <= dx[0] || x[0] >= dx[1] || y[1] <= dy[0] || y[0] >= dy[1] {
+                    let what = if rectangle.is_some() { "rectangle" } else { "bounding box" };
                     return Err(invalid(
                         &key("x"),
                         format!("[{}, {}] (y = [{}, {}])", x[0], x[1], y[0], y[1]),
                         format!(
-                            "the box must overlap the rectangle x = [{}, {}], y = [{}, {}]",
+                            "the box must overlap the {what} x = [{}, {}], y = [{}, {}]",
                             dx[0], dx[1], dy[0], dy[1]
                         ),
                     ));

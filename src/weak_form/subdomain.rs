@@ -50,8 +50,9 @@ impl Cell {
 
 /// Builds the clipped Voronoi cell of every node.
 ///
-/// Each cell starts as the domain's polygonal approximation ([`Domain::boundary_polygon`];
-/// for polygons with many vertices, its part inside a box around the node) and is clipped by
+/// Each cell starts as the domain's polygonal approximation, its arcs as the chords between
+/// their boundary nodes ([`Domain::boundary_rings_through`]; for polygons with many vertices,
+/// its part inside a box around the node) and is clipped by
 /// the bisector half-planes of the nearby nodes, nearest first, until every node closer than
 /// twice the cell's radius has been used (the security-radius criterion), so the result is
 /// exact. Clipping a non-convex start polygon by half-planes is exact as long as each clipped
@@ -69,11 +70,12 @@ impl Cell {
 pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellError> {
     let h = nodes.spacing.iter().fold(0.0f64, |m, &v| m.max(v));
     let grid = NeighbourGrid::new(&nodes.points, 2.0 * h);
+    let on_arcs = arc_boundary_nodes(domain, nodes);
+    let rings = domain.boundary_rings_through(h, |k| on_arcs[k].clone());
     let starts: Vec<Cell> = if domain.has_holes() {
-        let rings = domain.boundary_rings(h);
         CUT_DIRECTIONS.iter().filter_map(|&e| keyhole(&rings, e)).collect()
     } else {
-        let (vertices, labels) = domain.boundary_polygon(h);
+        let (vertices, labels) = rings.into_iter().next().unwrap_or_default();
         vec![Cell { vertices, labels: labels.into_iter().map(EdgeLabel::Boundary).collect() }]
     };
     (0..nodes.len())
@@ -86,6 +88,36 @@ pub fn build_cells(domain: &Domain, nodes: &Nodes) -> Result<Vec<Cell>, CellErro
                 }
             }
             Err(CellError::HoleCut { node: i, point: nodes.points[i] })
+        })
+        .collect()
+}
+
+/// Per domain edge, the positions of the nodes on it when it is an arc (empty otherwise): the
+/// nodes tagged with the edge, from its start (included) to its end (excluded, unless it is
+/// also the start: a full circle), by their parameter along it. These are the vertices of the
+/// arc's chords in the cells' start polygon ([`Domain::boundary_rings_through`]), so that every
+/// boundary face lies between two boundary nodes of the arc at any grading (on a uniform set
+/// they are the arc's [`crate::geometry::Curve::division_points`]).
+fn arc_boundary_nodes(domain: &Domain, nodes: &Nodes) -> Vec<Vec<Point>> {
+    let mut on: Vec<Vec<(f64, usize)>> = vec![Vec::new(); domain.edge_count()];
+    for (i, set) in nodes.edges.iter().enumerate() {
+        for k in set.iter() {
+            let c = domain.curve(k);
+            if !matches!(c, crate::geometry::Curve::Arc { .. }) {
+                continue;
+            }
+            let p = nodes.points[i];
+            let tol2 = (1e-9 * nodes.spacing[i]).powi(2);
+            if dist2(p, c.end()) <= tol2 && dist2(p, c.start()) > tol2 {
+                continue;
+            }
+            on[k].push((domain.edge_parameter(k, p), i));
+        }
+    }
+    on.into_iter()
+        .map(|mut list| {
+            list.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            list.into_iter().map(|(_, i)| nodes.points[i]).collect()
         })
         .collect()
 }
@@ -396,6 +428,56 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// A graded set on a quarter disk (`nodes::generate_graded_curved`, refined in a box at the
+    /// arc): the cells start from the chords between the arc's own boundary nodes, so they
+    /// tile that polygon and only boundary nodes own boundary faces (with the arc divided at
+    /// the largest spacing instead, fine-spaced arc nodes would lose their boundary faces).
+    #[test]
+    fn graded_curved_cells_tile_the_polygon_through_the_boundary_nodes() {
+        use crate::geometry::Curve;
+        use crate::problem::{RefineBox, Refinement};
+        let d = Domain::from_curves(
+            vec![
+                Curve::Segment { a: [0.0, 0.0], b: [1.0, 0.0] },
+                Curve::arc_between([1.0, 0.0], [0.0, 1.0], [0.0, 0.0], true),
+                Curve::Segment { a: [0.0, 1.0], b: [0.0, 0.0] },
+            ],
+            ["bottom", "arc", "left"].iter().map(|s| s.to_string()).collect(),
+        )
+        .unwrap();
+        let r =
+            Refinement { boxes: vec![RefineBox { x: [0.6, 0.8], y: [0.6, 0.8], spacing: 0.0125 }] };
+        for layout in [Layout::Structured, Layout::Jittered { amplitude: 0.3, seed: 5 }] {
+            let nodes = crate::nodes::generate_graded_curved(&d, 0.1, layout, |lo, hi| {
+                r.min_spacing_in(0.1, lo, hi)
+            })
+            .unwrap();
+            let cells = build_cells(&d, &nodes).unwrap();
+            let mut arc: Vec<(f64, Point)> = (0..nodes.len())
+                .filter(|&i| nodes.edges[i].contains(1))
+                .map(|i| (d.edge_parameter(1, nodes.points[i]), nodes.points[i]))
+                .collect();
+            arc.sort_by(|a, b| a.0.total_cmp(&b.0));
+            // The polygon (0, 0) → the arc's nodes → back: its area.
+            let mut poly = vec![[0.0, 0.0]];
+            poly.extend(arc.iter().map(|a| a.1));
+            let poly_area = 0.5
+                * (0..poly.len())
+                    .map(|k| {
+                        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+                        a[0] * b[1] - b[0] * a[1]
+                    })
+                    .sum::<f64>();
+            let total = total_area(&cells);
+            assert!((total - poly_area).abs() < 1e-12, "{layout:?}: {total} vs {poly_area}");
+            for (i, c) in cells.iter().enumerate() {
+                assert!(c.area() > 0.0);
+                let owns = c.labels.iter().any(|l| matches!(l, EdgeLabel::Boundary(_)));
+                assert_eq!(owns, !nodes.edges[i].is_empty(), "{layout:?}: node {i}");
             }
         }
     }

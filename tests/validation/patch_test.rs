@@ -9,7 +9,10 @@
 //! Graded node sets (docs/method.md §2.1) must pass too: the MLS consistency and the cell
 //! tiling do not depend on the node spacing being uniform, so the same bound holds on three
 //! gradings (a band along an edge, a box two levels finer, both), structured and jittered;
-//! and on a node set refined by the adaptive loop (docs/method.md §2.2).
+//! and on a node set refined by the adaptive loop (docs/method.md §2.2). Curved domains too
+//! (the Hertz quarter cylinder: two arcs and two segments), graded along the contact arc and
+//! in a box across the second arc, where the boundary nodes, the inner layer and the lattice
+//! all change spacing (`nodes::generate_graded_curved`).
 
 use super::common::*;
 use mlpg_contact::geometry::Domain;
@@ -29,12 +32,25 @@ fn exact(p: [f64; 2]) -> [f64; 2] {
 
 fn run_graded(layout: Layout, refinement: Refinement, beta: f64, support_factor: f64) -> f64 {
     let domain = Domain::rectangle([0.0, 2.0], [0.0, 2.0]).unwrap();
-    let mut problem = base_problem(domain, 0.2, layout, plane_stress(1000.0, 0.3));
+    run_graded_on(domain, 0.2, layout, refinement, beta, support_factor)
+}
+
+/// The patch test on `domain` at the nominal spacing `h0` (every edge held by the exact field).
+fn run_graded_on(
+    domain: Domain,
+    h0: f64,
+    layout: Layout,
+    refinement: Refinement,
+    beta: f64,
+    support_factor: f64,
+) -> f64 {
+    let edges = domain.edge_count();
+    let mut problem = base_problem(domain, h0, layout, plane_stress(1000.0, 0.3));
     problem.refinement = refinement;
     problem.discretisation.beta = beta;
     problem.discretisation.mls.support_factor = support_factor;
     let u: VectorField = Arc::new(exact);
-    problem.boundary = vec![displacement(u); 4];
+    problem.boundary = vec![displacement(u); edges];
     let s = mlpg_contact::solve(&problem).unwrap();
     let scale = 1e-3 * 6.0;
     let nodes = mlpg_contact::nodes::for_problem(&problem).unwrap();
@@ -136,4 +152,59 @@ fn patch_test_adaptively_refined() {
         let refinement = adaptive_grading(layout);
         check_graded(&format!("adaptive, {layout:?}"), layout, refinement);
     }
+}
+
+/// The Hertz quarter cylinder (radius 1 about `(0, 1)`, the arc split at 30° from the bottom),
+/// as `problems/hertz_cylinder.toml`.
+fn quarter_cylinder() -> Domain {
+    use mlpg_contact::geometry::Curve;
+    let c = [0.0, 1.0];
+    let split = [0.5, 1.0 - 0.75f64.sqrt()];
+    Domain::from_curves(
+        vec![
+            Curve::arc_between([0.0, 0.0], split, c, true),
+            Curve::arc_between(split, [1.0, 1.0], c, true),
+            Curve::Segment { a: [1.0, 1.0], b: [0.0, 1.0] },
+            Curve::Segment { a: [0.0, 1.0], b: [0.0, 0.0] },
+        ],
+        ["arc", "rim", "top", "axis"].iter().map(|s| s.to_string()).collect(),
+    )
+    .unwrap()
+}
+
+/// Gradings of the quarter cylinder at `h₀ = 0.1`: a box of `h₀/8` around the contact (three
+/// transition levels along the arc, the layer and the lattice), and that with a box of `h₀/2`
+/// across the rim, the `arc`–`rim` corner and the diameter.
+fn curved_gradings() -> [(&'static str, Refinement); 2] {
+    let contact = RefineBox { x: [0.0, 0.15], y: [0.0, 0.03], spacing: 0.0125 };
+    let rim = RefineBox { x: [0.45, 0.9], y: [0.1, 0.95], spacing: 0.05 };
+    [
+        ("contact", Refinement { boxes: vec![contact] }),
+        ("contact+rim", Refinement { boxes: vec![contact, rim] }),
+    ]
+}
+
+fn check_graded_curved(layout: Layout) {
+    for (name, refinement) in curved_gradings() {
+        let cases = BETAS.iter().map(|&b| (b, 2.0)).chain([(0.5, 3.0), (1.0, 3.0)]);
+        for (beta, alpha) in cases {
+            let err =
+                run_graded_on(quarter_cylinder(), 0.1, layout, refinement.clone(), beta, alpha);
+            println!("quarter cylinder {name}, {layout:?}, α_s = {alpha}, β = {beta}: {err:.3e}");
+            assert!(
+                err < TOLERANCE,
+                "quarter cylinder {name}, {layout:?}: patch test error {err:.3e} at α_s = {alpha}, β = {beta}"
+            );
+        }
+    }
+}
+
+#[test]
+fn patch_test_graded_curved_structured() {
+    check_graded_curved(Layout::Structured);
+}
+
+#[test]
+fn patch_test_graded_curved_jittered() {
+    check_graded_curved(Layout::Jittered { amplitude: 0.3, seed: 5 });
 }
