@@ -66,7 +66,7 @@ pub enum Error {
     },
     /// The run would need more memory than the process may use.
     #[error(
-        "this problem needs about {gb:.1} GB ({nodes:.0} nodes), more than the {avail:.1} GB {limit} leaves: increase nodes.spacing (the memory grows as 1/spacing²), lower discretisation.support_factor, or set discretisation.precision = \"mixed\" (MFVM)",
+        "this problem needs about {gb:.1} GB ({nodes:.0} nodes), more than the {avail:.1} GB {limit} leaves: increase nodes.spacing (the memory grows as 1/spacing²), lower discretisation.support_factor{precision_hint}",
         gb = estimate / 1e9,
         avail = available / 1e9
     )]
@@ -79,6 +79,9 @@ pub enum Error {
         available: f64,
         /// Which limit.
         limit: &'static str,
+        /// `", or set discretisation.precision = \"mixed\" (MFVM)"` when the factors would be
+        /// double precision, else empty (the advice is already taken).
+        precision_hint: &'static str,
     },
     /// Writing outputs failed (stage 9).
     #[error(transparent)]

@@ -248,5 +248,27 @@ fn a_problem_that_cannot_fit_in_memory_is_refused_up_front() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("the address-space limit"), "{stderr}");
     assert!(stderr.contains("increase nodes.spacing"), "{stderr}");
+    assert!(stderr.contains("set discretisation.precision = \"mixed\""), "{stderr}");
+    assert!(!dir.join("out").exists());
+
+    // The same body in mixed precision (estimated at 0.6 of the double-precision bytes,
+    // ~2.6 GB) under a 2 GB limit: refused too, and the advice no longer names the precision
+    // the file already sets.
+    let text = std::fs::read_to_string(repro("r7_mem.toml")).unwrap();
+    let mixed = dir.join("r7_mem_mixed.toml");
+    std::fs::write(&mixed, format!("{text}\n[discretisation]\nprecision = \"mixed\"\n")).unwrap();
+    let command = format!(
+        "ulimit -v 2000000 && exec '{}' '{}' --out '{}' --quiet",
+        binary(),
+        mixed.display(),
+        dir.join("out").display()
+    );
+    let Ok(out) = Command::new("sh").arg("-c").arg(&command).output() else {
+        return;
+    };
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("increase nodes.spacing"), "{stderr}");
+    assert!(!stderr.contains("set discretisation.precision"), "{stderr}");
     assert!(!dir.join("out").exists());
 }

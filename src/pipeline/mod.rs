@@ -174,7 +174,13 @@ fn check_memory(problem: &Problem) -> Result<(), Error> {
     let (need, nodes) = memory::estimate(problem);
     match memory::limit() {
         Some((available, what)) if need > available => {
-            Err(Error::Memory { estimate: need, nodes, available, limit: what })
+            let precision_hint = match memory::precision(problem) {
+                crate::linear_solve::FactorPrecision::Double => {
+                    ", or set discretisation.precision = \"mixed\" (MFVM)"
+                }
+                crate::linear_solve::FactorPrecision::Mixed => "",
+            };
+            Err(Error::Memory { estimate: need, nodes, available, limit: what, precision_hint })
         }
         _ => Ok(()),
     }
