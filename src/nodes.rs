@@ -284,35 +284,11 @@ pub fn generate_graded_at_most(
         let at = |v: [f64; 2], k: u64, n: f64| v[0] + (v[1] - v[0]) * k as f64 / n;
         ([at(x, i, cx), at(y, j, cy)], [at(x, i + 1, cx), at(y, j + 1, cy)])
     };
-    // Split cells, per level: `split[L]` holds (i, j) of the level-L cells that have children.
-    let mut split: Vec<std::collections::BTreeSet<(u64, u64)>> = vec![Default::default()];
-    let mut stack: Vec<(u32, u64, u64)> =
-        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
-    let mut cells = 0u64;
-    while let Some((level, i, j)) = stack.pop() {
-        let (a, b) = cell_box(level, i, j);
-        let nominal = h0 / (1u64 << level) as f64;
-        if level < MAX_LEVEL && nominal > min_spacing(a, b) * (1.0 + 1e-9) {
-            cells += 3;
-            if (nx * ny + cells + nx + ny + 1) as f64 > max_nodes as f64 {
-                return Ok(None);
-            }
-            if cells as f64 > 5.0e7 {
-                return Err(GeometryError::Spacing {
-                    spacing: h0,
-                    size,
-                    reason: "the refinement would create more than 50 million nodes",
-                });
-            }
-            if split.len() <= level as usize {
-                split.resize_with(level as usize + 1, Default::default);
-            }
-            split[level as usize].insert((i, j));
-            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                stack.push((level + 1, 2 * i + di, 2 * j + dj));
-            }
-        }
-    }
+    let Some(mut split) =
+        split_cells([nx, ny], h0, size, cell_box, &min_spacing, |_, _| true, Some(max_nodes))?
+    else {
+        return Ok(None);
+    };
     balance(&mut split, nx, ny);
     // Corner cells: a leaf at a corner of the rectangle whose cell across its inner vertex is
     // split while its two side neighbours are not gives that vertex `h_I = size/√2`, a support
@@ -388,6 +364,57 @@ pub fn generate_graded_at_most(
     Ok(Some(Nodes { points, spacing, edges }))
 }
 
+/// A quadtree's split cells per level: `[L]` holds `(i, j)` of the level-`L` cells with children.
+type SplitCells = Vec<std::collections::BTreeSet<(u64, u64)>>;
+
+/// The split cells of a quadtree over `nx × ny` root cells of nominal size `h0`, per level:
+/// `split[L]` holds `(i, j)` of the level-`L` cells that have children. A cell
+/// (`cell_box(level, i, j)`) is split while its nominal size `h0 / 2^L` exceeds `min_spacing`
+/// over it and `meets` it (the domain), down to [`MAX_LEVEL`]; not balanced. `None` as soon as
+/// the leaves' corners would exceed `max_nodes`.
+///
+/// # Errors
+/// [`GeometryError::Spacing`] beyond 50 million nodes (`size`: the domain's, for the message).
+fn split_cells(
+    [nx, ny]: [u64; 2],
+    h0: f64,
+    size: f64,
+    cell_box: impl Fn(u32, u64, u64) -> (Point, Point),
+    min_spacing: &impl Fn(Point, Point) -> f64,
+    meets: impl Fn(Point, Point) -> bool,
+    max_nodes: Option<usize>,
+) -> Result<Option<SplitCells>, GeometryError> {
+    let mut split: SplitCells = vec![Default::default()];
+    let mut stack: Vec<(u32, u64, u64)> =
+        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
+    let mut cells = 0u64;
+    while let Some((level, i, j)) = stack.pop() {
+        let (a, b) = cell_box(level, i, j);
+        let nominal = h0 / (1u64 << level) as f64;
+        if level < MAX_LEVEL && nominal > min_spacing(a, b) * (1.0 + 1e-9) && meets(a, b) {
+            cells += 3;
+            if max_nodes.is_some_and(|m| (nx * ny + cells + nx + ny + 1) as f64 > m as f64) {
+                return Ok(None);
+            }
+            if cells as f64 > 5.0e7 {
+                return Err(GeometryError::Spacing {
+                    spacing: h0,
+                    size,
+                    reason: "the refinement would create more than 50 million nodes",
+                });
+            }
+            if split.len() <= level as usize {
+                split.resize_with(level as usize + 1, Default::default);
+            }
+            split[level as usize].insert((i, j));
+            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                stack.push((level + 1, 2 * i + di, 2 * j + dj));
+            }
+        }
+    }
+    Ok(Some(split))
+}
+
 /// Generates a graded node set in a domain that is not a rectangle (a convex polygon, or a
 /// loop of segments and arcs) from a spacing function (docs/method.md §2.1): the curved
 /// counterpart of [`generate_graded`], laid out like [`generate`]'s curved sets.
@@ -454,31 +481,10 @@ pub fn generate_graded_curved(
         let r = 0.5 * (b[0] - a[0]).hypot(b[1] - a[1]);
         domain.contains(c) || domain.boundary_distance(c) <= r * (1.0 + 1e-9)
     };
-    let mut split: Vec<std::collections::BTreeSet<(u64, u64)>> = vec![Default::default()];
-    let mut stack: Vec<(u32, u64, u64)> =
-        (0..ny).flat_map(|j| (0..nx).map(move |i| (0, i, j))).collect();
-    let mut cells = 0u64;
-    while let Some((level, i, j)) = stack.pop() {
-        let (a, b) = cell_box(level, i, j);
-        let nominal = h0 / (1u64 << level) as f64;
-        if level < MAX_LEVEL && nominal > min_spacing(a, b) * (1.0 + 1e-9) && meets(a, b) {
-            cells += 3;
-            if cells as f64 > 5.0e7 {
-                return Err(GeometryError::Spacing {
-                    spacing: h0,
-                    size,
-                    reason: "the refinement would create more than 50 million nodes",
-                });
-            }
-            if split.len() <= level as usize {
-                split.resize_with(level as usize + 1, Default::default);
-            }
-            split[level as usize].insert((i, j));
-            for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
-                stack.push((level + 1, 2 * i + di, 2 * j + dj));
-            }
-        }
-    }
+    let Some(mut split) = split_cells([nx, ny], h0, size, cell_box, &min_spacing, meets, None)?
+    else {
+        unreachable!("no node bound given");
+    };
     balance(&mut split, nx, ny);
     let depth = split.iter().rposition(|s| !s.is_empty()).map_or(0, |l| l as u32 + 1);
     let is_split =

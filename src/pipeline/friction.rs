@@ -657,12 +657,6 @@ pub(super) fn solve_frictional_active_set(
         target.as_ref().map(|tg| (tg.model, &tg.operator)),
     );
     let m = candidates.len();
-    fn points(m: &Model) -> Option<&[geometry::Point]> {
-        match m.scheme {
-            Scheme::Mfvm(_) => Some(m.nodes.points.as_slice()),
-            Scheme::Fem(_) => None,
-        }
-    }
     let friction_in = |k: usize| -> Vec<f64> {
         free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect()
     };
@@ -688,40 +682,17 @@ pub(super) fn solve_frictional_active_set(
     let mut total_evaluations = 0;
     let work = clock.run("friction", || -> Result<_, Error> {
         let mut system = match (&target, &target_tangential) {
-            (Some(tg), Some(_)) => {
-                fn parts<'a>(
-                    m: &'a Model,
-                    op: &'a contact::BodyOperator,
-                ) -> lcp::active_set::BodyParts<'a> {
-                    lcp::active_set::BodyParts {
-                        matrix: &m.system.matrix,
-                        rhs: &m.system.rhs,
-                        factorisation: &m.factorisation,
-                        operator: op,
-                        points: points(m),
-                    }
-                }
-                SparseFriction::Pair(
-                    lcp::active_set::TwoBodies::new(
-                        parts(model, &candidates.operator),
-                        parts(tg.model, &tg.operator),
-                        &candidates.initial_gap,
-                        model.system.collocation_scale,
-                    )
-                    .map_err(lcp::LcpError::from)?,
-                )
-            }
-            _ => SparseFriction::Rigid(
-                lcp::active_set::RigidObstacle::new(
-                    &model.system.matrix,
-                    &model.system.rhs,
-                    &model.factorisation,
-                    &candidates.operator,
+            (Some(tg), Some(_)) => SparseFriction::Pair(
+                lcp::active_set::TwoBodies::new(
+                    super::body_parts(model, &candidates.operator),
+                    super::body_parts(tg.model, &tg.operator),
                     &candidates.initial_gap,
                     model.system.collocation_scale,
-                    points(model),
                 )
                 .map_err(lcp::LcpError::from)?,
+            ),
+            _ => SparseFriction::Rigid(
+                super::rigid_obstacle(model, &candidates).map_err(lcp::LcpError::from)?,
             ),
         };
         for (k, end) in steps.iter().enumerate() {

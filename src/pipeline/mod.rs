@@ -516,6 +516,42 @@ fn solve_contact(
     Ok((u1, u2, contact))
 }
 
+/// The node coordinates the active-set solver orders its factorisations by (MFVM; the FE
+/// path's meshes use the default ordering).
+fn node_points(m: &Model) -> Option<&[geometry::Point]> {
+    match m.scheme {
+        Scheme::Mfvm(_) => Some(m.nodes.points.as_slice()),
+        Scheme::Fem(_) => None,
+    }
+}
+
+/// One body's part of a two-body active-set system.
+fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> lcp::active_set::BodyParts<'a> {
+    lcp::active_set::BodyParts {
+        matrix: &m.system.matrix,
+        rhs: &m.system.rhs,
+        factorisation: &m.factorisation,
+        operator: op,
+        points: node_points(m),
+    }
+}
+
+/// The active-set system of one body against rigid obstacles.
+fn rigid_obstacle<'a>(
+    model: &'a Model,
+    candidates: &'a contact::Candidates,
+) -> Result<lcp::active_set::RigidObstacle<'a>, lcp::active_set::ActiveSetError> {
+    lcp::active_set::RigidObstacle::new(
+        &model.system.matrix,
+        &model.system.rhs,
+        &model.factorisation,
+        &candidates.operator,
+        &candidates.initial_gap,
+        model.system.collocation_scale,
+        node_points(model),
+    )
+}
+
 /// The active-set solver (docs/method.md §5.1), against a rigid obstacle or, with `second`
 /// (the target's operator and model), between two bodies: no `M`, so none of its checks; the
 /// displacements are those of the final active set's problem (no solve with `K` alone, which
@@ -527,41 +563,18 @@ fn solve_active_set(
     second: Option<(contact::BodyOperator, &Model)>,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    fn points(m: &Model) -> Option<&[geometry::Point]> {
-        match m.scheme {
-            Scheme::Mfvm(_) => Some(m.nodes.points.as_slice()),
-            Scheme::Fem(_) => None,
-        }
-    }
-    fn parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> lcp::active_set::BodyParts<'a> {
-        lcp::active_set::BodyParts {
-            matrix: &m.system.matrix,
-            rhs: &m.system.rhs,
-            factorisation: &m.factorisation,
-            operator: op,
-            points: points(m),
-        }
-    }
     let params = lcp::active_set::ActiveSetParams::default();
     let (answer, u1, u2, work) = clock.run("active_set", || match &second {
         None => {
-            let mut system = lcp::active_set::RigidObstacle::new(
-                &model.system.matrix,
-                &model.system.rhs,
-                &model.factorisation,
-                &candidates.operator,
-                &candidates.initial_gap,
-                model.system.collocation_scale,
-                points(model),
-            )?;
+            let mut system = rigid_obstacle(model, &candidates)?;
             let answer = lcp::active_set::solve(&mut system, &params)?;
             let u1 = system.final_displacements(&answer.active)?;
             Ok::<_, lcp::LcpError>((answer, u1, None, system.stats))
         }
         Some((op, m2)) => {
             let mut system = lcp::active_set::TwoBodies::new(
-                parts(model, &candidates.operator),
-                parts(m2, op),
+                body_parts(model, &candidates.operator),
+                body_parts(m2, op),
                 &candidates.initial_gap,
                 model.system.collocation_scale,
             )?;
