@@ -497,16 +497,7 @@ pub(super) fn solve_frictional(
         z: step.normal.clone(),
         pivots: step.pivots,
     };
-    // The gaps from the obstacle's final position (the force's: where the search put it).
-    if let Some(end) = steps.last() {
-        let d = load_driven.as_ref().map_or(end.obstacle, |l| l.displacement);
-        for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
-            let dn = d[0] * nu[0] + d[1] * nu[1];
-            if dn != 0.0 {
-                *g -= dn;
-            }
-        }
-    }
+    move_to_final_obstacle(&mut candidates, steps, load_driven.as_ref());
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();
     let target_operator = target.map(|tg| tg.operator);
@@ -527,15 +518,44 @@ pub(super) fn solve_frictional(
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
     history.finish(&mut friction);
     friction.target_operator = target_tangential;
-    // A translation held by the contact without load steps is a frictionless one-step
-    // problem (it only took this path for the search): no frictional record, as on the
-    // direct path.
+    attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
+    Ok((u, u2, contact))
+}
+
+/// The initial gaps measured from the obstacle's final position: the last step's, or where
+/// the force search put it (docs/method.md §4.6).
+fn move_to_final_obstacle(
+    candidates: &mut contact::Candidates,
+    steps: &[StepEnd],
+    load_driven: Option<&solution::LoadDriven>,
+) {
+    if let Some(end) = steps.last() {
+        let d = load_driven.map_or(end.obstacle, |l| l.displacement);
+        for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
+            let dn = d[0] * nu[0] + d[1] * nu[1];
+            if dn != 0.0 {
+                *g -= dn;
+            }
+        }
+    }
+}
+
+/// The records both frictional paths end with. A translation held by the contact without
+/// load steps is a frictionless one-step problem (it only took a frictional path for the
+/// search): no frictional record, as on the direct path.
+fn attach_records(
+    contact: &mut ContactSolution,
+    problem: &Problem,
+    friction: solution::FrictionContact,
+    pinned: Option<assembly::PinnedMode>,
+    load_driven: Option<solution::LoadDriven>,
+    rigid_mode: Option<solution::RigidMode>,
+) {
     if pinned.is_none() || !problem.steps.is_empty() {
         contact.friction = Some(friction);
     }
     contact.load_driven = load_driven;
     contact.rigid_mode = rigid_mode;
-    Ok((u, u2, contact))
 }
 
 /// The checks of a rigid translation of the body held by the contact alone (docs/method.md
@@ -912,16 +932,7 @@ pub(super) fn solve_frictional_active_set(
         z: step.normal.clone(),
         pivots: iterations,
     };
-    // The gaps from the obstacle's final position (the force's: where the search put it).
-    if let Some(end) = steps.last() {
-        let d = load_driven.as_ref().map_or(end.obstacle, |l| l.displacement);
-        for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
-            let dn = d[0] * nu[0] + d[1] * nu[1];
-            if dn != 0.0 {
-                *g -= dn;
-            }
-        }
-    }
+    move_to_final_obstacle(&mut candidates, steps, load_driven.as_ref());
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();
     let target_operator = target.map(|tg| tg.operator);
@@ -948,13 +959,7 @@ pub(super) fn solve_frictional_active_set(
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
     history.finish(&mut friction);
     friction.target_operator = target_tangential;
-    // A translation held by the contact without load steps is a frictionless one-step
-    // problem: no frictional record, as on Lemke's path.
-    if pinned.is_none() || !problem.steps.is_empty() {
-        contact.friction = Some(friction);
-    }
-    contact.load_driven = load_driven;
-    contact.rigid_mode = rigid_mode;
+    attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
     Ok((u, u2, contact))
 }
 
