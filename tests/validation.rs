@@ -43,6 +43,8 @@ mod validation {
     mod clamped_cantilever_measure;
     // Adaptive refinement on a curved body: the Hertz quarter cylinder against uniform.
     mod adaptive_hertz_cylinder;
+    // Adaptive refinement of two bodies, the first curved: Hertz cylinder on a block; Cattaneo–Mindlin.
+    mod adaptive_hertz_two_bodies;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.

@@ -220,20 +220,35 @@ fn refuse(problem: &Problem, reason: &str) -> Result<(), Error> {
     .into())
 }
 
-/// What the loop needs of a body: MFVM on a domain without holes; with two bodies
-/// (`pair`), rectangles (the two-body loop is tested on rectangles only).
-fn check_body(problem: &Problem, pair: bool) -> Result<(), Error> {
+/// What the loop needs of a body: MFVM on a domain without holes.
+fn check_body(problem: &Problem) -> Result<(), Error> {
     if problem.discretisation.method != crate::problem::Method::Mfvm {
         return refuse(problem, "adaptive refinement needs method = \"mfvm\"");
     }
     if problem.domain.has_holes() {
         return refuse(problem, "adaptive refinement is not implemented for domains with holes");
     }
-    if pair && problem.domain.as_rectangle().is_none() {
-        return refuse(
-            problem,
-            "adaptive refinement of two bodies is implemented for rectangles only",
-        );
+    Ok(())
+}
+
+/// With two bodies, the second body's target edge must be straight (docs/method.md §4.3):
+/// [`paired_marks`] projects onto it as a segment. The first body (the candidates') may be
+/// curved.
+fn check_target(problem: &Problem, second: &Problem) -> Result<(), Error> {
+    let edge = problem.contact.as_ref().and_then(|c| match c.target {
+        ContactTarget::Body { edge } => Some(edge),
+        _ => None,
+    });
+    let Some(edge) = edge else {
+        return refuse(problem, "two bodies need a contact pair whose target is the second body");
+    };
+    if second.domain.straight_normal(edge).is_none() {
+        return Err(crate::problem::ProblemError::Invalid {
+            field: "contact.target_edge".into(),
+            value: second.domain.edge_names().get(edge).cloned().unwrap_or_default(),
+            reason: "the adaptive loop pairs the contact marks with a straight target edge; this edge of the second body is curved".into(),
+        }
+        .into());
     }
     Ok(())
 }
@@ -285,8 +300,8 @@ fn marks(estimate: &Estimate, fraction: f64, contact: Vec<usize>) -> (Vec<usize>
 ///
 /// # Errors
 /// [`Error::Problem`] for several bodies or contact pairs, the FE method, a domain with holes
-/// or two bodies that are not both rectangles (what `[refinement]`'s validation refuses); any
-/// stage's error of any solve.
+/// (what `[refinement]`'s validation refuses) or a curved target edge of the second body (what
+/// the contact's validation refuses); any stage's error of any solve.
 pub fn solve_adaptive(
     problem: &Problem,
     adaptive: &Adaptive,
@@ -299,10 +314,10 @@ pub fn solve_adaptive(
             "adaptive refinement is implemented for one body or two bodies in one contact pair",
         )?;
     }
-    let pair = problem.second_body.is_some();
-    check_body(problem, pair)?;
+    check_body(problem)?;
     if let Some(p2) = problem.second_body.as_deref() {
-        check_body(p2, pair)?;
+        check_body(p2)?;
+        check_target(problem, p2)?;
     }
     let mut current = problem.clone();
     current.adaptive = None;
@@ -529,6 +544,29 @@ mod tests {
         assert_eq!(paired_marks(&domain, top, &nodes, &[[2.3, 1.0]]), vec![8]);
         // Several points: the union, ascending.
         assert_eq!(paired_marks(&domain, top, &nodes, &[[0.2, 1.0], [1.9, 1.0]]), vec![0, 2, 6, 8]);
+    }
+
+    #[test]
+    fn a_curved_target_edge_is_refused_naming_its_key() {
+        // The Cattaneo–Mindlin pair (a curved first body, accepted by validation), its second
+        // body replaced in code by a copy of the cylinder and the target by its arc.
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cattaneo_mindlin.toml");
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut p = Problem::from_toml(&format!("{text}\n[refinement]\n")).unwrap();
+        let a = p.adaptive.unwrap();
+        let mut cylinder = p.clone();
+        cylinder.second_body = None;
+        cylinder.contact = None;
+        let arc = cylinder.domain.edge_index("arc").unwrap();
+        p.second_body = Some(Box::new(cylinder));
+        p.contact.as_mut().unwrap().target = ContactTarget::Body { edge: arc };
+        let mut silent = crate::Silent;
+        let Err(e) = solve_adaptive(&p, &a, &mut silent, &mut |_, _, _, _| {}) else {
+            panic!("a curved target edge must be refused");
+        };
+        assert!(e.to_string().contains("`contact.target_edge`"), "{e}");
+        assert!(e.to_string().contains("curved"), "{e}");
     }
 
     #[test]

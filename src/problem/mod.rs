@@ -433,6 +433,21 @@ plane = "stress"
         let two = std::fs::read_to_string(path).unwrap();
         let p = Problem::from_toml(&format!("{two}\n[refinement]\n")).unwrap();
         assert!(p.adaptive.is_some() && p.second_body.is_some());
+        // A curved first body on a block (the Cattaneo–Mindlin pair) is accepted; a second
+        // body with a hole is refused, naming it.
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cattaneo_mindlin.toml");
+        let cm = std::fs::read_to_string(path).unwrap();
+        let p = Problem::from_toml(&format!("{cm}\n[refinement]\n")).unwrap();
+        assert!(p.adaptive.is_some() && p.second_body.is_some());
+        let block = "geometry = { kind = \"rectangle\", x = [-0.6, 0.6], y = [-0.4, 0.0] }";
+        assert!(cm.contains(block));
+        let holed = cm.replace(
+            block,
+            "geometry = { kind = \"rectangle\", x = [-0.6, 0.6], y = [-0.4, 0.0], holes = [{ kind = \"disk\", center = [0.0, -0.2], radius = 0.05, name = \"hole\" }] }",
+        );
+        let e = Problem::from_toml(&format!("{holed}\n[refinement]\n")).unwrap_err().to_string();
+        assert!(e.contains("`refinement`") && e.contains("body[1]"), "{e}");
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("problems/three_block_stack.toml");
         let three = std::fs::read_to_string(path).unwrap();

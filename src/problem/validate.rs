@@ -660,8 +660,8 @@ fn node_layout(
     Ok((h, layout, None))
 }
 
-/// `[refinement]` → the adaptive loop's parameters (one body without holes, not from Gmsh, or
-/// two rectangles in one contact pair; MFVM only).
+/// `[refinement]` → the adaptive loop's parameters (one body, or two bodies in one contact
+/// pair, each without holes and not from Gmsh; MFVM only).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
     if problem.multibody.is_some() {
         return Err(invalid(
@@ -670,27 +670,25 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
             "adaptive refinement is implemented for one body or two bodies in one contact pair; refine more bodies statically with [[body]] nodes.refine tables",
         ));
     }
-    let gmsh = problem
-        .domain
-        .curves()
-        .iter()
-        .any(|c| matches!(c, crate::geometry::Curve::Polyline { .. }));
-    if problem.domain.has_holes() || problem.mesh_nodes.is_some() || gmsh {
-        return Err(invalid(
-            "refinement",
-            "(a domain with holes or a Gmsh body)",
-            "adaptive refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
-        ));
-    }
-    if problem.second_body.is_some() {
-        for (k, p) in std::iter::once(problem).chain(problem.second_body.as_deref()).enumerate() {
-            if p.domain.as_rectangle().is_none() {
-                return Err(invalid(
-                    "refinement",
-                    format!("(body[{k}] is not a rectangle)"),
-                    "adaptive refinement of two bodies is implemented for geometry kind = \"rectangle\" only",
-                ));
-            }
+    // Each body: a loop without holes, not from Gmsh. With two bodies the first may be curved
+    // (its contact edge is the candidates'); the second body's target edge is straight
+    // (refused naming `contact.target_edge` before this, docs/method.md §4.3), which the
+    // paired contact marks need.
+    let pair = problem.second_body.is_some();
+    for (k, p) in std::iter::once(problem).chain(problem.second_body.as_deref()).enumerate() {
+        let gmsh =
+            p.domain.curves().iter().any(|c| matches!(c, crate::geometry::Curve::Polyline { .. }));
+        if p.domain.has_holes() || p.mesh_nodes.is_some() || gmsh {
+            let value = if pair {
+                format!("(body[{k}]: a domain with holes or a Gmsh body)")
+            } else {
+                "(a domain with holes or a Gmsh body)".to_string()
+            };
+            return Err(invalid(
+                "refinement",
+                value,
+                "adaptive refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
+            ));
         }
     }
     if problem.discretisation.method == Method::Fem {
