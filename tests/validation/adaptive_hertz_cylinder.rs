@@ -17,16 +17,12 @@
 //! indenter's `a/R` so that the floor is below the bound being tested.
 
 use super::common::shipped_problem;
-use super::hertz::{Outcome, measure};
+use super::hertz::{Outcome, assert_uniform_sets_miss, measure, uniform_spacings_up_to};
 
 /// The requirement's bound on the relative errors of `a` and `p₀`.
 const BOUND: f64 = 0.005;
 /// The requirement's node ratio: adaptive needs at most a fifth of the uniform nodes.
 const RATIO: usize = 5;
-
-fn error(o: &Outcome) -> f64 {
-    o.half_width.abs().max(o.peak.abs())
-}
 
 /// Checks the force balance and measures the Hertz quantities (`None` with fewer than four
 /// closed candidates, which the fit needs).
@@ -54,7 +50,7 @@ fn adaptive_quarter_cylinder_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
         &mut mlpg_contact::Silent,
         &mut |_, m, s, _| {
             let label = format!("adaptive, {} nodes", m.nodes.len());
-            rows.push((m.nodes.len(), checked(&label, s).as_ref().map(error)));
+            rows.push((m.nodes.len(), checked(&label, s).as_ref().map(Outcome::max_error)));
         },
     )
     .unwrap();
@@ -75,25 +71,13 @@ fn adaptive_quarter_cylinder_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
     let cap = RATIO * nodes;
     let count =
         |h: f64| mlpg_contact::nodes::generate(&problem.domain, h, problem.layout).unwrap().len();
-    let mut spacings: Vec<f64> = (1..)
-        .map(|k| problem.node_spacing / f64::from(1u32 << k))
-        .take_while(|&h| count(h) <= cap)
-        .collect();
-    let (mut fine, mut coarse) = (0.5 * spacings.last().unwrap(), *spacings.last().unwrap());
-    for _ in 0..12 {
-        let mid = 0.5 * (fine + coarse);
-        if count(mid) <= cap { coarse = mid } else { fine = mid }
-    }
-    spacings.push(coarse);
-    for h in spacings {
+    let spacings = uniform_spacings_up_to(problem.node_spacing, cap, count);
+    assert_uniform_sets_miss(&spacings, cap, BOUND, |h| {
         let mut uniform = problem.clone();
         uniform.adaptive = None;
         uniform.node_spacing = h;
         let s = mlpg_contact::solve(&uniform).unwrap();
-        let n = s.displacement.len();
-        assert!(n <= cap, "h = {h}: {n} nodes");
-        let e = checked(&format!("uniform h = {h:.5}"), &s).as_ref().map(error);
-        println!("uniform h = {h:.5} {n:>6} nodes: max Hertz error {e:?}");
-        assert!(e.is_none_or(|e| e > BOUND), "uniform h = {h} ({n} nodes) meets the bound: {e:?}");
-    }
+        let e = checked(&format!("uniform h = {h:.5}"), &s).as_ref().map(Outcome::max_error);
+        (s.displacement.len(), e)
+    });
 }

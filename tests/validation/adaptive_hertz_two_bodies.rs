@@ -23,17 +23,13 @@
 //! uniform layout (both bodies at one spacing) needs for the same error.
 
 use super::common::shipped_problem;
-use super::hertz::{Outcome, measure};
+use super::hertz::{Outcome, assert_uniform_sets_miss, measure, uniform_spacings_up_to};
 use mlpg_contact::lcp::ContactState;
 
 /// The requirement's bound on the relative errors of `a` and `p₀`.
 const BOUND: f64 = 0.005;
 /// The requirement's node ratio: adaptive needs at most a fifth of the uniform nodes.
 const RATIO: usize = 5;
-
-fn error(o: &Outcome) -> f64 {
-    o.half_width.abs().max(o.peak.abs())
-}
 
 /// Both bodies' node count of a solution.
 fn nodes(s: &mlpg_contact::Solution) -> usize {
@@ -74,7 +70,10 @@ fn adaptive_cylinder_on_block_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
         &mut mlpg_contact::Silent,
         &mut |_, _, s, _| {
             let n = nodes(s);
-            rows.push((n, checked(&format!("adaptive, {n} nodes"), s).as_ref().map(error)));
+            rows.push((
+                n,
+                checked(&format!("adaptive, {n} nodes"), s).as_ref().map(Outcome::max_error),
+            ));
         },
     )
     .unwrap();
@@ -99,29 +98,16 @@ fn adaptive_cylinder_on_block_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
         };
         generate(&problem) + generate(block)
     };
-    let mut spacings: Vec<f64> = (1..)
-        .map(|k| problem.node_spacing / f64::from(1u32 << k))
-        .take_while(|&h| count(h) <= cap)
-        .collect();
-    let coarsest = spacings.last().copied().unwrap_or(problem.node_spacing);
-    let (mut fine, mut coarse) = (0.5 * coarsest, coarsest);
-    for _ in 0..12 {
-        let mid = 0.5 * (fine + coarse);
-        if count(mid) <= cap { coarse = mid } else { fine = mid }
-    }
-    spacings.push(coarse);
-    for h in spacings {
+    let spacings = uniform_spacings_up_to(problem.node_spacing, cap, count);
+    assert_uniform_sets_miss(&spacings, cap, BOUND, |h| {
         let mut uniform = problem.clone();
         uniform.adaptive = None;
         uniform.node_spacing = h;
         uniform.second_body.as_mut().unwrap().node_spacing = h;
         let s = mlpg_contact::solve(&uniform).unwrap();
-        let n = nodes(&s);
-        assert!(n <= cap, "h = {h}: {n} nodes");
-        let e = checked(&format!("uniform h = {h:.5}"), &s).as_ref().map(error);
-        println!("uniform h = {h:.5} {n:>6} nodes: max Hertz error {e:?}");
-        assert!(e.is_none_or(|e| e > BOUND), "uniform h = {h} ({n} nodes) meets the bound: {e:?}");
-    }
+        let e = checked(&format!("uniform h = {h:.5}"), &s).as_ref().map(Outcome::max_error);
+        (nodes(&s), e)
+    });
 }
 
 /// Cattaneo–Mindlin [Johnson 1985, §7.1] in the two-body loop: `problems/cattaneo_mindlin.toml`

@@ -95,6 +95,50 @@ pub(super) struct Outcome {
     pub(super) half_width_fit: f64,
 }
 
+impl Outcome {
+    /// The larger of the relative errors of `a` and `p₀`: the adaptive studies' measure.
+    pub(super) fn max_error(&self) -> f64 {
+        self.half_width.abs().max(self.peak.abs())
+    }
+}
+
+/// The uniform spacings an adaptive-against-uniform study compares with: the halvings of `h0`
+/// while their node count `count(h)` (decreasing in `h`) is at most `cap`, then, by
+/// bisection on the spacing, the uniform set with the most nodes up to `cap`.
+pub(super) fn uniform_spacings_up_to(
+    h0: f64,
+    cap: usize,
+    count: impl Fn(f64) -> usize,
+) -> Vec<f64> {
+    let mut spacings: Vec<f64> =
+        (1..).map(|k| h0 / f64::from(1u32 << k)).take_while(|&h| count(h) <= cap).collect();
+    let coarsest = spacings.last().copied().unwrap_or(h0);
+    let (mut fine, mut coarse) = (0.5 * coarsest, coarsest);
+    for _ in 0..12 {
+        let mid = 0.5 * (fine + coarse);
+        if count(mid) <= cap { coarse = mid } else { fine = mid }
+    }
+    spacings.push(coarse);
+    spacings
+}
+
+/// Solves the uniform set of each spacing (`solve(h)` gives its node count and Hertz error,
+/// `None` when too few candidates close for the fit) and asserts that each has at most `cap`
+/// nodes and misses `bound`: the uniform layout then needs more than `cap` nodes for it.
+pub(super) fn assert_uniform_sets_miss(
+    spacings: &[f64],
+    cap: usize,
+    bound: f64,
+    solve: impl Fn(f64) -> (usize, Option<f64>),
+) {
+    for &h in spacings {
+        let (n, e) = solve(h);
+        assert!(n <= cap, "h = {h}: {n} nodes");
+        println!("uniform h = {h:.5} {n:>6} nodes: max Hertz error {e:?}");
+        assert!(e.is_none_or(|e| e > bound), "uniform h = {h} ({n} nodes) meets the bound: {e:?}");
+    }
+}
+
 fn run(h: f64, layout: Layout) -> Outcome {
     run_problem(hertz_problem(h, layout), &format!("h = {h}"))
 }
