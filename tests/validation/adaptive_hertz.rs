@@ -24,7 +24,7 @@
 
 use super::common::shipped_problem;
 use super::cylinder_indenter::checked;
-use super::hertz::assert_uniform_sets_miss;
+use super::hertz::{adaptive_rows, assert_uniform_sets_miss};
 
 /// The requirement's bound on the relative errors of `a` and `p₀`.
 const BOUND: f64 = 0.005;
@@ -38,29 +38,15 @@ const RATIO: usize = 5;
 #[test]
 fn adaptive_indenter_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
     let problem = shipped_problem("cylinder_indenter_adaptive.toml", 0.1);
-    let adaptive = problem.adaptive.unwrap();
-    let mut rows: Vec<(usize, Option<f64>)> = Vec::new();
-    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
-        &problem,
-        &adaptive,
-        &mut mlpg_contact::Silent,
-        &mut |_, m, s, _| {
-            let c = s.contact.as_ref().unwrap();
-            // The fit needs four closed candidates; the first steps have fewer.
-            let closed = c.closed.iter().filter(|&&b| b).count();
-            let label = format!("adaptive, {} nodes", m.nodes.len());
-            rows.push((m.nodes.len(), (closed >= 4).then(|| checked(&label, s).max_error())));
-        },
-    )
-    .unwrap();
-    for (n, e) in &rows {
-        println!("adaptive {n:>6} nodes: max Hertz error {e:?}");
-    }
-    assert_eq!(run.summary.stopped_by, "steps");
-    let (nodes, last) = *rows.last().unwrap();
-    let last = last.unwrap();
-    assert!(last <= BOUND, "final Hertz error {last:.3e} with {nodes} nodes");
-    assert!(rows.windows(2).all(|w| w[1].0 > w[0].0), "{rows:?}");
+    let (rows, stopped_by) = adaptive_rows(&problem, BOUND, |s| {
+        let c = s.contact.as_ref().unwrap();
+        // The fit needs four closed candidates; the first steps have fewer.
+        let closed = c.closed.iter().filter(|&&b| b).count();
+        let n = s.displacement.len();
+        (n, (closed >= 4).then(|| checked(&format!("adaptive, {n} nodes"), s).max_error()))
+    });
+    assert_eq!(stopped_by, "steps");
+    let nodes = rows.last().unwrap().0;
 
     // Uniform sets: halvings of the initial spacing while they have at most RATIO × nodes,
     // and the uniform spacing 2/m with (m + 1)² ≤ RATIO × nodes.

@@ -17,7 +17,9 @@
 //! indenter's `a/R` so that the floor is below the bound being tested.
 
 use super::common::shipped_problem;
-use super::hertz::{Outcome, assert_uniform_sets_miss, measure, uniform_spacings_up_to};
+use super::hertz::{
+    Outcome, adaptive_rows, assert_uniform_sets_miss, measure, uniform_spacings_up_to,
+};
 
 /// The requirement's bound on the relative errors of `a` and `p₀`.
 const BOUND: f64 = 0.005;
@@ -42,26 +44,11 @@ fn checked(label: &str, s: &mlpg_contact::Solution) -> Option<Outcome> {
 #[test]
 fn adaptive_quarter_cylinder_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
     let problem = shipped_problem("hertz_cylinder_adaptive.toml", 0.05);
-    let adaptive = problem.adaptive.unwrap();
-    let mut rows: Vec<(usize, Option<f64>)> = Vec::new();
-    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
-        &problem,
-        &adaptive,
-        &mut mlpg_contact::Silent,
-        &mut |_, m, s, _| {
-            let label = format!("adaptive, {} nodes", m.nodes.len());
-            rows.push((m.nodes.len(), checked(&label, s).as_ref().map(Outcome::max_error)));
-        },
-    )
-    .unwrap();
-    for (n, e) in &rows {
-        println!("adaptive {n:>6} nodes: max Hertz error {e:?}");
-    }
-    assert_eq!(run.summary.stopped_by, "steps");
-    let (nodes, last) = *rows.last().unwrap();
-    let last = last.unwrap();
-    assert!(last <= BOUND, "final Hertz error {last:.3e} with {nodes} nodes");
-    assert!(rows.windows(2).all(|w| w[1].0 > w[0].0), "{rows:?}");
+    let (rows, stopped_by) = adaptive_rows(&problem, BOUND, |s| {
+        let n = s.displacement.len();
+        (n, checked(&format!("adaptive, {n} nodes"), s).as_ref().map(Outcome::max_error))
+    });
+    assert_eq!(stopped_by, "steps");
     // The comparison starts from the first node set within the bound (the loop's later sets
     // only add nodes).
     let nodes = rows.iter().find(|r| r.1.is_some_and(|e| e <= BOUND)).unwrap().0;

@@ -23,7 +23,9 @@
 //! uniform layout (both bodies at one spacing) needs for the same error.
 
 use super::common::shipped_problem;
-use super::hertz::{Outcome, assert_uniform_sets_miss, measure, uniform_spacings_up_to};
+use super::hertz::{
+    Outcome, adaptive_rows, assert_uniform_sets_miss, measure, uniform_spacings_up_to,
+};
 use mlpg_contact::lcp::ContactState;
 
 /// The requirement's bound on the relative errors of `a` and `p₀`.
@@ -62,29 +64,11 @@ fn checked(label: &str, s: &mlpg_contact::Solution) -> Option<Outcome> {
 #[test]
 fn adaptive_cylinder_on_block_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
     let problem = shipped_problem("hertz_two_bodies_adaptive.toml", 0.05);
-    let adaptive = problem.adaptive.unwrap();
-    let mut rows: Vec<(usize, Option<f64>)> = Vec::new();
-    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
-        &problem,
-        &adaptive,
-        &mut mlpg_contact::Silent,
-        &mut |_, _, s, _| {
-            let n = nodes(s);
-            rows.push((
-                n,
-                checked(&format!("adaptive, {n} nodes"), s).as_ref().map(Outcome::max_error),
-            ));
-        },
-    )
-    .unwrap();
-    for (n, e) in &rows {
-        println!("adaptive {n:>6} nodes: max Hertz error {e:?}");
-    }
-    let (total, last) = *rows.last().unwrap();
-    let last = last.unwrap();
-    assert!(last <= BOUND, "final Hertz error {last:.3e} with {total} nodes");
-    assert!(rows.windows(2).all(|w| w[1].0 > w[0].0), "{rows:?}");
-    println!("stopped by {}", run.summary.stopped_by);
+    let (rows, stopped_by) = adaptive_rows(&problem, BOUND, |s| {
+        let n = nodes(s);
+        (n, checked(&format!("adaptive, {n} nodes"), s).as_ref().map(Outcome::max_error))
+    });
+    println!("stopped by {stopped_by}");
     // The comparison starts from the first node set within the bound.
     let first = rows.iter().find(|r| r.1.is_some_and(|e| e <= BOUND)).unwrap().0;
 

@@ -102,6 +102,37 @@ impl Outcome {
     }
 }
 
+/// One row of an adaptive study: the node count and the Hertz error (`None` when too few
+/// candidates close for the fit).
+pub(super) type Row = (usize, Option<f64>);
+
+/// Runs the adaptive loop of `problem` (its `[refinement]`), measuring each step's solution
+/// with `measure`; prints the rows and asserts that the node count grows at every step and
+/// that the final set is within `bound`. Returns the rows and what stopped the loop.
+pub(super) fn adaptive_rows(
+    problem: &Problem,
+    bound: f64,
+    measure: impl Fn(&mlpg_contact::Solution) -> Row,
+) -> (Vec<Row>, &'static str) {
+    let adaptive = problem.adaptive.unwrap();
+    let mut rows: Vec<Row> = Vec::new();
+    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
+        problem,
+        &adaptive,
+        &mut mlpg_contact::Silent,
+        &mut |_, _, s, _| rows.push(measure(s)),
+    )
+    .unwrap();
+    for (n, e) in &rows {
+        println!("adaptive {n:>6} nodes: max Hertz error {e:?}");
+    }
+    let (nodes, last) = *rows.last().unwrap();
+    let last = last.unwrap();
+    assert!(last <= bound, "final Hertz error {last:.3e} with {nodes} nodes");
+    assert!(rows.windows(2).all(|w| w[1].0 > w[0].0), "{rows:?}");
+    (rows, run.summary.stopped_by)
+}
+
 /// The uniform spacings an adaptive-against-uniform study compares with: the halvings of `h0`
 /// while their node count `count(h)` (decreasing in `h`) is at most `cap`, then, by
 /// bisection on the spacing, the uniform set with the most nodes up to `cap`.
