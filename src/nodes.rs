@@ -296,7 +296,7 @@ pub fn generate_graded_at_most(
     // nodes at `α_s = 2` (itself and its two edge neighbours; no mid-side node on the corner
     // cell's inner sides). Such a corner cell is split (and the tree balanced again); its inner
     // vertex then touches only cells of its own size.
-    while split_corner_cells(&mut split, nx, ny) {
+    while split_corner_cells(&mut split, nx, ny, [true; 4]) {
         balance(&mut split, nx, ny);
     }
     let depth = split.iter().rposition(|s| !s.is_empty()).map_or(0, |l| l as u32 + 1);
@@ -486,6 +486,20 @@ pub fn generate_graded_curved(
         unreachable!("no node bound given");
     };
     balance(&mut split, nx, ny);
+    // The corner-cell rule of `generate_graded` at the corners of the root grid that are
+    // corners of the domain (the box's corner on the boundary and on the root grid).
+    let corners = [(false, false), (true, false), (false, true), (true, true)].map(|(r, t)| {
+        let q = [if r { hi[0] } else { lo[0] }, if t { hi[1] } else { lo[1] }];
+        let on_grid = |v: f64, from: f64, n: u64| (from + n as f64 * h0 - v).abs() <= 1e-9 * h0;
+        (!r || on_grid(hi[0], lo[0], nx))
+            && (!t || on_grid(hi[1], lo[1], ny))
+            && domain.boundary_distance(q) <= 1e-9 * h0
+    });
+    if nx >= 2 && ny >= 2 {
+        while split_corner_cells(&mut split, nx, ny, corners) {
+            balance(&mut split, nx, ny);
+        }
+    }
     let depth = split.iter().rposition(|s| !s.is_empty()).map_or(0, |l| l as u32 + 1);
     let is_split =
         |level: u32, c: (u64, u64)| split.get(level as usize).is_some_and(|s| s.contains(&c));
@@ -613,12 +627,46 @@ pub fn generate_graded_curved(
         })
     };
     let step = h0 / (1u64 << depth) as f64;
-    for (&(row, col), &(largest, least)) in &sizes {
-        let p = [lo[0] + col as f64 * step, lo[1] + row as f64 * step];
+    let at = |(row, col): (u64, u64)| [lo[0] + col as f64 * step, lo[1] + row as f64 * step];
+    // Corners strictly inside, away from arcs, dropped only by the clearance from a straight
+    // edge (the root column or row that straddles an edge when `h0` does not divide the box).
+    let dropped = |key: (u64, u64), largest: f64, least: f64| {
+        let p = at(key);
+        domain.contains(p)
+            && domain.boundary_distance(p) > 1e-9 * finest
+            && !clear(p, least)
+            && !near_arc(p, largest)
+    };
+    let kept_at = points.len();
+    let mut kept: Vec<(u64, u64)> = Vec::new();
+    for (&key, &(largest, least)) in &sizes {
+        let p = at(key);
         if clear(p, least) && !near_arc(p, largest) {
             points.push(p);
             spacing.push(geometric(least, largest));
             smallest.push(least);
+            kept.push(key);
+        }
+    }
+    // A lattice node whose neighbour along a leaf side was dropped that way takes the largest
+    // touched leaf as `h_I` (not the geometric mean): the gap to the edge is then up to 1.5 of
+    // that leaf, as on the uniform set, where `h_I` is the leaf. With the mean, boundary points
+    // of the straddled edge could be covered by boundary nodes only (collinear supports).
+    for (k, &(row, col)) in kept.iter().enumerate() {
+        let (largest, _) = sizes[&(row, col)];
+        let leaf = ((largest / step).round() as u64).max(1);
+        let beside = [
+            (Some(row), col.checked_add(leaf)),
+            (Some(row), col.checked_sub(leaf)),
+            (row.checked_add(leaf), Some(col)),
+            (row.checked_sub(leaf), Some(col)),
+        ];
+        let gap = beside.into_iter().any(|(r, c)| {
+            let (Some(r), Some(c)) = (r, c) else { return false };
+            sizes.get(&(r, c)).is_some_and(|&(g, l)| dropped((r, c), g, l))
+        });
+        if gap {
+            spacing[kept_at + k] = largest;
         }
     }
     let edges = tag_edges(domain, &points, 1e-9 * finest);
@@ -706,16 +754,19 @@ fn balance(split: &mut [std::collections::BTreeSet<(u64, u64)>], nx: u64, ny: u6
     }
 }
 
-/// Splits each leaf at a corner of the rectangle whose diagonal neighbour (the cell across its
+/// Splits each leaf at a corner of the root grid whose diagonal neighbour (the cell across its
 /// inner vertex) is split and whose two side neighbours are not (see [`generate_graded`]);
-/// whether any was split. The tree must be balanced before and after.
+/// whether any was split. `corners` selects the corners (lower left, lower right, upper left,
+/// upper right). The tree must be balanced before and after.
 fn split_corner_cells(
     split: &mut [std::collections::BTreeSet<(u64, u64)>],
     nx: u64,
     ny: u64,
+    corners: [bool; 4],
 ) -> bool {
     let mut changed = false;
-    for (right, top) in [(false, false), (true, false), (false, true), (true, true)] {
+    let all = [(false, false), (true, false), (false, true), (true, true)];
+    for (right, top) in all.into_iter().zip(corners).filter(|c| c.1).map(|c| c.0) {
         // The leaf holding the corner.
         let (mut l, mut i, mut j) =
             (0usize, if right { nx - 1 } else { 0 }, if top { ny - 1 } else { 0 });

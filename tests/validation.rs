@@ -41,6 +41,8 @@ mod validation {
     // Adaptive refinement against uniform on the fully clamped cantilever (FE reference).
     mod clamped_cantilever;
     mod clamped_cantilever_measure;
+    // Adaptive refinement against uniform on the Kirsch quarter plate (exact solution).
+    mod adaptive_kirsch;
     // Adaptive refinement on a curved body: the Hertz quarter cylinder against uniform.
     mod adaptive_hertz_cylinder;
     // Adaptive refinement of two bodies, the first curved: Hertz cylinder on a block; Cattaneo–Mindlin.

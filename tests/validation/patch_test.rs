@@ -36,7 +36,7 @@ fn run_graded(layout: Layout, refinement: Refinement, beta: f64, support_factor:
 }
 
 /// The patch test on `domain` at the nominal spacing `h0` (every edge held by the exact field).
-fn run_graded_on(
+pub(super) fn run_graded_on(
     domain: Domain,
     h0: f64,
     layout: Layout,
