@@ -400,6 +400,18 @@ impl ActiveSetSystem for DenseSystem<'_> {
 /// Memory for the stored update columns `K_B⁻¹ e_r` of a [`RigidObstacle`] (1 GB).
 const COLUMN_BYTES: usize = 1 << 30;
 
+/// Memory for one block of update columns solved together (at most 64 columns; fewer on
+/// bodies of more than 250k unknowns). A block's solve holds about three copies of it
+/// (right-hand sides, solutions, residuals) and both cores solve one each: with 64 columns
+/// of 2·10⁶ unknowns that was 1–2 GB above the factors on the 10⁶-node strip
+/// (docs/dev/performance.md, "Session 11").
+const BLOCK_BYTES: usize = 1 << 27;
+
+/// Columns per block of update columns for a body of `n` unknowns ([`BLOCK_BYTES`]).
+fn block_columns(n: usize) -> usize {
+    (BLOCK_BYTES / (8 * n.max(1))).clamp(1, 64)
+}
+
 /// One update column: its dots with every candidate's row changes, and the column itself
 /// when it is stored.
 type UpdateColumn = (Vec<f64>, Option<Vec<f64>>);
@@ -918,7 +930,7 @@ impl<'a> RigidObstacle<'a> {
             let (reps, slot) = (&self.replacements, &self.slot);
             let keep = (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
             let blocks: Vec<Vec<UpdateColumn>> = new
-                .par_chunks(64)
+                .par_chunks(block_columns(n))
                 .map(|chunk| {
                     let mut x = Mat::<f64>::zeros(n, chunk.len());
                     for (j, &r) in chunk.iter().enumerate() {
