@@ -80,6 +80,12 @@ pub enum SolveError {
     /// faer failed for another reason (e.g. memory).
     #[error("sparse LU failed: {0}")]
     Backend(String),
+    /// The factors were released ([`Factorisation::release`]) to make room for another
+    /// factorisation; only the statistics remain.
+    #[error(
+        "the factors of this matrix were released after use (the active-set solver keeps only its own row-replaced factors)"
+    )]
+    Released,
 }
 
 /// Which LU [`Factorisation`] computes.
@@ -270,6 +276,8 @@ enum Inner {
         col_perm_inv: Vec<usize>,
     },
     Static(symmetric::StaticLu),
+    /// Released ([`Factorisation::release`]): no factors, the statistics as they were.
+    Released,
 }
 
 impl std::fmt::Debug for Factorisation {
@@ -746,6 +754,34 @@ impl Factorisation {
         self.n
     }
 
+    /// Drops the factors (and frees their memory), keeping [`Self::stats`] as they are now
+    /// and [`Self::options`]; later solves give NaN columns and [`SolveError::Released`].
+    /// The active-set solver releases `K`'s factors before it factorises its first
+    /// row-replaced matrix, when nothing will solve with `K` again (docs/method.md §5.1), so
+    /// that two factorisations of the body are never alive at once.
+    pub fn release(&mut self) {
+        self.stats = self.stats();
+        self.inner = Inner::Released;
+    }
+
+    /// Moves the factors out into the factorisation returned, leaving `self` released (its
+    /// statistics and options as they are now), so that a solver can own them and release
+    /// them when done.
+    pub fn take(&mut self) -> Factorisation {
+        let released = Factorisation {
+            inner: Inner::Released,
+            n: self.n,
+            stats: self.stats(),
+            options: self.options.clone(),
+        };
+        std::mem::replace(self, released)
+    }
+
+    /// Whether [`Self::release`] has dropped the factors.
+    pub fn is_released(&self) -> bool {
+        matches!(self.inner, Inner::Released)
+    }
+
     /// Sizes and stage times of this factorisation, and (static pivoting) the refinement
     /// record of the solves so far.
     pub fn stats(&self) -> FactorStats {
@@ -783,6 +819,10 @@ impl Factorisation {
                 );
             }
             Inner::Static(lu) => lu.solve_in_place(rhs),
+            Inner::Released => {
+                let mut rhs = rhs;
+                rhs.fill(f64::NAN);
+            }
         }
     }
 
@@ -814,6 +854,9 @@ impl Factorisation {
         let mut x = b.to_vec();
         self.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, self.n, 1));
         if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            if self.is_released() {
+                return Err(SolveError::Released);
+            }
             if self.stats.precision == FactorPrecision::Mixed {
                 return Err(SolveError::NotConverged {
                     detail: format!(
@@ -827,7 +870,9 @@ impl Factorisation {
                     "iterative refinement did not reach a backward error of \
                      {ACCEPTED_BACKWARD_ERROR:e} (static pivoting)"
                 ),
-                Inner::Partial { .. } => format!("non-finite solution at DOF {i}"),
+                Inner::Partial { .. } | Inner::Released => {
+                    format!("non-finite solution at DOF {i}")
+                }
             };
             return Err(SolveError::Singular { detail });
         }
@@ -1041,6 +1086,36 @@ mod tests {
         assert!(s.worst_backward_error <= 1e-14, "{:e}", s.worst_backward_error);
         let r = residual(&lap, &x, &b);
         assert!(r < 1e-12, "residual {r:e}");
+    }
+
+    #[test]
+    fn taken_factors_solve_and_the_released_ones_keep_their_statistics() {
+        // The active-set solver takes `K`'s factors out of the model and releases them
+        // (lcp::active_set::ModelFactors): the taken ones solve as before, the model's keep
+        // the statistics (summary.json reports them) and refuse to solve with a typed error;
+        // releasing keeps the refinement record of the solves made before.
+        let (m, points) = grid(20);
+        let b: Vec<f64> = (0..m.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let mut f = Factorisation::with_options(
+            &m,
+            ColumnOrdering::NestedDissection(&points),
+            &static_options(),
+        )
+        .unwrap();
+        let expected = f.solve(&b).unwrap();
+        let before = f.stats();
+        let mut taken = f.take();
+        assert!(f.is_released() && !taken.is_released());
+        assert_eq!(format!("{:?}", f.stats()), format!("{before:?}"));
+        assert!(matches!(f.solve(&b), Err(SolveError::Released)), "{:?}", f.solve(&b));
+        assert_eq!(taken.solve(&b).unwrap(), expected, "the taken factors are the same");
+        let used = taken.stats();
+        assert_eq!(used.columns_solved, before.columns_solved + 1);
+        taken.release();
+        assert!(taken.is_released());
+        assert_eq!(format!("{:?}", taken.stats()), format!("{used:?}"));
+        assert_eq!(taken.size(), m.n);
+        assert!(matches!(taken.solve(&b), Err(SolveError::Released)));
     }
 
     #[test]

@@ -400,6 +400,18 @@ impl ActiveSetSystem for DenseSystem<'_> {
 /// Memory for the stored update columns `K_B⁻¹ e_r` of a [`RigidObstacle`] (1 GB).
 const COLUMN_BYTES: usize = 1 << 30;
 
+/// Memory for one block of update columns solved together (at most 64 columns; fewer on
+/// bodies of more than 250k unknowns). A block's solve holds about three copies of it
+/// (right-hand sides, solutions, residuals) and both cores solve one each: with 64 columns
+/// of 2·10⁶ unknowns that was 1–2 GB above the factors on the 10⁶-node strip
+/// (docs/dev/performance.md, "Session 11").
+const BLOCK_BYTES: usize = 1 << 27;
+
+/// Columns per block of update columns for a body of `n` unknowns ([`BLOCK_BYTES`]).
+fn block_columns(n: usize) -> usize {
+    (BLOCK_BYTES / (8 * n.max(1))).clamp(1, 64)
+}
+
 /// One update column: its dots with every candidate's row changes, and the column itself
 /// when it is stored.
 type UpdateColumn = (Vec<f64>, Option<Vec<f64>>);
@@ -488,17 +500,37 @@ pub struct RigidObstacleStats {
     pub refinements: usize,
 }
 
-enum Base<'a> {
+/// `K`'s own factorisation as a [`RigidObstacle`] holds it: borrowed (the model keeps it), or
+/// owned, when the system may release its factors ([`Factorisation::release`]) before it
+/// factorises its first row-replaced matrix, so that two factorisations of the body are never
+/// alive at once (frictionless only: the frictional path comes back to `K`'s factors).
+/// [`RigidObstacle::into_factorisation`] gives an owned one back.
+#[derive(Debug)]
+pub enum ModelFactors<'a> {
+    /// Borrowed from the model, never released.
     Borrowed(&'a Factorisation),
+    /// Owned by the system.
     Owned(Box<Factorisation>),
 }
 
-impl Base<'_> {
+impl ModelFactors<'_> {
     fn get(&self) -> &Factorisation {
         match self {
-            Base::Borrowed(f) => f,
-            Base::Owned(f) => f,
+            ModelFactors::Borrowed(f) => f,
+            ModelFactors::Owned(f) => f,
         }
+    }
+}
+
+impl<'a> From<&'a Factorisation> for ModelFactors<'a> {
+    fn from(f: &'a Factorisation) -> Self {
+        ModelFactors::Borrowed(f)
+    }
+}
+
+impl From<Factorisation> for ModelFactors<'_> {
+    fn from(f: Factorisation) -> Self {
+        ModelFactors::Owned(Box::new(f))
     }
 }
 
@@ -524,13 +556,14 @@ pub struct RigidObstacle<'a> {
     /// The modes last solved and their displacements.
     last: Option<(Vec<Mode>, Vec<f64>)>,
     /// The factorisation of `K` itself.
-    model: &'a Factorisation,
+    model: ModelFactors<'a>,
     /// `‖K‖∞`, largest row sum (the gap rows are scaled to the same size).
     norm: f64,
     /// The collocation scale `s` of the gap (and tangential) rows.
     scale: f64,
     replacements: Vec<Replacement>,
-    base: Base<'a>,
+    /// The factorisation of the row-replaced matrix of `base_modes` (`None`: `K`'s own).
+    base: Option<Box<Factorisation>>,
     base_modes: Vec<Mode>,
     /// `z_r = K_B⁻¹ e_r` reduced to the dot products with every candidate's row changes:
     /// `dots[r][(c, k)] = (new − old row k of c)·z_r`, keyed by the DOF `r`.
@@ -552,7 +585,8 @@ pub struct RigidObstacle<'a> {
 
 impl<'a> RigidObstacle<'a> {
     /// The system of the body with matrix `matrix` (rows replaced by displacement conditions
-    /// as assembled), right-hand side `rhs`, its factorisation `factorisation`, the candidates'
+    /// as assembled), right-hand side `rhs`, its factorisation `factorisation` (borrowed, or
+    /// owned to be released when no longer needed: [`ModelFactors`]), the candidates'
     /// `operator` and `initial_gap`; `scale` multiplies the gap rows (the assembly's
     /// collocation scale); `points` are the node positions for the nested-dissection ordering
     /// (`None`: COLAMD, as the finite element model is factorised).
@@ -563,7 +597,7 @@ impl<'a> RigidObstacle<'a> {
     pub fn new(
         matrix: &'a SystemMatrix,
         rhs: &'a [f64],
-        factorisation: &'a Factorisation,
+        factorisation: impl Into<ModelFactors<'a>>,
         operator: &'a BodyOperator,
         initial_gap: &'a [f64],
         scale: f64,
@@ -642,7 +676,7 @@ impl<'a> RigidObstacle<'a> {
             initial_gap: initial_gap.to_vec(),
             points,
             last: None,
-            model: factorisation,
+            model: factorisation.into(),
             norm: {
                 let mut rows = vec![0.0_f64; matrix.n];
                 for (k, &r) in matrix.row_idx.iter().enumerate() {
@@ -652,7 +686,7 @@ impl<'a> RigidObstacle<'a> {
             },
             scale,
             replacements,
-            base: Base::Borrowed(factorisation),
+            base: None,
             base_modes: vec![OPEN; m],
             dots: HashMap::new(),
             columns: HashMap::new(),
@@ -729,7 +763,7 @@ impl<'a> RigidObstacle<'a> {
         self.dots.clear();
         self.columns.clear();
         if self.base_modes.iter().any(|&k| k != OPEN && k != CLOSED) {
-            self.base = Base::Borrowed(self.model);
+            self.base = None;
             self.base_modes = vec![OPEN; self.replacements.len()];
         }
         self.last = None;
@@ -851,14 +885,21 @@ impl<'a> RigidObstacle<'a> {
         // solve in a block of 64) about `bound_nnz` of the current base's analysis. Measured
         // break-even (factorisation time over time per column): 270 columns on the 42k-node
         // strip (the model says 260), 230 on the 19k-node beam (model 595).
-        let base = self.base.get().stats();
+        let base = self.base().stats();
         let too_costly = missing as f64 * base.bound_nnz as f64 > base.bound_flops;
         if changed.len() > 1024 || too_costly {
             // Drop the previous row-replaced factors (and their columns) first: at most two
-            // factorisations are alive at a time.
-            self.base = Base::Borrowed(self.model);
+            // factorisations are alive at a time; and `K`'s own when this system owns them and
+            // nothing will solve with them again (frictionless: only the free gap did): then
+            // one is.
+            self.base = None;
             self.dots.clear();
             self.columns.clear();
+            if let ModelFactors::Owned(f) = &mut self.model {
+                if self.friction.is_empty() {
+                    f.release();
+                }
+            }
             let t = Instant::now();
             let matrix = self.matrix_of(modes);
             // With the options of `K`'s own factorisation (its precision).
@@ -866,14 +907,14 @@ impl<'a> RigidObstacle<'a> {
                 Some(p) => Factorisation::with_options(
                     &matrix,
                     ColumnOrdering::NestedDissection(p),
-                    self.model.options(),
+                    self.model.get().options(),
                 )?,
                 None => Factorisation::new(&matrix)?,
             };
             drop(matrix);
             self.stats.factorisations += 1;
             self.stats.factorisation_seconds += t.elapsed().as_secs_f64();
-            self.base = Base::Owned(Box::new(f));
+            self.base = Some(Box::new(f));
             self.base_modes = modes.to_vec();
             self.dots.clear();
             self.columns.clear();
@@ -885,11 +926,11 @@ impl<'a> RigidObstacle<'a> {
         if !new.is_empty() {
             let t = Instant::now();
             let n = self.matrix.n;
-            let f = self.base.get();
+            let f = self.base();
             let (reps, slot) = (&self.replacements, &self.slot);
             let keep = (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
             let blocks: Vec<Vec<UpdateColumn>> = new
-                .par_chunks(64)
+                .par_chunks(block_columns(n))
                 .map(|chunk| {
                     let mut x = Mat::<f64>::zeros(n, chunk.len());
                     for (j, &r) in chunk.iter().enumerate() {
@@ -926,6 +967,21 @@ impl<'a> RigidObstacle<'a> {
         Ok(changed)
     }
 
+    /// The factorisation the low-rank updates start from: the last row-replaced one, or
+    /// `K`'s own.
+    fn base(&self) -> &Factorisation {
+        self.base.as_deref().unwrap_or_else(|| self.model.get())
+    }
+
+    /// `K`'s factorisation, owned (released when the active set factorised a row-replaced
+    /// matrix: only its statistics are left), or `None` when it was borrowed.
+    pub fn into_factorisation(self) -> Option<Factorisation> {
+        match self.model {
+            ModelFactors::Owned(f) => Some(*f),
+            ModelFactors::Borrowed(_) => None,
+        }
+    }
+
     /// `change · x` for a row change (the sum of its terms' difference rows).
     fn change_dot(&self, ch: &Change, x: &[f64]) -> f64 {
         let rows = &self.replacements[ch.candidate].rows;
@@ -944,7 +1000,7 @@ impl<'a> RigidObstacle<'a> {
         mut x: MatMut<'_, f64>,
     ) -> Result<(), ActiveSetError> {
         let changed = self.prepare(modes)?;
-        let f = self.base.get();
+        let f = self.base();
         let cols = x.ncols();
         // y = K_B⁻¹ b, in parallel over blocks of 64 columns.
         solve_blocks(f, x.rb_mut());

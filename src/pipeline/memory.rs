@@ -17,8 +17,16 @@
 //! [`MIXED_FRACTION`] (single-precision factors and fronts; the matrix, its copies, shape
 //! functions and cells stay double); `"auto"` is resolved by [`precision`] against the
 //! estimate in double precision.
+//!
+//! The per-node constants come from `4 × 1` domains; on thin ones (a strip `L × W` with few
+//! nodes across) the nested-dissection factors are far smaller per node and the estimate is
+//! 1.5–2× too high (docs/dev/performance.md, "Session 11"). So an MFVM body whose bounding box
+//! is at least [`THIN_ASPECT`] times longer than wide is not refused on that estimate when
+//! everything but its factors fits ([`defers_to_analysis`]): after assembly, the symbolic
+//! analysis of `K` counts the factors exactly ([`after_analysis`]), and the run is refused
+//! then if they do not fit in what is left.
 
-use crate::linear_solve::{FactorPrecision, STATIC_PIVOTING_MIN_DOFS};
+use crate::linear_solve::{FactorPrecision, FactorStats, STATIC_PIVOTING_MIN_DOFS};
 use crate::problem::{Method, Precision, Problem};
 
 /// The MFVM body's memory with single-precision factors, as a fraction of that with
@@ -31,6 +39,30 @@ const BYTES_PER_NODE_FAER: f64 = 90e3;
 const BYTES_PER_NODE_STATIC: f64 = 42e3;
 /// A floor for the process itself (binary, thread stacks, allocator).
 const BASE_BYTES: f64 = 64e6;
+
+/// Long side over short side of the bounding box from which an MFVM body's factors are
+/// counted after assembly instead of refused on the per-node estimate (the per-node constants
+/// were measured on `4 × 1` domains).
+pub const THIN_ASPECT: f64 = 8.0;
+/// Bytes per node of everything but the factors (nodes, supports, cells, shape functions at
+/// nodes and face points, `K` and its interior blocks) at `α_s = 2`, scaled with `α_s²` like
+/// the rest: 1.12 GB measured after assembly on the 255k-node strip `250 × 2.5` at
+/// `α_s = 1.5` (4.4 kB per node, 7.8 kB at `α_s = 2`), with a margin.
+const ASSEMBLY_BYTES_PER_NODE: f64 = 10e3;
+/// Bytes of resident memory per stored factor entry, measured as the growth of the resident
+/// set over the factorisation stage divided by the factor entries, on the strip `250 × 2.5`
+/// (255k nodes, 236 M entries): 9.9 B in double precision (2.33 GB), 6.0 B with
+/// single-precision factors (1.42 GB) — values, indices, supernode structure, fronts; with a
+/// margin.
+const FACTOR_ENTRY_BYTES_DOUBLE: f64 = 11.0;
+/// The same with single-precision factors.
+const FACTOR_ENTRY_BYTES_MIXED: f64 = 7.0;
+/// Stored factor entries (`L` and `U`) per nonzero of the Cholesky factor of the symmetric
+/// structure the static-pivoting LU uses (`FactorStats::bound_nnz`): 2.21 measured on the
+/// strip (236.4 M entries for a bound of 106.8 M).
+const FACTOR_ENTRIES_PER_BOUND: f64 = 2.25;
+/// The update columns the active-set solver keeps at most (`lcp::active_set`'s own limit).
+const COLUMN_BYTES: f64 = 1_073_741_824.0;
 
 /// The estimated peak memory of solving `problem` (and its second body), in bytes, with the
 /// node count it assumes.
@@ -140,9 +172,81 @@ fn estimate_in(problem: &Problem, precision: FactorPrecision) -> (f64, f64) {
     (bytes + BASE_BYTES, nodes)
 }
 
+/// Whether `problem`, whose estimate ([`estimate`]) exceeds what the process may use, is left
+/// to the exact count after assembly ([`after_analysis`]) instead of refused: one MFVM body
+/// (no second body, no several bodies) whose bounding box is at least [`THIN_ASPECT`] times
+/// longer than wide (where the per-node estimate is known to be high), factorised by the
+/// static-pivoting LU, and whose assembled data and update columns fit in `available`.
+pub fn defers_to_analysis(problem: &Problem, available: f64) -> bool {
+    if problem.discretisation.method != Method::Mfvm
+        || problem.second_body.is_some()
+        || problem.multibody.is_some()
+    {
+        return false;
+    }
+    let (lo, hi) = problem.domain.bounding_box();
+    let (dx, dy) = (hi[0] - lo[0], hi[1] - lo[1]);
+    if dx.max(dy) < THIN_ASPECT * dx.min(dy) {
+        return false;
+    }
+    let (_, nodes) = estimate(problem);
+    let static_lu = precision(problem) == FactorPrecision::Mixed
+        || 2.0 * nodes >= STATIC_PIVOTING_MIN_DOFS as f64;
+    let reach = (problem.discretisation.mls.support_factor / 2.0).powi(2);
+    static_lu && nodes * ASSEMBLY_BYTES_PER_NODE * reach + COLUMN_BYTES + BASE_BYTES <= available
+}
+
+/// The bytes an assembled MFVM body of `unknowns` unknowns still needs when the symbolic
+/// analysis of its `K` gave `stats` (static-pivoting LU): its factors (from the exact fill,
+/// [`FactorStats::bound_nnz`]), the solve's work vectors (GMRES-IR's 40 with single-precision
+/// factors), and for contact: Lemke's dense `M` and tableau, or the active-set solver's update
+/// columns, plus a second factorisation unless `releases` (the frictionless active set
+/// against a rigid obstacle releases `K`'s factors before it factorises its row-replaced
+/// matrix, `lcp::active_set::ModelFactors`).
+pub fn after_analysis(
+    problem: &Problem,
+    stats: &FactorStats,
+    unknowns: usize,
+    precision: FactorPrecision,
+    releases: bool,
+) -> f64 {
+    let per_entry = match precision {
+        FactorPrecision::Double => FACTOR_ENTRY_BYTES_DOUBLE,
+        FactorPrecision::Mixed => FACTOR_ENTRY_BYTES_MIXED,
+    };
+    let factors = stats.bound_nnz as f64 * FACTOR_ENTRIES_PER_BOUND * per_entry;
+    let vectors = match precision {
+        FactorPrecision::Double => 4.0,
+        FactorPrecision::Mixed => 44.0,
+    } * 8.0
+        * unknowns as f64;
+    let contact = match &problem.contact {
+        None => 0.0,
+        Some(spec) => {
+            let m = problem.domain.curve(spec.edge).length()
+                / problem.refinement.finest(problem.node_spacing)
+                + 1.0;
+            let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
+            let active_set = if frictionless {
+                spec.solver.is_active_set(m as usize)
+            } else {
+                spec.solver.is_active_set_frictional(m as usize)
+            };
+            match (active_set, frictionless && releases) {
+                (false, _) => 4.0 * 8.0 * m * m,
+                (true, true) => COLUMN_BYTES,
+                (true, false) => factors + COLUMN_BYTES,
+            }
+        }
+    };
+    factors + vectors + contact
+}
+
 /// What this process may use, in bytes, and what limits it; `None` where nothing can be read
 /// (not Linux). The address-space limit counts virtual memory (thread stacks, allocator
-/// arenas) too, so 0.5 GB of it is kept for those.
+/// arenas) too, so 0.5 GB of it is kept for those, or what this process has mapped already
+/// and 0.25 GB when that is more (available memory and the cgroup's limit count the memory in
+/// use already).
 pub fn limit() -> Option<(f64, &'static str)> {
     let mut limits: Vec<(f64, &'static str)> = Vec::new();
     if let Some(kb) = read_field("/proc/meminfo", "MemAvailable:") {
@@ -164,7 +268,11 @@ pub fn limit() -> Option<(f64, &'static str)> {
             .and_then(|l| l.split_whitespace().nth(3))
             .and_then(|v| v.parse::<f64>().ok());
         if let Some(bytes) = soft {
-            limits.push((bytes - 0.5e9, "the address-space limit (ulimit -v)"));
+            // At the start the 0.5 GB covers what is mapped; later (after assembly) what is
+            // mapped, and 0.25 GB besides.
+            let mapped = read_field("/proc/self/status", "VmSize:").unwrap_or(0.0) * 1024.0;
+            let kept = (mapped + 0.25e9).max(0.5e9);
+            limits.push((bytes - kept, "the address-space limit (ulimit -v)"));
         }
     }
     limits.into_iter().min_by(|a, b| a.0.total_cmp(&b.0))
@@ -174,4 +282,74 @@ pub fn limit() -> Option<(f64, &'static str)> {
 fn read_field(path: &str, key: &str) -> Option<f64> {
     let text = std::fs::read_to_string(path).ok()?;
     text.lines().find(|l| l.starts_with(key))?.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A clamped strip `length × width` at spacing `h` under its own load, on a rigid floor
+    /// (frictionless, `"auto"` solver), `α_s = 1.5`, double precision.
+    fn strip(length: f64, width: f64, h: f64) -> Problem {
+        Problem::from_toml(&format!(
+            r#"
+            [geometry]
+            kind = "rectangle"
+            x = [0.0, {length:?}]
+            y = [0.0, {width:?}]
+            [nodes]
+            spacing = {h:?}
+            [material]
+            young = 30000.0
+            poisson = 0.3
+            plane = "stress"
+            [discretisation]
+            support_factor = 1.5
+            precision = "double"
+            [[boundary]]
+            edge = "left"
+            displacement = {{ x = 0.0, y = 0.0 }}
+            [[boundary]]
+            edge = "top"
+            traction = {{ y = -1.0 }}
+            [contact]
+            edge = "bottom"
+            obstacle_point = [0.0, -0.01]
+            obstacle_normal = [0.0, 1.0]
+            "#
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn thin_bodies_defer_to_the_analysis_when_their_assembly_fits() {
+        // The 10⁶-node strip 1000 × 2.5: the per-node estimate (double precision) is far
+        // above 20 GB, everything but the factors (~5.7 GB at 10 kB × (1.5/2)² per node) and
+        // the update columns fit in 20 GB, not in 5 GB.
+        let thin = strip(1000.0, 2.5, 0.05);
+        let (estimate, nodes) = estimate_in(&thin, FactorPrecision::Double);
+        assert!((1.0e6..1.1e6).contains(&nodes), "{nodes}");
+        assert!(estimate > 25e9, "{estimate:e}");
+        assert!(defers_to_analysis(&thin, 20e9));
+        assert!(!defers_to_analysis(&thin, 5e9));
+        // A 4 × 1 body (the calibration's shape, aspect below THIN_ASPECT) is refused on the
+        // estimate whatever is available.
+        let square = strip(400.0, 100.0, 0.1);
+        assert!(!defers_to_analysis(&square, 1e15));
+    }
+
+    #[test]
+    fn released_factors_are_counted_once() {
+        // 10⁸ bound entries: 2.25 · 10⁸ factor entries of 11 B in double precision.
+        let stats = FactorStats { bound_nnz: 100_000_000, ..FactorStats::default() };
+        let thin = strip(1000.0, 2.5, 0.05);
+        let n = 2_000_000;
+        let released = after_analysis(&thin, &stats, n, FactorPrecision::Double, true);
+        let kept = after_analysis(&thin, &stats, n, FactorPrecision::Double, false);
+        let factors = 2.25e8 * 11.0;
+        assert!((kept - released - factors).abs() < 1.0, "{kept:e} {released:e}");
+        assert!((released - factors - 4.0 * 8.0 * n as f64 - COLUMN_BYTES).abs() < 1.0);
+        let mixed = after_analysis(&thin, &stats, n, FactorPrecision::Mixed, true);
+        assert!(mixed < released, "single-precision factors need less: {mixed:e}");
+    }
 }

@@ -112,6 +112,7 @@ fn discretise_mfvm_nodes(
             beta: disc.beta,
         })
     })?;
+    check_factor_memory(problem, &system, &nodes.points)?;
     let factorisation = clock.run("factorisation", || {
         let ordering = ColumnOrdering::NestedDissection(&nodes.points);
         Factorisation::with_options(&system.matrix, ordering, &factor_options(problem))
@@ -169,10 +170,16 @@ fn discretise_fem(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
 }
 
 /// Refuses `problem` when its estimated memory ([`memory::estimate`]) exceeds what the
-/// process may use ([`memory::limit`]).
+/// process may use ([`memory::limit`]), unless it is a thin MFVM body whose factors are
+/// counted after assembly instead ([`memory::defers_to_analysis`], [`check_factor_memory`]).
 fn check_memory(problem: &Problem) -> Result<(), Error> {
     let (need, nodes) = memory::estimate(problem);
     match memory::limit() {
+        Some((available, _))
+            if need > available && memory::defers_to_analysis(problem, available) =>
+        {
+            Ok(())
+        }
         Some((available, what)) if need > available => {
             let precision_hint = match memory::precision(problem) {
                 crate::linear_solve::FactorPrecision::Double => {
@@ -184,6 +191,61 @@ fn check_memory(problem: &Problem) -> Result<(), Error> {
         }
         _ => Ok(()),
     }
+}
+
+/// After assembly, for a body that [`check_memory`] let through on
+/// [`memory::defers_to_analysis`] (its estimate exceeds what the process may use): the
+/// symbolic analysis of `K` (ordering and exact fill, as the factorisation will compute them
+/// again) and [`memory::after_analysis`] against what is left now; refused with that count
+/// when it does not fit. Nothing is done when the estimate fits.
+fn check_factor_memory(
+    problem: &Problem,
+    system: &assembly::GlobalSystem,
+    points: &[geometry::Point],
+) -> Result<(), Error> {
+    let Some((available_before, _)) = memory::limit() else { return Ok(()) };
+    let (estimate, nodes) = memory::estimate(problem);
+    // `limit` now is what is left after assembly; the estimate was against the whole.
+    if estimate <= available_before + resident_bytes() {
+        return Ok(());
+    }
+    let options = factor_options(problem);
+    let ordering = ColumnOrdering::NestedDissection(points);
+    let stats = Factorisation::analyse(&system.matrix, ordering, &options)?;
+    // The frictionless active set against a rigid obstacle releases `K`'s factors before its
+    // own factorisation (not with a pinned translation: that takes the incremental path).
+    let releases = system.pinned.is_none();
+    let need =
+        memory::after_analysis(problem, &stats, system.matrix.n, options.precision, releases);
+    match memory::limit() {
+        Some((available, what)) if need > available => {
+            let precision_hint = match options.precision {
+                FactorPrecision::Double => ", or set discretisation.precision = \"mixed\" (MFVM)",
+                FactorPrecision::Mixed => "",
+            };
+            let used = resident_bytes();
+            Err(Error::Memory {
+                estimate: need + used,
+                nodes,
+                available: available + used,
+                limit: what,
+                precision_hint,
+            })
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The resident set size of this process (`VmRSS`), 0 where it cannot be read.
+fn resident_bytes() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmRSS:"))
+                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
+        })
+        .map_or(0.0, |kb| kb * 1024.0)
 }
 
 /// The models of `problem` and of its second body, if it has one.
@@ -316,7 +378,7 @@ pub fn solve_model_with(
     };
     let pair = problem.second_body.as_deref().zip(second.as_ref());
     let (u1, u2, contact) =
-        solve_contact(problem, spec, &model, pair, steps.as_deref(), lemke, &mut clock)?;
+        solve_contact(problem, spec, &mut model, pair, steps.as_deref(), lemke, &mut clock)?;
     // A translation held by the contact: the pin's value is the translation found
     // (docs/method.md §4.7), so that the system the solution answers is the one reported.
     if let (Some(pin), Some(r)) = (model.system.pinned, &contact.rigid_mode) {
@@ -370,7 +432,7 @@ type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
 fn solve_contact(
     problem: &Problem,
     spec: &ContactSpec,
-    model: &Model,
+    model: &mut Model,
     second: Option<(&Problem, &Model)>,
     steps: Option<&[Vec<StepEnd>]>,
     lemke: &lcp::LemkeParams,
@@ -556,9 +618,14 @@ fn rigid_obstacle<'a>(
 /// (the target's operator and model), between two bodies: no `M`, so none of its checks; the
 /// displacements are those of the final active set's problem (no solve with `K` alone, which
 /// may be too ill-conditioned where the contact is what holds the body).
+///
+/// Against a rigid obstacle the system takes `K`'s factorisation from `model` and gives it
+/// back, its factors released if it factorised a row-replaced matrix
+/// ([`lcp::active_set::ModelFactors`]): the peak is then one factorisation of the body, not
+/// two. Only statistics are left of `model.factorisation` then.
 fn solve_active_set(
     spec: &ContactSpec,
-    model: &Model,
+    model: &mut Model,
     candidates: contact::Candidates,
     second: Option<(contact::BodyOperator, &Model)>,
     clock: &mut Clock<'_>,
@@ -566,10 +633,23 @@ fn solve_active_set(
     let params = lcp::active_set::ActiveSetParams::default();
     let (answer, u1, u2, work) = clock.run("active_set", || match &second {
         None => {
-            let mut system = rigid_obstacle(model, &candidates)?;
+            let factors = model.factorisation.take();
+            let mut system = lcp::active_set::RigidObstacle::new(
+                &model.system.matrix,
+                &model.system.rhs,
+                factors,
+                &candidates.operator,
+                &candidates.initial_gap,
+                model.system.collocation_scale,
+                node_points(model),
+            )?;
             let answer = lcp::active_set::solve(&mut system, &params)?;
             let u1 = system.final_displacements(&answer.active)?;
-            Ok::<_, lcp::LcpError>((answer, u1, None, system.stats))
+            let stats = system.stats;
+            if let Some(f) = system.into_factorisation() {
+                model.factorisation = f;
+            }
+            Ok::<_, lcp::LcpError>((answer, u1, None, stats))
         }
         Some((op, m2)) => {
             let mut system = lcp::active_set::TwoBodies::new(

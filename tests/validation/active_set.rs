@@ -414,3 +414,66 @@ pub(super) fn plain_strip(length: f64, h: f64, contact_keys: &str) -> Problem {
     ))
     .unwrap()
 }
+
+/// Against a rigid obstacle the active-set solver owns `K`'s factorisation and releases its
+/// factors before it factorises its first row-replaced matrix (`ModelFactors::Owned`: the
+/// peak is one factorisation of the body, not two; docs/dev/performance.md, "Session 11").
+/// On the strip 50 × 1 at spacing 0.1 (500 candidates, one refactorisation) the answer must be
+/// the same, bit for bit, as with `K`'s factors borrowed and kept (nothing solves with them
+/// after the free gap), and the pipeline's model must come back with the statistics only.
+#[test]
+fn releasing_k_factors_changes_nothing_but_memory() {
+    use mlpg_contact::contact::{candidates_on, rigid_target};
+    use mlpg_contact::lcp::active_set::{self, ActiveSetParams, RigidObstacle};
+    use mlpg_contact::problem::ContactTarget;
+
+    let mut problem = plain_strip(50.0, 0.1, "");
+    problem.contact.as_mut().unwrap().solver = ContactSolver::ActiveSet;
+    let spec = problem.contact.unwrap();
+    assert!(matches!(spec.target, ContactTarget::Rigid(_)));
+    let mut model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+    let factors = model.factorisation.take();
+    let target = |x| rigid_target(&problem, &spec, x).unwrap();
+    let candidates =
+        candidates_on(&problem, &model, spec.edge, &target, spec.condensation).unwrap();
+    let points = Some(model.nodes.points.as_slice());
+    let params = ActiveSetParams::default();
+    let solve = |factors: active_set::ModelFactors<'_>| {
+        let mut system = RigidObstacle::new(
+            &model.system.matrix,
+            &model.system.rhs,
+            factors,
+            &candidates.operator,
+            &candidates.initial_gap,
+            model.system.collocation_scale,
+            points,
+        )
+        .unwrap();
+        let answer = active_set::solve(&mut system, &params).unwrap();
+        let u = system.final_displacements(&answer.active).unwrap();
+        let stats = system.stats;
+        (answer, u, stats, system.into_factorisation())
+    };
+    let (kept, u_kept, stats, none) = solve((&factors).into());
+    assert!(none.is_none(), "a borrowed factorisation is not given back");
+    assert!(stats.factorisations >= 1, "the case must refactorise: {stats:?}");
+    let (released, u_released, _, back) = solve(factors.into());
+    let back = back.expect("an owned factorisation is given back");
+    assert!(back.is_released(), "released once the row-replaced factors exist");
+    assert_eq!(kept.lcp.z, released.lcp.z);
+    assert_eq!(kept.active, released.active);
+    assert_eq!(u_kept, u_released);
+
+    // Through the pipeline: the model comes back released, with the statistics of the
+    // factorisation of `K` (summary.json) kept, and the answer checked on its own.
+    let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
+    let nnz = model.factorisation.stats().factor_nnz;
+    let (model, _, s) =
+        mlpg_contact::solve_model(&problem, model, None, &mut mlpg_contact::Silent).unwrap();
+    assert!(model.factorisation.is_released());
+    assert_eq!(model.factorisation.stats().factor_nnz, nnz);
+    assert!(model.factorisation.solve(&model.system.rhs).is_err());
+    check_own("strip 50 × 1", &s);
+    let z = &s.contact.as_ref().unwrap().lcp.z;
+    assert_eq!(z, &released.lcp.z);
+}

@@ -570,7 +570,7 @@ impl FrictionSystem for RigidObstacle<'_> {
     }
     /// One solve with `K`'s own factorisation; `None` when it fails its accuracy check.
     fn free_response(&mut self) -> Result<Option<FreeResponse>, ActiveSetError> {
-        match self.model.solve(&self.rhs) {
+        match self.model.get().solve(&self.rhs) {
             Ok(u) => Ok(Some(self.gaps_and_slips(&u))),
             Err(_) => Ok(None),
         }
