@@ -114,6 +114,9 @@ pub struct ContactSolution {
     pub load_driven: Option<LoadDriven>,
     /// The body's rigid-body translation held by the contact alone (docs/method.md §4.7).
     pub rigid_mode: Option<RigidMode>,
+    /// The polish of Lemke's answer on its closed set ([`lcp::polish`]; the frictionless
+    /// one-step Lemke path only).
+    pub lemke_polish: Option<lcp::Polish>,
 }
 
 /// A rigid-body translation of the body that no displacement condition restrains, resolved
@@ -396,6 +399,7 @@ impl ContactSolution {
             fallback_from: None,
             load_driven: None,
             rigid_mode: None,
+            lemke_polish: None,
         }
     }
 }

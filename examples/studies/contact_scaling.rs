@@ -124,8 +124,16 @@ fn main() {
         .timings
         .iter()
         .filter(|t| {
-            ["contact_candidates", "condensation", "lemke", "active_set", "solve", "friction"]
-                .contains(&t.stage)
+            [
+                "contact_candidates",
+                "condensation",
+                "lemke",
+                "lemke_polish",
+                "active_set",
+                "solve",
+                "friction",
+            ]
+            .contains(&t.stage)
         })
         .map(|t| format!("{} {:.2}", t.stage, t.seconds))
         .collect();

@@ -86,7 +86,10 @@ pub const SPARSE_CONDENSATION_MIN_CANDIDATES: usize = 1000;
 /// ([`sparse_compliance`]) in a second factorisation with static pivoting and nested
 /// dissection; `G K⁻¹ f` always comes from the model's own factorisation (the one the final
 /// displacements are solved with). Falls back to [`condense_observed`] when the second
-/// factorisation refuses the sparse route (perturbed pivots).
+/// factorisation refuses the sparse route (perturbed pivots). The pipeline's `discretise`
+/// builds that static LU as the model's own factorisation when it foresees the Lemke path
+/// with this many candidates on a body; then the sparse route runs in it, with no second
+/// factorisation.
 ///
 /// # Errors
 /// [`ContactError::Solve`] when a solve or the second factorisation fails.

@@ -32,7 +32,7 @@ pub use enumerate::enumerate_solutions;
 pub use friction::{
     ContactState, FrictionMethod, FrictionProblem, FrictionResiduals, FrictionSolution, solve_step,
 };
-pub use lemke::{LemkeParams, lemke, lemke_observed};
+pub use lemke::{LemkeParams, Polish, closed_set_residual, lemke, lemke_observed, polish};
 
 /// A linear complementarity problem LCP(q, M): find z ≥ 0 with w = M z + q ≥ 0 and zᵀw = 0
 /// [CPS92, §1.1].

@@ -115,7 +115,12 @@ fn discretise_mfvm_nodes(
     check_factor_memory(problem, &system, &nodes.points)?;
     let factorisation = clock.run("factorisation", || {
         let ordering = ColumnOrdering::NestedDissection(&nodes.points);
-        Factorisation::with_options(&system.matrix, ordering, &factor_options(problem))
+        let options = if condensed_sparsely(problem, &nodes, system.pinned.is_some()) {
+            FactorOptions::nested_dissection_static()
+        } else {
+            factor_options(problem)
+        };
+        Factorisation::with_options(&system.matrix, ordering, &options)
     })?;
     Ok(Model {
         nodes,
@@ -131,6 +136,29 @@ fn discretise_mfvm_nodes(
         })),
         timings: clock.timings,
     })
+}
+
+/// Whether `problem`'s contact will be condensed for Lemke's method with at least
+/// [`contact::SPARSE_CONDENSATION_MIN_CANDIDATES`] candidates on this body (one body or the
+/// first of two; frictionless, one step, no translation held by the contact, double
+/// precision, `contact.solver` resolving to Lemke), counted as the nodes on the contact edge
+/// (the candidates are these, less constrained ones). Then the body's own factorisation is
+/// the static-pivoting LU with nested dissection ([`FactorOptions::nested_dissection_static`])
+/// that the condensation's reach-restricted solves need ([`contact::condense_model_observed`]),
+/// instead of a second factorisation for `M`: on the 2 000-candidate strip one factorisation
+/// of 84k unknowns less (docs/dev/performance.md, "Session 11").
+fn condensed_sparsely(problem: &Problem, nodes: &nodes::Nodes, pinned: bool) -> bool {
+    let Some(spec) = &problem.contact else { return false };
+    if spec.friction > 0.0
+        || !problem.steps.is_empty()
+        || pinned
+        || problem.multibody.is_some()
+        || memory::precision(problem) != FactorPrecision::Double
+    {
+        return false;
+    }
+    let on_edge = nodes.edges.iter().filter(|e| e.contains(spec.edge)).count();
+    on_edge >= contact::SPARSE_CONDENSATION_MIN_CANDIDATES && !spec.solver.is_active_set(on_edge)
 }
 
 /// The options of the factorisation of `problem`'s MFVM matrix: the defaults, or with
@@ -550,6 +578,8 @@ fn solve_contact(
             return Err(Error::LemkeRefused(Box::new(refusal)));
         }
     };
+    let mut result = result;
+    let polish = clock.run("lemke_polish", || lcp::polish(&lcp_problem, &mut result));
     let mut rhs = model.system.rhs.clone();
     candidates.operator.add_forces(&result.z, &mut rhs);
     let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
@@ -575,6 +605,7 @@ fn solve_contact(
         warning,
     );
     contact.unpaired = unpaired;
+    contact.lemke_polish = Some(polish);
     Ok((u1, u2, contact))
 }
 
@@ -1074,4 +1105,57 @@ fn solve_and_write(
     let files = write_outcome(out, &outcome)?;
     let Outcome { model, solution, summary, .. } = outcome;
     Ok((model, solution, RunReport { summary, files }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A strip `length × 1` at spacing 0.05 (`length / 0.05 + 1` nodes on its bottom, the
+    /// contact edge) above a rigid floor, with `contact` appended to its `[contact]` table.
+    fn strip(length: f64, contact: &str) -> Problem {
+        Problem::from_toml(&format!(
+            r#"
+            [geometry]
+            kind = "rectangle"
+            x = [0.0, {length:?}]
+            y = [-0.5, 0.5]
+            [nodes]
+            spacing = 0.05
+            [material]
+            young = 30000.0
+            poisson = 0.3
+            plane = "stress"
+            [[boundary]]
+            edge = "left"
+            displacement = {{ x = 0.0, y = 0.0 }}
+            [[boundary]]
+            edge = "top"
+            traction = {{ y = -1.0 }}
+            [contact]
+            edge = "bottom"
+            obstacle_point = [0.0, -0.51]
+            obstacle_normal = [0.0, 1.0]
+            {contact}
+            "#
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn the_static_lu_is_the_models_own_only_for_lemke_from_1000_candidates() {
+        let sparse = |p: &Problem, pinned: bool| {
+            condensed_sparsely(p, &nodes::for_problem(p).unwrap(), pinned)
+        };
+        let lemke = "solver = \"lemke\"";
+        // 1 001 nodes on the contact edge: the Lemke path condenses by reach-restricted solves.
+        assert!(sparse(&strip(50.0, lemke), false));
+        // 981: below the threshold.
+        assert!(!sparse(&strip(49.0, lemke), false));
+        // "auto" takes the active set from 1 000 candidates; friction and a held translation
+        // take the incremental path.
+        assert!(!sparse(&strip(50.0, ""), false));
+        assert!(!sparse(&strip(50.0, &format!("{lemke}\nfriction = 0.3")), false));
+        assert!(!sparse(&strip(50.0, lemke), true));
+    }
 }

@@ -289,6 +289,10 @@ pub struct LcpSummary {
     /// solves.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub active_set: Option<ActiveSetSummary>,
+    /// The polish of Lemke's answer on its closed set (`crate::lcp::polish`): whether it
+    /// was accepted and the closed-set residual before and after (absent on the other paths).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lemke_polish: Option<crate::lcp::Polish>,
 }
 
 /// What the active-set solver did (docs/method.md §5.1).
@@ -576,6 +580,7 @@ impl Summary {
                         end: a.end,
                         work: a.work,
                     }),
+                    lemke_polish: c.lemke_polish,
                 })
                 .or_else(|| multibody_lcp(solution)),
             contact: solution.contact.as_ref().map(|c| ContactSummary {
@@ -757,6 +762,7 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
         solver: "lemke",
         fallback_from: None,
         active_set: None,
+        lemke_polish: None,
     })
 }
 
