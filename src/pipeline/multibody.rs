@@ -1,7 +1,9 @@
 //! Several bodies and contact pairs in one LCP (docs/method.md §4.5): every pair's
 //! candidates, each body's `K` factorised once and condensed once for all the pairs that touch
 //! it, `M = Σ_b G_b K_b⁻¹ E_b` and `q = g0 + Σ_b G_b K_b⁻¹ f_b` over all candidates, Lemke,
-//! then one solve per body with the contact forces of its pairs.
+//! then one solve per body with the contact forces of its pairs; or, with
+//! `contact[k].solver = "active_set"`, the active-set method on all bodies at once without
+//! `M` (docs/method.md §5.1, [`lcp::active_set::Bodies`]).
 
 use super::{final_gaps, finite};
 use crate::assembly::PinnedMode;
