@@ -60,10 +60,14 @@ pub struct MultibodySolution {
     /// of `z` and `w` (`lcp.z`, `lcp.w`; pivots and residuals are the whole LCP's), gaps,
     /// pressures, closed set.
     pub pairs: Vec<ContactSolution>,
-    /// The condensed problem over all candidates and its run-time checks.
-    pub condensed: contact::CondensedContact,
-    /// Lemke's result over all candidates.
+    /// The condensed problem over all candidates and its run-time checks (`None`: solved by
+    /// the active-set method, which forms no `M`).
+    pub condensed: Option<contact::CondensedContact>,
+    /// The LCP's answer over all candidates (Lemke's, or the active set's as
+    /// [`ContactSolution::lcp`] describes).
     pub lcp: lcp::LcpSolution,
+    /// The active-set solver's record (`contact[k].solver = "active_set"`), `None` for Lemke.
+    pub active_set: Option<ActiveSetRecord>,
     /// The compliance checks that failed but were overridden (`allow_indefinite`).
     pub warning: Option<String>,
     /// The body (0 the first) whose rigid translation the contact holds, and that

@@ -742,9 +742,13 @@ fn bad_several_bodies_input_gives_a_clear_error_and_exit_code_2() {
             "`contact[1].friction`",
         ),
         (
-            "stack-active-set",
-            with(second, &format!("solver = \"active_set\"\n{second}")),
-            "`contact[1].solver`",
+            "stack-mixed-solvers",
+            with(second, &format!("solver = \"active_set\"\n{second}")).replacen(
+                "[[contact]]\n",
+                "[[contact]]\nsolver = \"lemke\"\n",
+                1,
+            ),
+            "`contact[1].solver`: active_set (the contact pairs are solved together in one problem, and contact[0].solver is \"lemke\"",
         ),
         ("stack-foreign-key", with(second, &format!("edges = 1\n{second}")), "contact[1]"),
         ("stack-steps", format!("{stack}\n[[step]]\nincrements = 2\n"), "`step`"),

@@ -42,7 +42,7 @@ pub use friction::{
     DenseFriction, FreeResponse, FrictionStepSolution, FrictionSystem, StateResponse,
     friction_residuals, solve_friction_step,
 };
-pub use two_bodies::{BodyParts, TwoBodies};
+pub use two_bodies::{Bodies, BodyParts, PairParts, TwoBodies};
 
 /// Failures of the active-set solver.
 #[derive(Debug, thiserror::Error)]
@@ -67,6 +67,24 @@ pub enum ActiveSetError {
     Unsupported {
         /// The first offending candidate.
         candidate: usize,
+    },
+    /// A node owns a candidate of one contact pair and receives the target forces of another
+    /// on its rows (a body one node thick, or a corner node shared by two contact edges): the
+    /// removed row would hold two unknown forces (docs/method.md §5.1).
+    #[error(
+        "the active-set contact solver cannot take contact[{pair}] and contact[{other}] together: node {node} of body[{body}] {what}, so the row it would take a force from holds two unknown forces; use contact[{pair}].solver = \"lemke\" (and the same for every pair)"
+    )]
+    OwnerConflict {
+        /// The body (index among the problem's bodies).
+        body: usize,
+        /// The node (index in the body).
+        node: usize,
+        /// The pair whose candidate the node owns.
+        pair: usize,
+        /// The other pair (whose candidate or target forces also reach the node).
+        other: usize,
+        /// How the two pairs meet at the node.
+        what: &'static str,
     },
     /// A linear solve failed.
     #[error(transparent)]

@@ -177,6 +177,13 @@ pub trait Trials {
         along: &[f64],
         active: &[usize],
     ) -> Result<f64, Self::Error>;
+    /// A bound on the round-off of `F = aᵀz` at `answer` (`along` = `a`), which
+    /// [`find_translation_with`] accepts as met when it exceeds its relative tolerance: forces
+    /// recovered from row residuals carry more than Lemke's (default 0: the relative
+    /// tolerance alone).
+    fn force_round_off(&self, _answer: &Self::Answer, _along: &[f64]) -> f64 {
+        0.0
+    }
 }
 
 /// Lemke's trials: `solve(q)` answers the LCP, `forces` reads `z`, and the gaps and slopes
@@ -331,12 +338,27 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
     base_gap: &[f64],
     along: &[f64],
     target: f64,
-    mut solve: impl FnMut(&[f64]) -> Result<S, E>,
+    solve: impl FnMut(&[f64]) -> Result<S, E>,
     forces: impl Fn(&S) -> &[f64],
 ) -> Result<ForceSearch<S>, E> {
+    debug_assert_eq!(compliance.len(), base_gap.len() * base_gap.len());
+    let mut trials = Condensed { compliance, solve, forces, answer: std::marker::PhantomData };
+    find_translation_with(&mut trials, base_gap, along, target)
+}
+
+/// [`find_translation`] whatever answers the LCP at each trial (`trials`, as
+/// [`find_displacement_with`]): `base_gap` are the gaps `q_b` at `t = 0`, `along` the `a_c`.
+///
+/// # Errors
+/// As [`find_translation`].
+pub fn find_translation_with<T: Trials + ?Sized>(
+    trials: &mut T,
+    base_gap: &[f64],
+    along: &[f64],
+    target: f64,
+) -> Result<ForceSearch<T::Answer>, T::Error> {
     let m = base_gap.len();
     debug_assert_eq!(along.len(), m);
-    debug_assert_eq!(compliance.len(), m * m);
     if !target.is_finite() {
         return Err(LoadDrivenError::BadForce { force: target }.into());
     }
@@ -347,13 +369,18 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
     let gap_scale = base_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
     for evaluation in 1..=MAX_EVALUATIONS {
         let q: Vec<f64> = base_gap.iter().zip(along).map(|(g, a)| g - a * t).collect();
-        let answer = solve(&q)?;
-        let z = forces(&answer);
+        let answer = trials.solve(t, &q)?;
+        let z = trials.forces(&answer);
         let force: f64 = z.iter().zip(along).map(|(z, a)| z * a).sum();
         let residual = force - target;
         tried = (t, force);
         let carried = z.iter().zip(along).fold(0.0f64, |s, (z, a)| s.max((z * a).abs()));
-        if residual.abs() <= FORCE_TOLERANCE * target.abs().max(carried) {
+        let mut tolerance = FORCE_TOLERANCE * target.abs().max(carried);
+        let round_off = trials.force_round_off(&answer, along);
+        if round_off > tolerance {
+            tolerance = round_off;
+        }
+        if residual.abs() <= tolerance {
             return Ok(ForceSearch { displacement: t, force, answer, evaluations: evaluation });
         }
         bracket.record(t, residual);
@@ -361,9 +388,9 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
         if bracket.collapsed(scale) {
             return Err(bracket.not_converged(evaluation, (t, force), target).into());
         }
-        let w = gaps(compliance, &q, z);
+        let w = trials.gaps(&q, &answer);
         let active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
-        let slope = if active.is_empty() { 0.0 } else { slope(compliance, m, along, &active) };
+        let slope = if active.is_empty() { 0.0 } else { trials.slope(&answer, along, &active)? };
         // Towards larger F: t grows when the residual is negative.
         let direction = if residual < 0.0 { 1.0 } else { -1.0 };
         let inside = |x: f64| bracket.contains(x);

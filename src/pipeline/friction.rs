@@ -703,7 +703,7 @@ pub(super) fn solve_frictional_active_set(
     let work = clock.run("friction", || -> Result<_, Error> {
         let mut system = match (&target, &target_tangential) {
             (Some(tg), Some(_)) => SparseFriction::Pair(
-                lcp::active_set::TwoBodies::new(
+                lcp::active_set::TwoBodies::two(
                     super::body_parts(model, &candidates.operator),
                     super::body_parts(tg.model, &tg.operator),
                     &candidates.initial_gap,

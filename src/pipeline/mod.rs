@@ -683,7 +683,7 @@ fn solve_active_set(
             Ok::<_, lcp::LcpError>((answer, u1, None, stats))
         }
         Some((op, m2)) => {
-            let mut system = lcp::active_set::TwoBodies::new(
+            let mut system = lcp::active_set::TwoBodies::two(
                 body_parts(model, &candidates.operator),
                 body_parts(m2, op),
                 &candidates.initial_gap,
@@ -824,15 +824,27 @@ impl std::fmt::Display for RunReport {
             )?;
         }
         if let (Some(_), Some(l)) = (&s.pairs, &s.lcp) {
-            writeln!(
-                f,
-                "  one LCP over {} candidates: M eigenvalues of the symmetric part {:.3e} to {:.3e}; Lemke: {} pivots, complementarity {:.1e}",
-                l.size,
-                l.compliance_min_symmetric_eigenvalue.unwrap_or(f64::NAN),
-                l.compliance_max_symmetric_eigenvalue.unwrap_or(f64::NAN),
-                l.pivots,
-                l.max_complementarity
-            )?;
+            match &l.active_set {
+                None => writeln!(
+                    f,
+                    "  one LCP over {} candidates: M eigenvalues of the symmetric part {:.3e} to {:.3e}; Lemke: {} pivots, complementarity {:.1e}",
+                    l.size,
+                    l.compliance_min_symmetric_eigenvalue.unwrap_or(f64::NAN),
+                    l.compliance_max_symmetric_eigenvalue.unwrap_or(f64::NAN),
+                    l.pivots,
+                    l.max_complementarity
+                )?,
+                Some(a) => writeln!(
+                    f,
+                    "  one LCP over {} candidates, active set: {} linear solves, {} factorisations, {} update columns, {} Lemke rescues; complementarity {:.1e}",
+                    l.size,
+                    a.iterations,
+                    a.work.factorisations,
+                    a.work.update_columns,
+                    a.rescues.len(),
+                    l.max_complementarity
+                )?,
+            }
         }
         if let (Some(c), Some(l)) = (&s.contact, &s.lcp) {
             writeln!(

@@ -1,7 +1,9 @@
 //! Several bodies and contact pairs in one LCP (docs/method.md §4.5): every pair's
 //! candidates, each body's `K` factorised once and condensed once for all the pairs that touch
 //! it, `M = Σ_b G_b K_b⁻¹ E_b` and `q = g0 + Σ_b G_b K_b⁻¹ f_b` over all candidates, Lemke,
-//! then one solve per body with the contact forces of its pairs.
+//! then one solve per body with the contact forces of its pairs; or, with
+//! `contact[k].solver = "active_set"`, the active-set method on all bodies at once without
+//! `M` (docs/method.md §5.1, [`lcp::active_set::Bodies`]).
 
 use super::{final_gaps, finite};
 use crate::assembly::PinnedMode;
@@ -12,7 +14,7 @@ use crate::lcp;
 use crate::lcp::load_driven::LoadDrivenError;
 use crate::mls::ShapeSet;
 use crate::model::Model;
-use crate::problem::{ContactPair, Multibody, Problem, ProblemError};
+use crate::problem::{ContactPair, ContactSolver, Multibody, Problem, ProblemError};
 use crate::progress::{Clock, Progress};
 use crate::solution::{self, ContactSolution, MultibodySolution, Solution};
 
@@ -211,73 +213,40 @@ pub fn solve_bodies(
     for f in &found {
         offsets.push(offsets.last().copied().unwrap_or(0) + f.candidates.len());
     }
-    let m = offsets.last().copied().unwrap_or(0);
     // Each body's operator over the candidates that touch it, and their global indices.
     let operators: Vec<Option<(BodyOperator, Vec<usize>)>> =
         (0..problems.len()).map(|b| body_operator(b, pairs, &found, &offsets)).collect();
     let initial_gap: Vec<f64> =
         found.iter().flat_map(|f| f.candidates.initial_gap.iter().copied()).collect();
-    let condensed = clock.run_counted("condensation", |progress| {
-        let mut total =
-            contact::CondensedPart { compliance: vec![0.0; m * m], free_gap: vec![0.0; m] };
-        for (b, op) in operators.iter().enumerate() {
-            let Some((op, index)) = op else { continue };
-            let part = contact::condense_model_observed(models[b], op, progress)?;
-            let mb = index.len();
-            for (i, &gi) in index.iter().enumerate() {
-                total.free_gap[gi] += part.free_gap[i];
-                for (j, &gj) in index.iter().enumerate() {
-                    total.compliance[gi * m + gj] += part.compliance[i * mb + j];
-                }
-            }
-        }
-        contact::CondensedContact::combine(&initial_gap, &[total])
-    })?;
-    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
-    let warning =
-        match contact::check_compliance(&condensed, problem.discretisation.mls.support_factor) {
-            Ok(()) => None,
-            Err(err) if allow => Some(err.to_string()),
-            Err(err) => return Err(err.into()),
-        };
     let held =
         held_body(&problems, &models, pairs, &found, &operators).map_err(lcp::LcpError::from)?;
-    let lemke_on = |q: &[f64], clock: &mut Clock| -> Result<lcp::LcpSolution, Error> {
-        let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), q.to_vec())?;
-        let result = clock
-            .run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
-        match result {
-            Ok(r) => Ok(r),
-            Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
-                Err(cause.into())
-            }
-            Err(cause) => {
-                let extremes =
-                    [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
-                let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, false)?;
-                Err(Error::LemkeRefused(Box::new(refusal)))
-            }
-        }
+    // `contact[k].solver = "active_set"` on any pair (validated: none says "lemke"): the
+    // sparse system of all bodies and pairs, no M (docs/method.md §5.1).
+    let active_set = pairs.iter().any(|p| p.spec.solver == ContactSolver::ActiveSet);
+    let solved = if active_set {
+        solve_active_set(&models, pairs, &found, &initial_gap, held.as_ref(), &mut clock)?
+    } else {
+        solve_lemke(
+            problem,
+            &models,
+            pairs,
+            &operators,
+            &initial_gap,
+            held.as_ref(),
+            lemke,
+            &mut clock,
+        )?
     };
-    // A body held by the contact alone (docs/method.md §4.7): its translation t along r
-    // moves the gaps by −a t, and its pin's reaction vanishes when aᵀz = F_r.
-    let (result, rigid) = match &held {
-        None => (lemke_on(&condensed.free_gap, &mut clock)?, None),
-        Some((b, pin, along, load)) => {
-            let search = lcp::load_driven::find_translation(
-                &condensed.compliance,
-                &condensed.free_gap,
-                along,
-                *load,
-                |q| lemke_on(q, &mut clock),
-                |r| r.z.as_slice(),
-            )?;
+    let Solved { result, free_gap, condensed, warning, search, displacements, record } = solved;
+    // A body held by the contact alone (docs/method.md §4.7): its translation found.
+    let rigid = match (&held, search) {
+        (Some((b, pin, along, load)), Some((displacement, evaluations))) => {
             // No load and no force along the translation: the position is determined only
             // if touching gaps block it both ways (F(t) = aᵀz(t) is flat on an interval
             // otherwise, and every t of it answers).
-            let (z, w) = (&search.answer.z, &search.answer.w);
+            let (z, w) = (&result.z, &result.w);
             let carries = z.iter().zip(along.iter()).any(|(z, a)| *z * a != 0.0);
-            let touching = 1e-12 * condensed.free_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
+            let touching = 1e-12 * free_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
             let blocked =
                 |sign: f64| along.iter().zip(w).any(|(a, w)| sign * a > 0.0 && *w <= touching);
             if *load == 0.0 && !carries && !(blocked(1.0) && blocked(-1.0)) {
@@ -288,17 +257,18 @@ pub fn solve_bodies(
                 .into());
             }
             let mut translation = [0.0; 2];
-            translation[pin.axis as usize] = search.displacement;
+            translation[pin.axis as usize] = displacement;
             let mode = solution::RigidMode {
                 mode: pin.name(),
                 pin_point: models[*b].nodes.points[pin.node as usize],
                 translation,
                 load: *load,
-                evaluations: search.evaluations,
-                total_evaluations: search.evaluations,
+                evaluations,
+                total_evaluations: evaluations,
             };
-            (search.answer, Some((*b, *pin, mode)))
+            Some((*b, *pin, mode))
         }
+        _ => None,
     };
     // The pin's value is the translation found, so that the system each solution answers
     // (its residual, its reactions) is the one solved.
@@ -315,21 +285,28 @@ pub fn solve_bodies(
         }
     }
     let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
-    // One solve per body with the forces of the pairs that touch it.
-    let mut u = Vec::with_capacity(problems.len());
-    for (b, op) in operators.iter().enumerate() {
-        let mut rhs = models[b].system.rhs.clone();
-        if let Some((op, index)) = op {
-            let forces: Vec<f64> = index.iter().map(|&g| result.z[g]).collect();
-            op.add_forces(&forces, &mut rhs);
+    // Lemke: one solve per body with the forces of the pairs that touch it; the active set:
+    // the displacements of its final closed set (as for one or two bodies).
+    let u = match displacements {
+        Some(u) => u,
+        None => {
+            let mut u = Vec::with_capacity(problems.len());
+            for (b, op) in operators.iter().enumerate() {
+                let mut rhs = models[b].system.rhs.clone();
+                if let Some((op, index)) = op {
+                    let forces: Vec<f64> = index.iter().map(|&g| result.z[g]).collect();
+                    op.add_forces(&forces, &mut rhs);
+                }
+                u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
+            }
+            u
         }
-        u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
-    }
+    };
     // The default gap tolerance (docs/method.md §6) from all pairs' gaps: one pair's own
     // contact-free gaps may all vanish (an edge that a rigid motion keeps in place).
     let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
-    let tolerance = (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&condensed.free_gap))
-        .max(f64::MIN_POSITIVE);
+    let tolerance =
+        (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&free_gap)).max(f64::MIN_POSITIVE);
     let contacts: Vec<ContactSolution> = found
         .into_iter()
         .zip(pairs)
@@ -359,7 +336,7 @@ pub fn solve_bodies(
                 f.target,
                 f.paired,
                 None,
-                &condensed.free_gap[range],
+                &free_gap[range],
                 share,
                 gap,
                 None,
@@ -392,12 +369,302 @@ pub fn solve_bodies(
         pairs: contacts,
         condensed,
         lcp: result,
+        active_set: record,
         warning,
         held: rigid.map(|(b, _, r)| (b, r)),
     }));
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
     finite(solution).map(|s| (model, others, s))
+}
+
+/// What the LCP over all pairs gave: the answer `z, w` over all candidates, the gaps without
+/// contact forces `q` (at `t = 0` for a held body), Lemke's `M` and its overridden checks,
+/// the held translation's search (`t`, LCP solves), and the active set's displacements per
+/// body and record.
+struct Solved {
+    result: lcp::LcpSolution,
+    free_gap: Vec<f64>,
+    condensed: Option<contact::CondensedContact>,
+    warning: Option<String>,
+    search: Option<(f64, usize)>,
+    displacements: Option<Vec<Vec<f64>>>,
+    record: Option<solution::ActiveSetRecord>,
+}
+
+/// Lemke's method on `M = Σ_b G_b K_b⁻¹ E_b` over all candidates (docs/method.md §4.5), with
+/// the search of a held translation (§4.7).
+#[allow(clippy::too_many_arguments)]
+fn solve_lemke(
+    problem: &Problem,
+    models: &[&Model],
+    pairs: &[ContactPair],
+    operators: &[Option<(BodyOperator, Vec<usize>)>],
+    initial_gap: &[f64],
+    held: Option<&Held>,
+    lemke: &lcp::LemkeParams,
+    clock: &mut Clock<'_>,
+) -> Result<Solved, Error> {
+    let m = initial_gap.len();
+    let condensed = clock.run_counted("condensation", |progress| {
+        let mut total =
+            contact::CondensedPart { compliance: vec![0.0; m * m], free_gap: vec![0.0; m] };
+        for (b, op) in operators.iter().enumerate() {
+            let Some((op, index)) = op else { continue };
+            let part = contact::condense_model_observed(models[b], op, progress)?;
+            let mb = index.len();
+            for (i, &gi) in index.iter().enumerate() {
+                total.free_gap[gi] += part.free_gap[i];
+                for (j, &gj) in index.iter().enumerate() {
+                    total.compliance[gi * m + gj] += part.compliance[i * mb + j];
+                }
+            }
+        }
+        contact::CondensedContact::combine(initial_gap, &[total])
+    })?;
+    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
+    let warning =
+        match contact::check_compliance(&condensed, problem.discretisation.mls.support_factor) {
+            Ok(()) => None,
+            Err(err) if allow => Some(err.to_string()),
+            Err(err) => return Err(err.into()),
+        };
+    let lemke_on = |q: &[f64], clock: &mut Clock| -> Result<lcp::LcpSolution, Error> {
+        let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), q.to_vec())?;
+        let result = clock
+            .run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
+        match result {
+            Ok(r) => Ok(r),
+            Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
+                Err(cause.into())
+            }
+            Err(cause) => {
+                let extremes =
+                    [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
+                let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, false)?;
+                Err(Error::LemkeRefused(Box::new(refusal)))
+            }
+        }
+    };
+    // A body held by the contact alone (docs/method.md §4.7): its translation t along r
+    // moves the gaps by −a t, and its pin's reaction vanishes when aᵀz = F_r.
+    let (result, search) = match held {
+        None => (lemke_on(&condensed.free_gap, clock)?, None),
+        Some((_, _, along, load)) => {
+            let search = lcp::load_driven::find_translation(
+                &condensed.compliance,
+                &condensed.free_gap,
+                along,
+                *load,
+                |q| lemke_on(q, clock),
+                |r| r.z.as_slice(),
+            )?;
+            (search.answer, Some((search.displacement, search.evaluations)))
+        }
+    };
+    Ok(Solved {
+        result,
+        free_gap: condensed.free_gap.clone(),
+        condensed: Some(condensed),
+        warning,
+        search,
+        displacements: None,
+        record: None,
+    })
+}
+
+/// The active-set method on all bodies and pairs ([`lcp::active_set::Bodies`],
+/// docs/method.md §5.1): no `M`, so none of its checks; a held translation (§4.7) found by
+/// the search of [`lcp::load_driven::find_translation_with`] over warm-started solves; the
+/// displacements those of the final closed set (with the pin at the translation found).
+fn solve_active_set(
+    models: &[&Model],
+    pairs: &[ContactPair],
+    found: &[PairCandidates],
+    initial_gap: &[f64],
+    held: Option<&Held>,
+    clock: &mut Clock<'_>,
+) -> Result<Solved, Error> {
+    let params = lcp::active_set::ActiveSetParams::default();
+    clock.run("active_set", || -> Result<Solved, Error> {
+        let bodies: Vec<_> = models
+            .iter()
+            .map(|m| lcp::active_set::BodyParts {
+                matrix: &m.system.matrix,
+                rhs: &m.system.rhs,
+                factorisation: &m.factorisation,
+                operator: &EMPTY_OPERATOR,
+                points: super::node_points(m),
+            })
+            .collect();
+        let parts = pairs
+            .iter()
+            .zip(found)
+            .map(|(pair, f)| lcp::active_set::PairParts {
+                body: pair.body,
+                operator: &f.candidates.operator,
+                target: pair.target_body.zip(f.target.as_ref()),
+                scale: models[pair.body].system.collocation_scale,
+            })
+            .collect();
+        let mut system = lcp::active_set::Bodies::new(bodies, parts, initial_gap)
+            .map_err(lcp::LcpError::from)?;
+        let Some((b, pin, along, load)) = held else {
+            let answer =
+                lcp::active_set::solve(&mut system, &params).map_err(lcp::LcpError::from)?;
+            let u = system.final_body_displacements(&answer.active).map_err(lcp::LcpError::from)?;
+            return Ok(Solved {
+                free_gap: answer.free_gap,
+                condensed: None,
+                warning: None,
+                search: None,
+                displacements: Some(u),
+                record: Some(solution::ActiveSetRecord {
+                    iterations: answer.iterations,
+                    changes: answer.changes,
+                    rescues: answer.rescues,
+                    end: answer.end,
+                    work: system.stats,
+                }),
+                result: answer.lcp,
+            });
+        };
+        let mut trials = BodiesTrials {
+            system: &mut system,
+            initial_gap,
+            along,
+            previous: vec![0.0; initial_gap.len()],
+            warm: None,
+            params,
+            iterations: 0,
+            rescues: Vec::new(),
+            round_off: Vec::new(),
+        };
+        let base = trials.base_gap()?;
+        let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, *load)?;
+        let (iterations, rescues) = (trials.iterations, trials.rescues);
+        let answer = search.answer;
+        // The translation found: the pin's value, the gaps without the shift (the system the
+        // displacements answer is the one reported, as on Lemke's path).
+        let model = models[*b];
+        let mut rhs = model.system.rhs.clone();
+        rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
+            model.system.collocation_scale * search.displacement;
+        system.set_body_load(*b, &rhs);
+        system.set_initial_gap(initial_gap);
+        let active: Vec<bool> =
+            answer.states.iter().map(|&s| s != lcp::ContactState::Open).collect();
+        let u = system.final_body_displacements(&active).map_err(lcp::LcpError::from)?;
+        let step = answer.step;
+        let result = lcp::LcpSolution {
+            residuals: lcp::active_set::residuals(&base, &step.normal, &step.gap),
+            w: step.gap,
+            z: step.normal,
+            pivots: iterations,
+        };
+        Ok(Solved {
+            result,
+            free_gap: base,
+            condensed: None,
+            warning: None,
+            search: Some((search.displacement, search.evaluations)),
+            displacements: Some(u),
+            record: Some(solution::ActiveSetRecord {
+                iterations,
+                changes: answer.changes,
+                rescues,
+                end: answer.end,
+                work: system.stats,
+            }),
+        })
+    })
+}
+
+/// The operator [`lcp::active_set::BodyParts::operator`] holds for [`lcp::active_set::Bodies::new`],
+/// which reads the pairs' operators instead.
+static EMPTY_OPERATOR: std::sync::LazyLock<BodyOperator> = std::sync::LazyLock::new(|| {
+    BodyOperator { shapes: ShapeSet::from_rows(&[]), owners: Vec::new(), directions: Vec::new() }
+});
+
+/// The trials of a held translation's search (docs/method.md §4.7) on the active-set path:
+/// each is the system with the initial gaps moved to `g0 − a t`, solved by
+/// [`lcp::active_set::solve_friction_step`] (frictionless) from the last trial's states; the
+/// slope one solve with the closed set's matrix ([`lcp::active_set::Bodies::force_rate`]).
+struct BodiesTrials<'s, 'a> {
+    system: &'s mut lcp::active_set::Bodies<'a>,
+    initial_gap: &'s [f64],
+    along: &'s [f64],
+    /// The accumulated slips (zero: frictionless).
+    previous: Vec<f64>,
+    /// The states to start the next solve from.
+    warm: Option<Vec<lcp::ContactState>>,
+    params: lcp::active_set::ActiveSetParams,
+    /// Linear solves and Lemke rescues over the trials.
+    iterations: usize,
+    rescues: Vec<usize>,
+    /// The round-off of the last trial's forces ([`lcp::active_set::Bodies::force_round_off`]).
+    round_off: Vec<f64>,
+}
+
+impl BodiesTrials<'_, '_> {
+    /// `q_b`, the gaps without contact forces at `t = 0` (one solve per body; `g0` when a
+    /// body's solve fails its accuracy check).
+    fn base_gap(&mut self) -> Result<Vec<f64>, lcp::LcpError> {
+        use lcp::active_set::FrictionSystem;
+        self.system.set_initial_gap(self.initial_gap);
+        Ok(match self.system.free_response()? {
+            Some((q, _)) => q,
+            None => self.initial_gap.to_vec(),
+        })
+    }
+}
+
+impl lcp::load_driven::Trials for BodiesTrials<'_, '_> {
+    type Answer = lcp::active_set::FrictionStepSolution;
+    type Error = lcp::LcpError;
+    fn solve(&mut self, t: f64, _q: &[f64]) -> Result<Self::Answer, lcp::LcpError> {
+        if t == 0.0 {
+            self.system.set_initial_gap(self.initial_gap);
+        } else {
+            let g0 = self.initial_gap.iter().zip(self.along);
+            let shifted: Vec<f64> = g0.map(|(g, a)| g - a * t).collect();
+            self.system.set_initial_gap(&shifted);
+        }
+        let answer = lcp::active_set::solve_friction_step(
+            self.system,
+            &self.previous,
+            self.warm.as_deref(),
+            &self.params,
+        )?;
+        self.iterations += answer.step.iterations;
+        self.rescues.extend_from_slice(&answer.rescues);
+        self.warm = Some(answer.states.clone());
+        self.round_off = self.system.force_round_off();
+        Ok(answer)
+    }
+    fn forces<'b>(&self, answer: &'b Self::Answer) -> &'b [f64] {
+        &answer.step.normal
+    }
+    fn gaps(&self, _q: &[f64], answer: &Self::Answer) -> Vec<f64> {
+        answer.step.gap.clone()
+    }
+    /// `Σ_c |a_c| δP_c` over the last trial's round-off `δP`.
+    fn force_round_off(&self, _answer: &Self::Answer, along: &[f64]) -> f64 {
+        self.round_off.iter().zip(along).map(|(d, a)| d * a.abs()).sum()
+    }
+    fn slope(
+        &mut self,
+        _answer: &Self::Answer,
+        along: &[f64],
+        active: &[usize],
+    ) -> Result<f64, lcp::LcpError> {
+        let mut closed = vec![false; along.len()];
+        for &c in active {
+            closed[c] = true;
+        }
+        let rate = self.system.force_rate(&closed, along)?;
+        Ok(active.iter().map(|&c| along[c] * rate[c]).sum())
+    }
 }
 
 /// The candidates of `pair` (on its body) against its target body's edge or its obstacles.

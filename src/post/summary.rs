@@ -745,7 +745,7 @@ fn multibody_pairs(problem: &Problem, solution: &Solution) -> Option<Vec<PairSum
 /// The LCP of a problem with several bodies or pairs (`None` otherwise).
 fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
     let ms = solution.multibody.as_deref()?;
-    let (r, m) = (&ms.lcp.residuals, &ms.condensed);
+    let (r, m) = (&ms.lcp.residuals, ms.condensed.as_ref());
     Some(LcpSummary {
         size: ms.lcp.z.len(),
         pivots: ms.lcp.pivots,
@@ -754,14 +754,20 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
         max_complementarity: r.max_complementarity,
         equation_residual: r.equation_residual,
         residual_scale: r.scale,
-        compliance_min_diagonal: Some(m.min_diagonal),
-        compliance_min_symmetric_eigenvalue: Some(m.min_symmetric_eigenvalue),
-        compliance_max_symmetric_eigenvalue: Some(m.max_symmetric_eigenvalue),
-        compliance_eigenvalue_method: Some(m.eigenvalue_method),
-        compliance_skew_ratio: Some(m.skew_ratio),
-        solver: "lemke",
+        compliance_min_diagonal: m.map(|m| m.min_diagonal),
+        compliance_min_symmetric_eigenvalue: m.map(|m| m.min_symmetric_eigenvalue),
+        compliance_max_symmetric_eigenvalue: m.map(|m| m.max_symmetric_eigenvalue),
+        compliance_eigenvalue_method: m.map(|m| m.eigenvalue_method),
+        compliance_skew_ratio: m.map(|m| m.skew_ratio),
+        solver: if ms.active_set.is_some() { "active_set" } else { "lemke" },
         fallback_from: None,
-        active_set: None,
+        active_set: ms.active_set.as_ref().map(|a| ActiveSetSummary {
+            iterations: a.iterations,
+            changes_per_iteration: a.changes.clone(),
+            rescues: a.rescues.clone(),
+            end: a.end,
+            work: a.work,
+        }),
         lemke_polish: None,
     })
 }

@@ -1108,11 +1108,24 @@ fn contact_pairs(
                 "several bodies or contact pairs are solved frictionless for now; remove `friction`",
             ));
         }
-        if spec.solver == ContactSolver::ActiveSet {
+        // All pairs are one LCP: one solver for all ("auto" is Lemke's method here).
+        let other = |wanted: ContactSolver| pairs.iter().position(|q| q.spec.solver == wanted);
+        let conflict = match spec.solver {
+            ContactSolver::ActiveSet => {
+                other(ContactSolver::Lemke).map(|j| (j, "active_set", "lemke"))
+            }
+            ContactSolver::Lemke => {
+                other(ContactSolver::ActiveSet).map(|j| (j, "lemke", "active_set"))
+            }
+            ContactSolver::Auto => None,
+        };
+        if let Some((j, ours, theirs)) = conflict {
             return Err(invalid(
                 &format!("{key}.solver"),
-                "active_set",
-                "several bodies or contact pairs are solved by Lemke's method; use \"lemke\" or \"auto\"",
+                ours,
+                format!(
+                    "the contact pairs are solved together in one problem, and contact[{j}].solver is \"{theirs}\"; give every pair the same solver"
+                ),
             ));
         }
         if spec.condensation != Condensation::Compliance {

@@ -99,6 +99,73 @@ pub(super) fn compare_solutions(name: &str, lemke: &Solution, active: &Solution)
     (force, gap)
 }
 
+/// [`compare_solutions`] for several bodies or contact pairs (`Solution::multibody`): each
+/// answer checked on its own (scaled complementarity over all candidates, every body's
+/// equilibrium), then all pairs' forces and gaps compared over the whole LCP (relative to the
+/// largest force, resp. gap, with the bound of the closed gaps' round-off over `λ_min` of
+/// Lemke's `M`), each pair's closed set, and a held translation (relative, 1e-10).
+/// Returns (force, gap, translation) differences.
+pub(super) fn compare_multibody(
+    name: &str,
+    lemke: &Solution,
+    active: &Solution,
+) -> (f64, f64, f64) {
+    let (a, b) = (active.multibody.as_deref().unwrap(), lemke.multibody.as_deref().unwrap());
+    assert!(a.condensed.is_none() && a.active_set.is_some(), "{name}: not the active-set path");
+    assert!(b.condensed.is_some() && b.active_set.is_none(), "{name}: not the Lemke path");
+    for (s, ms) in [(active, a), (lemke, b)] {
+        let r = &ms.lcp.residuals;
+        assert!(r.min_z >= -KKT_TOLERANCE && r.min_w >= -KKT_TOLERANCE, "{name}: {r:?}");
+        assert!(r.max_complementarity <= KKT_TOLERANCE, "{name}: {r:?}");
+        for body in std::iter::once(s).chain(&ms.bodies) {
+            let e = body.equilibrium_error;
+            assert!(e < EQUILIBRIUM_TOLERANCE, "{name}: equilibrium {e:e}");
+        }
+    }
+    let diff =
+        |x: &[f64], y: &[f64]| x.iter().zip(y).fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));
+    let all = |ms: &mlpg_contact::solution::MultibodySolution| -> (Vec<f64>, Vec<f64>) {
+        let gaps = ms.pairs.iter().flat_map(|c| c.gap.iter().copied()).collect();
+        let closed = ms
+            .pairs
+            .iter()
+            .flat_map(|c| c.gap.iter().zip(&c.closed).filter(|p| *p.1).map(|(g, _)| g.abs()));
+        (gaps, closed.collect())
+    };
+    let ((gap_a, closed_a), (gap_b, closed_b)) = (all(a), all(b));
+    let (ga, gb) = (max_abs(&closed_a), max_abs(&closed_b));
+    let condensed = b.condensed.as_ref().unwrap();
+    let p_max = max_abs(&b.lcp.z);
+    let conditioned = 4.0 * ga.max(gb) / condensed.min_symmetric_eigenvalue / p_max;
+    let force = diff(&a.lcp.z, &b.lcp.z) / p_max;
+    let initial: Vec<f64> =
+        b.pairs.iter().flat_map(|c| c.candidates.initial_gap.iter().copied()).collect();
+    let gap_scale = max_abs(&gap_b).max(max_abs(&initial)).max(max_abs(&condensed.free_gap));
+    let gap = diff(&gap_a, &gap_b) / gap_scale;
+    let gap_bound = 4.0 * ga.max(gb) / gap_scale;
+    println!("{name}: closed gaps: active set {ga:.1e}, Lemke {gb:.1e}; bound {conditioned:.1e}");
+    assert!(
+        force < AGREEMENT.max(conditioned),
+        "{name}: forces differ by {force:e} (bound {conditioned:e})"
+    );
+    assert!(gap < AGREEMENT.max(gap_bound), "{name}: gaps differ by {gap:e} (bound {gap_bound:e})");
+    for (k, (pa, pb)) in a.pairs.iter().zip(&b.pairs).enumerate() {
+        assert_eq!(pa.closed, pb.closed, "{name}: contact[{k}]: closed sets differ");
+    }
+    let translation = match (&a.held, &b.held) {
+        (Some((ba, ra)), Some((bb, rb))) => {
+            assert_eq!(ba, bb, "{name}: different held bodies");
+            let scale = max_abs(&ra.translation).max(max_abs(&rb.translation));
+            let d = diff(&ra.translation, &rb.translation) / scale.max(f64::MIN_POSITIVE);
+            assert!(d < AGREEMENT, "{name}: held translations differ by {d:e}");
+            d
+        }
+        (None, None) => 0.0,
+        _ => panic!("{name}: one answer has a held translation, the other not"),
+    };
+    (force, gap, translation)
+}
+
 #[test]
 fn shipped_rigid_obstacle_problems_equal_lemke() {
     for file in [
@@ -341,7 +408,7 @@ fn two_body_system_equals_the_dense_lcp() {
     }
     let target = c.target.as_ref().unwrap();
     let new_system = || {
-        TwoBodies::new(
+        TwoBodies::two(
             parts(&m1, &c.candidates.operator),
             parts(&m2, target),
             &c.candidates.initial_gap,

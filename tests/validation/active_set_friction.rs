@@ -281,7 +281,7 @@ fn two_body_frictional_system_equals_the_dense_blocks() {
         }
     }
     let new_system = || {
-        let mut s = TwoBodies::new(
+        let mut s = TwoBodies::two(
             parts(&m1, &c.candidates.operator),
             parts(&m2, target),
             &c.candidates.initial_gap,

@@ -184,7 +184,10 @@ fn three_block_stack_is_identical_on_one_and_two_threads() {
     let (a, b) = (solve_on(1, &problem), solve_on(2, &problem));
     let (ma, mb) = (a.multibody.as_deref().unwrap(), b.multibody.as_deref().unwrap());
     assert_eq!(ma.lcp.z, mb.lcp.z);
-    assert_eq!(ma.condensed.compliance, mb.condensed.compliance);
+    assert_eq!(
+        ma.condensed.as_ref().unwrap().compliance,
+        mb.condensed.as_ref().unwrap().compliance
+    );
     let bodies = |s: &Solution, m: &mlpg_contact::solution::MultibodySolution| {
         std::iter::once(s.displacement.clone())
             .chain(m.bodies.iter().map(|b| b.displacement.clone()))
@@ -387,4 +390,136 @@ obstacle_point = [2.0, 0.0]
 obstacle_normal = [-1.0, 0.0]
 "#
     )
+}
+
+/// `text` with `solver = "<solver>"` added to every `[[contact]]` table.
+fn with_pair_solver(text: &str, solver: &str) -> String {
+    text.replace("[[contact]]\n", &format!("[[contact]]\nsolver = \"{solver}\"\n"))
+}
+
+/// The active-set solver (docs/method.md §5.1, [`mlpg_contact::lcp::active_set::Bodies`])
+/// against Lemke's method on this file's problems with several pairs: the stack (its middle
+/// block held by the two contacts, the translation found by the search over warm-started
+/// solves, docs/method.md §4.7) and the reversed pair (MFVM and FE) as
+/// `active_set::compare_multibody` checks them (each answer's complementarity and every
+/// body's equilibrium; forces and gaps within 1e-10 of the largest, the same closed sets, the
+/// held translation within 1e-10), plus this file's exact answers for the stack on the active
+/// set's own solution. The floor-and-wall block has a corner node on both contact edges: it
+/// is refused, naming the pairs and `contact[k].solver` (docs/dev/active_set.md).
+#[test]
+fn several_pairs_on_the_active_set_equal_lemke() {
+    use super::active_set::compare_multibody;
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let read = |name: &str| std::fs::read_to_string(file.join(name)).unwrap();
+    let stack_text = read("three_block_stack.toml");
+    let usual = read("two_blocks.toml");
+    let reversed = usual
+        .replace(
+            "[contact]\nedge = \"bottom\"",
+            "[[contact]]\nbody = \"lower\"\nedge = \"top\"\ntarget_body = \"upper\"\n",
+        )
+        .replace("target_edge = \"top\"", "target_edge = \"bottom\"");
+    let fem = reversed.replace("support_factor = 2.0", "support_factor = 2.0\nmethod = \"fem\"");
+    for (name, text) in [("stack", &stack_text), ("reversed", &reversed), ("reversed fem", &fem)] {
+        let solve = |solver: &str| {
+            let problem = Problem::from_toml(&with_pair_solver(text, solver)).unwrap();
+            mlpg_contact::solve(&problem).unwrap()
+        };
+        let (lemke, active) = (solve("lemke"), solve("active_set"));
+        let (force, gap, t) = compare_multibody(name, &lemke, &active);
+        let ms = active.multibody.as_deref().unwrap();
+        let record = ms.active_set.as_ref().unwrap();
+        println!(
+            "{name}: forces {force:.1e}, gaps {gap:.1e}, translation {t:.1e}; {} linear solves, {} factorisations, {} update columns",
+            record.iterations, record.work.factorisations, record.work.update_columns
+        );
+        if name == "stack" {
+            // The exact answer (module documentation) on the active set's own solution.
+            let p = exact_pressure();
+            for (k, c) in ms.pairs.iter().enumerate() {
+                let worst = c.pressure.iter().map(|v| (v / p - 1.0).abs()).fold(0.0, f64::max);
+                assert!(worst < 1e-8, "pair {k}: max |p/p_exact − 1| = {worst:.3e}");
+            }
+            let (held, mode) = ms.held.as_ref().expect("the middle block is held");
+            assert_eq!(*held, 1);
+            let exact_t = exact(1, mode.pin_point)[1];
+            assert!((mode.translation[1] - exact_t).abs() < 1e-8 * DELTA, "{mode:?}");
+        }
+    }
+    for (name, top) in
+        [("walls", "displacement = { y = -0.01 }"), ("walls pressed", "traction = { y = -10.0 }")]
+    {
+        let problem = Problem::from_toml(&with_pair_solver(&walls(name, top), "active_set"));
+        let err = mlpg_contact::solve(&problem.unwrap()).unwrap_err().to_string();
+        println!("{name}: {err}");
+        assert!(
+            err.contains("contact[0]") && err.contains("contact[1]") && err.contains("solver"),
+            "{name}: {err}"
+        );
+    }
+}
+
+/// A node that owns a candidate of one pair and receives another pair's target forces on the
+/// same rows (docs/dev/active_set.md): the block `[0, 1] × [1, 2]` on a floor block (pair 0:
+/// its bottom edge), pressed from the right by a third block (pair 1: the third block's left
+/// edge against the block's right edge). The block's corner `(1, 1)` owns a candidate of pair
+/// 0 and the target cell of pair 1's lowest candidate: the active set refuses, naming both
+/// pairs and `contact[0].solver`; mixing the solvers of the pairs is refused by the problem's
+/// validation (one LCP).
+#[test]
+fn owner_conflict_between_pairs_is_refused() {
+    let text = r#"
+name = "corner"
+[discretisation]
+support_factor = 2.0
+[[body]]
+name = "floor"
+geometry = { kind = "rectangle", x = [0.0, 2.0], y = [0.0, 1.0] }
+nodes = { spacing = 0.25 }
+material = { young = 1000.0, poisson = 0.3, plane = "stress" }
+boundary = [{ edge = "bottom", displacement = { x = 0.0, y = 0.0 } }]
+[[body]]
+name = "block"
+geometry = { kind = "rectangle", x = [0.0, 1.0], y = [1.0, 2.0] }
+nodes = { spacing = 0.25 }
+material = { young = 1000.0, poisson = 0.3, plane = "stress" }
+boundary = [
+  { edge = "left", displacement = { x = 0.0 } },
+  { edge = "top", displacement = { y = -0.01 } },
+]
+[[body]]
+name = "pusher"
+geometry = { kind = "rectangle", x = [1.0, 2.0], y = [1.0, 2.0] }
+nodes = { spacing = 0.2 }
+material = { young = 1000.0, poisson = 0.3, plane = "stress" }
+boundary = [{ edge = "right", displacement = { x = -0.01, y = 0.0 } }]
+[[contact]]
+body = "block"
+edge = "bottom"
+target_body = "floor"
+target_edge = "top"
+[[contact]]
+body = "pusher"
+edge = "left"
+target_body = "block"
+target_edge = "right"
+"#;
+    let problem = Problem::from_toml(&with_pair_solver(text, "active_set")).unwrap();
+    let err = mlpg_contact::solve(&problem).unwrap_err().to_string();
+    println!("corner: {err}");
+    assert!(
+        err.contains("contact[0].solver")
+            && err.contains("contact[1]")
+            && err.contains("receives the target forces"),
+        "{err}"
+    );
+    let mixed = text.replacen("[[contact]]\n", "[[contact]]\nsolver = \"active_set\"\n", 1);
+    let mixed = mixed.replacen(
+        "[[contact]]\nbody = \"pusher\"",
+        "[[contact]]\nsolver = \"lemke\"\nbody = \"pusher\"",
+        1,
+    );
+    let err = Problem::from_toml(&mixed).unwrap_err().to_string();
+    println!("mixed: {err}");
+    assert!(err.contains("contact[1].solver") && err.contains("contact[0].solver"), "{err}");
 }

@@ -1,23 +1,32 @@
-//! Two elastic bodies for the active-set method (docs/method.md §5.1): the unknowns are both
-//! bodies' nodal parameters `(û₁, û₂)`, the matrix of an active set is the block-diagonal
-//! `diag(K₁, K₂)` with, for every active candidate `c` (owner node `i` on body 1, normal
-//! component `a`, `P_c = (K₁_a û₁ − f₁_a)/(w ν_a)` recovered from the removed row):
+//! Several elastic bodies and contact pairs for the active-set method (docs/method.md §5.1,
+//! §4.5): the unknowns are all bodies' nodal parameters `(û₁, …, û_N)` (concatenated, body
+//! `b`'s from its offset), the matrix of an active set is the block-diagonal
+//! `diag(K₁, …, K_N)` with, for every active candidate `c` of a pair (owner node `i` on the
+//! pair's candidate body `b`, normal component `a`, `P_c = (K_b,a û_b − f_b,a)/(w ν_a)`
+//! recovered from the removed row):
 //!
-//! - body 1's row `a` replaced by the scaled gap condition `s (G₁_c û₁ + G₂_c û₂) = −s g0_c`;
-//! - body 1's row `b` by `K₁_b − (ν_b/ν_a) K₁_a` (the tangential balance without `P_c`);
-//! - each row `r` of body 2 that receives `d₂ w_j P_c` (the target's owner cells) gains
-//!   `−(d₂ w_j)_r/(w ν_a) · K₁_a` in body 1's columns (and the same multiple of `f₁_a` on the
-//!   right-hand side): `K₂ û₂ = f₂ + E₂ P` with `P_c` in terms of `û₁`.
+//! - body `b`'s row `a` replaced by the scaled gap condition `s (G_b,c û_b + G_t,c û_t) =
+//!   −s g0_c` (against a rigid obstacle `s G_b,c û_b = −s g0_c`);
+//! - body `b`'s row `b` by `K_b,b − (ν_b/ν_a) K_b,a` (the tangential balance without `P_c`);
+//! - each row `r` of the target body `t` that receives `d_t w_j P_c` (the target's owner
+//!   cells) gains `−(d_t w_j)_r/(w ν_a) · K_b,a` in body `b`'s columns (and the same multiple
+//!   of `f_b,a` on the right-hand side): `K_t û_t = f_t + E_t P` with `P_c` in terms of `û_b`.
 //!
-//! Per candidate the change is of rank two, `e_a (gap row − K₁_a)ᵀ + v_c K₁_aᵀ` (`v_c` holds
+//! Per candidate the change is of rank two, `e_a (gap row − K_b,a)ᵀ + v_c K_b,aᵀ` (`v_c` holds
 //! `−ν_b/ν_a` at row `b` and the target rows' coefficients; the changes of two candidates
 //! add where their target cells overlap), so the problem of an active set is the last
 //! factorised matrix plus a low-rank term, solved by the Woodbury formula as for
-//! [`RigidObstacle`] with two columns per changed candidate. The first base is the two
-//! bodies' own factorisations (no new factorisation until the update would cost more than
-//! one), later bases a factorisation of the combined matrix. No dense `M = G K⁻¹ E` is formed.
+//! [`RigidObstacle`] with two columns per changed candidate. The first base is the bodies' own
+//! factorisations (no new factorisation until the update would cost more than one), later
+//! bases a factorisation of the combined matrix. No dense `M = G K⁻¹ E` is formed.
 //!
-//! With friction ([`TwoBodies::set_friction`], [`FrictionSystem`]) a candidate is open, closed
+//! A node may own one candidate (over all pairs of its body), and a node that owns one may
+//! not receive another pair's target forces (a body one node thick, or a corner node shared
+//! by two contact edges): its removed row would hold two unknown forces
+//! ([`ActiveSetError::OwnerConflict`]). [`TwoBodies`] is the case of two bodies and one pair.
+//!
+//! With friction (one pair between two bodies: [`Bodies::set_friction`], [`FrictionSystem`])
+//! a candidate is open, closed
 //! (frictionless, the terms above), sticking or slipping along `±t`, as against a rigid
 //! obstacle: both forces come from the residuals `r` of the owner node's two rows of body 1,
 //! `P = ν·r/w`, `T = t·r/w`; body 2's owner rows gain `(w_j/w)(d₂ νᵀ + d₂ₜ tᵀ) r` (two terms
@@ -43,7 +52,7 @@ use crate::linear_solve::{ColumnOrdering, Factorisation};
 use crate::nodes::{Axis, dof};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Mat, MatMut};
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::time::Instant;
 
 /// One body's parts: matrix (rows replaced by displacement conditions as assembled),
@@ -57,20 +66,37 @@ pub struct BodyParts<'a> {
     pub rhs: &'a [f64],
     /// The factorisation of `matrix`.
     pub factorisation: &'a Factorisation,
-    /// The body's contact operator (`G` rows, `E` columns).
+    /// The body's contact operator (`G` rows, `E` columns) as [`TwoBodies::two`] reads it
+    /// (the candidate body's, resp. the target's); [`Bodies::new`] takes the operators from
+    /// its [`PairParts`] instead.
     pub operator: &'a BodyOperator,
     /// Node positions (`matrix.n == 2 points.len()`), or `None`.
     pub points: Option<&'a [Point]>,
 }
 
+/// One contact pair of [`Bodies`]: the body that carries its candidates and their operator,
+/// the target body's operator at the paired points (`None`: rigid obstacles), and the
+/// collocation scale of the candidate body (which multiplies the gap rows).
+#[derive(Clone, Copy)]
+pub struct PairParts<'a> {
+    /// Index of the candidate body in [`Bodies::new`]'s `bodies`.
+    pub body: usize,
+    /// The candidates' operator on `body` (one owner node per candidate).
+    pub operator: &'a BodyOperator,
+    /// The target body's index and operator, or `None` against rigid obstacles.
+    pub target: Option<(usize, &'a BodyOperator)>,
+    /// The collocation scale `s` of `body`.
+    pub scale: f64,
+}
+
 /// The right-hand side that goes with a rank-one term `u dᵀ`: `u` times this value.
 #[derive(Clone, Copy, Debug)]
 enum TermRhs {
-    /// `−s g0_c − f₁_a` (the gap row replaces body 1's row `a`).
+    /// `−s g0_c − f_a` (the gap row replaces the candidate body's row `a`).
     Gap,
-    /// `s s_prev,c − f₁_b` (the stick row replaces body 1's row `b`).
+    /// `s s_prev,c − f_b` (the stick row replaces the candidate body's row `b`).
     Tangential,
-    /// `k f₁_r` (the term's row is `k K₁_r`).
+    /// `k f_r` (the term's row is `k K_r`).
     Row(f64, usize),
 }
 
@@ -82,8 +108,9 @@ struct Term {
     rhs: TermRhs,
 }
 
-/// What a candidate's modes change in `diag(K₁, K₂)`: the distinct vectors `u`, the terms, and
-/// which terms each closed mode uses (modes that share a term share its update column).
+/// What a candidate's modes change in `diag(K₁, …, K_N)`: the distinct vectors `u`, the
+/// terms, and which terms each closed mode uses (modes that share a term share its update
+/// column). DOFs are global (offset by the body's).
 struct Pair {
     /// Sparse vectors `(DOF, value)`.
     us: Vec<Vec<(usize, f64)>>,
@@ -92,7 +119,7 @@ struct Pair {
     modes: Vec<Vec<usize>>,
     /// The frictionless vectors and terms (the first entries of `us`, `terms`).
     frictionless: (usize, usize),
-    /// Body 1's original rows `a`, `b` of the owner node.
+    /// The candidate body's original rows `a`, `b` of the owner node.
     rows: [Row; 2],
     /// Their DOFs.
     dofs: [usize; 2],
@@ -102,6 +129,10 @@ struct Pair {
     weight: f64,
     /// `w ν_a`.
     wn: f64,
+    /// The contact pair (index in `Bodies::contact`) and the candidate's index in it.
+    contact: (usize, usize),
+    /// The collocation scale `s` of its gap and stick rows.
+    scale: f64,
 }
 
 /// One column of the low-rank update: candidate `c`'s vector `us[u]` times `sign`, and the
@@ -113,21 +144,22 @@ struct Group {
     terms: Vec<(usize, f64)>,
 }
 
-/// Two elastic bodies in contact, in the sparse form of the module documentation.
-pub struct TwoBodies<'a> {
-    bodies: [BodyParts<'a>; 2],
-    /// `f₁`, `f₂` (the bodies' right-hand sides; [`TwoBodies::set_load`] changes them).
-    rhs: [Vec<f64>; 2],
-    /// Body 1's DOFs (body 2's follow them).
-    n1: usize,
-    initial_gap: &'a [f64],
-    /// The collocation scale `s` of the gap and stick rows.
-    scale: f64,
-    /// Both bodies' node positions, when both have them.
+/// Several elastic bodies and contact pairs, in the sparse form of the module documentation.
+pub struct Bodies<'a> {
+    bodies: Vec<BodyParts<'a>>,
+    /// `[f₁; …; f_N]` (the bodies' right-hand sides; [`Bodies::set_load`] and
+    /// [`Bodies::set_body_load`] change them).
+    rhs: Vec<f64>,
+    /// Body `b`'s DOFs are `offsets[b]..offsets[b + 1]`.
+    offsets: Vec<usize>,
+    /// The contact pairs; their candidates are numbered in turn.
+    contact: Vec<PairParts<'a>>,
+    initial_gap: Vec<f64>,
+    /// All bodies' node positions, when every body has them.
     points: Option<Vec<Point>>,
     /// Per candidate: the changes of its modes.
     pairs: Vec<Pair>,
-    /// `‖diag(K₁, K₂)‖∞`.
+    /// `‖diag(K₁, …, K_N)‖∞`.
     norm: f64,
     /// `None`: the bodies' own factorisations (every candidate of `base_modes` is open).
     base: Option<Box<Factorisation>>,
@@ -145,11 +177,15 @@ pub struct TwoBodies<'a> {
     pub stats: RigidObstacleStats,
 }
 
-/// `s (d₁·u₁^h(x_c) + d₂·u₂^h(y_c))` as a row of the combined unknowns: the gap row (normal
-/// operators) or the relative tangential displacement row (tangential operators) of `c`.
-fn pair_row(scale: f64, ops: [&BodyOperator; 2], n1: usize, c: usize) -> Row {
+/// Two elastic bodies and one contact pair: [`Bodies`] built by [`Bodies::two`].
+pub type TwoBodies<'a> = Bodies<'a>;
+
+/// `s Σ d·u^h(x_c)` over `sides` (operator, offset of its body's DOFs) as a row of the
+/// combined unknowns, for candidate `c` of the operators: the gap row (normal operators) or
+/// the relative tangential displacement row (tangential operators).
+fn pair_row(scale: f64, sides: &[(&BodyOperator, usize)], c: usize) -> Row {
     let mut row: Row = Vec::new();
-    for (op, offset) in [(ops[0], 0), (ops[1], n1)] {
+    for &(op, offset) in sides {
         for (&j, &phi) in op.shapes.support(c).iter().zip(op.shapes.phi(c)) {
             for ax in Axis::BOTH {
                 let v = scale * op.direction(c)[ax as usize] * phi;
@@ -163,98 +199,191 @@ fn pair_row(scale: f64, ops: [&BodyOperator; 2], n1: usize, c: usize) -> Row {
     row
 }
 
-impl<'a> TwoBodies<'a> {
+impl<'a> Bodies<'a> {
     /// The system of `first` (the candidate body: each candidate's force on one node of its
-    /// own) and `second` (the target), with the candidates' `initial_gap`; `scale` multiplies
-    /// the gap rows (body 1's collocation scale).
+    /// own) and `second` (the target) with one pair between them, the candidates'
+    /// `initial_gap`; `scale` multiplies the gap rows (body 1's collocation scale).
     ///
     /// # Errors
-    /// [`ActiveSetError::Unsupported`] when a candidate's force is not on one node of body 1
-    /// of its own, or the operators disagree on the candidates.
-    pub fn new(
+    /// As [`Bodies::new`].
+    pub fn two(
         first: BodyParts<'a>,
         second: BodyParts<'a>,
-        initial_gap: &'a [f64],
+        initial_gap: &[f64],
         scale: f64,
     ) -> Result<Self, ActiveSetError> {
-        let (op1, op2) = (first.operator, second.operator);
-        let m = op1.len();
-        let n1 = first.matrix.n;
-        // Each candidate's replaced row: its own larger normal component (the normals are the
-        // target edge's, the same for all on a straight edge).
-        let axes = |c: usize| {
-            let d = op1.direction(c);
-            if d[0].abs() >= d[1].abs() { (Axis::X, Axis::Y) } else { (Axis::Y, Axis::X) }
+        let pair = PairParts {
+            body: 0,
+            operator: first.operator,
+            target: Some((1, second.operator)),
+            scale,
         };
+        Self::new(vec![first, second], vec![pair], initial_gap)
+    }
+
+    /// The system of `bodies` (their `operator` fields are not read) with the contact
+    /// `pairs`, whose candidates are numbered pair after pair; `initial_gap` over all of them.
+    ///
+    /// # Errors
+    /// [`ActiveSetError::Unsupported`] when a candidate's force is not on one node of its
+    /// body, two candidates share an owner node, a pair's operators disagree on the
+    /// candidates, or a body index is out of range; [`ActiveSetError::OwnerConflict`] when a
+    /// node that owns a candidate receives target forces of another pair.
+    pub fn new(
+        bodies: Vec<BodyParts<'a>>,
+        contact: Vec<PairParts<'a>>,
+        initial_gap: &[f64],
+    ) -> Result<Self, ActiveSetError> {
+        let mut offsets = vec![0];
+        for b in &bodies {
+            offsets.push(offsets.last().copied().unwrap_or(0) + b.matrix.n);
+        }
+        let mut starts = vec![0];
+        for pair in &contact {
+            let m = starts.last().copied().unwrap_or(0);
+            let bad = pair.body >= bodies.len()
+                || pair.target.is_some_and(|(t, op)| {
+                    t >= bodies.len() || t == pair.body || op.len() != pair.operator.len()
+                });
+            if bad {
+                return Err(ActiveSetError::Unsupported { candidate: m });
+            }
+            starts.push(m + pair.operator.len());
+        }
+        let m = starts.last().copied().unwrap_or(0);
+        if initial_gap.len() != m {
+            return Err(ActiveSetError::Unsupported { candidate: m.min(initial_gap.len()) });
+        }
+        // Each candidate's owner: one node of its body with a non-zero weight, no node
+        // owning two candidates (of any pair).
         let mut owner_of = Vec::with_capacity(m);
-        let mut used = HashSet::new();
-        for (c, owners) in op1.owners.iter().enumerate() {
-            match owners.as_slice() {
-                [(i, w)] if *w != 0.0 && used.insert(*i) && c < op2.len() => {
-                    owner_of.push((*i as usize, *w));
+        let mut used: HashMap<(usize, u32), usize> = HashMap::new();
+        for (k, pair) in contact.iter().enumerate() {
+            for (c, owners) in pair.operator.owners.iter().enumerate() {
+                match owners.as_slice() {
+                    [(i, w)] if *w != 0.0 => match used.insert((pair.body, *i), k) {
+                        None => owner_of.push((*i as usize, *w)),
+                        // A corner node of two contact edges.
+                        Some(first) if first != k => {
+                            return Err(ActiveSetError::OwnerConflict {
+                                body: pair.body,
+                                node: *i as usize,
+                                pair: first,
+                                other: k,
+                                what: "owns a candidate of each (a corner node shared by two contact edges)",
+                            });
+                        }
+                        Some(_) => {
+                            return Err(ActiveSetError::Unsupported { candidate: starts[k] + c });
+                        }
+                    },
+                    _ => return Err(ActiveSetError::Unsupported { candidate: starts[k] + c }),
                 }
-                _ => return Err(ActiveSetError::Unsupported { candidate: c }),
             }
         }
-        if op2.len() != m {
-            return Err(ActiveSetError::Unsupported { candidate: m.min(op2.len()) });
-        }
         let mut wanted: HashMap<usize, Row> = HashMap::new();
-        for &(i, _) in &owner_of {
-            wanted.insert(dof(i, Axis::X), Vec::new());
-            wanted.insert(dof(i, Axis::Y), Vec::new());
+        for (k, pair) in contact.iter().enumerate() {
+            for &(i, _) in &owner_of[starts[k]..starts[k + 1]] {
+                let o = offsets[pair.body];
+                wanted.insert(o + dof(i, Axis::X), Vec::new());
+                wanted.insert(o + dof(i, Axis::Y), Vec::new());
+            }
         }
-        let k1 = first.matrix;
-        for col in 0..k1.n {
-            for k in k1.col_ptr[col]..k1.col_ptr[col + 1] {
-                if let Some(row) = wanted.get_mut(&k1.row_idx[k]) {
-                    row.push((col, k1.values[k]));
+        for (b, body) in bodies.iter().enumerate() {
+            let (k, o) = (body.matrix, offsets[b]);
+            for col in 0..k.n {
+                for e in k.col_ptr[col]..k.col_ptr[col + 1] {
+                    if let Some(row) = wanted.get_mut(&(o + k.row_idx[e])) {
+                        row.push((o + col, k.values[e]));
+                    }
                 }
             }
         }
         let mut pairs = Vec::with_capacity(m);
-        for (c, &(i, w)) in owner_of.iter().enumerate() {
-            let ((a, b), d1, d2) = (axes(c), op1.direction(c), op2.direction(c));
-            let (na, ratio) = (d1[a as usize], d1[b as usize] / d1[a as usize]);
-            let (ra, rb) = (dof(i, a), dof(i, b));
-            let old_a = wanted[&ra].clone();
-            let old_b = wanted[&rb].clone();
-            let gap_row = pair_row(scale, [op1, op2], n1, c);
-            let minus_old: Row = old_a.iter().map(|&(j, v)| (j, -v)).collect();
-            // Row a: the gap row instead of K₁_a. Row b and the target's force rows: multiples
-            // of K₁_a, one rank-one term `u K₁_aᵀ` (and `u f₁_a` on the right-hand side).
-            let wn = w * na;
-            let mut u: Vec<(usize, f64)> = Vec::new();
-            if ratio != 0.0 {
-                u.push((rb, -ratio));
+        for (k, pair) in contact.iter().enumerate() {
+            let (op1, ob) = (pair.operator, offsets[pair.body]);
+            let mut sides = vec![(op1, ob)];
+            if let Some((t, op2)) = pair.target {
+                sides.push((op2, offsets[t]));
             }
-            for &(j, w2) in &op2.owners[c] {
-                for ax in Axis::BOTH {
-                    let k = -d2[ax as usize] * w2 / wn;
-                    if k != 0.0 {
-                        u.push((n1 + dof(j as usize, ax), k));
+            for c in 0..op1.len() {
+                let (i, w) = owner_of[starts[k] + c];
+                // The replaced row: the candidate's own larger normal component (the normals
+                // are the target edge's, the same for all on a straight edge).
+                let d1 = op1.direction(c);
+                let (a, b) = if d1[0].abs() >= d1[1].abs() {
+                    (Axis::X, Axis::Y)
+                } else {
+                    (Axis::Y, Axis::X)
+                };
+                let (na, ratio) = (d1[a as usize], d1[b as usize] / d1[a as usize]);
+                let (ra, rb) = (ob + dof(i, a), ob + dof(i, b));
+                let old_a = wanted[&ra].clone();
+                let old_b = wanted[&rb].clone();
+                let gap_row = pair_row(pair.scale, &sides, c);
+                let minus_old: Row = old_a.iter().map(|&(j, v)| (j, -v)).collect();
+                // Row a: the gap row instead of K_a. Row b and the target's force rows:
+                // multiples of K_a, one rank-one term `u K_aᵀ` (and `u f_a` on the right).
+                let wn = w * na;
+                let mut u: Vec<(usize, f64)> = Vec::new();
+                if ratio != 0.0 {
+                    u.push((rb, -ratio));
+                }
+                if let Some((t, op2)) = pair.target {
+                    let d2 = op2.direction(c);
+                    for &(j, w2) in &op2.owners[c] {
+                        for ax in Axis::BOTH {
+                            let v = -d2[ax as usize] * w2 / wn;
+                            if v != 0.0 {
+                                u.push((offsets[t] + dof(j as usize, ax), v));
+                            }
+                        }
                     }
                 }
+                let mut us = vec![vec![(ra, 1.0)]];
+                let mut terms =
+                    vec![Term { u: 0, d: sum_rows(&gap_row, &minus_old), rhs: TermRhs::Gap }];
+                if !u.is_empty() {
+                    us.push(u);
+                    terms.push(Term { u: 1, d: old_a.clone(), rhs: TermRhs::Row(1.0, ra) });
+                }
+                let closed: Vec<usize> = (0..terms.len()).collect();
+                pairs.push(Pair {
+                    frictionless: (us.len(), terms.len()),
+                    us,
+                    terms,
+                    modes: vec![closed],
+                    rows: [old_a, old_b],
+                    dofs: [ra, rb],
+                    axes: [a, b],
+                    weight: w,
+                    wn,
+                    contact: (k, c),
+                    scale: pair.scale,
+                });
             }
-            let mut us = vec![vec![(ra, 1.0)]];
-            let mut terms =
-                vec![Term { u: 0, d: sum_rows(&gap_row, &minus_old), rhs: TermRhs::Gap }];
-            if !u.is_empty() {
-                us.push(u);
-                terms.push(Term { u: 1, d: old_a.clone(), rhs: TermRhs::Row(1.0, ra) });
+        }
+        // A node that owns a candidate and receives another pair's target forces: its
+        // removed row would hold two unknown forces.
+        let owned: HashMap<usize, usize> = pairs
+            .iter()
+            .enumerate()
+            .flat_map(|(c, p)| p.dofs.iter().map(move |&r| (r, c)))
+            .collect();
+        for p in &pairs {
+            let Some(targets) = p.us.get(1) else { continue };
+            for &(r, _) in targets.iter().filter(|&&(r, _)| r != p.dofs[1]) {
+                if let Some(&c) = owned.get(&r) {
+                    let body = offsets.partition_point(|&o| o <= r) - 1;
+                    return Err(ActiveSetError::OwnerConflict {
+                        body,
+                        node: (r - offsets[body]) / 2,
+                        pair: pairs[c].contact.0,
+                        other: p.contact.0,
+                        what: "owns a candidate of the first and receives the target forces of the second on the same rows (a body one node thick, or a corner node of the two edges)",
+                    });
+                }
             }
-            let closed: Vec<usize> = (0..terms.len()).collect();
-            pairs.push(Pair {
-                frictionless: (us.len(), terms.len()),
-                us,
-                terms,
-                modes: vec![closed],
-                rows: [old_a, old_b],
-                dofs: [ra, rb],
-                axes: [a, b],
-                weight: w,
-                wn,
-            });
         }
         let row_norm = |matrix: &SystemMatrix| {
             let mut rows = vec![0.0_f64; matrix.n];
@@ -263,19 +392,18 @@ impl<'a> TwoBodies<'a> {
             }
             rows.into_iter().fold(0.0, f64::max)
         };
-        let points = match (first.points, second.points) {
-            (Some(p1), Some(p2)) => Some(p1.iter().chain(p2).copied().collect()),
-            _ => None,
-        };
+        let points =
+            bodies.iter().map(|b| b.points).collect::<Option<Vec<_>>>().map(|all| all.concat());
+        let norm = bodies.iter().map(|b| row_norm(b.matrix)).fold(0.0, f64::max);
         Ok(Self {
-            bodies: [first, second],
-            rhs: [first.rhs.to_vec(), second.rhs.to_vec()],
-            n1,
-            initial_gap,
-            scale,
+            rhs: bodies.iter().flat_map(|b| b.rhs.iter().copied()).collect(),
+            bodies,
+            offsets,
+            contact,
+            initial_gap: initial_gap.to_vec(),
             points,
             pairs,
-            norm: row_norm(first.matrix).max(row_norm(second.matrix)),
+            norm,
             base: None,
             base_modes: vec![OPEN; m],
             columns: HashMap::new(),
@@ -303,20 +431,26 @@ impl<'a> TwoBodies<'a> {
     /// `e_b (stick row − K₁_b)ᵀ`, resp. `e_b ((c_a/c_b) K₁_a)ᵀ`, so that a change between
     /// stick and slip is of rank one and a closing candidate of rank four.
     ///
+    /// Friction is solved for one pair between two bodies (the several pairs of
+    /// docs/method.md §4.5 are frictionless).
+    ///
     /// # Errors
     /// [`ActiveSetError::Unsupported`] when a slip combination has no weight on row `b`
-    /// (`t_b ± μ ν_b = 0`).
+    /// (`t_b ± μ ν_b = 0`), or the system is not one pair between two bodies.
     pub fn set_friction(
         &mut self,
         mu: &[f64],
         tangential: [&'a BodyOperator; 2],
     ) -> Result<(), ActiveSetError> {
+        let (op1, (t, op2)) = match self.contact.as_slice() {
+            [PairParts { operator, target: Some(target), .. }] => (*operator, *target),
+            _ => return Err(ActiveSetError::Unsupported { candidate: 0 }),
+        };
         self.tangential = Some(tangential);
         if self.friction == mu {
             return Ok(());
         }
-        let (op1, op2) = (self.bodies[0].operator, self.bodies[1].operator);
-        let (n1, scale) = (self.n1, self.scale);
+        let (ob, ot) = (self.offsets[self.contact[0].body], self.offsets[t]);
         for (c, pair) in self.pairs.iter_mut().enumerate() {
             let (n_us, n_terms) = pair.frictionless;
             pair.us.truncate(n_us);
@@ -340,7 +474,7 @@ impl<'a> TwoBodies<'a> {
                         for ax in Axis::BOTH {
                             let k = -w2 / pair.weight * d[ax as usize] * e[x as usize];
                             if k != 0.0 {
-                                u.push((n1 + dof(j as usize, ax), k));
+                                u.push((ot + dof(j as usize, ax), k));
                             }
                         }
                     }
@@ -348,7 +482,8 @@ impl<'a> TwoBodies<'a> {
                 sum_rows(&u, &Vec::new()).into_iter().filter(|e| e.1 != 0.0).collect()
             };
             let minus_b: Row = pair.rows[1].iter().map(|&(j, v)| (j, -v)).collect();
-            let stick_row = sum_rows(&pair_row(scale, tangential, n1, c), &minus_b);
+            let sides = [(tangential[0], ob), (tangential[1], ot)];
+            let stick_row = sum_rows(&pair_row(pair.scale, &sides, c), &minus_b);
             let eb = pair.us.len();
             pair.us.push(vec![(rb, 1.0)]);
             let stick = pair.terms.len();
@@ -396,15 +531,33 @@ impl<'a> TwoBodies<'a> {
         Ok(())
     }
 
-    /// Sets the load of an increment: the right-hand sides `f₁`, `f₂` of both bodies.
+    /// Sets the load of an increment: the right-hand sides `f₁`, `f₂` of the first two
+    /// bodies.
     pub fn set_load(&mut self, first: &[f64], second: &[f64]) {
-        self.rhs[0].copy_from_slice(first);
-        self.rhs[1].copy_from_slice(second);
+        self.set_body_load(0, first);
+        self.set_body_load(1, second);
+    }
+
+    /// Sets the right-hand side `f_b` of body `b`.
+    pub fn set_body_load(&mut self, b: usize, rhs: &[f64]) {
+        self.rhs[self.offsets[b]..self.offsets[b + 1]].copy_from_slice(rhs);
         self.last = None;
     }
 
+    /// Sets the initial gaps `g0` of all candidates (a search's trial moves them,
+    /// docs/method.md §4.7).
+    pub fn set_initial_gap(&mut self, initial_gap: &[f64]) {
+        self.initial_gap.copy_from_slice(initial_gap);
+        self.last = None;
+    }
+
+    /// The rows of body `b` in the combined unknowns.
+    pub fn body_range(&self, b: usize) -> std::ops::Range<usize> {
+        self.offsets[b]..self.offsets[b + 1]
+    }
+
     fn n(&self) -> usize {
-        self.n1 + self.bodies[1].matrix.n
+        self.offsets.last().copied().unwrap_or(0)
     }
 
     /// The terms (indices in `terms`) of candidate `c` in `mode`.
@@ -415,17 +568,17 @@ impl<'a> TwoBodies<'a> {
     /// The right-hand side value of a term of candidate `c`.
     fn term_rhs(&self, c: usize, rhs: TermRhs) -> f64 {
         let [ra, rb] = self.pairs[c].dofs;
-        let f1 = &self.rhs[0];
+        let (f1, scale) = (&self.rhs, self.pairs[c].scale);
         match rhs {
-            TermRhs::Gap => -self.scale * self.initial_gap[c] - f1[ra],
-            TermRhs::Tangential => self.scale * self.tangential_target[c] - f1[rb],
+            TermRhs::Gap => -scale * self.initial_gap[c] - f1[ra],
+            TermRhs::Tangential => scale * self.tangential_target[c] - f1[rb],
             TermRhs::Row(k, r) => k * f1[r],
         }
     }
 
-    /// `[f₁; f₂]` plus the closed candidates' additions.
+    /// `[f₁; …; f_N]` plus the closed candidates' additions.
     fn rhs_of(&self, modes: &[Mode]) -> Vec<f64> {
-        let mut b: Vec<f64> = self.rhs[0].iter().chain(&self.rhs[1]).copied().collect();
+        let mut b = self.rhs.clone();
         for (c, pair) in self.pairs.iter().enumerate() {
             for &t in self.mode_terms(c, modes[c]) {
                 let term = &pair.terms[t];
@@ -440,8 +593,10 @@ impl<'a> TwoBodies<'a> {
 
     /// The matrix of `modes` times `u`.
     fn apply(&self, modes: &[Mode], u: &[f64]) -> Vec<f64> {
-        let mut y = crate::linear_solve::mul(self.bodies[0].matrix, &u[..self.n1]);
-        y.extend(crate::linear_solve::mul(self.bodies[1].matrix, &u[self.n1..]));
+        let mut y = Vec::with_capacity(u.len());
+        for (b, body) in self.bodies.iter().enumerate() {
+            y.extend(crate::linear_solve::mul(body.matrix, &u[self.body_range(b)]));
+        }
         for (c, pair) in self.pairs.iter().enumerate() {
             for &t in self.mode_terms(c, modes[c]) {
                 let term = &pair.terms[t];
@@ -467,18 +622,19 @@ impl<'a> TwoBodies<'a> {
             }
         }
         let mut col_ptr = Vec::with_capacity(n + 1);
-        let nnz = self.bodies[0].matrix.row_idx.len() + self.bodies[1].matrix.row_idx.len();
+        let nnz = self.bodies.iter().map(|b| b.matrix.row_idx.len()).sum();
         let mut row_idx = Vec::with_capacity(nnz);
         let mut values = Vec::with_capacity(nnz);
         col_ptr.push(0);
         let mut column: Vec<(usize, f64)> = Vec::new();
+        let mut body = 0;
         for (col, extra) in extra.iter().enumerate() {
             column.clear();
-            let (k, offset, local) = if col < self.n1 {
-                (self.bodies[0].matrix, 0, col)
-            } else {
-                (self.bodies[1].matrix, self.n1, col - self.n1)
-            };
+            while col >= self.offsets[body + 1] {
+                body += 1;
+            }
+            let (k, offset) = (self.bodies[body].matrix, self.offsets[body]);
+            let local = col - offset;
             for e in k.col_ptr[local]..k.col_ptr[local + 1] {
                 column.push((offset + k.row_idx[e], k.values[e]));
             }
@@ -514,9 +670,13 @@ impl<'a> TwoBodies<'a> {
         match &self.base {
             Some(f) => solve_blocks(f, x),
             None => {
-                let (top, bottom) = x.split_at_row_mut(self.n1);
-                solve_blocks(self.bodies[0].factorisation, top);
-                solve_blocks(self.bodies[1].factorisation, bottom);
+                let mut rest = x;
+                for (b, body) in self.bodies.iter().enumerate() {
+                    let (top, bottom) =
+                        rest.split_at_row_mut(self.offsets[b + 1] - self.offsets[b]);
+                    solve_blocks(body.factorisation, top);
+                    rest = bottom;
+                }
             }
         }
     }
@@ -567,9 +727,11 @@ impl<'a> TwoBodies<'a> {
         let (nnz, flops) = match &self.base {
             Some(f) => (f.stats().bound_nnz as f64, f.stats().bound_flops),
             None => {
-                let (s1, s2) =
-                    (self.bodies[0].factorisation.stats(), self.bodies[1].factorisation.stats());
-                ((s1.bound_nnz + s2.bound_nnz) as f64, s1.bound_flops + s2.bound_flops)
+                let stats: Vec<_> = self.bodies.iter().map(|b| b.factorisation.stats()).collect();
+                let nnz: usize = stats.iter().map(|s| s.bound_nnz).sum();
+                let flops =
+                    stats.iter().skip(1).fold(stats[0].bound_flops, |f, s| f + s.bound_flops);
+                (nnz as f64, flops)
             }
         };
         let too_costly = new.len() as f64 * nnz > flops;
@@ -713,8 +875,73 @@ impl<'a> TwoBodies<'a> {
             Some((a, u)) if a == modes => u,
             _ => self.displacements_of(modes)?,
         };
-        let u2 = u.split_off(self.n1);
+        let u2 = u.split_off(self.offsets[1]);
         Ok((u, u2))
+    }
+
+    /// The displacements of every body (`û_b` at `b`) of the problem of `active`: those of
+    /// the last [`ActiveSetSystem::solve_active`] when it solved `active`, else a new solve.
+    ///
+    /// # Errors
+    /// A failed solve.
+    pub fn final_body_displacements(
+        &mut self,
+        active: &[bool],
+    ) -> Result<Vec<Vec<f64>>, ActiveSetError> {
+        let modes = closed_modes(active);
+        let u = match self.last.take() {
+            Some((a, u)) if a == modes => u,
+            _ => self.displacements_of(&modes)?,
+        };
+        Ok((0..self.bodies.len()).map(|b| u[self.body_range(b)].to_vec()).collect())
+    }
+
+    /// The round-off of the frictionless forces of the last solve, per candidate:
+    /// `4 ε (Σ_j |K_a,j û_j| + |f_a|) / |w ν_a|` (the removed row's residual loses the digits
+    /// `K_a û` and `f_a` share; 0 for an open candidate or before any solve).
+    pub fn force_round_off(&self) -> Vec<f64> {
+        let Some((modes, u)) = &self.last else { return vec![0.0; self.pairs.len()] };
+        let sum = |row: &Row| row.iter().map(|&(j, v)| (v * u[j]).abs()).sum::<f64>();
+        self.pairs
+            .iter()
+            .zip(modes)
+            .map(|(pair, &mode)| match mode {
+                OPEN => 0.0,
+                _ => {
+                    let f = self.rhs[pair.dofs[0]].abs();
+                    4.0 * f64::EPSILON * (sum(&pair.rows[0]) + f) / pair.wn.abs()
+                }
+            })
+            .collect()
+    }
+
+    /// The rates `dP_c/dt` of the frictionless closed set `active` when the initial gaps move
+    /// by `−a t` (`along` = `a`): one solve with the closed set's matrix and the right-hand
+    /// side `s a_c` on the gap rows, the rates read from the removed rows as the forces are
+    /// (docs/method.md §4.7, the slope `a_Aᵀ M_AA⁻¹ a_A` of a held translation's search).
+    ///
+    /// # Errors
+    /// A failed solve.
+    pub fn force_rate(
+        &mut self,
+        active: &[bool],
+        along: &[f64],
+    ) -> Result<Vec<f64>, ActiveSetError> {
+        let modes = closed_modes(active);
+        let mut b = vec![0.0; self.n()];
+        for (c, pair) in self.pairs.iter().enumerate() {
+            if active[c] {
+                b[pair.dofs[0]] = pair.scale * along[c];
+            }
+        }
+        let du = solve_refined(self, &modes, &b)?;
+        let dot = |row: &Row| row.iter().map(|&(j, v)| v * du[j]).sum::<f64>();
+        Ok(self
+            .pairs
+            .iter()
+            .zip(active)
+            .map(|(pair, &a)| if a { dot(&pair.rows[0]) / pair.wn } else { 0.0 })
+            .collect())
     }
 
     /// The mode of each candidate in `states`.
@@ -726,7 +953,7 @@ impl<'a> TwoBodies<'a> {
     /// `(P_c, T_c)` of `modes` from body 1's rows: open 0; frictionless closed
     /// `P = (K₁_a û₁ − f₁_a)/(w ν_a)`, `T = 0`; frictional `P = ν·r/w`, `T = t·r/w`.
     fn forces(&self, modes: &[Mode], u: &[f64]) -> (Vec<f64>, Vec<f64>) {
-        let f1 = &self.rhs[0];
+        let f1 = &self.rhs;
         let dot = |row: &Row| row.iter().map(|&(j, v)| v * u[j]).sum::<f64>();
         let mut p = Vec::with_capacity(modes.len());
         let mut t = Vec::with_capacity(modes.len());
@@ -745,8 +972,9 @@ impl<'a> TwoBodies<'a> {
                     let mut r = [0.0; 2];
                     r[pair.axes[0] as usize] = dot(&pair.rows[0]) - f1[ra];
                     r[pair.axes[1] as usize] = dot(&pair.rows[1]) - f1[rb];
-                    let nu = self.bodies[0].operator.direction(c);
-                    let tc = self.tangential.map_or([0.0, 0.0], |ops| ops[0].direction(c));
+                    let (k, local) = pair.contact;
+                    let nu = self.contact[k].operator.direction(local);
+                    let tc = self.tangential.map_or([0.0, 0.0], |ops| ops[0].direction(local));
                     p.push((nu[0] * r[0] + nu[1] * r[1]) / pair.weight);
                     t.push((tc[0] * r[0] + tc[1] * r[1]) / pair.weight);
                 }
@@ -755,16 +983,25 @@ impl<'a> TwoBodies<'a> {
         (p, t)
     }
 
-    /// `G₁ û₁ + G₂ û₂`.
+    /// `G_b û_b + G_t û_t` of every pair's candidates (`G_b û_b` against obstacles).
     fn gap_change(&self, u: &[f64]) -> Vec<f64> {
-        let g1 = self.bodies[0].operator.gap_contribution(&u[..self.n1]);
-        let g2 = self.bodies[1].operator.gap_contribution(&u[self.n1..]);
-        g1.iter().zip(&g2).map(|(a, b)| a + b).collect()
+        let mut g = Vec::with_capacity(self.pairs.len());
+        for pair in &self.contact {
+            let g1 = pair.operator.gap_contribution(&u[self.body_range(pair.body)]);
+            match pair.target {
+                Some((t, op)) => {
+                    let g2 = op.gap_contribution(&u[self.body_range(t)]);
+                    g.extend(g1.iter().zip(&g2).map(|(a, b)| a + b));
+                }
+                None => g.extend(g1),
+            }
+        }
+        g
     }
 
-    /// `g0 + G₁ û₁ + G₂ û₂`.
+    /// `g0 + G_b û_b + G_t û_t`.
     fn gaps(&self, u: &[f64]) -> Vec<f64> {
-        self.gap_change(u).iter().zip(self.initial_gap).map(|(g, g0)| g0 + g).collect()
+        self.gap_change(u).iter().zip(&self.initial_gap).map(|(g, g0)| g0 + g).collect()
     }
 
     /// The relative tangential displacements `t·u₁^h(x_c) − t·u₂^h(y_c)` (zero without the
@@ -772,8 +1009,11 @@ impl<'a> TwoBodies<'a> {
     fn slips(&self, u: &[f64]) -> Vec<f64> {
         match self.tangential {
             Some([t1, t2]) => {
-                let mut s = t1.gap_contribution(&u[..self.n1]);
-                for (s, v) in s.iter_mut().zip(t2.gap_contribution(&u[self.n1..])) {
+                // One pair between two bodies (set_friction).
+                let pair = &self.contact[0];
+                let t = pair.target.map_or(pair.body, |(t, _)| t);
+                let mut s = t1.gap_contribution(&u[self.body_range(pair.body)]);
+                for (s, v) in s.iter_mut().zip(t2.gap_contribution(&u[self.body_range(t)])) {
                     *s += v;
                 }
                 s
@@ -783,7 +1023,7 @@ impl<'a> TwoBodies<'a> {
     }
 }
 
-impl SparseSolves<Mode> for TwoBodies<'_> {
+impl SparseSolves<Mode> for Bodies<'_> {
     fn solve_in_place(&mut self, modes: &[Mode], x: MatMut<'_, f64>) -> Result<(), ActiveSetError> {
         self.solve_columns(modes, x)
     }
@@ -798,7 +1038,7 @@ impl SparseSolves<Mode> for TwoBodies<'_> {
     }
 }
 
-impl ActiveSetSystem for TwoBodies<'_> {
+impl ActiveSetSystem for Bodies<'_> {
     fn size(&self) -> usize {
         self.pairs.len()
     }
@@ -840,11 +1080,7 @@ impl ActiveSetSystem for TwoBodies<'_> {
             x[(i, 0)] = v;
         }
         for (j, &c) in free.iter().enumerate() {
-            self.add_unit_force(
-                [self.bodies[0].operator, self.bodies[1].operator],
-                c,
-                x.col_mut(j + 1),
-            );
+            self.add_unit_force(None, c, x.col_mut(j + 1));
         }
         self.solve_columns(&held, x.as_mut())?;
         let q: Vec<f64> = {
@@ -862,13 +1098,30 @@ impl ActiveSetSystem for TwoBodies<'_> {
     }
 }
 
-impl TwoBodies<'_> {
-    /// Adds the unit force of candidate `c` on both bodies (`ops`: the normal or the
-    /// tangential operators) to the column `x`.
-    fn add_unit_force(&self, ops: [&BodyOperator; 2], c: usize, mut x: faer::ColMut<'_, f64>) {
-        for (op, offset) in [(ops[0], 0), (ops[1], self.n1)] {
-            let d = op.direction(c);
-            for &(i, w) in &op.owners[c] {
+impl Bodies<'_> {
+    /// Adds the unit force of candidate `c` on its body and its target body to the column
+    /// `x`: the normal force (`tangential` = `None`, the pair's operators) or the tangential
+    /// one (the tangential operators of the pair's two bodies).
+    fn add_unit_force(
+        &self,
+        tangential: Option<[&BodyOperator; 2]>,
+        c: usize,
+        mut x: faer::ColMut<'_, f64>,
+    ) {
+        let (k, local) = self.pairs[c].contact;
+        let pair = &self.contact[k];
+        let mut sides = vec![(pair.operator, self.offsets[pair.body])];
+        if let Some((t, op)) = pair.target {
+            sides.push((op, self.offsets[t]));
+        }
+        if let Some(ops) = tangential {
+            for (side, op) in sides.iter_mut().zip(ops) {
+                side.0 = op;
+            }
+        }
+        for (op, offset) in sides {
+            let d = op.direction(local);
+            for &(i, w) in &op.owners[local] {
                 x[offset + dof(i as usize, Axis::X)] += d[0] * w;
                 x[offset + dof(i as usize, Axis::Y)] += d[1] * w;
             }
@@ -876,7 +1129,7 @@ impl TwoBodies<'_> {
     }
 }
 
-impl FrictionSystem for TwoBodies<'_> {
+impl FrictionSystem for Bodies<'_> {
     fn size(&self) -> usize {
         self.pairs.len()
     }
@@ -886,15 +1139,14 @@ impl FrictionSystem for TwoBodies<'_> {
     /// One solve with each body's own factorisation; `None` when one fails its accuracy
     /// check.
     fn free_response(&mut self) -> Result<Option<FreeResponse>, ActiveSetError> {
-        let u1 = self.bodies[0].factorisation.solve(&self.rhs[0]);
-        let u2 = self.bodies[1].factorisation.solve(&self.rhs[1]);
-        match (u1, u2) {
-            (Ok(mut u), Ok(u2)) => {
-                u.extend(u2);
-                Ok(Some((self.gaps(&u), self.slips(&u))))
+        let mut u = Vec::with_capacity(self.n());
+        for (b, body) in self.bodies.iter().enumerate() {
+            match body.factorisation.solve(&self.rhs[self.body_range(b)]) {
+                Ok(ub) => u.extend(ub),
+                Err(_) => return Ok(None),
             }
-            _ => Ok(None),
         }
+        Ok(Some((self.gaps(&u), self.slips(&u))))
     }
     fn initial_gap(&self) -> Vec<f64> {
         self.initial_gap.to_vec()
@@ -931,11 +1183,10 @@ impl FrictionSystem for TwoBodies<'_> {
         for (i, v) in self.rhs_of(&held).into_iter().enumerate() {
             x[(i, 0)] = v;
         }
-        let normal = [self.bodies[0].operator, self.bodies[1].operator];
         for (j, &c) in free.iter().enumerate() {
-            self.add_unit_force(normal, c, x.col_mut(j + 1));
+            self.add_unit_force(None, c, x.col_mut(j + 1));
             if let (true, Some(tangential)) = (mu[c] > 0.0, self.tangential) {
-                self.add_unit_force(tangential, c, x.col_mut(k + j + 1));
+                self.add_unit_force(Some(tangential), c, x.col_mut(k + j + 1));
             }
         }
         self.solve_columns(&held, x.as_mut())?;
