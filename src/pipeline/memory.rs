@@ -26,6 +26,7 @@
 //! analysis of `K` counts the factors exactly ([`after_analysis`]), and the run is refused
 //! then if they do not fit in what is left.
 
+use crate::contact::ContactSpec;
 use crate::linear_solve::{FactorPrecision, FactorStats, STATIC_PIVOTING_MIN_DOFS};
 use crate::problem::{Method, Precision, Problem};
 
@@ -146,20 +147,7 @@ fn estimate_in(problem: &Problem, precision: FactorPrecision) -> (f64, f64) {
         bytes += 4.0 * 8.0 * m * m;
     }
     if let Some(spec) = &problem.contact {
-        // A refined contact edge has more candidates: its finest spacing is taken (an upper
-        // bound when the refinement lies elsewhere).
-        let m = problem.domain.curve(spec.edge).length()
-            / problem.refinement.finest(problem.node_spacing)
-            + 1.0;
-        let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
-        let active_set = if frictionless {
-            spec.solver.is_active_set(m as usize)
-        } else {
-            match problem.second_body {
-                None => spec.solver.is_active_set_frictional(m as usize),
-                Some(_) => spec.solver.is_active_set_frictional_pair(m as usize),
-            }
-        };
+        let Route { m, active_set, .. } = route(problem, spec);
         if active_set {
             // A second factorisation (of the row-replaced matrix) and at most 1 GB of stored
             // update columns (docs/method.md §5.1): 6.9 GB measured on the 210k-node strip
@@ -170,6 +158,34 @@ fn estimate_in(problem: &Problem, precision: FactorPrecision) -> (f64, f64) {
         }
     }
     (bytes + BASE_BYTES, nodes)
+}
+
+/// How the contact of `problem` (one pair, `spec`) will be solved, as far as memory is
+/// concerned.
+struct Route {
+    /// The candidates: a refined contact edge has more, so its finest spacing is taken (an
+    /// upper bound when the refinement lies elsewhere).
+    m: f64,
+    /// No friction and no load steps.
+    frictionless: bool,
+    /// The active-set solver (no dense `M`), as `contact.solver` resolves for `m` candidates.
+    active_set: bool,
+}
+
+fn route(problem: &Problem, spec: &ContactSpec) -> Route {
+    let m = problem.domain.curve(spec.edge).length()
+        / problem.refinement.finest(problem.node_spacing)
+        + 1.0;
+    let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
+    let active_set = if frictionless {
+        spec.solver.is_active_set(m as usize)
+    } else {
+        match problem.second_body {
+            None => spec.solver.is_active_set_frictional(m as usize),
+            Some(_) => spec.solver.is_active_set_frictional_pair(m as usize),
+        }
+    };
+    Route { m, frictionless, active_set }
 }
 
 /// Whether `problem`, whose estimate ([`estimate`]) exceeds what the process may use, is left
@@ -223,15 +239,7 @@ pub fn after_analysis(
     let contact = match &problem.contact {
         None => 0.0,
         Some(spec) => {
-            let m = problem.domain.curve(spec.edge).length()
-                / problem.refinement.finest(problem.node_spacing)
-                + 1.0;
-            let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
-            let active_set = if frictionless {
-                spec.solver.is_active_set(m as usize)
-            } else {
-                spec.solver.is_active_set_frictional(m as usize)
-            };
+            let Route { m, frictionless, active_set } = route(problem, spec);
             match (active_set, frictionless && releases) {
                 (false, _) => 4.0 * 8.0 * m * m,
                 (true, true) => COLUMN_BYTES,
