@@ -422,7 +422,7 @@ const COLUMN_BYTES: usize = 1 << 30;
 /// bodies of more than 250k unknowns). A block's solve holds about three copies of it
 /// (right-hand sides, solutions, residuals) and both cores solve one each: with 64 columns
 /// of 2·10⁶ unknowns that was 1–2 GB above the factors on the 10⁶-node strip
-/// (docs/dev/performance.md, "Session 11").
+/// (docs/dev/performance.md, "Contact at 10⁶ nodes through the CLI").
 const BLOCK_BYTES: usize = 1 << 27;
 
 /// Columns per block of update columns for a body of `n` unknowns ([`BLOCK_BYTES`]).

@@ -305,7 +305,8 @@ pub fn closed_set_residual(z: &[f64], w: &[f64], scale: f64) -> f64 {
 /// Lemke's tableau carries the round-off of every pivot's product-form update (on the refined
 /// beam, κ(M) = 2.9·10⁵: closed gaps 2.3·10⁻¹⁵ against 5·10⁻¹⁸ for the active-set solver);
 /// a backward-stable solve on the final basis leaves only the solve's own error
-/// (docs/dev/performance.md, "Session 11"). Cost: one LU of |A|², (2/3)|A|³ flops.
+/// (docs/dev/performance.md, "Lemke's final accuracy and one factorisation at 2 000
+/// candidates"). Cost: one LU of |A|², (2/3)|A|³ flops.
 ///
 /// # Example
 ///

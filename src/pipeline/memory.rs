@@ -20,7 +20,8 @@
 //!
 //! The per-node constants come from `4 × 1` domains; on thin ones (a strip `L × W` with few
 //! nodes across) the nested-dissection factors are far smaller per node and the estimate is
-//! 1.5–2× too high (docs/dev/performance.md, "Session 11"). So an MFVM body whose bounding box
+//! 1.5–2× too high (docs/dev/performance.md, "Contact at 10⁶ nodes through the CLI"). So an
+//! MFVM body whose bounding box
 //! is at least [`THIN_ASPECT`] times longer than wide is not refused on that estimate when
 //! everything but its factors fits ([`defers_to_analysis`]): after assembly, the symbolic
 //! analysis of `K` counts the factors exactly ([`after_analysis`]), and the run is refused

@@ -146,7 +146,8 @@ fn discretise_mfvm_nodes(
 /// the static-pivoting LU with nested dissection ([`FactorOptions::nested_dissection_static`])
 /// that the condensation's reach-restricted solves need ([`contact::condense_model_observed`]),
 /// instead of a second factorisation for `M`: on the 2 000-candidate strip one factorisation
-/// of 84k unknowns less (docs/dev/performance.md, "Session 11").
+/// of 84k unknowns less (docs/dev/performance.md, "Lemke's final accuracy and one factorisation
+/// at 2 000 candidates").
 fn condensed_sparsely(problem: &Problem, nodes: &nodes::Nodes, pinned: bool) -> bool {
     let Some(spec) = &problem.contact else { return false };
     if spec.friction > 0.0

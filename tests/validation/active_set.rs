@@ -484,7 +484,8 @@ pub(super) fn plain_strip(length: f64, h: f64, contact_keys: &str) -> Problem {
 
 /// Against a rigid obstacle the active-set solver owns `K`'s factorisation and releases its
 /// factors before it factorises its first row-replaced matrix (`ModelFactors::Owned`: the
-/// peak is one factorisation of the body, not two; docs/dev/performance.md, "Session 11").
+/// peak is one factorisation of the body, not two; docs/dev/performance.md, "Contact at 10⁶
+/// nodes through the CLI").
 /// On the strip 50 × 1 at spacing 0.1 (500 candidates, one refactorisation) the answer must be
 /// the same, bit for bit, as with `K`'s factors borrowed and kept (nothing solves with them
 /// after the free gap), and the pipeline's model must come back with the statistics only.
