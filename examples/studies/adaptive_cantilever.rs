@@ -15,6 +15,7 @@
 //! [--start 2] [--fraction 0.5,0.7]` (the defaults; the validation test's row is
 //! `--uniform 1,0.5,0.25,0.125 --start 0.25 --fraction 0.5`).
 
+mod args;
 #[path = "../../tests/validation/clamped_cantilever_measure.rs"]
 #[allow(dead_code)]
 mod measure;
@@ -24,19 +25,29 @@ use mlpg_contact::pipeline::adaptive;
 use mlpg_contact::problem::{Adaptive, Indicator, Method};
 use std::time::Instant;
 
-fn list(args: &[String], key: &str, default: &[f64]) -> Vec<f64> {
-    match args.iter().position(|a| a == key).and_then(|k| args.get(k + 1)) {
-        Some(v) => v.split(',').map(|x| x.parse().expect("a number")).collect(),
-        None => default.to_vec(),
-    }
+/// The clamped cantilever's compliance against nodes, uniform and adaptive.
+#[derive(clap::Parser)]
+struct Cli {
+    /// FE reference from element sizes 2 … 0.25 only (default: … 0.125)
+    #[arg(long)]
+    quick: bool,
+    /// Uniform node spacings
+    #[arg(long, value_name = "H,…", value_delimiter = ',', value_parser = args::positive,
+          default_values_t = [2.0, 1.0, 0.5, 0.25])]
+    uniform: Vec<f64>,
+    /// Initial spacings h₀ of the adaptive loops
+    #[arg(long, value_name = "H,…", value_delimiter = ',', value_parser = args::positive,
+          default_values_t = [2.0])]
+    start: Vec<f64>,
+    /// Dörfler fractions θ of the adaptive loops
+    #[arg(long, value_name = "THETA,…", value_delimiter = ',', value_parser = args::positive,
+          default_values_t = [0.5, 0.7])]
+    fraction: Vec<f64>,
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let quick = args.iter().any(|a| a == "--quick");
-    let uniform = list(&args, "--uniform", &[2.0, 1.0, 0.5, 0.25]);
-    let starts = list(&args, "--start", &[2.0]);
-    let fractions = list(&args, "--fraction", &[0.5, 0.7]);
+    let cli: Cli = args::parse(&[]);
+    let (quick, uniform, starts, fractions) = (cli.quick, cli.uniform, cli.start, cli.fraction);
 
     println!("## FE (Q2) reference\n");
     println!("| h | nodes | W | tip u_y | seconds |");

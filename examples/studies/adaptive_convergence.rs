@@ -22,6 +22,7 @@
 //! `--no-write` the CSV and SVG files of the case(s) run are overwritten; `--plot-only` redraws
 //! the SVGs from the CSVs without solving.
 
+mod args;
 #[path = "../../tests/validation/common.rs"]
 #[allow(dead_code)]
 mod common;
@@ -41,11 +42,37 @@ use plotters::style::FontStyle;
 use std::path::Path;
 use std::time::Instant;
 
-fn list(args: &[String], key: &str, default: &[f64]) -> Vec<f64> {
-    match args.iter().position(|a| a == key).and_then(|k| args.get(k + 1)) {
-        Some(v) => v.split(',').map(|x| x.parse().expect("a number")).collect(),
-        None => default.to_vec(),
-    }
+/// The case a run is limited to (`--only`).
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Case {
+    Kirsch,
+    Cantilever,
+}
+
+/// Error against nodes, uniform and adaptive, for the Kirsch plate and the clamped cantilever.
+#[derive(clap::Parser)]
+struct Cli {
+    /// Run one case only (default: both)
+    #[arg(long, value_enum)]
+    only: Option<Case>,
+    /// Uniform node spacings of the Kirsch study
+    #[arg(long, value_name = "H,…", value_delimiter = ',', value_parser = args::positive,
+          default_values_t = [0.4, 0.2, 0.1, 0.05, 0.025])]
+    kirsch_uniform: Vec<f64>,
+    /// Initial spacings h₀ of the Kirsch study's adaptive loops
+    #[arg(long, value_name = "H,…", value_delimiter = ',', value_parser = args::positive,
+          default_values_t = [0.4, 0.2])]
+    kirsch_start: Vec<f64>,
+    /// Dörfler fractions θ of the Kirsch study's adaptive loops
+    #[arg(long, value_name = "THETA,…", value_delimiter = ',', value_parser = args::positive,
+          default_values_t = [0.3, 0.5, 0.7])]
+    fraction: Vec<f64>,
+    /// Write neither CSV nor SVG files (print the table only)
+    #[arg(long)]
+    no_write: bool,
+    /// Redraw the SVGs from the CSVs without solving
+    #[arg(long)]
+    plot_only: bool,
 }
 
 /// One solve of a sequence: nodes, the primary error and the secondary measures.
@@ -184,10 +211,9 @@ fn kirsch_error(_: &Problem, m: &Model, s: &Solution) -> (f64, Vec<f64>) {
     (e.energy, vec![e.displacement, e.concentration])
 }
 
-fn kirsch_study(args: &[String]) -> Vec<Run> {
-    let uniform_h = list(args, "--kirsch-uniform", &[0.4, 0.2, 0.1, 0.05, 0.025]);
-    let starts = list(args, "--kirsch-start", &[0.4, 0.2]);
-    let fractions = list(args, "--fraction", &[0.3, 0.5, 0.7]);
+fn kirsch_study(cli: &Cli) -> Vec<Run> {
+    let (uniform_h, starts, fractions) =
+        (&cli.kirsch_uniform[..], &cli.kirsch_start[..], &cli.fraction[..]);
     let problem = |h: f64| {
         let mut p = kirsch::kirsch_problem(kirsch::quarter_plate(), h, Layout::Structured);
         p.discretisation.beta = 0.5;
@@ -203,7 +229,7 @@ fn kirsch_study(args: &[String]) -> Vec<Run> {
         start: uniform_h[0],
         rows: Vec::new(),
     };
-    for &h in &uniform_h {
+    for &h in uniform_h {
         let t = Instant::now();
         let p = problem(h);
         let mut silent = mlpg_contact::Silent;
@@ -221,9 +247,9 @@ fn kirsch_study(args: &[String]) -> Vec<Run> {
     }
     let max_nodes = uniform.rows.last().expect("a uniform set").nodes;
     let mut runs = Vec::new();
-    for &h0 in &starts {
+    for &h0 in starts {
         for indicator in [Indicator::Gradient, Indicator::Recovery] {
-            for &fraction in &fractions {
+            for &fraction in fractions {
                 let label = format!("{} θ = {fraction} from h₀ = {h0}", indicator.name());
                 runs.push(adaptive_run(
                     label,
@@ -427,16 +453,14 @@ fn draw_figure(svg: &Path, title: &str, panels: &[Panel]) {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().collect();
-    let only = args.iter().position(|a| a == "--only").and_then(|k| args.get(k + 1)).cloned();
-    let write = !args.iter().any(|a| a == "--no-write");
+    let cli: Cli = args::parse(&[]);
+    let (only, write, plot_only) = (cli.only, !cli.no_write, cli.plot_only);
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs");
-    let plot_only = args.iter().any(|a| a == "--plot-only");
-    if only.as_deref() != Some("cantilever") {
+    if only != Some(Case::Cantilever) {
         let runs = if plot_only {
             read_csv(&root.join("data/adaptive_kirsch.csv"))
         } else {
-            kirsch_study(&args)
+            kirsch_study(&cli)
         };
         if write && !plot_only {
             write_csv(
@@ -464,7 +488,7 @@ fn main() {
             );
         }
     }
-    if only.as_deref() != Some("kirsch") {
+    if only != Some(Case::Kirsch) {
         let runs = if plot_only {
             read_csv(&root.join("data/adaptive_cantilever.csv"))
         } else {
