@@ -58,14 +58,14 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
 }
 
 /// `(1 − λ) a + λ b`, exactly `b` at `λ = 1` (and `a` at `λ = 0`).
-fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
+pub(super) fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
 }
 
 /// The record of a load path (docs/method.md §8): the slip accumulated over the slipping
 /// increments, one [`solution::IncrementRecord`] per increment and, with `write_steps`, one
 /// [`solution::IncrementSnapshot`] per increment.
-struct History {
+pub(super) struct History {
     accumulated: Vec<f64>,
     records: Vec<solution::IncrementRecord>,
     snapshots: Vec<solution::IncrementSnapshot>,
@@ -73,13 +73,13 @@ struct History {
 }
 
 impl History {
-    fn new(candidates: usize, write_steps: bool) -> Self {
+    pub(super) fn new(candidates: usize, write_steps: bool) -> Self {
         let accumulated = vec![0.0; candidates];
         Self { accumulated, records: Vec::new(), snapshots: Vec::new(), write_steps }
     }
 
     /// Records increment `i` of step `k` (0-based) at load factor `lambda`.
-    fn record(
+    pub(super) fn record(
         &mut self,
         step: &lcp::FrictionSolution,
         (k, i, lambda): (usize, usize, f64),
@@ -126,7 +126,7 @@ impl History {
     }
 
     /// Hands the path's record to the final frictional contact.
-    fn finish(self, friction: &mut solution::FrictionContact) {
+    pub(super) fn finish(self, friction: &mut solution::FrictionContact) {
         friction.slip = self.accumulated;
         friction.increments = self.records;
         friction.snapshots = self.snapshots;
@@ -213,290 +213,54 @@ pub(super) fn solve_frictional(
         model,
         target.as_ref().map(|tg| (tg.model, &tg.operator)),
     );
-    let (blocks, condensed) = clock.run("condensation", || -> Result<_, Error> {
-        let mut blocks = contact::condense_blocks(
-            &model.factorisation,
-            &model.system.rhs,
-            &candidates.operator,
-            &tangential,
-        )?;
-        let mut parts = vec![contact::CondensedPart {
-            compliance: blocks.nn.clone(),
-            free_gap: blocks.free_gap.clone(),
-        }];
-        if let (Some(tg), Some(op_t)) = (&target, &target_tangential) {
-            let b2 = contact::condense_blocks(
-                &tg.model.factorisation,
-                &tg.model.system.rhs,
-                &tg.operator,
-                op_t,
-            )?;
-            parts.push(contact::CondensedPart {
-                compliance: b2.nn.clone(),
-                free_gap: b2.free_gap.clone(),
-            });
-            let add = |a: &mut Vec<f64>, b: &[f64]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
-            add(&mut blocks.nn, &b2.nn);
-            add(&mut blocks.nt, &b2.nt);
-            add(&mut blocks.tn, &b2.tn);
-            add(&mut blocks.tt, &b2.tt);
-            add(&mut blocks.free_gap, &b2.free_gap);
-            add(&mut blocks.free_tangential, &b2.free_tangential);
-        }
-        let condensed = contact::CondensedContact::combine(&candidates.initial_gap, &parts)?;
-        Ok((blocks.with_initial_gap(&candidates.initial_gap), condensed))
-    })?;
+    let mut terms = vec![load_path::Term {
+        model,
+        normal: &candidates.operator,
+        tangential: &tangential,
+        index: None,
+        steps,
+    }];
+    if let (Some(tg), Some(op_t)) = (&target, &target_tangential) {
+        terms.push(load_path::Term {
+            model: tg.model,
+            normal: &tg.operator,
+            tangential: op_t,
+            index: None,
+            steps: &tg.steps,
+        });
+    }
+    let load_path::Condensed { blocks, compliance: condensed } =
+        clock.run("condensation", || load_path::condense(&terms, &candidates.initial_gap))?;
     let warning = compliance_warning(problem, spec, &condensed)?;
     let m = candidates.len();
-    // (q_n, q_t) at the end of each step, the obstacle's displacement d shifting the gap by
-    // −d·ν_c and the tangential displacement relative to it by −d·t_c.
-    let ends: Vec<(Vec<f64>, Vec<f64>)> = clock.run("load_steps", || {
-        steps
-            .iter()
-            .enumerate()
-            .map(|(k, end)| {
-                let (mut qn, mut qt) = if k + 1 == steps.len() {
-                    (blocks.free_gap.clone(), blocks.free_tangential.clone())
-                } else {
-                    let u = model.factorisation.solve(&end.rhs)?;
-                    let mut qn: Vec<f64> = candidates
-                        .initial_gap
-                        .iter()
-                        .zip(candidates.operator.gap_contribution(&u))
-                        .map(|(g0, g)| g + g0)
-                        .collect();
-                    let mut qt = tangential.gap_contribution(&u);
-                    // The second body's free displacements at the end of its step k.
-                    if let (Some(tg), Some(op_t)) = (&target, &target_tangential) {
-                        let u2 = tg.model.factorisation.solve(&tg.steps[k].rhs)?;
-                        let add = |a: &mut Vec<f64>, b: Vec<f64>| {
-                            a.iter_mut().zip(b).for_each(|(x, y)| *x += y)
-                        };
-                        add(&mut qn, tg.operator.gap_contribution(&u2));
-                        add(&mut qt, op_t.gap_contribution(&u2));
-                    }
-                    (qn, qt)
-                };
-                if end.obstacle != [0.0, 0.0] {
-                    let d = end.obstacle;
-                    for c in 0..m {
-                        let (nu, t) = (candidates.normal(c), candidates.tangent(c));
-                        qn[c] -= d[0] * nu[0] + d[1] * nu[1];
-                        qt[c] -= d[0] * t[0] + d[1] * t[1];
-                    }
-                }
-                Ok((qn, qt))
-            })
-            .collect::<Result<_, Error>>()
-    })?;
-    // μ per candidate in step k: 0 where the tangential row is a displacement condition.
-    let friction_in = |k: usize| -> Vec<f64> {
-        free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect()
-    };
-    let mut step_problem = lcp::FrictionProblem {
-        nn: blocks.nn,
-        nt: blocks.nt,
-        tn: blocks.tn,
-        tt: blocks.tt,
-        free_gap: candidates.initial_gap.clone(),
-        free_tangential: vec![0.0; m],
-        previous_tangential: vec![0.0; m],
-        friction: friction_in(0),
-    };
-    // The unloaded start: no load, the obstacle where it was given.
-    let n = model.system.rhs.len();
-    let (mut load0, mut rhs0) = (vec![0.0; n], vec![0.0; n]);
-    let (mut qn0, mut qt0) = (candidates.initial_gap.clone(), vec![0.0; m]);
-    // The second body's load and right-hand side at the end of the previous step.
-    let n2 = target.as_ref().map_or(0, |tg| tg.model.system.rhs.len());
-    let (mut load20, mut rhs20) = (vec![0.0; n2], vec![0.0; n2]);
-    let mut history = History::new(m, problem.write_steps);
-    let mut last = None;
-    // A force-driven obstacle (docs/method.md §4.6): M_nn for the slopes, the force's
-    // magnitude at the end of the previous step, and what the last search found.
     // A rigid translation of the body held by the contact alone (docs/method.md §4.7): ν_c·r
     // per candidate for its unit vector r; only frictionless, without a force-driven
     // obstacle or a second body, and with a pinned node that carries no contact force.
     let pinned = model.system.pinned;
-    let mode_projection = held_projection(pinned, steps, target.is_some(), &candidates)?;
-    let compliance = (steps.iter().any(|s| s.force.is_some()) || pinned.is_some())
-        .then(|| step_problem.nn.clone());
-    let mut force0 = 0.0;
-    let mut load_driven: Option<solution::LoadDriven> = None;
-    let mut rigid_mode: Option<solution::RigidMode> = None;
-    let mut total_evaluations = 0;
-    clock.run("friction", || -> Result<(), Error> {
-        for (k, (end, (qn1, qt1))) in steps.iter().zip(&ends).enumerate() {
-            step_problem.friction = friction_in(k);
-            for i in 1..=end.increments {
-                let started = std::time::Instant::now();
-                let lambda = i as f64 / end.increments as f64;
-                step_problem.free_gap = lerp(&qn0, qn1, lambda);
-                step_problem.free_tangential = lerp(&qt0, qt1, lambda);
-                let solved = match (end.force, &compliance) {
-                    (Some(f), Some(compliance)) => {
-                        let (e, size, along) = force_along(f, &candidates);
-                        let target = (1.0 - lambda) * force0 + lambda * size;
-                        let base = step_problem.free_gap.clone();
-                        lcp::load_driven::find_displacement(
-                            compliance,
-                            &base,
-                            &along,
-                            e,
-                            target,
-                            |q| {
-                                step_problem.free_gap = q.to_vec();
-                                lcp::solve_step(&step_problem)
-                            },
-                            |answer| answer.normal.as_slice(),
-                        )
-                        .map(|search| {
-                            total_evaluations += search.evaluations;
-                            let s = search.displacement;
-                            load_driven = Some(solution::LoadDriven {
-                                force: [target * e[0], target * e[1]],
-                                displacement_along: s,
-                                displacement: [s * e[0], s * e[1]],
-                                carried: search.force,
-                                evaluations: search.evaluations,
-                                total_evaluations,
-                            });
-                            search.answer
-                        })
-                    }
-                    (None, Some(compliance)) => {
-                        // The body's free translation: t = σ s along r with σ the sign of the
-                        // load along r; the gaps move by (ν_c·r) t = −a_c s, a_c = −σ ν_c·r,
-                        // and the pin's reaction vanishes when aᵀz = |F·r|.
-                        let (pin, projection) = match (pinned, &mode_projection) {
-                            (Some(p), Some(v)) => (p, v),
-                            _ => unreachable!("the compliance is cloned for a force or a pin"),
-                        };
-                        let a = pin.axis as usize;
-                        let load = lerp(&load0, &end.load, lambda);
-                        match pin_along(pin, projection, &load) {
-                            Err(e) => Err(e),
-                            Ok((along_load, sign, along)) => {
-                                let mut r = [0.0; 2];
-                                r[a] = sign;
-                                let base = step_problem.free_gap.clone();
-                                lcp::load_driven::find_displacement(
-                                    compliance,
-                                    &base,
-                                    &along,
-                                    r,
-                                    along_load.abs(),
-                                    |q| {
-                                        step_problem.free_gap = q.to_vec();
-                                        lcp::solve_step(&step_problem)
-                                    },
-                                    |answer| answer.normal.as_slice(),
-                                )
-                                .map(|search| {
-                                    total_evaluations += search.evaluations;
-                                    let t = sign * search.displacement;
-                                    let mut translation = [0.0; 2];
-                                    translation[a] = t;
-                                    rigid_mode = Some(solution::RigidMode {
-                                        mode: pin.name(),
-                                        pin_point: model.nodes.points[pin.node as usize],
-                                        translation,
-                                        load: along_load,
-                                        evaluations: search.evaluations,
-                                        total_evaluations,
-                                    });
-                                    search.answer
-                                })
-                            }
-                        }
-                    }
-                    _ => lcp::solve_step(&step_problem),
-                };
-                // With [[step]] tables, a failure names the step and the increment.
-                let step = solved.map_err(|e| {
-                    if problem.steps.is_empty() {
-                        Error::from(e)
-                    } else {
-                        Error::Increment {
-                            step: k + 1,
-                            increment: i,
-                            increments: end.increments,
-                            cause: Box::new(e.into()),
-                        }
-                    }
-                })?;
-                let mut rhs = lerp(&rhs0, &end.rhs, lambda);
-                candidates.operator.add_forces(&step.normal, &mut rhs);
-                tangential.add_forces(&step.tangential, &mut rhs);
-                // The body's free translation found above: the pin's value (the solve adds
-                // the rigid translation, which K_int does not see, to the pinned answer).
-                if let (Some(pin), Some(r)) = (pinned, &rigid_mode) {
-                    let d = crate::nodes::dof(pin.node as usize, pin.axis);
-                    rhs[d] = model.system.collocation_scale * r.translation[pin.axis as usize];
-                }
-                let u = model.factorisation.solve(&rhs)?;
-                let load = lerp(&load0, &end.load, lambda);
-                let ops = [
-                    (&candidates.operator, step.normal.as_slice()),
-                    (&tangential, step.tangential.as_slice()),
-                ];
-                let mut equilibrium = solution::equilibrium_error(&model.system, &load, &u, &ops);
-                // The second body: its step k, with the same load factor.
-                let u2 = match (&target, &target_tangential) {
-                    (Some(tg), Some(op_t)) => {
-                        let (sys, end2) = (&tg.model.system, &tg.steps[k]);
-                        let mut rhs2 = lerp(&rhs20, &end2.rhs, lambda);
-                        tg.operator.add_forces(&step.normal, &mut rhs2);
-                        op_t.add_forces(&step.tangential, &mut rhs2);
-                        let u2 = tg.model.factorisation.solve(&rhs2)?;
-                        let load2 = lerp(&load20, &end2.load, lambda);
-                        let ops2 = [
-                            (&tg.operator, step.normal.as_slice()),
-                            (op_t, step.tangential.as_slice()),
-                        ];
-                        equilibrium =
-                            equilibrium.max(solution::equilibrium_error(sys, &load2, &u2, &ops2));
-                        Some(u2)
-                    }
-                    _ => None,
-                };
-                history.record(
-                    &step,
-                    (k, i, lambda),
-                    equilibrium,
-                    Vec::new(),
-                    started.elapsed().as_secs_f64(),
-                );
-                step_problem.previous_tangential.clone_from(&step.tangential_displacement);
-                last = Some((step, u, u2));
-            }
-            (load0, rhs0) = (end.load.clone(), end.rhs.clone());
-            if let Some(tg) = &target {
-                (load20, rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
-            }
-            (qn0, qt0) = (qn1.clone(), qt1.clone());
-            force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
-        }
-        Ok(())
-    })?;
-    let Some((step, u, u2)) = last else {
-        unreachable!("validated: at least one step with at least one increment")
-    };
-    // The normal LCP given the tangential forces, for the `lcp` section of the summary.
-    let q: Vec<f64> = (0..m)
-        .map(|i| {
-            let row = &step_problem.nt[i * m..(i + 1) * m];
-            step_problem.free_gap[i]
-                + row.iter().zip(&step.tangential).map(|(a, b)| a * b).sum::<f64>()
-        })
+    let held = held_projection(pinned, steps, target.is_some(), &candidates)?
+        .zip(pinned)
+        .map(|(projection, pin)| load_path::Held::Alone { pin, projection });
+    // μ per candidate in step k: 0 where the tangential row is a displacement condition.
+    let friction = (0..steps.len())
+        .map(|k| free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect())
         .collect();
-    let normal = lcp::Lcp::new(m, step_problem.nn.clone(), q)?;
-    let result = lcp::LcpSolution {
-        w: normal.w(&step.normal),
-        residuals: normal.residuals(&step.normal),
-        z: step.normal.clone(),
-        pivots: step.pivots,
+    let path = load_path::Path {
+        initial_gap: &candidates.initial_gap,
+        normals: &candidates.normals,
+        steps,
+        friction,
+        held,
+        groups: vec![0..m],
+        write_steps: problem.write_steps,
+        named_steps: !problem.steps.is_empty(),
     };
+    let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
+    drop(terms);
+    let load_path::PathAnswer { step, mut u, problem: step_problem, histories, load_driven, rigid_mode } =
+        answer;
+    let u2 = (u.len() == 2).then(|| u.pop()).flatten();
+    let u = u.pop().expect("the first body's displacements");
+    let result = load_path::normal_lcp(&step_problem, &step)?;
     move_to_final_obstacle(&mut candidates, steps, load_driven.as_ref());
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();
@@ -516,7 +280,9 @@ pub(super) fn solve_frictional(
     let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
     let mut friction =
         solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
-    history.finish(&mut friction);
+    if let Some(history) = histories.into_iter().next() {
+        history.finish(&mut friction);
+    }
     friction.target_operator = target_tangential;
     attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
     Ok((u, u2, contact))
@@ -612,22 +378,17 @@ fn held_projection(
 
 /// The direction `e = F/|F|` of the force pressing the obstacle, `|F|`, and `a_c = ν_c·e` per
 /// candidate (docs/method.md §4.6).
-fn force_along(f: geometry::Point, candidates: &contact::Candidates) -> ([f64; 2], f64, Vec<f64>) {
+pub(super) fn force_along(f: geometry::Point, normals: &[geometry::Point]) -> ([f64; 2], f64, Vec<f64>) {
     let size = f[0].hypot(f[1]);
     let e = [f[0] / size, f[1] / size];
-    let along: Vec<f64> = (0..candidates.len())
-        .map(|c| {
-            let nu = candidates.normal(c);
-            nu[0] * e[0] + nu[1] * e[1]
-        })
-        .collect();
+    let along: Vec<f64> = normals.iter().map(|nu| nu[0] * e[0] + nu[1] * e[1]).collect();
     (e, size, along)
 }
 
 /// For a translation held by the contact (docs/method.md §4.7) under the load `load`: the
 /// load along the mode, its sign `σ` and `a_c = −σ ν_c·r` (the gaps move by `(ν_c·r) t =
 /// −a_c s` for `t = σ s`); refused when the load does not press the body onto the obstacle.
-fn pin_along(
+pub(super) fn pin_along(
     pin: assembly::PinnedMode,
     projection: &[f64],
     load: &[f64],
@@ -774,7 +535,7 @@ pub(super) fn solve_frictional_active_set(
                         // solves.
                         let solved = match (end.force, &mode_projection) {
                             (Some(f), _) => {
-                                let (e, size, along) = force_along(f, &candidates);
+                                let (e, size, along) = force_along(f, &candidates.normals);
                                 let target = (1.0 - lambda) * force0 + lambda * size;
                                 trials.along.clone_from(&along);
                                 trials.base_gap().and_then(|base| {

@@ -7,6 +7,7 @@
 pub mod adaptive;
 pub mod compare;
 mod friction;
+mod load_path;
 pub mod memory;
 pub mod multibody;
 

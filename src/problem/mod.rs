@@ -233,6 +233,9 @@ pub struct LoadStep {
     /// The Coulomb coefficient `μ ≥ 0` during the step (`[[step]] friction`, default the
     /// contact's).
     pub friction: f64,
+    /// Whether the step sets `friction` itself; with several contact pairs a step that does
+    /// not keeps each pair's own coefficient.
+    pub friction_set: bool,
 }
 
 /// Body force per unit volume `b(x)`.

@@ -122,13 +122,6 @@ impl TryFrom<ProblemFile> for Problem {
             first.second_body = second;
             first
         } else {
-            if !file.step.is_empty() {
-                return Err(invalid(
-                    "step",
-                    format!("{} steps", file.step.len()),
-                    "load steps are implemented for one body or two bodies in one contact pair",
-                ));
-            }
             let key =
                 |k: usize| file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k));
             let pairs = contact_pairs(tables, &key, &file.obstacle, &bodies)?;
@@ -173,10 +166,15 @@ impl TryFrom<ProblemFile> for Problem {
                 "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
             ));
         }
-        let (steps, second_steps) = load_steps(&file, &problem)?;
-        problem.steps = steps;
+        let mut steps = load_steps(&file, &problem)?.into_iter();
+        problem.steps = steps.next().unwrap_or_default();
         if let Some(p2) = problem.second_body.as_deref_mut() {
-            p2.steps = second_steps;
+            p2.steps = steps.next().unwrap_or_default();
+        }
+        if let Some(several) = problem.multibody.as_deref_mut() {
+            for (p, s) in several.bodies.iter_mut().zip(steps) {
+                p.steps = s;
+            }
         }
         problem.adaptive = match &file.refinement {
             None => None,
@@ -1583,35 +1581,39 @@ fn field_is_zero(f: &Field) -> bool {
 /// same steps and increments, each body's own conditions): each step's end state from the
 /// previous one (the `[[boundary]]` values, which must be zero, before the first;
 /// docs/method.md §8).
-fn load_steps(
-    file: &ProblemFile,
-    problem: &Problem,
-) -> Result<(Vec<LoadStep>, Vec<LoadStep>), ProblemError> {
+fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>>, ProblemError> {
     if file.step.is_empty() {
-        return Ok((Vec::new(), Vec::new()));
+        return Ok(Vec::new());
     }
-    let second = problem.second_body.as_deref();
-    let body_force = problem.body_force.is_some() || second.is_some_and(|p| p.body_force.is_some());
+    // The bodies in order (0 is `problem` itself) and whether there are several.
+    let all: Vec<&Problem> = (0..problem.body_count()).filter_map(|k| problem.body(k)).collect();
+    let second = (all.len() > 1).then_some(());
+    // Several contact pairs (`multibody`): each pair keeps its own coefficient unless a step
+    // sets `friction`; the obstacles of rigid pairs do not move.
+    let pairs = problem.multibody.is_some();
+    let body_force = all.iter().any(|p| p.body_force.is_some());
     let why = match &problem.contact {
-        None => Some(
+        None if !pairs => Some(
             "load steps need contact: without it the problem is linear and one solve gives the answer",
         ),
-        Some(_) if body_force => {
+        _ if body_force => {
             Some("load steps do not scale the body force yet: remove body_force or the steps")
         }
-        Some(_) => None,
+        _ => None,
     };
     if let Some(reason) = why {
         return Err(invalid("step", format!("{} steps", file.step.len()), reason));
     }
     // Each body: its name, the key prefix of its [[boundary]], the declared entries, the
     // validated body.
-    let bodies: Vec<(&str, String, &[BoundaryFile], &Problem)> = match second {
-        None => vec![(problem.name.as_str(), String::new(), &file.boundary, problem)],
-        Some(p2) => vec![
-            (problem.name.as_str(), "body[0].".into(), &file.body[0].boundary, problem),
-            (p2.name.as_str(), "body[1].".into(), &file.body[1].boundary, p2),
-        ],
+    let bodies: Vec<(&str, String, &[BoundaryFile], &Problem)> = if file.body.is_empty() {
+        vec![(problem.name.as_str(), String::new(), &file.boundary, problem)]
+    } else {
+        all.iter()
+            .zip(&file.body)
+            .enumerate()
+            .map(|(k, (p, b))| (p.name.as_str(), format!("body[{k}]."), &b.boundary[..], *p))
+            .collect()
     };
     // The path starts from the unloaded bodies: every value of [[boundary]] is the value
     // before step 1 and must be zero (a step sets the loads).
@@ -1638,11 +1640,11 @@ fn load_steps(
             return Err(invalid(&field("increments"), increments, "must be 1–100000"));
         }
         if let Some(d) = step.obstacle_displacement {
-            if second.is_some() {
+            if second.is_some() || pairs {
                 return Err(invalid(
                     &field("obstacle_displacement"),
                     format!("{d:?}"),
-                    "only with a rigid obstacle; between two bodies a step moves a body through its `boundary` values",
+                    "only with one body against rigid obstacles in one [contact]; between bodies, or with several contact pairs, a step moves a body through its `boundary` values",
                 ));
             }
             check_finite(&field("obstacle_displacement"), d[0])?;
@@ -1662,11 +1664,11 @@ fn load_steps(
         };
         if let Some(f) = step.obstacle_force {
             let key = field("obstacle_force");
-            if second.is_some() {
+            if second.is_some() || pairs {
                 return Err(invalid(
                     &key,
                     format!("{f:?}"),
-                    "only with a rigid obstacle; between two bodies a step moves a body through its `boundary` values",
+                    "only with one body against rigid obstacles in one [contact]; between bodies, or with several contact pairs, a step moves a body through its `boundary` values",
                 ));
             }
             check_finite(&key, f[0])?;
@@ -1719,7 +1721,7 @@ fn load_steps(
                     return Err(invalid(
                         &f("body"),
                         name,
-                        "only with two [[body]] tables (a single body's steps name its edges only)",
+                        "only with [[body]] tables (a single body's steps name its edges only)",
                     ));
                 }
                 (None, Some(_)) => {
@@ -1727,7 +1729,7 @@ fn load_steps(
                         &f("body"),
                         "(missing)",
                         format!(
-                            "with two [[body]] tables each step entry names its body: one of {names:?}"
+                            "with [[body]] tables each step entry names its body: one of {names:?}"
                         ),
                     ));
                 }
@@ -1787,12 +1789,11 @@ fn load_steps(
                 obstacle_displacement: obstacle,
                 obstacle_force: force,
                 friction,
+                friction_set: step.friction.is_some(),
             });
         }
     }
-    let mut states = states.into_iter().map(|s| s.1);
-    let first = states.next().unwrap_or_default();
-    Ok((first, states.next().unwrap_or_default()))
+    Ok(states.into_iter().map(|s| s.1).collect())
 }
 
 /// Refuses a non-zero value among a body's declared conditions `declared` (key paths under

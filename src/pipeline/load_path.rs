@@ -1,0 +1,480 @@
+//! The load path on the condensed contact system (docs/method.md §8; plan in
+//! docs/dev/contact_core.md): steps × increments over any number of bodies, each entering the
+//! contact problem through its [`Term`]. One body against rigid obstacles is one term, two
+//! bodies in one pair two terms, several bodies and pairs one term per body touched by a pair.
+//!
+//! Per increment: the free gaps and tangential displacements interpolated between the step
+//! ends, the step LCP ([`lcp::solve_step`]; μ = 0 is Lemke on `M_nn`), or one of the two
+//! searches of docs/method.md §4.6–4.7 around it (a force-driven obstacle, a translation held
+//! by the contact), then one solve per body with the contact forces of its candidates.
+
+use super::friction::{History, StepEnd, force_along, lerp, pin_along};
+use super::*;
+use std::ops::Range;
+
+/// How one body enters the condensed contact system: its model, its normal and tangential
+/// operators over the candidates that touch it, their global indices (`None`: candidate `c`
+/// is the operators' row `c`, all candidates), and its load-step ends.
+pub(super) struct Term<'a> {
+    pub(super) model: &'a Model,
+    pub(super) normal: &'a contact::BodyOperator,
+    pub(super) tangential: &'a contact::BodyOperator,
+    pub(super) index: Option<&'a [usize]>,
+    pub(super) steps: &'a [StepEnd],
+}
+
+impl Term<'_> {
+    /// Global index of the term's row `r`.
+    fn global(&self, r: usize) -> usize {
+        self.index.map_or(r, |index| index[r])
+    }
+
+    /// The term's share of the global vector `v`.
+    fn gather(&self, v: &[f64]) -> Vec<f64> {
+        match self.index {
+            None => v.to_vec(),
+            Some(index) => index.iter().map(|&g| v[g]).collect(),
+        }
+    }
+
+    /// Adds the term's rows `part` into the global vector `v`.
+    fn scatter_add(&self, part: &[f64], v: &mut [f64]) {
+        for (r, x) in part.iter().enumerate() {
+            v[self.global(r)] += x;
+        }
+    }
+
+    /// The term's rows `part` as a global vector of `m` (zero where the term has no row).
+    fn scatter_vec(&self, part: Vec<f64>, m: usize) -> Vec<f64> {
+        if self.index.is_none() {
+            return part;
+        }
+        let mut v = vec![0.0; m];
+        self.scatter_add(&part, &mut v);
+        v
+    }
+
+    /// The term's `mb × mb` block `part` as a global `m × m` block.
+    fn scatter_block(&self, part: Vec<f64>, m: usize) -> Vec<f64> {
+        let Some(index) = self.index else { return part };
+        let mb = index.len();
+        let mut out = vec![0.0; m * m];
+        for (i, &gi) in index.iter().enumerate() {
+            for (j, &gj) in index.iter().enumerate() {
+                out[gi * m + gj] += part[i * mb + j];
+            }
+        }
+        out
+    }
+}
+
+/// A body's rigid translation held by the contact alone (docs/method.md §4.7).
+pub(super) enum Held {
+    /// The only body, against rigid obstacles: `projection` is `ν_c·r` per candidate; the
+    /// search runs on the obstacle's side (`pin_along`, `find_displacement`).
+    Alone { pin: assembly::PinnedMode, projection: Vec<f64> },
+    /// Term `term` of several: `along` is `a_c = −s_c ν_c·r` over all candidates
+    /// (`s_c = +1` on the candidate's body, `−1` on its target), found by
+    /// `find_translation` from the body's load along `r`.
+    Among { term: usize, pin: assembly::PinnedMode, along: Vec<f64> },
+}
+
+impl Held {
+    fn pin(&self) -> assembly::PinnedMode {
+        match self {
+            Self::Alone { pin, .. } | Self::Among { pin, .. } => *pin,
+        }
+    }
+    fn term(&self) -> usize {
+        match self {
+            Self::Alone { .. } => 0,
+            Self::Among { term, .. } => *term,
+        }
+    }
+}
+
+/// What the path is run on besides the terms: the candidates' initial gaps and normals, the
+/// step ends that carry the obstacle's motion, force and increments (the first term's), `μ`
+/// per step and candidate, the held translation, and the candidate ranges whose histories
+/// are recorded apart (the pairs).
+pub(super) struct Path<'a> {
+    pub(super) initial_gap: &'a [f64],
+    pub(super) normals: &'a [geometry::Point],
+    pub(super) steps: &'a [StepEnd],
+    pub(super) friction: Vec<Vec<f64>>,
+    pub(super) held: Option<Held>,
+    pub(super) groups: Vec<Range<usize>>,
+    pub(super) write_steps: bool,
+    /// Whether the problem has `[[step]]` tables (a failure then names the step).
+    pub(super) named_steps: bool,
+}
+
+/// The condensed blocks over all candidates (`g0` in `free_gap`) and the frictionless `M`
+/// with its checks, from one condensation per term.
+pub(super) struct Condensed {
+    pub(super) blocks: contact::CondensedBlocks,
+    pub(super) compliance: contact::CondensedContact,
+}
+
+/// `M_ab = Σ_b scatter(I_b, G_a,b K_b⁻¹ E_b,b)` and the free gaps over the terms
+/// (docs/method.md §8), and `M_nn`'s checks. For one and two bodies this is the sum the
+/// frictional path always computed (the first term's blocks, then each other's added).
+///
+/// # Errors
+/// A failed solve ([`contact::ContactError`]), a compliance check's dense eigenvalue failure.
+pub(super) fn condense(terms: &[Term<'_>], initial_gap: &[f64]) -> Result<Condensed, Error> {
+    let m = initial_gap.len();
+    let mut total: Option<contact::CondensedBlocks> = None;
+    let mut parts = Vec::with_capacity(terms.len());
+    for term in terms {
+        let b = contact::condense_blocks(
+            &term.model.factorisation,
+            &term.model.system.rhs,
+            term.normal,
+            term.tangential,
+        )?;
+        let global = contact::CondensedBlocks {
+            size: m,
+            nn: term.scatter_block(b.nn, m),
+            nt: term.scatter_block(b.nt, m),
+            tn: term.scatter_block(b.tn, m),
+            tt: term.scatter_block(b.tt, m),
+            free_gap: term.scatter_vec(b.free_gap, m),
+            free_tangential: term.scatter_vec(b.free_tangential, m),
+        };
+        parts.push(contact::CondensedPart {
+            compliance: global.nn.clone(),
+            free_gap: global.free_gap.clone(),
+        });
+        total = Some(match total {
+            None => global,
+            Some(mut t) => {
+                let add =
+                    |a: &mut Vec<f64>, b: &[f64]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+                add(&mut t.nn, &global.nn);
+                add(&mut t.nt, &global.nt);
+                add(&mut t.tn, &global.tn);
+                add(&mut t.tt, &global.tt);
+                add(&mut t.free_gap, &global.free_gap);
+                add(&mut t.free_tangential, &global.free_tangential);
+                t
+            }
+        });
+    }
+    let total = total.ok_or(contact::ContactError::MissingTarget)?;
+    let compliance = contact::CondensedContact::combine(initial_gap, &parts)?;
+    Ok(Condensed { blocks: total.with_initial_gap(initial_gap), compliance })
+}
+
+/// What the path ends with: the last increment's answer, each term's nodal parameters, the
+/// last step problem (its blocks and free gaps), one history per group, and the searches'
+/// records.
+pub(super) struct PathAnswer {
+    pub(super) step: lcp::FrictionSolution,
+    pub(super) u: Vec<Vec<f64>>,
+    pub(super) problem: lcp::FrictionProblem,
+    pub(super) histories: Vec<History>,
+    pub(super) load_driven: Option<solution::LoadDriven>,
+    pub(super) rigid_mode: Option<solution::RigidMode>,
+}
+
+/// `(q_n, q_t)` at the end of each step: the last step's from the condensation (the models'
+/// right-hand sides are the last step's), the others by one solve per body; a rigid
+/// obstacle's displacement `d` shifts the gap by `−d·ν_c` and the tangential displacement
+/// relative to it by `−d·t_c`.
+fn step_end_gaps(
+    path: &Path<'_>,
+    terms: &[Term<'_>],
+    blocks: &contact::CondensedBlocks,
+) -> Result<Vec<(Vec<f64>, Vec<f64>)>, Error> {
+    let m = path.initial_gap.len();
+    let steps = path.steps;
+    steps
+        .iter()
+        .enumerate()
+        .map(|(k, end)| {
+            let (mut qn, mut qt) = if k + 1 == steps.len() {
+                (blocks.free_gap.clone(), blocks.free_tangential.clone())
+            } else {
+                let mut qn = path.initial_gap.to_vec();
+                let mut qt = vec![0.0; m];
+                for term in terms {
+                    let u = term.model.factorisation.solve(&term.steps[k].rhs)?;
+                    term.scatter_add(&term.normal.gap_contribution(&u), &mut qn);
+                    term.scatter_add(&term.tangential.gap_contribution(&u), &mut qt);
+                }
+                (qn, qt)
+            };
+            if end.obstacle != [0.0, 0.0] {
+                let d = end.obstacle;
+                for c in 0..m {
+                    let (nu, t) = (path.normals[c], contact::tangent(path.normals[c]));
+                    qn[c] -= d[0] * nu[0] + d[1] * nu[1];
+                    qt[c] -= d[0] * t[0] + d[1] * t[1];
+                }
+            }
+            Ok((qn, qt))
+        })
+        .collect()
+}
+
+/// The running state of the searches over the increments.
+#[derive(Default)]
+struct Searches {
+    force0: f64,
+    load_driven: Option<solution::LoadDriven>,
+    rigid_mode: Option<solution::RigidMode>,
+    total_evaluations: usize,
+}
+
+/// One increment's step answer at load factor `lambda` of step `k`: the step LCP, or the
+/// search for a force-driven obstacle or a held translation around it.
+fn solve_increment(
+    path: &Path<'_>,
+    terms: &[Term<'_>],
+    step_problem: &mut lcp::FrictionProblem,
+    compliance: Option<&[f64]>,
+    loads0: &[Vec<f64>],
+    (k, lambda): (usize, f64),
+    searches: &mut Searches,
+) -> Result<lcp::FrictionSolution, lcp::LcpError> {
+    let end = &path.steps[k];
+    let Some(compliance) = compliance else { return lcp::solve_step(step_problem) };
+    let base = step_problem.free_gap.clone();
+    if let Some(f) = end.force {
+        let (e, size, along) = force_along(f, path.normals);
+        let target = (1.0 - lambda) * searches.force0 + lambda * size;
+        let search = lcp::load_driven::find_displacement(
+            compliance,
+            &base,
+            &along,
+            e,
+            target,
+            |q| {
+                step_problem.free_gap = q.to_vec();
+                lcp::solve_step(step_problem)
+            },
+            |answer| answer.normal.as_slice(),
+        )?;
+        searches.total_evaluations += search.evaluations;
+        let s = search.displacement;
+        searches.load_driven = Some(solution::LoadDriven {
+            force: [target * e[0], target * e[1]],
+            displacement_along: s,
+            displacement: [s * e[0], s * e[1]],
+            carried: search.force,
+            evaluations: search.evaluations,
+            total_evaluations: searches.total_evaluations,
+        });
+        return Ok(search.answer);
+    }
+    let held = path.held.as_ref().expect("the compliance is kept for a force or a pin");
+    let (pin, b) = (held.pin(), held.term());
+    let a = pin.axis as usize;
+    let load = lerp(&loads0[b], &terms[b].steps[k].load, lambda);
+    let solve = |q: &[f64]| {
+        step_problem.free_gap = q.to_vec();
+        lcp::solve_step(step_problem)
+    };
+    let (translation, along_load, evaluations, answer) = match held {
+        Held::Alone { projection, .. } => {
+            // t = σ s along r with σ the sign of the load along r; the gaps move by
+            // (ν_c·r) t = −a_c s, a_c = −σ ν_c·r, and the pin's reaction vanishes when
+            // aᵀz = |F·r|.
+            let (along_load, sign, along) = pin_along(pin, projection, &load)?;
+            let mut r = [0.0; 2];
+            r[a] = sign;
+            let search = lcp::load_driven::find_displacement(
+                compliance,
+                &base,
+                &along,
+                r,
+                along_load.abs(),
+                solve,
+                |answer| answer.normal.as_slice(),
+            )?;
+            (sign * search.displacement, along_load, search.evaluations, search.answer)
+        }
+        Held::Among { along, .. } => {
+            let along_load: f64 = load.iter().skip(a).step_by(2).sum();
+            let search = lcp::load_driven::find_translation(
+                compliance,
+                &base,
+                along,
+                along_load,
+                solve,
+                |answer| answer.normal.as_slice(),
+            )?;
+            (search.displacement, along_load, search.evaluations, search.answer)
+        }
+    };
+    searches.total_evaluations += evaluations;
+    let mut t = [0.0; 2];
+    t[a] = translation;
+    searches.rigid_mode = Some(solution::RigidMode {
+        mode: pin.name(),
+        pin_point: terms[b].model.nodes.points[pin.node as usize],
+        translation: t,
+        load: along_load,
+        evaluations,
+        total_evaluations: searches.total_evaluations,
+    });
+    Ok(answer)
+}
+
+/// The step answer's rows `range` (the residuals, method and counts are the whole step's).
+pub(super) fn select(step: &lcp::FrictionSolution, range: Range<usize>) -> lcp::FrictionSolution {
+    lcp::FrictionSolution {
+        normal: step.normal[range.clone()].to_vec(),
+        tangential: step.tangential[range.clone()].to_vec(),
+        gap: step.gap[range.clone()].to_vec(),
+        tangential_displacement: step.tangential_displacement[range.clone()].to_vec(),
+        slip_increment: step.slip_increment[range.clone()].to_vec(),
+        state: step.state[range].to_vec(),
+        residuals: step.residuals,
+        method: step.method,
+        pivots: step.pivots,
+        iterations: step.iterations,
+        lemke_failure: step.lemke_failure.clone(),
+    }
+}
+
+/// Runs the load path (docs/method.md §8) on the condensed blocks `blocks` of `terms`.
+///
+/// # Errors
+/// The step solver's and the searches' errors (naming the step and the increment when the
+/// problem has `[[step]]` tables), a failed solve.
+pub(super) fn run_condensed(
+    path: &Path<'_>,
+    terms: &[Term<'_>],
+    blocks: contact::CondensedBlocks,
+    clock: &mut Clock<'_>,
+) -> Result<PathAnswer, Error> {
+    let m = path.initial_gap.len();
+    let ends = clock.run("load_steps", || step_end_gaps(path, terms, &blocks))?;
+    let mut step_problem = lcp::FrictionProblem {
+        nn: blocks.nn,
+        nt: blocks.nt,
+        tn: blocks.tn,
+        tt: blocks.tt,
+        free_gap: path.initial_gap.to_vec(),
+        free_tangential: vec![0.0; m],
+        previous_tangential: vec![0.0; m],
+        friction: path.friction[0].clone(),
+    };
+    // The unloaded start: no load, the obstacle where it was given.
+    let zeros = |t: &Term<'_>| vec![0.0; t.model.system.rhs.len()];
+    let mut loads0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
+    let mut rhss0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
+    let (mut qn0, mut qt0) = (path.initial_gap.to_vec(), vec![0.0; m]);
+    let mut histories: Vec<History> =
+        path.groups.iter().map(|g| History::new(g.len(), path.write_steps)).collect();
+    let compliance = (path.steps.iter().any(|s| s.force.is_some()) || path.held.is_some())
+        .then(|| step_problem.nn.clone());
+    let mut searches = Searches::default();
+    let mut last = None;
+    clock.run("friction", || -> Result<(), Error> {
+        for (k, (end, (qn1, qt1))) in path.steps.iter().zip(&ends).enumerate() {
+            step_problem.friction.clone_from(&path.friction[k]);
+            for i in 1..=end.increments {
+                let started = std::time::Instant::now();
+                let lambda = i as f64 / end.increments as f64;
+                step_problem.free_gap = lerp(&qn0, qn1, lambda);
+                step_problem.free_tangential = lerp(&qt0, qt1, lambda);
+                let solved = solve_increment(
+                    path,
+                    terms,
+                    &mut step_problem,
+                    compliance.as_deref(),
+                    &loads0,
+                    (k, lambda),
+                    &mut searches,
+                );
+                // With [[step]] tables, a failure names the step and the increment.
+                let step = solved.map_err(|e| {
+                    if path.named_steps {
+                        Error::Increment {
+                            step: k + 1,
+                            increment: i,
+                            increments: end.increments,
+                            cause: Box::new(e.into()),
+                        }
+                    } else {
+                        Error::from(e)
+                    }
+                })?;
+                let mut u = Vec::with_capacity(terms.len());
+                let mut equilibrium: f64 = 0.0;
+                for (b, term) in terms.iter().enumerate() {
+                    let (normal, tangential) = (term.gather(&step.normal), term.gather(&step.tangential));
+                    let mut rhs = lerp(&rhss0[b], &term.steps[k].rhs, lambda);
+                    term.normal.add_forces(&normal, &mut rhs);
+                    term.tangential.add_forces(&tangential, &mut rhs);
+                    // The body's free translation found above: the pin's value (the solve
+                    // adds the rigid translation, which K_int does not see, to the pinned
+                    // answer).
+                    if let (Some(held), Some(r)) = (&path.held, &searches.rigid_mode)
+                        && held.term() == b
+                    {
+                        let pin = held.pin();
+                        let d = crate::nodes::dof(pin.node as usize, pin.axis);
+                        rhs[d] = term.model.system.collocation_scale * r.translation[pin.axis as usize];
+                    }
+                    let u_b = term.model.factorisation.solve(&rhs)?;
+                    let load = lerp(&loads0[b], &term.steps[k].load, lambda);
+                    let ops = [(term.normal, normal.as_slice()), (term.tangential, tangential.as_slice())];
+                    let e = solution::equilibrium_error(&term.model.system, &load, &u_b, &ops);
+                    equilibrium = if b == 0 { e } else { equilibrium.max(e) };
+                    u.push(u_b);
+                }
+                let seconds = started.elapsed().as_secs_f64();
+                for (h, g) in histories.iter_mut().zip(&path.groups) {
+                    let share = if g.len() == m { None } else { Some(select(&step, g.clone())) };
+                    h.record(share.as_ref().unwrap_or(&step), (k, i, lambda), equilibrium, Vec::new(), seconds);
+                }
+                step_problem.previous_tangential.clone_from(&step.tangential_displacement);
+                last = Some((step, u));
+            }
+            for (b, term) in terms.iter().enumerate() {
+                loads0[b].clone_from(&term.steps[k].load);
+                rhss0[b].clone_from(&term.steps[k].rhs);
+            }
+            (qn0, qt0) = (qn1.clone(), qt1.clone());
+            searches.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
+        }
+        Ok(())
+    })?;
+    let Some((step, u)) = last else {
+        unreachable!("validated: at least one step with at least one increment")
+    };
+    Ok(PathAnswer {
+        step,
+        u,
+        problem: step_problem,
+        histories,
+        load_driven: searches.load_driven,
+        rigid_mode: searches.rigid_mode,
+    })
+}
+
+/// The normal LCP of the answer given its tangential forces (`q = q_n + M_nt T`), for the
+/// `lcp` record of the summary.
+pub(super) fn normal_lcp(
+    problem: &lcp::FrictionProblem,
+    step: &lcp::FrictionSolution,
+) -> Result<lcp::LcpSolution, Error> {
+    let m = step.normal.len();
+    let q: Vec<f64> = (0..m)
+        .map(|i| {
+            let row = &problem.nt[i * m..(i + 1) * m];
+            problem.free_gap[i] + row.iter().zip(&step.tangential).map(|(a, b)| a * b).sum::<f64>()
+        })
+        .collect();
+    let normal = lcp::Lcp::new(m, problem.nn.clone(), q)?;
+    Ok(lcp::LcpSolution {
+        w: normal.w(&step.normal),
+        residuals: normal.residuals(&step.normal),
+        z: step.normal.clone(),
+        pivots: step.pivots,
+    })
+}
