@@ -73,6 +73,9 @@ pub struct MultibodySolution {
     /// The body (0 the first) whose rigid translation the contact holds, and that
     /// translation (docs/method.md §4.7); `None` when every body is restrained.
     pub held: Option<(usize, RigidMode)>,
+    /// Why Lemke failed before the active-set method answered instead (`"auto"` on every
+    /// pair; `None` when the answering solver was the first one tried).
+    pub fallback_from: Option<String>,
 }
 
 /// The solution of the contact problem on the candidates.

@@ -737,9 +737,9 @@ fn bad_several_bodies_input_gives_a_clear_error_and_exit_code_2() {
             "`contact[1].target_edge`: roof",
         ),
         (
-            "stack-friction",
-            with(second, &format!("friction = 0.2\n{second}")),
-            "`contact[1].friction`",
+            "stack-friction-active-set",
+            with(second, &format!("friction = 0.2\nsolver = \"active_set\"\n{second}")),
+            "`contact[1].solver`: active_set (several contact pairs with friction are solved by Lemke's method",
         ),
         (
             "stack-mixed-solvers",
@@ -751,7 +751,12 @@ fn bad_several_bodies_input_gives_a_clear_error_and_exit_code_2() {
             "`contact[1].solver`: active_set (the contact pairs are solved together in one problem, and contact[0].solver is \"lemke\"",
         ),
         ("stack-foreign-key", with(second, &format!("edges = 1\n{second}")), "contact[1]"),
-        ("stack-steps", format!("{stack}\n[[step]]\nincrements = 2\n"), "`step`"),
+        // With steps the loading starts from the unloaded bodies: the top's push is declared 0.
+        (
+            "stack-steps",
+            format!("{stack}\n[[step]]\nincrements = 2\n"),
+            "`body[2].boundary[1].displacement.y`",
+        ),
         ("stack-refinement", format!("{stack}\n[refinement]\n"), "`refinement`"),
         (
             "stack-names",

@@ -22,6 +22,8 @@ mod validation {
     mod two_bodies;
     // Three blocks stacked, two contact pairs in one LCP: exact uniaxial stress.
     mod stack;
+    // The contact core's load path: friction, steps and held bodies for several pairs.
+    mod contact_core;
     // Plate with a circular hole (Kirsch): curved, non-convex boundary; errors and rates.
     mod kirsch;
     // Bodies with holes: patch test, the full Kirsch plate from curves and from Gmsh, FE.

@@ -237,9 +237,12 @@ pub(super) fn solve_frictional(
     // per candidate for its unit vector r; only frictionless, without a force-driven
     // obstacle or a second body, and with a pinned node that carries no contact force.
     let pinned = model.system.pinned;
-    let held = held_projection(pinned, steps, target.is_some(), &candidates)?
-        .zip(pinned)
-        .map(|(projection, pin)| load_path::Held::Alone { pin, projection });
+    let held = match &target {
+        None => held_projection(pinned, steps, false, &candidates)?
+            .zip(pinned)
+            .map(|(projection, pin)| load_path::Held::Alone { pin, projection }),
+        Some(tg) => held_between(problem, model, tg, &candidates, steps)?,
+    };
     // μ per candidate in step k: 0 where the tangential row is a displacement condition.
     let friction = (0..steps.len())
         .map(|k| free.iter().map(|&f| if f { steps[k].friction } else { 0.0 }).collect())
@@ -250,14 +253,20 @@ pub(super) fn solve_frictional(
         steps,
         friction,
         held,
-        groups: vec![0..m],
+        groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
     };
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
     drop(terms);
-    let load_path::PathAnswer { step, mut u, problem: step_problem, histories, load_driven, rigid_mode } =
-        answer;
+    let load_path::PathAnswer {
+        step,
+        mut u,
+        problem: step_problem,
+        histories,
+        load_driven,
+        rigid_mode,
+    } = answer;
     let u2 = (u.len() == 2).then(|| u.pop()).flatten();
     let u = u.pop().expect("the first body's displacements");
     let result = load_path::normal_lcp(&step_problem, &step)?;
@@ -376,9 +385,54 @@ fn held_projection(
     }
 }
 
+/// The held translation of either body of a two-body pair (docs/method.md §4.7): the pinned
+/// body's term, its pin and `a_c = −s_c ν_c·r` (`s_c = +1` on the candidate body, `−1` on the
+/// target body). Refused for both bodies pinned, a pinned node that carries contact forces, no
+/// candidate that restrains the translation, and friction on candidates whose tangent has a
+/// component along it.
+fn held_between(
+    problem: &Problem,
+    model: &Model,
+    target: &Target<'_>,
+    candidates: &contact::Candidates,
+    steps: &[StepEnd],
+) -> Result<Option<load_path::Held>, Error> {
+    use lcp::load_driven::LoadDrivenError as L;
+    let second = problem.second_body.as_deref().map_or("second body", |p| p.name.as_str());
+    let (term, pin, op, sign) = match (model.system.pinned, target.model.system.pinned) {
+        (None, None) => return Ok(None),
+        (Some(a), Some(b)) => {
+            let bodies = format!("`{}` ({}), `{second}` ({})", problem.name, a.name(), b.name());
+            return Err(lcp::LcpError::from(L::SeveralHeld { bodies }).into());
+        }
+        (Some(pin), None) => (0, pin, &candidates.operator, 1.0),
+        (None, Some(pin)) => (1, pin, &target.operator, -1.0),
+    };
+    let unsupported =
+        |why: String| Error::from(lcp::LcpError::from(L::Unsupported { mode: pin.name(), why }));
+    if op.owners.iter().flatten().any(|&(i, _)| i == pin.node) {
+        return Err(unsupported(format!("the pinned node {} carries contact forces", pin.node)));
+    }
+    let a = pin.axis as usize;
+    let frictional = steps.iter().any(|s| s.friction > 0.0);
+    if frictional && (0..candidates.len()).any(|c| candidates.tangent(c)[a].abs() > 1e-12) {
+        return Err(unsupported(
+            "the contact has friction and a candidate's tangent has a component along the held translation".into(),
+        ));
+    }
+    let along: Vec<f64> = candidates.normals.iter().map(|nu| -sign * nu[a]).collect();
+    if along.iter().all(|x| x.abs() <= 1e-12) {
+        return Err(lcp::LcpError::from(L::NotRestrained { mode: pin.name() }).into());
+    }
+    Ok(Some(load_path::Held::Among { term, pin, along }))
+}
+
 /// The direction `e = F/|F|` of the force pressing the obstacle, `|F|`, and `a_c = ν_c·e` per
 /// candidate (docs/method.md §4.6).
-pub(super) fn force_along(f: geometry::Point, normals: &[geometry::Point]) -> ([f64; 2], f64, Vec<f64>) {
+pub(super) fn force_along(
+    f: geometry::Point,
+    normals: &[geometry::Point],
+) -> ([f64; 2], f64, Vec<f64>) {
     let size = f[0].hypot(f[1]);
     let e = [f[0] / size, f[1] / size];
     let along: Vec<f64> = normals.iter().map(|nu| nu[0] * e[0] + nu[1] * e[1]).collect();

@@ -93,6 +93,26 @@ impl Held {
     }
 }
 
+/// Refuses the answer of a held body's search when nothing determines the body's position
+/// (docs/method.md §4.7): no load along the translation, no force carried along it, and the
+/// touching gaps do not block it both ways (every translation of an interval answers).
+pub(super) fn check_determined(
+    (body, mode): (&str, &'static str),
+    load: f64,
+    along: &[f64],
+    result: &lcp::LcpSolution,
+    free_gap: &[f64],
+) -> Result<(), lcp::load_driven::LoadDrivenError> {
+    let (z, w) = (&result.z, &result.w);
+    let carries = z.iter().zip(along).any(|(z, a)| *z * a != 0.0);
+    let touching = 1e-12 * free_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
+    let blocked = |sign: f64| along.iter().zip(w).any(|(a, w)| sign * a > 0.0 && *w <= touching);
+    if load == 0.0 && !carries && !(blocked(1.0) && blocked(-1.0)) {
+        return Err(lcp::load_driven::LoadDrivenError::Undetermined { body: body.into(), mode });
+    }
+    Ok(())
+}
+
 /// What the path is run on besides the terms: the candidates' initial gaps and normals, the
 /// step ends that carry the obstacle's motion, force and increments (the first term's), `μ`
 /// per step and candidate, the held translation, and the candidate ranges whose histories
@@ -178,6 +198,9 @@ pub(super) struct PathAnswer {
     pub(super) rigid_mode: Option<solution::RigidMode>,
 }
 
+/// The gaps `q_n` and tangential displacements `q_t` without contact forces.
+type FreeMotion = (Vec<f64>, Vec<f64>);
+
 /// `(q_n, q_t)` at the end of each step: the last step's from the condensation (the models'
 /// right-hand sides are the last step's), the others by one solve per body; a rigid
 /// obstacle's displacement `d` shifts the gap by `−d·ν_c` and the tangential displacement
@@ -186,7 +209,7 @@ fn step_end_gaps(
     path: &Path<'_>,
     terms: &[Term<'_>],
     blocks: &contact::CondensedBlocks,
-) -> Result<Vec<(Vec<f64>, Vec<f64>)>, Error> {
+) -> Result<Vec<FreeMotion>, Error> {
     let m = path.initial_gap.len();
     let steps = path.steps;
     steps
@@ -406,7 +429,8 @@ pub(super) fn run_condensed(
                 let mut u = Vec::with_capacity(terms.len());
                 let mut equilibrium: f64 = 0.0;
                 for (b, term) in terms.iter().enumerate() {
-                    let (normal, tangential) = (term.gather(&step.normal), term.gather(&step.tangential));
+                    let (normal, tangential) =
+                        (term.gather(&step.normal), term.gather(&step.tangential));
                     let mut rhs = lerp(&rhss0[b], &term.steps[k].rhs, lambda);
                     term.normal.add_forces(&normal, &mut rhs);
                     term.tangential.add_forces(&tangential, &mut rhs);
@@ -418,11 +442,15 @@ pub(super) fn run_condensed(
                     {
                         let pin = held.pin();
                         let d = crate::nodes::dof(pin.node as usize, pin.axis);
-                        rhs[d] = term.model.system.collocation_scale * r.translation[pin.axis as usize];
+                        rhs[d] =
+                            term.model.system.collocation_scale * r.translation[pin.axis as usize];
                     }
                     let u_b = term.model.factorisation.solve(&rhs)?;
                     let load = lerp(&loads0[b], &term.steps[k].load, lambda);
-                    let ops = [(term.normal, normal.as_slice()), (term.tangential, tangential.as_slice())];
+                    let ops = [
+                        (term.normal, normal.as_slice()),
+                        (term.tangential, tangential.as_slice()),
+                    ];
                     let e = solution::equilibrium_error(&term.model.system, &load, &u_b, &ops);
                     equilibrium = if b == 0 { e } else { equilibrium.max(e) };
                     u.push(u_b);
@@ -430,7 +458,13 @@ pub(super) fn run_condensed(
                 let seconds = started.elapsed().as_secs_f64();
                 for (h, g) in histories.iter_mut().zip(&path.groups) {
                     let share = if g.len() == m { None } else { Some(select(&step, g.clone())) };
-                    h.record(share.as_ref().unwrap_or(&step), (k, i, lambda), equilibrium, Vec::new(), seconds);
+                    h.record(
+                        share.as_ref().unwrap_or(&step),
+                        (k, i, lambda),
+                        equilibrium,
+                        Vec::new(),
+                        seconds,
+                    );
                 }
                 step_problem.previous_tangential.clone_from(&step.tangential_displacement);
                 last = Some((step, u));

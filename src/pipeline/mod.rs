@@ -292,17 +292,22 @@ fn discretise_all(
     if several {
         progress.section(&format!("body `{}` ({method})", problem.name));
     }
-    let model = discretise(problem, progress).map_err(|e| match &problem.multibody {
-        Some(m) => {
-            let held = m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0));
-            multibody::named(problem, held, e)
-        }
-        None => e,
-    })?;
+    let paired = problem.second_body.is_some();
+    let model =
+        discretise_held(problem, paired, progress).map_err(|e| match &problem.multibody {
+            Some(m) => {
+                let held = m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0));
+                multibody::named(problem, held, e)
+            }
+            None if paired => multibody::named(problem, true, e),
+            None => e,
+        })?;
+    // Two bodies in one pair: the contact may hold one free translation of either body
+    // (docs/method.md §4.7), as between several bodies.
     let second = match &problem.second_body {
         Some(p2) => {
             progress.section(&format!("body `{}` ({method})", p2.name));
-            Some(discretise(p2, progress)?)
+            Some(discretise_held(p2, true, progress).map_err(|e| multibody::named(p2, true, e))?)
         }
         None => None,
     };
@@ -411,16 +416,13 @@ pub fn solve_model_with(
         solve_contact(problem, spec, &mut model, pair, steps.as_deref(), lemke, &mut clock)?;
     // A translation held by the contact: the pin's value is the translation found
     // (docs/method.md §4.7), so that the system the solution answers is the one reported.
-    if let (Some(pin), Some(r)) = (model.system.pinned, &contact.rigid_mode) {
-        let value = r.translation[pin.axis as usize];
-        let d = nodes::dof(pin.node as usize, pin.axis);
-        model.system.rhs[d] = model.system.collocation_scale * value;
-        if let Some(c) =
-            model.system.constraints.iter_mut().find(|c| c.node == pin.node && c.axis == pin.axis)
-        {
-            c.value = value;
+    if let Some(r) = &contact.rigid_mode {
+        let held = if model.system.pinned.is_some() { Some(&mut model) } else { second.as_mut() };
+        if let Some(m) = held {
+            set_pin(m, r);
         }
     }
+    let pair = problem.second_body.as_deref().zip(second.as_ref());
     let mut solution = clock.run("recovery", || {
         let forces = &contact.lcp.z;
         let mut ops = vec![(&contact.candidates.operator, forces.as_slice())];
@@ -443,6 +445,20 @@ pub fn solve_model_with(
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
     finite(solution).map(|s| (model, second, s))
+}
+
+/// The pin of `model`'s held translation set to the translation `r` found (docs/method.md
+/// §4.7): its collocation row's value and its displacement condition.
+fn set_pin(model: &mut Model, r: &solution::RigidMode) {
+    let Some(pin) = model.system.pinned else { return };
+    let value = r.translation[pin.axis as usize];
+    let d = nodes::dof(pin.node as usize, pin.axis);
+    model.system.rhs[d] = model.system.collocation_scale * value;
+    if let Some(c) =
+        model.system.constraints.iter_mut().find(|c| c.node == pin.node && c.axis == pin.axis)
+    {
+        c.value = value;
+    }
 }
 
 /// `solution`, unless it holds a value that is not finite ([`Error::NonFinite`]).
@@ -491,7 +507,9 @@ fn solve_contact(
         })?;
     // A rigid translation held by the contact alone takes the incremental path too: its
     // search (docs/method.md §4.7) lives there.
-    if spec.friction > 0.0 || steps.is_some() || model.system.pinned.is_some() {
+    let held =
+        model.system.pinned.is_some() || second.is_some_and(|(_, m2)| m2.system.pinned.is_some());
+    if spec.friction > 0.0 || steps.is_some() || held {
         // MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
         // models' loads in one increment.
         let one = |m: &Model| {
@@ -515,10 +533,7 @@ fn solve_contact(
         };
         let active_set = match &target {
             None => spec.solver.is_active_set_frictional(candidates.len()),
-            Some(_) => {
-                model.system.pinned.is_none()
-                    && spec.solver.is_active_set_frictional_pair(candidates.len())
-            }
+            Some(_) => !held && spec.solver.is_active_set_frictional_pair(candidates.len()),
         };
         let (u1, u2, mut contact) = if active_set {
             solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)?
@@ -824,6 +839,14 @@ impl std::fmt::Display for RunReport {
                 "  contact[{k}] {}.{} against {target}: total force {:.6}, {} of {} candidates closed in {} zone(s)",
                 p.body, p.edge, p.total_force, p.closed, p.candidates, p.closed_intervals
             )?;
+            if let Some(fr) = &p.friction {
+                let [stick, slip] = fr.stick_slip_counts;
+                writeln!(
+                    f,
+                    "    friction μ = {}: tangential force {:.6}, {stick} candidates stick and {slip} slip ({} increment(s), residual {:.1e})",
+                    fr.coefficient, fr.total_tangential_force, fr.increments, fr.residual
+                )?;
+            }
         }
         if let (Some(_), Some(l)) = (&s.pairs, &s.lcp) {
             match &l.active_set {

@@ -5,6 +5,9 @@
 //! `contact[k].solver = "active_set"`, the active-set method on all bodies at once without
 //! `M` (docs/method.md §5.1, [`lcp::active_set::Bodies`]).
 
+mod path;
+
+use super::friction::{StepEnd, step_ends};
 use super::{final_gaps, finite};
 use crate::assembly::PinnedMode;
 use crate::contact::{self, BodyOperator, Candidates, ContactTarget};
@@ -200,8 +203,33 @@ pub fn solve_bodies(
     };
     let mut clock = Clock::new(progress, std::mem::take(&mut model.timings));
     let problems: Vec<&Problem> = std::iter::once(problem).chain(several.bodies.iter()).collect();
-    let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
+    // Friction or load steps: the load path (docs/method.md §8) with each body's step ends,
+    // the models' own load and right-hand side those of the last step.
     let pairs = &several.pairs;
+    let on_path = !problem.steps.is_empty() || pairs.iter().any(|p| p.spec.friction > 0.0);
+    let mut steps: Vec<Vec<StepEnd>> = Vec::new();
+    if on_path {
+        for (p, m) in problems.iter().zip(std::iter::once(&mut model).chain(others.iter_mut())) {
+            let ends = if p.steps.is_empty() {
+                vec![StepEnd {
+                    increments: 1,
+                    load: m.system.load.clone(),
+                    rhs: m.system.rhs.clone(),
+                    obstacle: [0.0, 0.0],
+                    force: None,
+                    friction: 0.0,
+                }]
+            } else {
+                clock.run("load_steps", || step_ends(p, m))?
+            };
+            if let Some(last) = ends.last() {
+                m.system.load.clone_from(&last.load);
+                m.system.rhs.clone_from(&last.rhs);
+            }
+            steps.push(ends);
+        }
+    }
+    let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
     let found = clock.run("contact_candidates", || {
         pairs
             .iter()
@@ -214,8 +242,10 @@ pub fn solve_bodies(
         offsets.push(offsets.last().copied().unwrap_or(0) + f.candidates.len());
     }
     // Each body's operator over the candidates that touch it, and their global indices.
+    let normal_ops: Vec<_> =
+        found.iter().map(|f| (&f.candidates.operator, f.target.as_ref())).collect();
     let operators: Vec<Option<(BodyOperator, Vec<usize>)>> =
-        (0..problems.len()).map(|b| body_operator(b, pairs, &found, &offsets)).collect();
+        (0..problems.len()).map(|b| body_operator(b, pairs, &normal_ops, &offsets)).collect();
     let initial_gap: Vec<f64> =
         found.iter().flat_map(|f| f.candidates.initial_gap.iter().copied()).collect();
     let held =
@@ -223,10 +253,25 @@ pub fn solve_bodies(
     // `contact[k].solver = "active_set"` on any pair (validated: none says "lemke"): the
     // sparse system of all bodies and pairs, no M (docs/method.md §5.1).
     let active_set = pairs.iter().any(|p| p.spec.solver == ContactSolver::ActiveSet);
-    let solved = if active_set {
+    let mut frictions = Vec::new();
+    let mut fallback_from = None;
+    let solved = if on_path {
+        let scene = path::Scene {
+            problem,
+            pairs,
+            found: &found,
+            offsets: &offsets,
+            operators: &operators,
+            initial_gap: &initial_gap,
+            steps: &steps,
+        };
+        let (solved, f) = path::solve(&scene, &models, held.as_ref(), &mut clock)?;
+        frictions = f;
+        solved
+    } else if active_set {
         solve_active_set(&models, pairs, &found, &initial_gap, held.as_ref(), &mut clock)?
     } else {
-        solve_lemke(
+        let answer = solve_lemke(
             problem,
             &models,
             pairs,
@@ -235,27 +280,44 @@ pub fn solve_bodies(
             held.as_ref(),
             lemke,
             &mut clock,
-        )?
+        );
+        // Lemke failed numerically: `"auto"` on every pair hands the problem to the
+        // active-set method (docs/method.md §5.1) and records why, as for one pair.
+        let auto = pairs.iter().all(|p| p.spec.solver == ContactSolver::Auto);
+        match answer {
+            Err(Error::LemkeRefused(mut refusal)) if auto => {
+                match solve_active_set(
+                    &models,
+                    pairs,
+                    &found,
+                    &initial_gap,
+                    held.as_ref(),
+                    &mut clock,
+                ) {
+                    Ok(solved) => {
+                        fallback_from = Some(refusal.diagnosis_text());
+                        solved
+                    }
+                    Err(e) => {
+                        refusal.active_set_failure = Some(e.to_string());
+                        return Err(Error::LemkeRefused(refusal));
+                    }
+                }
+            }
+            other => other?,
+        }
     };
     let Solved { result, free_gap, condensed, warning, search, displacements, record } = solved;
     // A body held by the contact alone (docs/method.md §4.7): its translation found.
     let rigid = match (&held, search) {
         (Some((b, pin, along, load)), Some((displacement, evaluations))) => {
-            // No load and no force along the translation: the position is determined only
-            // if touching gaps block it both ways (F(t) = aᵀz(t) is flat on an interval
-            // otherwise, and every t of it answers).
-            let (z, w) = (&result.z, &result.w);
-            let carries = z.iter().zip(along.iter()).any(|(z, a)| *z * a != 0.0);
-            let touching = 1e-12 * free_gap.iter().fold(0.0f64, |g, q| g.max(q.abs()));
-            let blocked =
-                |sign: f64| along.iter().zip(w).any(|(a, w)| sign * a > 0.0 && *w <= touching);
-            if *load == 0.0 && !carries && !(blocked(1.0) && blocked(-1.0)) {
-                return Err(lcp::load_driven::LoadDrivenError::Undetermined {
-                    body: problems[*b].name.clone(),
-                    mode: pin.name(),
-                }
-                .into());
-            }
+            super::load_path::check_determined(
+                (&problems[*b].name, pin.name()),
+                *load,
+                along,
+                &result,
+                &free_gap,
+            )?;
             let mut translation = [0.0; 2];
             translation[pin.axis as usize] = displacement;
             let mode = solution::RigidMode {
@@ -307,6 +369,7 @@ pub fn solve_bodies(
     let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
     let tolerance =
         (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&free_gap)).max(f64::MIN_POSITIVE);
+    let mut frictions = frictions.into_iter();
     let contacts: Vec<ContactSolution> = found
         .into_iter()
         .zip(pairs)
@@ -342,6 +405,7 @@ pub fn solve_bodies(
                 None,
             );
             c.unpaired = f.unpaired;
+            c.friction = frictions.next();
             c
         })
         .collect();
@@ -355,7 +419,18 @@ pub fn solve_bodies(
                     .flat_map(|(pair, c)| {
                         let own = (pair.body == b).then_some(&c.candidates.operator);
                         let target = c.target.as_ref().filter(|_| pair.target_body == Some(b));
-                        own.into_iter().chain(target).map(|op| (op, c.lcp.z.as_slice()))
+                        let normal =
+                            own.into_iter().chain(target).map(|op| (op, c.lcp.z.as_slice()));
+                        // The tangential forces of a frictional pair on either body.
+                        let tangential = c.friction.iter().flat_map(move |f| {
+                            let own = (pair.body == b).then_some(&f.operator);
+                            let target =
+                                f.target_operator.as_ref().filter(|_| pair.target_body == Some(b));
+                            own.into_iter()
+                                .chain(target)
+                                .map(|op| (op, f.step.tangential.as_slice()))
+                        });
+                        normal.chain(tangential)
                     })
                     .collect();
                 solution::recover(problems[b], models[b], u_b, &ops)
@@ -372,6 +447,7 @@ pub fn solve_bodies(
         active_set: record,
         warning,
         held: rigid.map(|(b, _, r)| (b, r)),
+        fallback_from,
     }));
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
@@ -441,7 +517,8 @@ fn solve_lemke(
             Err(cause) => {
                 let extremes =
                     [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
-                let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, false)?;
+                // Frictionless and one step here: the active-set method takes the pairs.
+                let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, true)?;
                 Err(Error::LemkeRefused(Box::new(refusal)))
             }
         }
@@ -704,22 +781,23 @@ fn pair_candidates(
     }
 }
 
-/// Body `b`'s operator over every candidate that touches it (the candidate operator of the
-/// pairs on `b`, the target operator of the pairs against `b`), with the candidates' global
-/// indices; `None` when no pair touches `b`.
-fn body_operator(
+/// Body `b`'s operator over every candidate that touches it (of each pair `k`, `ops[k].0` on
+/// the pairs on `b`, the target operator `ops[k].1` on the pairs against `b`), with the
+/// candidates' global indices; `None` when no pair touches `b`. `ops` are the normal
+/// operators, or the tangential ones (the same rows, so the same indices).
+pub(super) fn body_operator(
     b: usize,
     pairs: &[ContactPair],
-    found: &[PairCandidates],
+    ops: &[(&BodyOperator, Option<&BodyOperator>)],
     offsets: &[usize],
 ) -> Option<(BodyOperator, Vec<usize>)> {
     let mut rows: Vec<Vec<(u32, f64)>> = Vec::new();
     let mut owners = Vec::new();
     let mut directions = Vec::new();
     let mut index = Vec::new();
-    for (k, (pair, f)) in pairs.iter().zip(found).enumerate() {
-        let own = (pair.body == b).then_some(&f.candidates.operator);
-        let target = f.target.as_ref().filter(|_| pair.target_body == Some(b));
+    for (k, (pair, &(own, target))) in pairs.iter().zip(ops).enumerate() {
+        let own = (pair.body == b).then_some(own);
+        let target = target.filter(|_| pair.target_body == Some(b));
         for op in own.into_iter().chain(target) {
             for c in 0..op.len() {
                 let support = op.shapes.support(c);

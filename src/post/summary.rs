@@ -463,6 +463,25 @@ pub struct PairSummary {
     pub max_force_times_gap: f64,
     /// Largest difference between the MLS gap and the LCP's `w`.
     pub max_gap_mismatch: f64,
+    /// The pair's frictional answer (friction or `[[step]]` only; absent otherwise, so that
+    /// frictionless summaries are unchanged).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<PairFriction>,
+}
+
+/// One pair's frictional answer at the end of the load path (docs/method.md §8).
+#[derive(Clone, Debug, Serialize)]
+pub struct PairFriction {
+    /// The pair's `μ` in the last step.
+    pub coefficient: f64,
+    /// `Σ T_c` on the candidate body along `t`.
+    pub total_tangential_force: f64,
+    /// Candidates that stick, that slip.
+    pub stick_slip_counts: [usize; 2],
+    /// Largest scaled residual of the last step (the whole LCP's).
+    pub residual: f64,
+    /// Load increments of the path.
+    pub increments: usize,
 }
 
 /// The second body of a two-body contact.
@@ -737,6 +756,16 @@ fn multibody_pairs(problem: &Problem, solution: &Solution) -> Option<Vec<PairSum
                     .zip(&c.lcp.w)
                     .map(|(a, b)| (a - b).abs())
                     .fold(0.0, f64::max),
+                friction: c.friction.as_ref().map(|f| PairFriction {
+                    coefficient: f.coefficient,
+                    total_tangential_force: f.total_force,
+                    stick_slip_counts: [
+                        f.step.state.iter().filter(|s| **s == ContactState::Stick).count(),
+                        f.step.state.iter().filter(|s| s.is_slip()).count(),
+                    ],
+                    residual: f.step.residuals.max(),
+                    increments: f.increments.len(),
+                }),
             })
             .collect(),
     )
@@ -760,7 +789,7 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
         compliance_eigenvalue_method: m.map(|m| m.eigenvalue_method),
         compliance_skew_ratio: m.map(|m| m.skew_ratio),
         solver: if ms.active_set.is_some() { "active_set" } else { "lemke" },
-        fallback_from: None,
+        fallback_from: ms.fallback_from.clone(),
         active_set: ms.active_set.as_ref().map(|a| ActiveSetSummary {
             iterations: a.iterations,
             changes_per_iteration: a.changes.clone(),
@@ -789,6 +818,11 @@ fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
     });
     let several = solution.multibody.as_deref();
     let several_warning = several.and_then(|m| m.warning.clone());
+    let several_fallback = several.and_then(|m| m.fallback_from.as_ref()).map(|w| {
+        format!(
+            "contact: {w}; the active-set solver answered instead (contact[k].solver = \"auto\")"
+        )
+    });
     let several_unpaired = several.into_iter().flat_map(|m| m.pairs.iter().enumerate()).filter(|(_, c)| c.unpaired > 0).map(|(k, c)| {
         format!(
             "contact[{k}]: {} nodes of the contact edge lie beside the target edge; they have no partner and cannot close",
@@ -800,6 +834,7 @@ fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
         .chain(unpaired)
         .chain(fallback)
         .chain(several_warning.map(|w| format!("contact: {w}")))
+        .chain(several_fallback)
         .chain(several_unpaired)
         .collect()
 }

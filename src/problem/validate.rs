@@ -181,7 +181,16 @@ impl TryFrom<ProblemFile> for Problem {
             Some(r) => Some(adaptive(r, &problem)?),
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
-        let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0);
+        if let Some(several) = &problem.multibody {
+            path_on_lemke(several, !problem.steps.is_empty(), &|k| {
+                file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k))
+            })?;
+        }
+        let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0)
+            || problem
+                .multibody
+                .as_ref()
+                .is_some_and(|m| m.pairs.iter().any(|p| p.spec.friction > 0.0));
         if problem.write_steps && problem.steps.is_empty() && !frictional {
             return Err(invalid(
                 "output.steps",
@@ -1099,13 +1108,6 @@ fn contact_pairs(
         let mut view = bodies[body].clone();
         view.second_body = target_body.map(|t| Box::new(bodies[t].clone()));
         let (spec, chosen) = contact_spec(c, obstacles, &view).map_err(|e| rekeyed(e, &key))?;
-        if spec.friction > 0.0 {
-            return Err(invalid(
-                &format!("{key}.friction"),
-                spec.friction,
-                "several bodies or contact pairs are solved frictionless for now; remove `friction`",
-            ));
-        }
         // All pairs are one LCP: one solver for all ("auto" is Lemke's method here).
         let other = |wanted: ContactSolver| pairs.iter().position(|q| q.spec.solver == wanted);
         let conflict = match spec.solver {
@@ -1794,6 +1796,31 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
         }
     }
     Ok(states.into_iter().map(|s| s.1).collect())
+}
+
+/// Several contact pairs with friction or load steps are solved on Lemke's path (the
+/// condensed load path, docs/method.md §8); the active-set method takes them one-shot and
+/// frictionless only for now.
+fn path_on_lemke(
+    several: &Multibody,
+    steps: bool,
+    key: &dyn Fn(usize) -> String,
+) -> Result<(), ProblemError> {
+    let friction = several.pairs.iter().any(|p| p.spec.friction > 0.0);
+    if !(friction || steps) {
+        return Ok(());
+    }
+    match several.pairs.iter().position(|p| p.spec.solver == ContactSolver::ActiveSet) {
+        Some(k) => Err(invalid(
+            &format!("{}.solver", key(k)),
+            "active_set",
+            format!(
+                "several contact pairs with {} are solved by Lemke's method on the condensed system for now: set solver = \"lemke\" or \"auto\"",
+                if friction { "friction" } else { "load steps" }
+            ),
+        )),
+        None => Ok(()),
+    }
 }
 
 /// Refuses a non-zero value among a body's declared conditions `declared` (key paths under

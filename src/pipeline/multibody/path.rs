@@ -1,0 +1,189 @@
+//! Several bodies and contact pairs along the load path (docs/method.md §4.5, §8; plan in
+//! docs/dev/contact_core.md): friction, `[[step]]` tables and a body held by the contact,
+//! each body one [`load_path::Term`] over the candidates of the pairs that touch it.
+
+use super::super::friction::{StepEnd, tangential_operators};
+use super::super::load_path::{self, Held, Path, Term};
+use super::{Held as HeldBody, PairCandidates, Solved};
+use crate::contact::{self, BodyOperator};
+use crate::error::Error;
+use crate::lcp::{self, load_driven::LoadDrivenError};
+use crate::model::Model;
+use crate::problem::{ContactPair, Problem};
+use crate::progress::Clock;
+use crate::solution::FrictionContact;
+
+/// Each pair's tangential operators: the candidate body's, whether each candidate can take a
+/// tangential force, and the target body's (direction `−t`) for a pair between bodies.
+type Tangential = (BodyOperator, Vec<bool>, Option<BodyOperator>);
+
+/// What the path needs of the scene besides the models.
+pub(super) struct Scene<'s> {
+    pub(super) problem: &'s Problem,
+    pub(super) pairs: &'s [ContactPair],
+    pub(super) found: &'s [PairCandidates],
+    pub(super) offsets: &'s [usize],
+    pub(super) operators: &'s [Option<(BodyOperator, Vec<usize>)>],
+    pub(super) initial_gap: &'s [f64],
+    /// Each body's step ends (the same steps and increments for every body).
+    pub(super) steps: &'s [Vec<StepEnd>],
+}
+
+/// `μ` per candidate in each step: a step's `friction` when it sets one, else each pair's
+/// own; 0 where the candidate's tangential row is a displacement condition.
+fn friction_per_step(scene: &Scene<'_>, tangential: &[Tangential]) -> Vec<Vec<f64>> {
+    let steps = &scene.problem.steps;
+    let count = steps.len().max(1);
+    (0..count)
+        .map(|k| {
+            scene
+                .pairs
+                .iter()
+                .zip(tangential)
+                .flat_map(|(pair, (_, free, _))| {
+                    let mu = match steps.get(k) {
+                        Some(step) if step.friction_set => step.friction,
+                        _ => pair.spec.friction,
+                    };
+                    free.iter().map(move |&f| if f { mu } else { 0.0 })
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The held body's search on the path (docs/method.md §4.7); with friction only where every
+/// frictional candidate's tangent is orthogonal to the held translation (its tangential force
+/// then does not enter the pin's balance).
+fn held_on_path(
+    held: Option<&HeldBody>,
+    term_of: &[Option<usize>],
+    friction: &[Vec<f64>],
+    normals: &[crate::geometry::Point],
+) -> Result<Option<Held>, Error> {
+    let Some((b, pin, along, _)) = held else { return Ok(None) };
+    let a = pin.axis as usize;
+    let slanted = (0..normals.len()).find(|&c| {
+        friction.iter().any(|mu| mu[c] > 0.0) && contact::tangent(normals[c])[a].abs() > 1e-12
+    });
+    if let Some(c) = slanted {
+        let why = format!(
+            "the contact has friction and candidate {c}'s tangent has a component along the held translation (its tangential force would enter the balance the search solves)"
+        );
+        return Err(
+            lcp::LcpError::from(LoadDrivenError::Unsupported { mode: pin.name(), why }).into()
+        );
+    }
+    let term = term_of[*b].expect("a held body is touched by a pair");
+    Ok(Some(Held::Among { term, pin: *pin, along: along.clone() }))
+}
+
+/// Friction and load steps for several bodies and pairs: the condensed blocks of every body
+/// over all candidates, the load path, one frictional record per pair.
+///
+/// # Errors
+/// The condensation's and the compliance checks' errors, the path's.
+pub(super) fn solve(
+    scene: &Scene<'_>,
+    models: &[&Model],
+    held_body: Option<&HeldBody>,
+    clock: &mut Clock<'_>,
+) -> Result<(Solved, Vec<FrictionContact>), Error> {
+    let (pairs, found) = (scene.pairs, scene.found);
+    let tangential: Vec<Tangential> = pairs
+        .iter()
+        .zip(found)
+        .map(|(pair, f)| {
+            let target = pair.target_body.zip(f.target.as_ref()).map(|(t, op)| (models[t], op));
+            tangential_operators(&f.candidates, models[pair.body], target)
+        })
+        .collect();
+    let tangential_ops: Vec<_> = tangential.iter().map(|(t, _, t2)| (t, t2.as_ref())).collect();
+    let tangential_by_body: Vec<Option<(BodyOperator, Vec<usize>)>> = (0..models.len())
+        .map(|b| super::body_operator(b, pairs, &tangential_ops, scene.offsets))
+        .collect();
+    let mut term_of = vec![None; models.len()];
+    let mut terms = Vec::new();
+    for (b, (normal, tangential)) in scene.operators.iter().zip(&tangential_by_body).enumerate() {
+        if let (Some((normal, index)), Some((tangential, _))) = (normal, tangential) {
+            term_of[b] = Some(terms.len());
+            terms.push(Term {
+                model: models[b],
+                normal,
+                tangential,
+                index: Some(index),
+                steps: &scene.steps[b],
+            });
+        }
+    }
+    let normals: Vec<_> = found.iter().flat_map(|f| f.candidates.normals.iter().copied()).collect();
+    let friction = friction_per_step(scene, &tangential);
+    let held = held_on_path(held_body, &term_of, &friction, &normals)?;
+    let load_path::Condensed { blocks, compliance } =
+        clock.run("condensation", || load_path::condense(&terms, scene.initial_gap))?;
+    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
+    let support_factor = scene.problem.discretisation.mls.support_factor;
+    let warning = match contact::check_compliance(&compliance, support_factor) {
+        Ok(()) => None,
+        Err(err) if allow => Some(err.to_string()),
+        Err(err) => return Err(err.into()),
+    };
+    let path = Path {
+        initial_gap: scene.initial_gap,
+        normals: &normals,
+        steps: &scene.steps[0],
+        friction,
+        held,
+        groups: (0..pairs.len()).map(|k| scene.offsets[k]..scene.offsets[k + 1]).collect(),
+        write_steps: scene.problem.write_steps,
+        named_steps: !scene.problem.steps.is_empty(),
+    };
+    let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
+    let last_friction = path.friction.last().cloned().unwrap_or_default();
+    drop(terms);
+    let result = load_path::normal_lcp(&answer.problem, &answer.step)?;
+    // Each body's displacements: its term's, or (no pair touches it) its own solve.
+    let mut solved = answer.u.into_iter();
+    let mut u = Vec::with_capacity(models.len());
+    for (b, m) in models.iter().enumerate() {
+        match term_of[b] {
+            Some(_) => u.push(solved.next().expect("one answer per term")),
+            None => u.push(m.factorisation.solve(&m.system.rhs)?),
+        }
+    }
+    let frictions = pairs
+        .iter()
+        .enumerate()
+        .zip(tangential)
+        .zip(answer.histories)
+        .map(|(((k, _), (op, free, target_op)), history)| {
+            let range = scene.offsets[k]..scene.offsets[k + 1];
+            let coefficient = last_friction[range.clone()].iter().copied().fold(0.0, f64::max);
+            let step = load_path::select(&answer.step, range);
+            let mut f = FrictionContact::new(
+                coefficient,
+                free,
+                op,
+                step,
+                &found[k].candidates.segment_length,
+            );
+            history.finish(&mut f);
+            f.target_operator = target_op;
+            f
+        })
+        .collect();
+    let search = answer.rigid_mode.as_ref().map(|r| {
+        let a = held_body.map_or(0, |(_, pin, _, _)| pin.axis as usize);
+        (r.translation[a], r.evaluations)
+    });
+    let solved = Solved {
+        result,
+        free_gap: compliance.free_gap.clone(),
+        condensed: Some(compliance),
+        warning,
+        search,
+        displacements: Some(u),
+        record: None,
+    };
+    Ok((solved, frictions))
+}

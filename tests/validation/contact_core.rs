@@ -1,0 +1,224 @@
+//! The contact core's load path (docs/dev/contact_core.md): friction, load steps and a body
+//! held by contact combine for several bodies and pairs, and for either body of a pair.
+//!
+//! **Problems.** `problems/three_block_stack.toml` (three blocks, two pairs, the middle block
+//! held in y by the contacts alone) with `friction = 0.3` on both pairs, pressed in one
+//! `[[step]]` of 2 increments, and both; `problems/cattaneo_mindlin.toml` with a second pair
+//! against an obstacle far away (so that it takes the several-pairs path) against the file as
+//! shipped; `problems/two_blocks.toml` with the upper block held only by contact (a roller in
+//! x, pressure 1 on its top edge of length 2).
+//!
+//! **References and tolerances.**
+//! - The frictionless stack is uniaxial (`stack.rs`): the forces of a proportional load path
+//!   do not depend on the increments, so two increments equal one step to round-off (1e-9 of
+//!   the force).
+//! - With friction no closed form is at hand; the answer is checked against its own
+//!   conditions: each increment's step residuals (complementarity, cone, sign; scaled as
+//!   `lcp::FrictionResiduals`) ≤ 1e-9, `|T_c| ≤ μ P_c` at every candidate to round-off, each
+//!   body's force balance (`equilibrium_error`, contact and tangential forces included) ≤
+//!   1e-8, and the middle block's y balance (no load on it: the two interfaces carry the same
+//!   normal force) to 1e-9.
+//! - A pair solved on the several-pairs path is the same LCP as on the two-body path (the
+//!   extra pair's candidates stay open): forces equal to 1e-9 of the largest.
+//! - The held upper block carries its load: the contact force equals the applied 2.0 to 1e-8,
+//!   and its translation is the closed form `−p (1/E_lower + 0.5/E_upper)` (p = 1, uniaxial
+//!   stress; the pin is at the block's centre) to 1e-8 relative.
+
+use mlpg_contact::Solution;
+use mlpg_contact::problem::Problem;
+
+fn shipped_text(file: &str) -> String {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file);
+    std::fs::read_to_string(path).unwrap()
+}
+
+/// The stack with `friction = mu` on both pairs (none for 0), and with the top edge's push
+/// given by one `[[step]]` of `increments` increments (`None`: no steps).
+fn stack(mu: f64, increments: Option<usize>) -> Problem {
+    let mut text = shipped_text("three_block_stack.toml");
+    if mu > 0.0 {
+        text = text.replace(
+            "target_edge = \"top\"\n",
+            &format!("target_edge = \"top\"\nfriction = {mu}\n"),
+        );
+    }
+    if let Some(n) = increments {
+        text = text.replace("displacement = { y = -0.01 }", "displacement = { y = 0.0 }");
+        text.push_str(&format!(
+            "\n[[step]]\nincrements = {n}\nboundary = [{{ body = \"top\", edge = \"top\", displacement = {{ y = -0.01 }} }}]\n"
+        ));
+    }
+    Problem::from_toml(&text).unwrap()
+}
+
+/// Every pair's total normal force.
+fn pair_forces(s: &Solution) -> Vec<f64> {
+    s.multibody.as_deref().unwrap().pairs.iter().map(|c| c.total_force).collect()
+}
+
+/// The checks every frictional several-pairs answer must pass (module docs).
+fn assert_frictional_checks(label: &str, s: &Solution, mu: f64) {
+    let ms = s.multibody.as_deref().unwrap();
+    for (k, c) in ms.pairs.iter().enumerate() {
+        let f = c
+            .friction
+            .as_ref()
+            .unwrap_or_else(|| panic!("{label}: pair {k} has no friction record"));
+        let r = f.step.residuals.max();
+        assert!(r <= 1e-9, "{label}: pair {k} step residual {r:e}");
+        let scale = c.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+        for (i, (p, t)) in c.lcp.z.iter().zip(&f.step.tangential).enumerate() {
+            assert!(*p >= -1e-12 * scale, "{label}: pair {k} candidate {i}: P = {p:e}");
+            assert!(
+                t.abs() <= mu * p + 1e-12 * scale,
+                "{label}: pair {k} candidate {i}: |T| = {:e} > μP = {:e}",
+                t.abs(),
+                mu * p
+            );
+        }
+        for snapshot in &f.increments {
+            assert!(snapshot.complementarity <= 1e-9, "{label}: pair {k}: {snapshot:?}");
+        }
+    }
+    let bodies = std::iter::once(s).chain(ms.bodies.iter());
+    for (b, body) in bodies.enumerate() {
+        assert!(body.equilibrium_error <= 1e-8, "{label}: body {b}: {:e}", body.equilibrium_error);
+    }
+    let forces = pair_forces(s);
+    let balance = (forces[0] - forces[1]).abs() / forces[0];
+    println!("{label}: pair forces {forces:?}, middle block balance {balance:.1e}");
+    assert!(balance <= 1e-9, "{label}: the middle block's y balance {balance:e}");
+    let held = ms.held.as_ref().expect("the middle block is held by the contacts");
+    assert_eq!(held.0, 1);
+}
+
+#[test]
+fn stack_with_friction_solves_with_its_checks() {
+    let s = mlpg_contact::solve(&stack(0.3, None)).unwrap();
+    assert_frictional_checks("friction", &s, 0.3);
+    // Friction acts: the interfaces carry tangential forces and the stack is stiffer than
+    // the frictionless one (the rollers and the blocks' different lateral strains).
+    let ms = s.multibody.as_deref().unwrap();
+    let tangential: f64 =
+        ms.pairs.iter().map(|c| c.friction.as_ref().unwrap().total_force.abs()).sum();
+    assert!(tangential > 1e-2, "tangential forces {tangential:e}");
+    let frictionless = pair_forces(&mlpg_contact::solve(&stack(0.0, None)).unwrap());
+    assert!(pair_forces(&s)[0] > frictionless[0] * (1.0 + 1e-3));
+}
+
+#[test]
+fn stack_in_two_increments_equals_one_step() {
+    let one = mlpg_contact::solve(&stack(0.0, None)).unwrap();
+    let two = mlpg_contact::solve(&stack(0.0, Some(2))).unwrap();
+    let (f1, f2) = (pair_forces(&one), pair_forces(&two));
+    for (a, b) in f1.iter().zip(&f2) {
+        assert!((a - b).abs() <= 1e-9 * a.abs(), "one step {f1:?}, two increments {f2:?}");
+    }
+    let t = |s: &Solution| s.multibody.as_deref().unwrap().held.as_ref().unwrap().1.translation[1];
+    let (t1, t2) = (t(&one), t(&two));
+    println!("held translation: one step {t1:.15e}, two increments {t2:.15e}");
+    assert!((t1 - t2).abs() <= 1e-9 * t1.abs());
+    // Every candidate's force, not only the totals.
+    let ms = (one.multibody.as_deref().unwrap(), two.multibody.as_deref().unwrap());
+    for (c1, c2) in ms.0.pairs.iter().zip(&ms.1.pairs) {
+        let scale = c1.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+        for (a, b) in c1.lcp.z.iter().zip(&c2.lcp.z) {
+            assert!((a - b).abs() <= 1e-9 * scale, "{a} against {b}");
+        }
+    }
+}
+
+#[test]
+fn stack_with_friction_in_two_increments_solves_with_its_checks() {
+    let s = mlpg_contact::solve(&stack(0.3, Some(2))).unwrap();
+    assert_frictional_checks("friction, two increments", &s, 0.3);
+    let ms = s.multibody.as_deref().unwrap();
+    for c in &ms.pairs {
+        assert_eq!(c.friction.as_ref().unwrap().increments.len(), 2);
+    }
+}
+
+#[test]
+fn a_pair_on_the_several_pairs_path_equals_the_two_body_path() {
+    let text = shipped_text("cattaneo_mindlin.toml");
+    let two = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+    let several = text.replace("[contact]\n", "[[contact]]\n")
+        + "\n[[contact]]\nbody = \"block\"\nedge = \"left\"\nobstacle_point = [-5.0, 0.0]\nobstacle_normal = [1.0, 0.0]\n";
+    let problem = Problem::from_toml(&several).unwrap();
+    assert!(problem.multibody.is_some());
+    let many = mlpg_contact::solve(&problem).unwrap();
+    let c2 = two.contact.as_ref().unwrap();
+    let ms = many.multibody.as_deref().unwrap();
+    let cm = &ms.pairs[0];
+    assert!(ms.pairs[1].lcp.z.iter().all(|&p| p == 0.0), "the far pair stays open");
+    let (f2, fm) = (c2.friction.as_ref().unwrap(), cm.friction.as_ref().unwrap());
+    let scale = c2.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let mut largest: f64 = 0.0;
+    for c in 0..c2.lcp.z.len() {
+        largest = largest
+            .max((c2.lcp.z[c] - cm.lcp.z[c]).abs())
+            .max((f2.step.tangential[c] - fm.step.tangential[c]).abs());
+        assert_eq!(f2.step.state[c], fm.step.state[c], "candidate {c}");
+    }
+    println!("Cattaneo–Mindlin, two-body path against several pairs: {:.1e}", largest / scale);
+    assert!(largest <= 1e-9 * scale);
+    assert_eq!(f2.increments.len(), fm.increments.len());
+}
+
+#[test]
+fn two_blocks_upper_held_by_contact_carries_its_load() {
+    let text = shipped_text("two_blocks.toml").replace(
+        "{ edge = \"top\", displacement = { y = -0.01 } }",
+        "{ edge = \"top\", pressure = 1.0 }",
+    );
+    let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+    let c = s.contact.as_ref().unwrap();
+    println!("held upper block: contact force {:.15e}", c.total_force);
+    assert!((c.total_force - 2.0).abs() <= 1e-8 * 2.0);
+    let r = c.rigid_mode.as_ref().expect("the upper block's translation in y is held");
+    let exact = -(1.0 / 1000.0 + 0.5 / 1000.0);
+    assert!((r.translation[1] - exact).abs() <= 1e-8 * exact.abs(), "{:?}", r.translation);
+    assert!(s.equilibrium_error <= 1e-8);
+    assert!(s.second_body.as_ref().unwrap().equilibrium_error <= 1e-8);
+}
+
+#[test]
+fn several_pairs_with_friction_on_the_active_set_are_refused_naming_the_key() {
+    let text = shipped_text("three_block_stack.toml").replace(
+        "target_edge = \"top\"\n",
+        "target_edge = \"top\"\nfriction = 0.3\nsolver = \"active_set\"\n",
+    );
+    let err = Problem::from_toml(&text).unwrap_err().to_string();
+    assert!(err.contains("contact[0].solver") && err.contains("lemke"), "{err}");
+}
+
+/// `"auto"` on several pairs falls back to the active-set method when Lemke fails (provoked by
+/// a pivot limit of half the pivots Lemke needs, as `lemke_fallback.rs` does for one pair):
+/// the answer equals Lemke's unconstrained one to 1e-10 of the largest force (the active set
+/// equals Lemke on the stack to ~1e-13, `stack.rs`), the record says why; `"lemke"` refuses.
+#[test]
+fn several_pairs_fall_back_from_lemke_to_the_active_set_with_auto() {
+    let problem = stack(0.0, None);
+    let reference = mlpg_contact::solve(&problem).unwrap();
+    let pivots = reference.multibody.as_deref().unwrap().lcp.pivots;
+    let params = mlpg_contact::lcp::LemkeParams {
+        max_pivots: Some(pivots / 2),
+        ..mlpg_contact::lcp::LemkeParams::default()
+    };
+    let s = mlpg_contact::solve_with_lemke(&problem, &params).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    assert!(ms.active_set.is_some(), "the active set answered");
+    let why = ms.fallback_from.as_deref().expect("the record of Lemke's failure");
+    assert!(why.contains("pivot"), "{why}");
+    let (z, z_ref) = (&ms.lcp.z, &reference.multibody.as_deref().unwrap().lcp.z);
+    let scale = z_ref.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let largest = z.iter().zip(z_ref).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    println!("several pairs, auto after Lemke's failure: forces within {:.1e}", largest / scale);
+    assert!(largest <= 1e-10 * scale);
+    let mut lemke_only = problem.clone();
+    for pair in &mut lemke_only.multibody.as_mut().unwrap().pairs {
+        pair.spec.solver = mlpg_contact::problem::ContactSolver::Lemke;
+    }
+    let err = mlpg_contact::solve_with_lemke(&lemke_only, &params).unwrap_err();
+    assert!(matches!(err, mlpg_contact::Error::LemkeRefused(_)), "{err}");
+}
