@@ -97,8 +97,16 @@ impl StagedDir {
         super::create_dir(parent)?;
         let prefix = format!(".{}.partial-", name.to_string_lossy());
         remove_stale_staging(parent, &prefix);
-        let staging = parent.join(format!("{prefix}{}", std::process::id()));
         let mut live = live();
+        // `<pid>`, or `<pid>-<k>` while this process stages another run into the same target
+        // (the Python package's threads may).
+        let mut staging = parent.join(format!("{prefix}{}", std::process::id()));
+        for k in 1.. {
+            if !live.contains(&staging) {
+                break;
+            }
+            staging = parent.join(format!("{prefix}{}-{k}", std::process::id()));
+        }
         if staging.exists() {
             std::fs::remove_dir_all(&staging).map_err(super::io(&staging))?;
         }
@@ -350,13 +358,16 @@ fn remove_output(dir: &Path, rel: &Path) {
     }
 }
 
-/// Removes the staging directories `<prefix><pid>` in `parent` whose process is gone.
+/// Removes the staging directories `<prefix><pid>` (and `<prefix><pid>-<k>`) in `parent` whose
+/// process is gone.
 fn remove_stale_staging(parent: &Path, prefix: &str) {
     let Ok(entries) = std::fs::read_dir(parent) else { return };
     for entry in entries.flatten() {
         let name = entry.file_name();
         let Some(pid) = name.to_str().and_then(|n| n.strip_prefix(prefix)) else { continue };
-        let Ok(pid) = pid.parse::<u32>() else { continue };
+        let Ok(pid) = pid.split_once('-').map_or(pid, |(pid, _)| pid).parse::<u32>() else {
+            continue;
+        };
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
         if is_dir && pid != std::process::id() && process_gone(pid) {
             let _ = std::fs::remove_dir_all(entry.path());
