@@ -143,8 +143,40 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> 
     Ok(())
 }
 
+/// On SIGINT, SIGTERM or SIGHUP: removes the staging directory of the run under way (the
+/// output directory keeps the earlier run), then ends by the same signal. A thread waits for
+/// the signals (signal-hook's self-pipe), so the removal runs outside the signal handler.
+/// A signal the process was started ignoring (SIGHUP under `nohup`, SIGINT in a shell's
+/// background job) stays ignored: the ignored set is read from `/proc/self/status`, and where
+/// that cannot be read only SIGTERM is taken.
+fn end_cleanly_on_signals() {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    let ignored = std::fs::read_to_string("/proc/self/status").ok().and_then(|status| {
+        let mask = status.lines().find_map(|l| l.strip_prefix("SigIgn:"))?;
+        u64::from_str_radix(mask.trim(), 16).ok()
+    });
+    let wanted: Vec<i32> = match ignored {
+        Some(mask) => {
+            [SIGINT, SIGTERM, SIGHUP].into_iter().filter(|&s| mask & (1 << (s - 1)) == 0).collect()
+        }
+        None => vec![SIGTERM],
+    };
+    let Ok(mut signals) = signal_hook::iterator::Signals::new(wanted) else {
+        return; // the run goes on; a staging directory left by a signal is removed next time
+    };
+    let spawned = std::thread::Builder::new().name("signals".into()).spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            mlpg_contact::post::abandon_staging();
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+            std::process::exit(128 + signal);
+        }
+    });
+    drop(spawned);
+}
+
 fn main() -> ExitCode {
     let args = Args::parse();
+    end_cleanly_on_signals();
     let mut echo = None;
     match run(&args, &mut echo) {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,5 @@
-//! Regression tests for the fault reproducers in `tests/data/fault-repro/` (its README says
-//! what each one showed): every one now ends in a clear refusal naming the input (exit 2) or
+//! Regression tests for the fault reproducers in `tests/data/fault-repro/` and
+//! `tests/data/fault-repro-2/` (their READMEs say what each one showed): every one now ends in a clear refusal naming the input (exit 2) or
 //! in the right answer, never in a panic, an abort, output outside `--out` or a silent wrong
 //! result; and a failing stderr or an absurd thread count does not decide the run.
 
@@ -202,15 +202,20 @@ fn listing(dir: &Path) -> Vec<String> {
 fn an_output_directory_holds_one_complete_run() {
     let dir = scratch("one-run");
     let out = dir.join("out");
-    // A contact run, then a run without contact into the same directory: nothing of the first
-    // (contact.csv, its plots, a stray file) is left.
+    // A contact run, then a run without contact into the same directory: nothing the first
+    // wrote (contact.csv, its plots) is left, and a file of the user's is kept.
     assert!(run_problem(&shipped("beam_on_foundation.toml"), &out, &[]).status.success());
-    std::fs::write(out.join("stale.csv"), "x").unwrap();
+    std::fs::write(out.join("notes.csv"), "mine").unwrap();
     assert!(run_problem(&shipped("cantilever.toml"), &out, &[]).status.success());
     let after = listing(&out);
     assert!(!after.contains(&"contact.csv".to_string()), "{after:?}");
-    assert!(!after.contains(&"stale.csv".to_string()), "{after:?}");
+    assert_eq!(std::fs::read_to_string(out.join("notes.csv")).unwrap(), "mine");
     assert!(!listing(&out.join("plots")).iter().any(|f| f.starts_with("contact_")));
+    // The manifest lists what the run wrote, and only that.
+    let manifest = std::fs::read_to_string(out.join(".mlpg-contact-manifest")).unwrap();
+    assert!(manifest.lines().any(|l| l == "plots/deformed.svg"), "{manifest}");
+    let listed: Vec<&str> = manifest.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(!listed.iter().any(|l| l.contains("contact") || l.contains("notes")), "{listed:?}");
     // A comparison the finite elements cannot do (a curved body) is refused before anything
     // is solved or written: the previous run stays as it was, no staging directory remains.
     let failed = run_problem(&shipped("hertz_cylinder.toml"), &out, &["--compare"]);
@@ -271,4 +276,205 @@ fn a_problem_that_cannot_fit_in_memory_is_refused_up_front() {
     assert!(stderr.contains("increase nodes.spacing"), "{stderr}");
     assert!(!stderr.contains("set discretisation.precision"), "{stderr}");
     assert!(!dir.join("out").exists());
+}
+
+fn repro2(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fault-repro-2").join(name)
+}
+
+/// The beam of `D4` in double precision, written into `dir` as `problem.toml`.
+fn d4_beam(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repro2("D4_mixed_precision_penetration.toml")).unwrap();
+    let path = dir.join("problem.toml");
+    std::fs::write(&path, text.replace("precision = \"mixed\"", "")).unwrap();
+    path
+}
+
+#[test]
+fn a_rerun_keeps_the_files_it_did_not_write() {
+    // D5: the outputs of a first run moved beside the problem file (no manifest: as an older
+    // version leaves them), a note of the user's, then a run into that directory.
+    let dir = scratch("d5");
+    let problem = d4_beam(&dir);
+    let first = run_problem(&problem, &dir.join("run1"), &[]);
+    assert!(first.status.success(), "{}", String::from_utf8_lossy(&first.stderr));
+    for entry in std::fs::read_dir(dir.join("run1")).unwrap().flatten() {
+        if !entry.file_name().to_string_lossy().starts_with('.') {
+            std::fs::rename(entry.path(), dir.join(entry.file_name())).unwrap();
+        }
+    }
+    std::fs::write(dir.join("notes.txt"), "my notes").unwrap();
+    let problem_text = std::fs::read_to_string(&problem).unwrap();
+    for round in 0..2 {
+        // The second round reruns into a directory that has this program's manifest.
+        let out = run_problem(&problem, &dir, &[]);
+        assert!(out.status.success(), "round {round}: {}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(std::fs::read_to_string(&problem).unwrap(), problem_text, "round {round}");
+        assert_eq!(std::fs::read_to_string(dir.join("notes.txt")).unwrap(), "my notes");
+        assert!(dir.join("run1/.mlpg-contact-manifest").exists(), "round {round}");
+        assert!(dir.join("summary.json").exists() && dir.join("plots/deformed.svg").exists());
+    }
+    let manifest = std::fs::read_to_string(dir.join(".mlpg-contact-manifest")).unwrap();
+    assert!(manifest.lines().any(|l| l == "summary.json"), "{manifest}");
+    assert!(!manifest.contains("problem.toml") && !manifest.contains("notes"), "{manifest}");
+    assert!(!listing(&dir).iter().any(|f| f.contains("partial")), "{:?}", listing(&dir));
+}
+
+#[test]
+fn a_file_of_the_users_in_the_way_of_an_output_is_refused() {
+    // A run without contact, then the user's own contact.csv, then a contact run: contact.csv
+    // is not the earlier run's, so it is neither overwritten nor removed, and nothing changes.
+    let dir = scratch("in-the-way");
+    let out = dir.join("out");
+    assert!(run_problem(&shipped("cantilever.toml"), &out, &[]).status.success());
+    std::fs::write(out.join("contact.csv"), "mine").unwrap();
+    let before = listing(&out);
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    let second = run_problem(&shipped("beam_on_foundation.toml"), &out, &[]);
+    let stderr = String::from_utf8_lossy(&second.stderr);
+    assert_eq!(second.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("contact.csv is in the way of an output"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(out.join("contact.csv")).unwrap(), "mine");
+    assert_eq!(std::fs::read_to_string(out.join("summary.json")).unwrap(), summary);
+    assert_eq!(listing(&out), before);
+    assert_eq!(listing(&dir), vec!["out".to_string()]);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_symlinked_out_is_followed_and_kept() {
+    // D10: --out a symbolic link to a directory: the outputs go into the directory it names,
+    // the link stays a link (twice: a rerun goes through the link too).
+    let dir = scratch("d10");
+    std::fs::create_dir(dir.join("real")).unwrap();
+    std::os::unix::fs::symlink("real", dir.join("link")).unwrap();
+    for round in 0..2 {
+        let out =
+            run_problem(&repro2("D4_mixed_precision_penetration.toml"), &dir.join("link"), &[]);
+        assert!(out.status.success(), "round {round}: {}", String::from_utf8_lossy(&out.stderr));
+        let meta = std::fs::symlink_metadata(dir.join("link")).unwrap();
+        assert!(meta.file_type().is_symlink(), "round {round}: the link was replaced");
+        assert!(dir.join("real/summary.json").exists(), "round {round}");
+        assert!(dir.join("real/.mlpg-contact-manifest").exists(), "round {round}");
+        assert_eq!(listing(&dir), vec!["link".to_string(), "real".to_string()]);
+    }
+    // A link to nothing is refused with its path, before anything is solved.
+    std::os::unix::fs::symlink("nowhere", dir.join("dangling")).unwrap();
+    let out =
+        run_problem(&repro2("D4_mixed_precision_penetration.toml"), &dir.join("dangling"), &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("dangling is not a directory"), "{stderr}");
+    assert!(!dir.join("nowhere").exists());
+
+    // Across file systems (a link into /dev/shm, when that is another file system): the
+    // staging directory is beside the link's target, so the move cannot fail after the solve.
+    use std::os::unix::fs::MetadataExt;
+    let here = std::fs::metadata(&dir).unwrap().dev();
+    if std::fs::metadata("/dev/shm").is_ok_and(|m| m.is_dir() && m.dev() != here) {
+        let other = Path::new("/dev/shm").join(format!("mlpg-contact-d10-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&other);
+        if std::fs::create_dir(&other).is_ok() {
+            std::os::unix::fs::symlink(&other, dir.join("link2")).unwrap();
+            let out = run_problem(
+                &repro2("D4_mixed_precision_penetration.toml"),
+                &dir.join("link2"),
+                &[],
+            );
+            let written = other.join("summary.json").exists();
+            let _ = std::fs::remove_dir_all(&other);
+            assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+            assert!(written);
+            assert!(std::fs::symlink_metadata(dir.join("link2")).unwrap().file_type().is_symlink());
+        }
+    }
+}
+
+#[test]
+fn a_staging_directory_left_by_a_dead_process_is_removed() {
+    // D11: `.out.partial-<pid>` of a process that is gone (a child that has ended and been
+    // waited for) is removed by the next run into `out`; that of a live process (this test)
+    // is left alone.
+    if !Path::new("/proc/self").exists() {
+        return; // without /proc a process cannot be told gone: nothing is removed
+    }
+    let dir = scratch("d11");
+    let mut child = Command::new(binary()).arg("--version").stdout(Stdio::null()).spawn().unwrap();
+    let dead = child.id();
+    child.wait().unwrap();
+    let stale = dir.join(format!(".out.partial-{dead}"));
+    let alive = dir.join(format!(".out.partial-{}", std::process::id()));
+    for d in [&stale, &alive] {
+        std::fs::create_dir_all(d.join("plots")).unwrap();
+        std::fs::write(d.join("plots/deformed.svg"), "left behind").unwrap();
+    }
+    let out = run_problem(&repro("r_ok.toml"), &dir.join("out"), &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(!stale.exists(), "the dead process's staging directory is still there");
+    assert!(alive.exists(), "a live process's staging directory was removed");
+    assert!(dir.join("out/summary.json").exists());
+}
+
+#[cfg(unix)]
+#[test]
+fn a_run_ended_by_sigterm_removes_its_staging_directory() {
+    // D11's problem (100 000 increments: it runs far longer than this test waits) is ended by
+    // SIGTERM once its staging directory exists: the directory goes, the process ends by the
+    // signal, no --out is created.
+    use std::os::unix::process::ExitStatusExt;
+    let dir = scratch("d11-term");
+    let script = std::fs::read_to_string(repro2("D11_killed_run_leaves_staging.sh")).unwrap();
+    let start = script.find("name = \"d11\"").unwrap();
+    let end = script[start..].find("TOML\n").unwrap() + start;
+    std::fs::write(dir.join("p.toml"), &script[start..end]).unwrap();
+    let mut child = Command::new(binary())
+        .arg(dir.join("p.toml"))
+        .arg("--out")
+        .arg(dir.join("out"))
+        .arg("--quiet")
+        .spawn()
+        .unwrap();
+    let staging = dir.join(format!(".out.partial-{}", child.id()));
+    // Wait (without a deadline on the result) until the run has created its staging directory.
+    while !staging.exists() {
+        if let Some(status) = child.try_wait().unwrap() {
+            panic!("the run ended before its staging directory appeared: {status}");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let killed = Command::new("kill").arg("-TERM").arg(child.id().to_string()).status();
+    if !killed.is_ok_and(|s| s.success()) {
+        let _ = child.kill();
+        let _ = child.wait();
+        return; // no kill command on this system
+    }
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(15), "{status}");
+    assert!(!staging.exists(), "the staging directory is still there");
+    assert!(!dir.join("out").exists());
+}
+
+#[test]
+fn a_refinement_box_far_larger_than_the_body_is_clipped() {
+    // D3: a box x = [0, 1e9] over a 2 x 2 body aborted on a 4 GB allocation. Clipped, it gives
+    // the node set of the box x = [0, 2] (the same spacing over the body), under the same
+    // address-space limit.
+    let dir = scratch("d3");
+    let command = format!(
+        "ulimit -v 4000000 && exec '{}' '{}' --out '{}' --quiet",
+        binary(),
+        repro2("D3_refine_box_huge_abort.toml").display(),
+        dir.join("huge").display()
+    );
+    let Ok(out) = Command::new("sh").arg("-c").arg(&command).output() else {
+        return; // no POSIX shell on this system
+    };
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(repro2("D3_refine_box_huge_abort.toml")).unwrap();
+    let body = dir.join("body.toml");
+    std::fs::write(&body, text.replace("x = [0.0, 1e9]", "x = [0.0, 2.0]")).unwrap();
+    let out = run_problem(&body, &dir.join("body"), &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let nodes = |d: &str| std::fs::read_to_string(dir.join(d).join("nodes.csv")).unwrap();
+    assert_eq!(nodes("huge"), nodes("body"));
 }

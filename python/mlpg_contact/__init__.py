@@ -77,7 +77,8 @@ class Result:
         }
 
     def write(self, out: Union[str, "os.PathLike[str]"], report: bool = False) -> list[Path]:
-        """Writes the command line's output files into ``out`` (replaced as a whole); with
+        """Writes the command line's output files into ``out`` (the earlier run's files
+        replaced, any other file kept, as by the command line); with
         ``report=True`` also ``report.html``."""
         return [Path(p) for p in self._native.write(os.fspath(out), report)]
 

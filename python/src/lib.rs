@@ -163,7 +163,8 @@ impl Solved {
         self.outcome.summary.to_json()
     }
 
-    /// Writes the usual output files into `out` (replaced as a whole, as by the command line),
+    /// Writes the usual output files into `out` (the earlier run's files replaced, any other
+    /// file kept, as by the command line),
     /// with `report=True` also `report.html`; returns the paths written.
     #[pyo3(signature = (out, report = false))]
     fn write(&self, py: Python<'_>, out: PathBuf, report: bool) -> PyResult<Vec<PathBuf>> {

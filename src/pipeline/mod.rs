@@ -993,9 +993,10 @@ impl std::fmt::Display for RunReport {
 }
 
 /// Solves `problem` and writes every output into `out`, `summary.json` included (the CLI's
-/// job; `input`, the problem file as read, is echoed into the summary). `out` is replaced as
-/// a whole when the run succeeds ([`post::StagedDir`]) and left as it was when it fails; an
-/// existing non-empty `out` that holds no earlier run is refused.
+/// job; `input`, the problem file as read, is echoed into the summary). The files go into
+/// `out` when the run succeeds, replacing those of the earlier run and keeping every other
+/// file ([`post::StagedDir`]), and `out` is left as it was when the run fails; an existing
+/// non-empty `out` that holds no earlier run is refused.
 ///
 /// # Errors
 /// Any stage's error.
@@ -1081,8 +1082,8 @@ impl Outcome {
         Ok(Self { problem, model, second, others: Vec::new(), solution, summary })
     }
 
-    /// Writes every output into `out`, as [`run`] does (same files, same bytes, `out`
-    /// replaced as a whole).
+    /// Writes every output into `out`, as [`run`] does (same files, same bytes; the earlier
+    /// run's files replaced, every other file kept).
     ///
     /// # Errors
     /// [`Error::Output`] when a file cannot be written or `out` holds something else.

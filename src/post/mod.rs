@@ -3,11 +3,13 @@
 //! Every file is deterministic (fixed float formatting, sorted keys) except the `timings`
 //! field of `summary.json`.
 
+mod outdir;
 pub mod plot;
 pub mod report;
 pub mod summary;
 mod vtk;
 
+pub use outdir::{MANIFEST, StagedDir, abandon_staging};
 pub use summary::Summary;
 
 use crate::geometry::Domain;
@@ -38,6 +40,23 @@ pub enum OutputError {
         /// The directory.
         path: String,
     },
+    /// The output path is a file, or a symbolic link to nothing.
+    #[error(
+        "the output path {path} is not a directory (a file, or a symbolic link to nothing); choose another --out or create the directory the link names"
+    )]
+    NotADirectory {
+        /// The path.
+        path: String,
+    },
+    /// A file the earlier run did not write (or a directory, or a link) has the path of an
+    /// output of this run: nothing is moved, the directory stays as it was.
+    #[error(
+        "{path} is in the way of an output of this run and was not written by an earlier run; move it away or choose another --out (nothing was changed)"
+    )]
+    InTheWay {
+        /// The path.
+        path: String,
+    },
     /// The MLS field could not be evaluated at a point of the VTU file.
     #[error("cannot evaluate the MLS field for solution.vtu: {reason}")]
     Field {
@@ -54,97 +73,10 @@ pub enum OutputError {
     },
 }
 
-/// An output directory written as a whole: the files go into a staging directory beside the
-/// target, which replaces the target only when [`StagedDir::commit`] is called, so that the
-/// target holds either one complete run (the previous one, or this one) and never a partial
-/// or a mixed one. Dropped without a commit (a failed run), the staging directory is removed.
-#[derive(Debug)]
-pub struct StagedDir {
-    staging: PathBuf,
-    target: PathBuf,
-    committed: bool,
-}
-
-impl StagedDir {
-    /// Prepares a staging directory for `target`.
-    ///
-    /// # Errors
-    /// [`OutputError::NotAnOutputDirectory`] when `target` exists, is not empty and holds no
-    /// earlier run (it is never replaced); [`OutputError::Io`] when the staging directory
-    /// cannot be created.
-    pub fn new(target: &Path) -> Result<Self, OutputError> {
-        let absolute = match target.canonicalize() {
-            Ok(p) => p,
-            Err(_) => std::env::current_dir().map_err(io(target))?.join(target),
-        };
-        if absolute.exists() && !is_empty_dir(&absolute) && !holds_a_run(&absolute) {
-            return Err(OutputError::NotAnOutputDirectory { path: target.display().to_string() });
-        }
-        let (Some(parent), Some(name)) = (absolute.parent(), absolute.file_name()) else {
-            return Err(OutputError::NotAnOutputDirectory { path: target.display().to_string() });
-        };
-        create_dir(parent)?;
-        let staging =
-            parent.join(format!(".{}.partial-{}", name.to_string_lossy(), std::process::id()));
-        if staging.exists() {
-            std::fs::remove_dir_all(&staging).map_err(io(&staging))?;
-        }
-        create_dir(&staging)?;
-        Ok(Self { staging, target: target.to_path_buf(), committed: false })
-    }
-
-    /// Where to write.
-    pub fn path(&self) -> &Path {
-        &self.staging
-    }
-
-    /// Replaces the target with the staged directory; returns `files` (paths under
-    /// [`Self::path`]) as paths under the target.
-    ///
-    /// # Errors
-    /// [`OutputError::Io`] when the earlier run cannot be removed or the rename fails.
-    pub fn commit(mut self, files: Vec<PathBuf>) -> Result<Vec<PathBuf>, OutputError> {
-        if self.target.exists() {
-            std::fs::remove_dir_all(&self.target).map_err(io(&self.target))?;
-        }
-        std::fs::rename(&self.staging, &self.target).map_err(io(&self.target))?;
-        self.committed = true;
-        Ok(files
-            .into_iter()
-            .map(|f| match f.strip_prefix(&self.staging) {
-                Ok(rel) => self.target.join(rel),
-                Err(_) => f,
-            })
-            .collect())
-    }
-}
-
-impl Drop for StagedDir {
-    fn drop(&mut self) {
-        if !self.committed {
-            let _ = std::fs::remove_dir_all(&self.staging);
-        }
-    }
-}
-
 /// Maps an I/O failure on `path` to [`OutputError::Io`].
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError {
     let path = path.display().to_string();
     move |source| OutputError::Io { path, source }
-}
-
-fn is_empty_dir(dir: &Path) -> bool {
-    std::fs::read_dir(dir).is_ok_and(|mut entries| entries.next().is_none())
-}
-
-/// Whether `dir` holds an earlier run of this program (its `summary.json`, or those of a
-/// comparison's `mfvm/`, name the program).
-fn holds_a_run(dir: &Path) -> bool {
-    let ours = |summary: PathBuf| {
-        std::fs::read_to_string(summary)
-            .is_ok_and(|text| text.contains(&format!("\"name\": \"{}\"", env!("CARGO_PKG_NAME"))))
-    };
-    ours(dir.join("summary.json")) || ours(dir.join("mfvm").join("summary.json"))
 }
 
 /// Writes `text` to `path`.

@@ -478,6 +478,14 @@ plane = "stress"
             ]
         );
         assert!(with("").unwrap().refinement.is_empty());
+        // A box far larger than the body is clipped to the body's bounding box widened by two
+        // nominal spacings (0.5): the spacing over the body is the same, the index small.
+        let huge =
+            with("[[nodes.refine]]\nx = [0.0, 1e9]\ny = [-1e50, 0.5]\nspacing = 0.125").unwrap();
+        assert_eq!(
+            huge.refinement.boxes,
+            vec![RefineBox { x: [0.0, 4.5], y: [-0.5, 0.5], spacing: 0.125 }]
+        );
         // A band along a curved edge: squares of half-side `width` along it.
         let quarter = Problem::from_toml(&(BODY.replace(
             "kind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]",

@@ -78,7 +78,11 @@ impl Refinement {
             (lo, hi) = ([0.0; 2], [0.0; 2]);
         }
         let extent = [(hi[0] - lo[0]).max(h0), (hi[1] - lo[1]).max(h0)];
-        let bin = h0.max((extent[0] * extent[1] / SpacingIndex::MAX_BINS).sqrt());
+        // At least the longer side over MAX_BINS as well: a long thin extent keeps the bin
+        // count below 3 MAX_BINS + 4 (the area bound alone lets one side reach any count).
+        let bin = h0
+            .max((extent[0] * extent[1] / SpacingIndex::MAX_BINS).sqrt())
+            .max(extent[0].max(extent[1]) / SpacingIndex::MAX_BINS);
         let dims = [(extent[0] / bin).ceil() as usize + 1, (extent[1] / bin).ceil() as usize + 1];
         let mut index = SpacingIndex {
             refinement: self,
@@ -392,6 +396,20 @@ mod tests {
             let (x, y, w) = (10.0 * next() - 1.0, 4.0 * next() - 1.0, 0.5 * next());
             let (lo, hi) = ([x, y], [x + w, y + w]);
             assert_eq!(nested.min_spacing_in(lo, hi), r.min_spacing_in(h0, lo, hi), "{lo:?}");
+        }
+    }
+
+    /// A long thin region (10⁹ × 0.25) sizes the bins by its longer side too: a few million
+    /// bins, not one per nominal spacing along it, and the minimum is still the plain one.
+    #[test]
+    fn a_long_thin_region_keeps_the_bin_count_bounded() {
+        let r = Refinement {
+            boxes: vec![RefineBox { x: [0.0, 1.0e9], y: [-0.25, 0.0], spacing: 0.025 }],
+        };
+        let index = r.index(0.1);
+        assert!(index.bins.len() as f64 <= 3.0 * SpacingIndex::MAX_BINS + 4.0, "{:?}", index.dims);
+        for (lo, hi) in [([0.0, -2.0], [0.1, -1.9]), ([5.0e8, -0.3], [5.0e8 + 1.0, -0.2])] {
+            assert_eq!(index.min_spacing_in(lo, hi), r.min_spacing_in(0.1, lo, hi), "{lo:?}");
         }
     }
 

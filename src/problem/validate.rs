@@ -901,6 +901,16 @@ fn refinement(
         };
         boxes.push(region);
     }
+    // Every box is clipped to the bounding box widened by two nominal spacings, which holds
+    // every cell the graded generators query (a curved domain's grid reaches one spacing past
+    // its bounding box): over such a cell the distance to the clipped box equals the distance
+    // to the box as given (the box overlaps the bounding box, checked above), so the node set
+    // is the same, while a box far larger than the body no longer sizes the spacing index.
+    let margin = 2.0 * h;
+    for b in &mut boxes {
+        b.x = [b.x[0].max(dx[0] - margin), b.x[1].min(dx[1] + margin)];
+        b.y = [b.y[0].max(dy[0] - margin), b.y[1].min(dy[1] + margin)];
+    }
     // Nodes: the uniform set plus, per region, its part of the rectangle at its spacing.
     let refinement = Refinement { boxes };
     let (lo, hi) = ([dx[0], dy[0]], [dx[1], dy[1]]);
