@@ -312,6 +312,8 @@ boundary = [{ edge = "top", displacement = { x = 0.0, y = -0.03 } }]
 [[step]]
 increments = 2
 boundary = [{ edge = "top", displacement = { x = 0.004, y = -0.03 } }]
+[output]
+steps = true
 "#;
 
 /// The `file` attributes of the `<DataSet …/>` lines of a `.vtm` or `.pvd` text, with the
@@ -461,6 +463,26 @@ fn multiblock_holds_body_contact_and_obstacle() {
                 gap[k]
             );
         }
+
+        // `[output] steps`: the contact edge per increment, at times 1, 1.5 and 2; the last one
+        // is the final state.
+        let series = std::fs::read_to_string(out.join("steps/contact.pvd")).unwrap();
+        let entries = data_sets(&series, "timestep");
+        let times: Vec<&str> = entries.iter().map(|(t, _)| t.as_str()).collect();
+        assert_eq!(times, ["1", "1.5", "2"], "{method}: {series}");
+        let (_, last) = read_piece(&out.join("steps").join(&entries[2].1));
+        for name in ["normal_force", "tangential_force", "slip", "state"] {
+            let key = format!("PointData/{name}");
+            assert_eq!(last[&key].values, contact[&key].values, "{method}: {name}");
+        }
+        let (_, first) = read_piece(&out.join("steps").join(&entries[0].1));
+        // The shear of step 2 changes the tangential forces of step 1.
+        let t1 = &first["PointData/tangential_force"].values;
+        let t2 = &last["PointData/tangential_force"].values;
+        let change = t1.iter().zip(t2).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(change > 0.1, "{method}: step 1 {t1:?}, step 2 {t2:?}");
+        assert!(first["PointData/normal_force"].values.iter().sum::<f64>() > 0.0);
+        assert_eq!(strings(&first["FieldData/state_legend"]), legend);
         let _ = std::fs::remove_dir_all(&out);
     }
 }

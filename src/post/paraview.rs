@@ -1,7 +1,8 @@
 //! The run's ParaView files beside the bodies' `solution.vtu` (module `vtk`): the contact
 //! candidates of every contact edge and the rigid obstacles as polygonal data (`.vtp`), one
 //! multiblock file `solution.vtm` that opens every body, contact edge and obstacle at once,
-//! and with load steps a time series `solution.pvd`.
+//! and with load steps a time series `solution.pvd` (and with `[output] steps` the contact
+//! edge's series over the increments, `steps/contact.pvd`).
 //!
 //! Every data set carries a point vector `displacement`, so that one "Warp By Vector" on the
 //! multiblock moves the bodies, their contact edges (each candidate by its node's `u^h`) and
@@ -35,7 +36,8 @@ pub const FRICTION_STATES: [&str; 4] = ["open", "stick", "slip+", "slip-"];
 /// The solution holds the final state only (the displacements of the earlier load increments
 /// are not kept), so `solution.pvd` is a series of one time: the end of the last step, time
 /// = the number of steps (step `k` ends at time `k`). The contact state of every increment is
-/// in `steps/` when the problem asks for it (`[output] steps`).
+/// kept when the problem asks for it (`[output] steps`): then `steps/contact.pvd` is the
+/// contact edge's time series over the increments.
 ///
 /// # Errors
 /// [`OutputError::Io`] when a file cannot be written.
@@ -74,6 +76,9 @@ pub fn write_paraview(
     if let (Some(spec), Some(c)) = (problem.contact, &solution.contact) {
         let file = "contact.vtp".to_string();
         written.push(save(dir, &file, &contact_vtp(c, &solution.displacement))?);
+        if let Some(f) = c.friction.as_ref().filter(|f| !f.snapshots.is_empty()) {
+            written.extend(increment_series(dir, c, f)?);
+        }
         contacts.push((format!("contact of `{}`", problem.name), file));
         add_obstacles(spec.target, &problem.obstacles, c);
     }
@@ -110,6 +115,72 @@ pub fn write_paraview(
     Ok(written)
 }
 
+/// `[output] steps`: the contact edge at the end of every load increment,
+/// `steps/contact_s<step>_i<increment>.vtp` (beside the increment's `.csv`), and the time series
+/// `steps/contact.pvd` over them, at time `step − 1 + load factor` (step `k` ends at time `k`,
+/// as in `solution.pvd`). The arrays are those of `contact.vtp` that an increment records:
+/// `normal_force`, `pressure`, `tangential_force`, `tangential_traction`, `gap`, `slip`,
+/// `in_contact` and `state` ([`FRICTION_STATES`]); the candidates stay at their undeformed
+/// positions, since the increments' displacements are not kept (no `displacement` array).
+fn increment_series(
+    dir: &Path,
+    c: &ContactSolution,
+    f: &crate::solution::FrictionContact,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let steps = dir.join("steps");
+    super::create_dir(&steps)?;
+    let cand = &c.candidates;
+    let per_length = |v: &[f64]| v.iter().zip(&cand.segment_length).map(|(x, l)| x / l).collect();
+    let mut written = Vec::new();
+    let mut entries = Vec::new();
+    for snap in &f.snapshots {
+        let name = format!("contact_s{:03}_i{:04}.vtp", snap.step, snap.increment);
+        let point_data = vec![
+            Array::Int("node".into(), cand.nodes.iter().map(|&i| i64::from(i)).collect()),
+            Array::Scalar("arc_length".into(), cand.arc_length.clone()),
+            Array::Scalar("gap".into(), snap.gap.clone()),
+            Array::Scalar("normal_force".into(), snap.normal.clone()),
+            Array::Scalar("pressure".into(), per_length(&snap.normal)),
+            Array::Int(
+                "in_contact".into(),
+                snap.state.iter().map(|&s| i64::from(s != ContactState::Open)).collect(),
+            ),
+            Array::Int("state".into(), snap.state.iter().map(|&s| state_code(s)).collect()),
+            Array::Scalar("tangential_force".into(), snap.tangential.clone()),
+            Array::Scalar("tangential_traction".into(), per_length(&snap.tangential)),
+            Array::Scalar("slip".into(), snap.slip.clone()),
+        ];
+        let field_data = vec![
+            Array::Strings("state_legend".into(), FRICTION_STATES.map(String::from).to_vec()),
+            Array::Scalar("friction_coefficient".into(), vec![f.coefficient]),
+        ];
+        written.push(save(&steps, &name, &edge_vtp(&cand.points, &point_data, &field_data))?);
+        entries.push((snap.step as f64 - 1.0 + snap.load_factor, name));
+    }
+    let list: Vec<(f64, &str)> = entries.iter().map(|(t, n)| (*t, n.as_str())).collect();
+    written.push(save(&steps, "contact.pvd", &collection(&list))?);
+    Ok(written)
+}
+
+/// The code of a frictional contact state in the `state` arrays ([`FRICTION_STATES`]).
+fn state_code(s: ContactState) -> i64 {
+    match s {
+        ContactState::Open => 0,
+        ContactState::Stick => 1,
+        ContactState::SlipPositive => 2,
+        ContactState::SlipNegative => 3,
+    }
+}
+
+/// The polygonal data of the candidates `points`: each a vertex, and the edge through them in
+/// order as one polyline.
+fn edge_vtp(points: &[Point], point_data: &[Array], field_data: &[Array]) -> String {
+    let n = points.len();
+    let verts: Vec<Vec<usize>> = (0..n).map(|k| vec![k]).collect();
+    let lines = if n >= 2 { vec![(0..n).collect()] } else { Vec::new() };
+    poly_data(points, &verts, &lines, point_data, &[], field_data)
+}
+
 /// The polygonal data of one contact edge: each candidate as a vertex at its undeformed
 /// position, and the edge through the candidates in order as one polyline; point data
 /// `displacement` (`u^h` at the candidate's node), `normal` (`ν`, into the candidate body),
@@ -121,21 +192,9 @@ pub fn write_paraview(
 fn contact_vtp(c: &ContactSolution, displacement: &[[f64; 2]]) -> String {
     let cand = &c.candidates;
     let n = cand.len();
-    let verts: Vec<Vec<usize>> = (0..n).map(|k| vec![k]).collect();
-    let lines = if n >= 2 { vec![(0..n).collect()] } else { Vec::new() };
     let nodal = |k: usize| displacement.get(cand.nodes[k] as usize).copied().unwrap_or([0.0; 2]);
     let state: Vec<i64> = match &c.friction {
-        Some(f) => f
-            .step
-            .state
-            .iter()
-            .map(|s| match s {
-                ContactState::Open => 0,
-                ContactState::Stick => 1,
-                ContactState::SlipPositive => 2,
-                ContactState::SlipNegative => 3,
-            })
-            .collect(),
+        Some(f) => f.step.state.iter().map(|&s| state_code(s)).collect(),
         None => c.closed.iter().map(|&k| i64::from(k)).collect(),
     };
     let mut point_data = vec![
@@ -162,7 +221,7 @@ fn contact_vtp(c: &ContactSolution, displacement: &[[f64; 2]]) -> String {
         point_data.push(Array::Scalar("slip".into(), f.slip.clone()));
         field_data.push(Array::Scalar("friction_coefficient".into(), vec![f.coefficient]));
     }
-    poly_data(&cand.points, &verts, &lines, &point_data, &[], &field_data)
+    edge_vtp(&cand.points, &point_data, &field_data)
 }
 
 /// The rigid obstacles as polylines at their initial positions, one line cell each (cell data
