@@ -2,10 +2,12 @@
 """Opens solution.vtu files with VTK's own XML reader (the reader ParaView uses) and applies the
 filters a ParaView user would: Warp By Vector on the displacement, Clean (merging coincident
 points: a file over shared points must lose none), Connectivity (a body must stay one piece
-after warping) and Contour on the von Mises stress. Not part of `cargo test` (it needs the `vtk`
-Python package: `pip install vtk`); run it by hand after changing src/post/vtk.rs:
+after warping) and Contour on the von Mises stress. A solution.vtm is opened with the
+multiblock reader and each body in it checked so. Not part of `cargo test` (it needs the `vtk`
+Python package: `pip install vtk`; python/tests/test_vtk.py checks the multiblock's contents);
+run it by hand after changing src/post/vtk.rs:
 
-    python3 scripts/vtk-check.py out/beam/solution.vtu [more.vtu ...]
+    python3 scripts/vtk-check.py out/beam/solution.vtm out/beam/solution.vtu [more ...]
 """
 import sys
 
@@ -13,11 +15,28 @@ import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
 
-def check(path):
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
+def grids(path):
+    """(label, unstructured grid) of a .vtu file, or of each body of a .vtm file."""
+    if path.endswith(".vtm"):
+        reader = vtk.vtkXMLMultiBlockDataReader()
+        reader.SetFileName(path)
+        reader.Update()
+        it = reader.GetOutput().NewIterator()
+        it.InitTraversal()
+        while not it.IsDoneWithTraversal():
+            data = it.GetCurrentDataObject()
+            if data.IsA("vtkUnstructuredGrid"):
+                name = it.GetCurrentMetaData().Get(vtk.vtkCompositeDataSet.NAME())
+                yield f"{path} [{name}]", data
+            it.GoToNextItem()
+    else:
+        reader = vtk.vtkXMLUnstructuredGridReader()
+        reader.SetFileName(path)
+        reader.Update()
+        yield path, reader.GetOutput()
+
+
+def check(grid):
     n_points, n_cells = grid.GetNumberOfPoints(), grid.GetNumberOfCells()
     pd = grid.GetPointData()
     arrays = [pd.GetArrayName(i) for i in range(pd.GetNumberOfArrays())]
@@ -78,11 +97,12 @@ def check(path):
 def main():
     bad = 0
     for path in sys.argv[1:]:
-        problems, facts = check(path)
-        print(f"{path}: {facts}")
-        for p in problems:
-            print(f"  PROBLEM: {p}")
-        bad += bool(problems)
+        for label, grid in grids(path):
+            problems, facts = check(grid)
+            print(f"{label}: {facts}")
+            for p in problems:
+                print(f"  PROBLEM: {p}")
+            bad += bool(problems)
     sys.exit(1 if bad else 0)
 
 

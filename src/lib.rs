@@ -5,8 +5,13 @@
 //! problem using 'mixed' MLPG finite volume method with MLS approximations") and \[AHR04\].
 //!
 //! Find `u` with `div σ + b = 0` in `Ω`, `σ = D ε(u)`, `u = ū` on `Γ_u`, `σ·n = t̄` on `Γ_t`
-//! (paper eqs. 6–7). Frictionless contact (`g ≥ 0, p ≥ 0, g p = 0` on `Γ_c`) is posed as the
-//! linear complementarity problem `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` (stage 10).
+//! (paper eqs. 6–7), discretised by the MFVM or by finite elements. Contact (`g ≥ 0, p ≥ 0,
+//! g p = 0` on `Γ_c`) of a body with rigid obstacles (lines, circles, rounded polylines) or
+//! between several elastic bodies is posed as the linear complementarity problem
+//! `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` and solved by Lemke's method on the condensed `M`, or
+//! by a primal–dual active-set method on the sparse system without forming `M` (stage 10);
+//! Coulomb friction and load steps follow the load path increment by increment
+//! (docs/method.md §8).
 //!
 //! ## Pipeline
 //!
@@ -52,29 +57,35 @@
 //!
 //! ## Example
 //!
+//! A block pressed onto a rigid line: its top edge moves down by 0.03 and its bottom edge,
+//! 0.01 above the line, touches it.
+//!
 //! ```
 //! let problem = mlpg_contact::problem::Problem::from_toml(r#"
 //!     [geometry]
 //!     kind = "rectangle"
-//!     x = [0.0, 4.0]
+//!     x = [0.0, 2.0]
 //!     y = [0.0, 1.0]
 //!     [nodes]
 //!     spacing = 0.25
 //!     [material]
 //!     young = 1000.0
-//!     poisson = 0.3
+//!     poisson = 0.0
 //!     plane = "stress"
 //!     [[boundary]]
-//!     edge = "left"
-//!     displacement = { x = 0.0, y = 0.0 }
-//!     [[boundary]]
-//!     edge = "right"
-//!     traction = { x = 1.0 }
+//!     edge = "top"
+//!     displacement = { x = 0.0, y = -0.03 }
+//!     [contact]
+//!     edge = "bottom"
+//!     obstacle_point = [0.0, -0.01]
+//!     obstacle_normal = [0.0, 1.0]
 //! "#).unwrap();
 //! let solution = mlpg_contact::solve(&problem).unwrap();
-//! // Uniaxial tension: u_x(4, y) ≈ σ L / E = 1 · 4 / 1000 (clamping adds a little stiffness).
-//! let tip = solution.displacement.iter().map(|u| u[0]).fold(0.0, f64::max);
-//! assert!((tip - 0.004).abs() < 2e-4, "tip = {tip}");
+//! let contact = solution.contact.as_ref().unwrap();
+//! // Uniform compression once the gap is closed: strain (0.03 − 0.01) / 1, stress E · 0.02 = 20
+//! // over the width 2, so the line carries 40 and every candidate is closed.
+//! assert!((contact.total_force - 40.0).abs() < 1e-6, "F = {}", contact.total_force);
+//! assert!(contact.closed.iter().all(|&c| c));
 //! assert!(solution.equilibrium_error < 1e-9);
 //! ```
 //!

@@ -6,7 +6,9 @@ use mlpg_contact::problem;
 use std::io::Write as _;
 use std::{path::PathBuf, process::ExitCode};
 
-/// Meshless mixed MLPG finite volume solver for 2-D elastostatics and frictionless contact.
+/// Meshless mixed MLPG finite volume (or finite element) solver for 2-D elastostatics and
+/// contact: rigid obstacles or several bodies, Coulomb friction, load steps; Lemke's method or
+/// a sparse active-set contact solver.
 #[derive(Parser)]
 #[command(version, about)]
 struct Args {

@@ -27,16 +27,26 @@ fn attribute(line: &str, key: &str) -> Option<String> {
     Some(line[start..end].to_string())
 }
 
-/// Parses the ASCII VTU text written by the program.
-fn parse(text: &str) -> (usize, usize, Vec<DataArray>) {
-    let (mut n_points, mut n_cells) = (0, 0);
+/// Parses the ASCII VTU or VTP text written by the program: the `Piece` element's attributes
+/// and every data array (a string array's values are its bytes, each string ended by a 0).
+fn parse_piece(text: &str) -> (HashMap<String, usize>, Vec<DataArray>) {
+    let mut piece = HashMap::new();
     let mut section = String::new();
     let mut arrays: Vec<DataArray> = Vec::new();
     let mut open: Option<DataArray> = None;
     for line in text.lines().map(str::trim) {
         if line.starts_with("<Piece") {
-            n_points = attribute(line, "NumberOfPoints").unwrap().parse().unwrap();
-            n_cells = attribute(line, "NumberOfCells").unwrap().parse().unwrap();
+            for key in [
+                "NumberOfPoints",
+                "NumberOfCells",
+                "NumberOfVerts",
+                "NumberOfLines",
+                "NumberOfPolys",
+            ] {
+                if let Some(v) = attribute(line, key) {
+                    piece.insert(key.to_string(), v.parse().unwrap());
+                }
+            }
         } else if let Some(a) = open.as_mut() {
             if line == "</DataArray>" {
                 arrays.push(open.take().unwrap());
@@ -50,15 +60,22 @@ fn parse(text: &str) -> (usize, usize, Vec<DataArray>) {
                 components: attribute(line, "NumberOfComponents").map_or(1, |c| c.parse().unwrap()),
                 values: Vec::new(),
             });
-        } else if let Some(tag) = ["Points", "Cells", "PointData", "CellData"]
-            .iter()
-            .find(|t| line.starts_with(&format!("<{t}")))
+        } else if let Some(tag) =
+            ["Points", "Cells", "PointData", "CellData", "FieldData", "Verts", "Lines"]
+                .iter()
+                .find(|t| line.starts_with(&format!("<{t}")))
         {
             section = tag.to_string();
         }
     }
     assert!(open.is_none(), "unterminated DataArray");
-    (n_points, n_cells, arrays)
+    (piece, arrays)
+}
+
+/// Parses the ASCII VTU text written by the program.
+fn parse(text: &str) -> (usize, usize, Vec<DataArray>) {
+    let (piece, arrays) = parse_piece(text);
+    (piece["NumberOfPoints"], piece["NumberOfCells"], arrays)
 }
 
 /// The parsed file: points, polygons and the arrays by `section/name`.
@@ -121,8 +138,11 @@ fn read_and_check(path: &Path, h: f64) -> Vtu {
     for a in arrays.values().filter(|a| a.section == "CellData") {
         assert_eq!(a.values.len(), a.components * n_cells, "CellData/{}", a.name);
     }
-    for name in ["displacement", "stress_xx_yy_xy", "von_mises"] {
-        assert!(arrays.contains_key(&format!("PointData/{name}")), "PointData/{name} missing");
+    for (name, components) in [("displacement", 3), ("stress", 6), ("strain", 6), ("von_mises", 1)]
+    {
+        let key = format!("PointData/{name}");
+        assert!(arrays.contains_key(&key), "{key} missing");
+        assert_eq!(arrays[&key].components, components, "{key}");
     }
     println!(
         "{}: {n_points} points, {n_cells} cells, closest points {closest:.3e} = {:.3e} h",
@@ -193,11 +213,22 @@ fn patch_test(name: &str, layout: Layout) {
     // Constant strain: the interpolated stress is D ε everywhere.
     let d = problem.material.constitutive();
     let sigma = mlpg_contact::material::apply(&d, [2e-3, 0.7e-3, -3e-3 + 1.5e-3]);
-    let s = &vtu.arrays["PointData/stress_xx_yy_xy"].values;
+    // The tensors in VTK's order xx, yy, zz, xy, yz, xz: plane stress, so σzz = 0 and
+    // εzz = −ν (εxx + εyy) / (1 − ν); the tensor shear εxy is half the engineering γxy.
+    let sigma6 = [sigma[0], sigma[1], 0.0, sigma[2], 0.0, 0.0];
+    let nu = problem.material.poisson;
+    let eps6 = [2e-3, 0.7e-3, -nu / (1.0 - nu) * 2.7e-3, 0.5 * (-3e-3 + 1.5e-3), 0.0, 0.0];
+    let s = &vtu.arrays["PointData/stress"].values;
     let stress_err = s
-        .chunks(3)
-        .map(|t| (0..3).map(|c| (t[c] - sigma[c]).abs()).fold(0.0, f64::max))
+        .chunks(6)
+        .map(|t| (0..6).map(|c| (t[c] - sigma6[c]).abs()).fold(0.0, f64::max))
         .fold(0.0, f64::max);
+    let e = &vtu.arrays["PointData/strain"].values;
+    let strain_err = e
+        .chunks(6)
+        .map(|t| (0..6).map(|c| (t[c] - eps6[c]).abs()).fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    assert!(strain_err < 1e-8 * 3e-3, "{name}: point strain error {strain_err:e}");
     let stress_scale = sigma.iter().map(|v| v.abs()).fold(0.0, f64::max);
     println!(
         "{name}: max |u^h − u| at {} points = {err:.3e} ({:.3e} relative); max |σ − Dε| = {stress_err:.3e} ({:.3e} relative); {} polygons",
@@ -253,4 +284,249 @@ fn shipped_problems_have_shared_points() {
         }
         let _ = std::fs::remove_dir_all(&out);
     }
+}
+
+/// A block pressed onto a rigid line, then sheared (friction, two load steps).
+const PRESSED_BLOCK: &str = r#"
+name = "pressed_block"
+[geometry]
+kind = "rectangle"
+x = [0.0, 2.0]
+y = [0.0, 1.0]
+[nodes]
+spacing = 0.125
+[material]
+young = 1000.0
+poisson = 0.3
+plane = "strain"
+[[boundary]]
+edge = "top"
+displacement = { x = 0.0, y = 0.0 }
+[contact]
+edge = "bottom"
+obstacle_point = [0.0, -0.01]
+obstacle_normal = [0.0, 1.0]
+friction = 0.3
+[[step]]
+boundary = [{ edge = "top", displacement = { x = 0.0, y = -0.03 } }]
+[[step]]
+increments = 2
+boundary = [{ edge = "top", displacement = { x = 0.004, y = -0.03 } }]
+[output]
+steps = true
+"#;
+
+/// The `file` attributes of the `<DataSet …/>` lines of a `.vtm` or `.pvd` text, with the
+/// line's `name` (`.vtm`) or `timestep` (`.pvd`).
+fn data_sets(text: &str, key: &str) -> Vec<(String, String)> {
+    text.lines()
+        .filter(|l| l.trim_start().starts_with("<DataSet"))
+        .map(|l| (attribute(l, key).unwrap(), attribute(l, "file").unwrap()))
+        .collect()
+}
+
+/// A parsed VTP or VTU file: the piece's counts and the arrays by `section/name`.
+fn read_piece(path: &Path) -> (HashMap<String, usize>, HashMap<String, DataArray>) {
+    let (piece, list) = parse_piece(&std::fs::read_to_string(path).unwrap());
+    let arrays = list.into_iter().map(|a| (format!("{}/{}", a.section, a.name), a)).collect();
+    (piece, arrays)
+}
+
+/// The strings of a string array (bytes, each string ended by a 0).
+fn strings(a: &DataArray) -> Vec<String> {
+    let bytes: Vec<u8> = a.values.iter().map(|&v| v as u8).collect();
+    bytes
+        .split(|&b| b == 0)
+        .filter(|s| !s.is_empty())
+        .map(|s| s.to_vec())
+        .map(|s| String::from_utf8(s).unwrap())
+        .collect()
+}
+
+/// The column `name` of a CSV file as text.
+fn column(path: &Path, name: &str) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    lines.map(|l| l.split(',').nth(k).unwrap().to_string()).collect()
+}
+
+fn sum_column(path: &Path, name: &str) -> f64 {
+    column(path, name).iter().map(|v| v.parse::<f64>().unwrap()).sum()
+}
+
+/// `reactions.csv`'s total `(Σ R_x, Σ R_y)`.
+fn reaction_totals(dir: &Path) -> [f64; 2] {
+    let path = dir.join("reactions.csv");
+    let axis = column(&path, "axis");
+    let r = column(&path, "reaction");
+    let mut total = [0.0; 2];
+    for (a, v) in axis.iter().zip(&r) {
+        total[usize::from(a == "y")] += v.parse::<f64>().unwrap();
+    }
+    total
+}
+
+/// The sums of the two first components of a vector array.
+fn vector_totals(a: &DataArray) -> [f64; 2] {
+    assert_eq!(a.components, 3, "{}", a.name);
+    a.values.chunks(3).fold([0.0; 2], |t, v| [t[0] + v[0], t[1] + v[1]])
+}
+
+fn close(a: f64, b: f64, scale: f64) -> bool {
+    (a - b).abs() <= 1e-9 * scale
+}
+
+/// `solution.vtm` opens the body, the contact edge and the obstacle; `solution.pvd` (load
+/// steps) the final state; the body's reactions (MFVM cell data, FE point data) add up to
+/// `reactions.csv`'s; the contact edge's arrays are `contact.csv`'s columns, its state codes
+/// follow its legend, and after "Warp By Vector" at scale 1 each candidate's distance to the
+/// warped obstacle line is its final gap.
+#[test]
+fn multiblock_holds_body_contact_and_obstacle() {
+    for method in ["mfvm", "fem"] {
+        let text = format!("{PRESSED_BLOCK}\n[discretisation]\nmethod = \"{method}\"\n");
+        let problem = Problem::from_toml(&text).unwrap();
+        let out = scratch(&format!("pressed-{method}"));
+        run(&problem, &out);
+        let vtm = std::fs::read_to_string(out.join("solution.vtm")).unwrap();
+        let sets = data_sets(&vtm, "name");
+        let files: Vec<&str> = sets.iter().map(|(_, f)| f.as_str()).collect();
+        assert_eq!(files, ["solution.vtu", "contact.vtp", "obstacles.vtp"], "{method}: {vtm}");
+        let pvd = std::fs::read_to_string(out.join("solution.pvd")).unwrap();
+        assert_eq!(data_sets(&pvd, "timestep"), [("2".to_string(), "solution.vtm".to_string())]);
+
+        // Reactions.
+        let (_, body) = read_piece(&out.join("solution.vtu"));
+        let key = if method == "fem" { "PointData/reaction" } else { "CellData/node_reaction" };
+        let from_vtu = vector_totals(&body[key]);
+        let from_csv = reaction_totals(&out);
+        let scale = from_csv[0].abs() + from_csv[1].abs();
+        assert!(scale > 0.0);
+        for c in 0..2 {
+            assert!(
+                close(from_vtu[c], from_csv[c], scale),
+                "{method}: {from_vtu:?} vs {from_csv:?}"
+            );
+        }
+        assert_eq!(body["PointData/stress"].components, 6);
+        // Plane strain: σzz = ν (σxx + σyy).
+        for t in body["PointData/stress"].values.chunks(6) {
+            assert!(close(t[2], 0.3 * (t[0] + t[1]), t[0].abs() + t[1].abs()), "{t:?}");
+        }
+
+        // The contact edge.
+        let (piece, contact) = read_piece(&out.join("contact.vtp"));
+        let csv = out.join("contact.csv");
+        let n = column(&csv, "candidate").len();
+        assert_eq!(piece["NumberOfPoints"], n);
+        assert_eq!(piece["NumberOfVerts"], n);
+        assert_eq!(piece["NumberOfLines"], 1);
+        for (array, col) in [
+            ("normal_force", "force"),
+            ("pressure", "pressure"),
+            ("gap", "gap"),
+            ("initial_gap", "initial_gap"),
+            ("tangential_force", "tangential_force"),
+            ("slip", "slip"),
+        ] {
+            let a = &contact[&format!("PointData/{array}")];
+            assert_eq!(a.values.len(), n, "{array}");
+            let (x, y) = (a.values.iter().sum::<f64>(), sum_column(&csv, col));
+            let scale = a.values.iter().map(|v| v.abs()).sum::<f64>().max(1e-300);
+            assert!(close(x, y, scale), "{method}: {array} {x} vs {col} {y}");
+        }
+        assert!(contact["PointData/normal_force"].values.iter().any(|&p| p > 0.0));
+        let legend = strings(&contact["FieldData/state_legend"]);
+        assert_eq!(legend, ["open", "stick", "slip+", "slip-"]);
+        let states: Vec<String> =
+            contact["PointData/state"].values.iter().map(|&s| legend[s as usize].clone()).collect();
+        assert_eq!(states, column(&csv, "state"), "{method}");
+
+        // Warped by their displacements, the candidates lie their final gap from the warped
+        // obstacle (the line's normal is +y).
+        let (_, obstacle) = read_piece(&out.join("obstacles.vtp"));
+        assert_eq!(strings(&obstacle["FieldData/obstacle_names"]), ["obstacle"]);
+        let p = &obstacle["Points/"].values;
+        let d = &obstacle["PointData/displacement"].values;
+        let line_y = p[1] + d[1];
+        assert!((p[4] + d[4] - line_y).abs() < 1e-15, "the obstacle line is horizontal");
+        let x = &contact["Points/"].values;
+        let u = &contact["PointData/displacement"].values;
+        let gap = &contact["PointData/gap"].values;
+        for k in 0..n {
+            let warped = x[3 * k + 1] + u[3 * k + 1] - line_y;
+            assert!(
+                (warped - gap[k]).abs() < 1e-9,
+                "{method}: candidate {k}: {warped} vs {}",
+                gap[k]
+            );
+        }
+
+        // `[output] steps`: the contact edge per increment, at times 1, 1.5 and 2; the last one
+        // is the final state.
+        let series = std::fs::read_to_string(out.join("steps/contact.pvd")).unwrap();
+        let entries = data_sets(&series, "timestep");
+        let times: Vec<&str> = entries.iter().map(|(t, _)| t.as_str()).collect();
+        assert_eq!(times, ["1", "1.5", "2"], "{method}: {series}");
+        let (_, last) = read_piece(&out.join("steps").join(&entries[2].1));
+        for name in ["normal_force", "tangential_force", "slip", "state"] {
+            let key = format!("PointData/{name}");
+            assert_eq!(last[&key].values, contact[&key].values, "{method}: {name}");
+        }
+        let (_, first) = read_piece(&out.join("steps").join(&entries[0].1));
+        // The shear of step 2 changes the tangential forces of step 1.
+        let t1 = &first["PointData/tangential_force"].values;
+        let t2 = &last["PointData/tangential_force"].values;
+        let change = t1.iter().zip(t2).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(change > 0.1, "{method}: step 1 {t1:?}, step 2 {t2:?}");
+        assert!(first["PointData/normal_force"].values.iter().sum::<f64>() > 0.0);
+        assert_eq!(strings(&first["FieldData/state_legend"]), legend);
+        let _ = std::fs::remove_dir_all(&out);
+    }
+}
+
+/// Three bodies in two contact pairs: `solution.vtm` names each body's `solution.vtu` and
+/// each pair's `contact_<k>.vtp` (frictionless: states open and closed), every file exists,
+/// and there is no obstacle and no time series.
+#[test]
+fn multiblock_of_several_bodies() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("problems/three_block_stack.toml")).unwrap();
+    let problem = Problem::from_toml(&text).unwrap();
+    let out = scratch("stack");
+    run(&problem, &out);
+    let vtm = std::fs::read_to_string(out.join("solution.vtm")).unwrap();
+    let sets = data_sets(&vtm, "name");
+    let files: Vec<&str> = sets.iter().map(|(_, f)| f.as_str()).collect();
+    assert_eq!(
+        files,
+        [
+            "solution.vtu",
+            "middle/solution.vtu",
+            "top/solution.vtu",
+            "contact_0.vtp",
+            "contact_1.vtp"
+        ]
+    );
+    assert!(!out.join("solution.pvd").exists() && !out.join("obstacles.vtp").exists());
+    for f in &files[..3] {
+        let (piece, arrays) = read_piece(&out.join(f));
+        assert!(piece["NumberOfCells"] > 0);
+        assert_eq!(arrays["PointData/stress"].components, 6, "{f}");
+        assert!(arrays.contains_key("CellData/node_reaction"), "{f}");
+    }
+    for k in 0..2 {
+        let (_, contact) = read_piece(&out.join(format!("contact_{k}.vtp")));
+        let csv = out.join(format!("contact_{k}.csv"));
+        let force = contact["PointData/normal_force"].values.iter().sum::<f64>();
+        assert!(force > 0.0 && close(force, sum_column(&csv, "force"), force), "pair {k}");
+        assert_eq!(strings(&contact["FieldData/state_legend"]), ["open", "closed"]);
+        let closed: Vec<String> =
+            contact["PointData/state"].values.iter().map(|s| s.to_string()).collect();
+        assert_eq!(closed, column(&csv, "in_contact"), "pair {k}");
+        assert!(!contact.contains_key("PointData/tangential_force"));
+    }
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -21,7 +21,10 @@ from typing import Any, Iterable, Mapping, Union
 from . import _native
 from ._native import ProblemError, SolveError
 
-__all__ = ["solve", "sweep", "with_values", "Result", "ProblemError", "SolveError"]
+__version__: str = _native.__version__
+"""The package's version (the extension's, which is the project's)."""
+
+__all__ = ["solve", "sweep", "with_values", "Result", "ProblemError", "SolveError", "__version__"]
 
 Problem = Union[str, "os.PathLike[str]", Mapping[str, Any]]
 

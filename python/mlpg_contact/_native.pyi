@@ -5,6 +5,8 @@ from typing import Optional
 import numpy as np
 import numpy.typing as npt
 
+__version__: str
+
 class ProblemError(ValueError):
     field: Optional[str]
     value: Optional[str]

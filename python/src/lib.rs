@@ -207,5 +207,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Solved>()?;
     m.add("ProblemError", m.py().get_type::<ProblemError>())?;
     m.add("SolveError", m.py().get_type::<SolveError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

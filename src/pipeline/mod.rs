@@ -1126,6 +1126,7 @@ fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
             files.extend(post::write_node_spacing(&out.join(&p2.name), p2, &m2.nodes)?);
         }
     }
+    files.extend(post::write_paraview(out, problem, solution)?);
     let path = out.join("summary.json");
     post::write_text(&path, &o.summary.to_json())?;
     files.push(path);

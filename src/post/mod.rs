@@ -1,15 +1,18 @@
-//! Stage 12: outputs — CSV tables, a VTU file for ParaView, plots and `summary.json`.
+//! Stage 12: outputs — CSV tables, VTK files for ParaView (each body's `solution.vtu`, the
+//! contact edges and obstacles, `solution.vtm` opening them all), plots and `summary.json`.
 //!
 //! Every file is deterministic (fixed float formatting, sorted keys) except the `timings`
 //! field of `summary.json`.
 
 mod outdir;
+pub mod paraview;
 pub mod plot;
 pub mod report;
 pub mod summary;
 mod vtk;
 
 pub use outdir::{MANIFEST, StagedDir, abandon_staging};
+pub use paraview::write_paraview;
 pub use summary::Summary;
 
 use crate::geometry::Domain;

@@ -1,14 +1,18 @@
-//! VTK XML unstructured grid (`.vtu`, ASCII). MFVM: one polygon per subdomain cell over shared
-//! points (the cells' coinciding vertices merged), the MLS field at each point as point data —
-//! `u^h(x) = Σ φ_J(x) û_J` and `σ = D Σ φ_J(x) ε̂_J` (docs/method.md §3.2) — so that ParaView's
-//! "Warp By Vector" keeps the body whole; the node's own values (and its index) as cell data.
-//! FE: the mesh nodes as points, each Q2 element drawn as four bilinear sub-quads through its
-//! nodes, displacement and (averaged) nodal stress as point data. Opens in ParaView.
+//! VTK XML files (ASCII) for ParaView. `solution.vtu`, an unstructured grid of one body:
+//! MFVM: one polygon per subdomain cell over shared points (the cells' coinciding vertices
+//! merged), the MLS field at each point as point data — `u^h(x) = Σ φ_J(x) û_J`, the strain
+//! `Σ φ_J(x) ε̂_J` and `σ = D Σ φ_J(x) ε̂_J` (docs/method.md §3.2) — so that ParaView's
+//! "Warp By Vector" keeps the body whole; the node's own values (its index, its reaction) as
+//! cell data. FE: the mesh nodes as points, each Q2 element drawn as four bilinear sub-quads
+//! through its nodes, displacement, (averaged) nodal strain and stress and the reactions as
+//! point data. Stress and strain are symmetric tensors of six components ([`stress_tensor`]).
+//! The polygonal data (`.vtp`) of the contact edges and obstacles and the multiblock file that
+//! opens everything at once are written by the sibling module `paraview`.
 
 use super::{OutputError, num};
 use crate::fem::Mesh;
 use crate::geometry::Point;
-use crate::material;
+use crate::material::{self, Material, PlaneState};
 use crate::mls;
 use crate::model::{Model, Scheme};
 use crate::problem::Problem;
@@ -21,6 +25,13 @@ pub(crate) const MERGE_TOLERANCE: f64 = 1e-9;
 
 /// The VTU text of a solution.
 ///
+/// Point data: `displacement` (a vector), `stress` and `strain` (symmetric tensors, see
+/// [`tensor`]), `von_mises`; MFVM cell data (one cell per node): `node`, and the node's own
+/// values `node_displacement`, `node_stress`, `node_strain`, `node_von_mises` and
+/// `node_reaction` (the support reaction `R = K_int û − f − E P` on the node, zero in a
+/// component without a displacement condition). FE: the points are the nodes, so `reaction`
+/// is point data.
+///
 /// # Errors
 /// [`OutputError::Field`] when the MLS shape functions cannot be evaluated at a cell vertex.
 pub fn solution_vtu(
@@ -28,8 +39,9 @@ pub fn solution_vtu(
     model: &Model,
     solution: &Solution,
 ) -> Result<String, OutputError> {
+    let reaction = nodal_reactions(model.nodes.len(), solution);
     let mfvm = match &model.scheme {
-        Scheme::Fem(fem) => return Ok(fem_vtu(problem, model, &fem.mesh, solution)),
+        Scheme::Fem(fem) => return Ok(fem_vtu(problem, model, &fem.mesh, solution, reaction)),
         Scheme::Mfvm(mfvm) => mfvm,
     };
     let h = model.nodes.spacing.iter().copied().filter(|h| *h > 0.0).fold(f64::INFINITY, f64::min);
@@ -47,7 +59,7 @@ pub fn solution_vtu(
     let d = problem.material.constitutive();
     let displacement: Vec<[f64; 2]> =
         (0..points.len()).map(|k| shapes.interpolate(k, &solution.nodal_parameters)).collect();
-    let stress: Vec<[f64; 3]> = (0..points.len())
+    let strain: Vec<[f64; 3]> = (0..points.len())
         .map(|k| {
             let mut e = [0.0; 3];
             for (&j, &phi) in shapes.support(k).iter().zip(shapes.phi(k)) {
@@ -56,13 +68,51 @@ pub fn solution_vtu(
                     e[c] += phi * ej[c];
                 }
             }
-            material::apply(&d, e)
+            e
         })
         .collect();
-    let point_data = field_arrays(problem, "", &displacement, &stress);
-    let mut cell_data = vec![Array::Index("node", (0..polygons.len()).collect())];
-    cell_data.extend(field_arrays(problem, "node_", &solution.displacement, &solution.stress));
+    let stress: Vec<[f64; 3]> = strain.iter().map(|e| material::apply(&d, *e)).collect();
+    let point_data = field_arrays(&problem.material, "", &displacement, &stress, &strain);
+    let mut cell_data = vec![Array::Int("node".into(), (0..polygons.len() as i64).collect())];
+    cell_data.extend(field_arrays(
+        &problem.material,
+        "node_",
+        &solution.displacement,
+        &solution.stress,
+        &solution.strain,
+    ));
+    cell_data.push(Array::Vector("node_reaction".into(), reaction));
     Ok(unstructured_grid(&points, &polygons, 7, &point_data, &cell_data))
+}
+
+/// The reaction `(R_x, R_y)` at each of `n` nodes (zero in a component without a
+/// displacement condition).
+fn nodal_reactions(n: usize, solution: &Solution) -> Vec<[f64; 2]> {
+    let mut r = vec![[0.0; 2]; n];
+    for &(node, axis, value) in &solution.reactions {
+        if let Some(v) = r.get_mut(node as usize) {
+            v[axis as usize] += value;
+        }
+    }
+    r
+}
+
+/// The symmetric 3-D tensor of a plane stress `(σxx, σyy, σxy)` in VTK's six-component order
+/// `xx, yy, zz, xy, yz, xz` (ParaView reads a six-component array as a symmetric tensor):
+/// `σzz = 0` in plane stress and `ν (σxx + σyy)` in plane strain, `σyz = σxz = 0`.
+pub(crate) fn stress_tensor(material: &Material, s: [f64; 3]) -> [f64; 6] {
+    [s[0], s[1], material.sigma_zz(s), s[2], 0.0, 0.0]
+}
+
+/// The symmetric strain tensor of the Voigt strain `(εxx, εyy, γxy)` in the order of
+/// [`stress_tensor`]: the tensor shear `εxy = γxy / 2`; `εzz = −ν (εxx + εyy) / (1 − ν)` in
+/// plane stress and 0 in plane strain.
+pub(crate) fn strain_tensor(material: &Material, e: [f64; 3]) -> [f64; 6] {
+    let zz = match material.plane {
+        PlaneState::Stress => -material.poisson / (1.0 - material.poisson) * (e[0] + e[1]),
+        PlaneState::Strain => 0.0,
+    };
+    [e[0], e[1], zz, 0.5 * e[2], 0.0, 0.0]
 }
 
 /// Merges the vertices of `cells` that coincide within `tol` (max-norm): each vertex is
@@ -116,7 +166,13 @@ const VTK_QUAD: u8 = 9;
 
 /// The FE solution: points = nodes, cells = four sub-quads per Q2 element (VTK_QUAD) and four
 /// sub-triangles per T6 element (VTK_TRIANGLE).
-fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -> String {
+fn fem_vtu(
+    problem: &Problem,
+    model: &Model,
+    mesh: &Mesh,
+    solution: &Solution,
+    reaction: Vec<[f64; 2]>,
+) -> String {
     // Local corner quadruples of the four sub-quads of a Q2 element and corner triples of the
     // four sub-triangles of a T6 element (counter-clockwise on the reference element).
     const SUB: [[usize; 4]; 4] = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
@@ -130,59 +186,105 @@ fn fem_vtu(problem: &Problem, model: &Model, mesh: &Mesh, solution: &Solution) -
         .iter()
         .flat_map(|e| SUB_T.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
     let connectivity: Vec<Vec<usize>> = quads.chain(triangles).collect();
-    let point_data = field_arrays(problem, "", &solution.displacement, &solution.stress);
+    let mut point_data = field_arrays(
+        &problem.material,
+        "",
+        &solution.displacement,
+        &solution.stress,
+        &solution.strain,
+    );
+    point_data.push(Array::Vector("reaction".into(), reaction));
     unstructured_grid(&model.nodes.points, &connectivity, VTK_QUAD, &point_data, &[])
 }
 
-/// One data array of a VTU piece.
-enum Array {
+/// One data array of a VTK XML piece.
+pub(crate) enum Array {
     /// Integers, one per tuple.
-    Index(&'static str, Vec<usize>),
+    Int(String, Vec<i64>),
     /// 2-D vectors, written with a zero third component.
     Vector(String, Vec<[f64; 2]>),
-    /// Three components (the stress `σxx σyy σxy`).
-    Triple(String, Vec<[f64; 3]>),
+    /// Symmetric tensors in VTK's order `xx, yy, zz, xy, yz, xz` ([`stress_tensor`]).
+    Tensor(String, Vec<[f64; 6]>),
     /// Scalars.
     Scalar(String, Vec<f64>),
+    /// Strings (field data: a legend).
+    Strings(String, Vec<String>),
 }
 
-/// Displacement, stress and von Mises stress, named with `prefix`.
+/// Displacement, stress and strain tensors and von Mises stress, named with `prefix`.
 fn field_arrays(
-    problem: &Problem,
+    material: &Material,
     prefix: &str,
     displacement: &[[f64; 2]],
     stress: &[[f64; 3]],
+    strain: &[[f64; 3]],
 ) -> Vec<Array> {
     vec![
         Array::Vector(format!("{prefix}displacement"), displacement.to_vec()),
-        Array::Triple(format!("{prefix}stress_xx_yy_xy"), stress.to_vec()),
+        Array::Tensor(
+            format!("{prefix}stress"),
+            stress.iter().map(|s| stress_tensor(material, *s)).collect(),
+        ),
+        Array::Tensor(
+            format!("{prefix}strain"),
+            strain.iter().map(|e| strain_tensor(material, *e)).collect(),
+        ),
         Array::Scalar(
             format!("{prefix}von_mises"),
-            stress.iter().map(|t| problem.material.von_mises(*t)).collect(),
+            stress.iter().map(|t| material.von_mises(*t)).collect(),
         ),
     ]
 }
 
-fn write_arrays(s: &mut String, tag: &str, arrays: &[Array]) {
+/// `text` with the five XML special characters escaped (for attribute values).
+pub(crate) fn xml_escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for ch in text.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Writes `arrays` as the section `tag` (`PointData`, `CellData`, `FieldData`); the first
+/// vector and the first tensor are the section's active ones (`Vectors=`, `Tensors=`).
+pub(crate) fn write_arrays(s: &mut String, tag: &str, arrays: &[Array]) {
     if arrays.is_empty() {
         return;
     }
-    let vectors = arrays.iter().find_map(|a| match a {
-        Array::Vector(name, _) => Some(name.as_str()),
-        _ => None,
-    });
-    match vectors {
-        Some(name) => {
-            let _ = writeln!(s, "<{tag} Vectors=\"{name}\">");
+    let _ = write!(s, "<{tag}");
+    if tag != "FieldData" {
+        let vectors = arrays.iter().find_map(|a| match a {
+            Array::Vector(name, _) => Some(name.as_str()),
+            _ => None,
+        });
+        let tensors = arrays.iter().find_map(|a| match a {
+            Array::Tensor(name, _) => Some(name.as_str()),
+            _ => None,
+        });
+        if let Some(name) = vectors {
+            let _ = write!(s, " Vectors=\"{}\"", xml_escape(name));
         }
-        None => {
-            let _ = writeln!(s, "<{tag}>");
+        if let Some(name) = tensors {
+            let _ = write!(s, " Tensors=\"{}\"", xml_escape(name));
         }
     }
+    let _ = writeln!(s, ">");
     for a in arrays {
         match a {
-            Array::Index(name, v) => {
-                let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"{name}\" format=\"ascii\">");
+            Array::Int(name, v) => {
+                let _ = writeln!(
+                    s,
+                    "<DataArray type=\"Int64\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                    xml_escape(name),
+                    v.len()
+                );
                 for i in v {
                     let _ = writeln!(s, "{i}");
                 }
@@ -190,32 +292,87 @@ fn write_arrays(s: &mut String, tag: &str, arrays: &[Array]) {
             Array::Vector(name, v) => {
                 let _ = writeln!(
                     s,
-                    "<DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"3\" format=\"ascii\">"
+                    "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                    xml_escape(name),
+                    v.len()
                 );
                 for u in v {
                     let _ = writeln!(s, "{} {} 0", num(u[0]), num(u[1]));
                 }
             }
-            Array::Triple(name, v) => {
+            Array::Tensor(name, v) => {
                 let _ = writeln!(
                     s,
-                    "<DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"3\" format=\"ascii\">"
+                    "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"6\" ComponentName0=\"XX\" ComponentName1=\"YY\" ComponentName2=\"ZZ\" ComponentName3=\"XY\" ComponentName4=\"YZ\" ComponentName5=\"XZ\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                    xml_escape(name),
+                    v.len()
                 );
+                // A plane problem's out-of-plane shears are zero.
                 for t in v {
-                    let _ = writeln!(s, "{} {} {}", num(t[0]), num(t[1]), num(t[2]));
+                    let row: Vec<String> = t
+                        .iter()
+                        .map(|&x| if x == 0.0 { "0".to_string() } else { num(x) })
+                        .collect();
+                    let _ = writeln!(s, "{}", row.join(" "));
                 }
             }
             Array::Scalar(name, v) => {
-                let _ =
-                    writeln!(s, "<DataArray type=\"Float64\" Name=\"{name}\" format=\"ascii\">");
+                let _ = writeln!(
+                    s,
+                    "<DataArray type=\"Float64\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                    xml_escape(name),
+                    v.len()
+                );
                 for x in v {
                     let _ = writeln!(s, "{}", num(*x));
+                }
+            }
+            Array::Strings(name, v) => {
+                // VTK's ASCII string arrays: each string as its bytes, ended by a 0.
+                let _ = writeln!(
+                    s,
+                    "<DataArray type=\"String\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                    xml_escape(name),
+                    v.len()
+                );
+                for text in v {
+                    let bytes: Vec<String> = text.bytes().map(|b| b.to_string()).collect();
+                    let _ = writeln!(s, "{} 0", bytes.join(" "));
                 }
             }
         }
         let _ = writeln!(s, "</DataArray>");
     }
     let _ = writeln!(s, "</{tag}>");
+}
+
+/// The `<Points>` section of `points` (z = 0).
+pub(crate) fn write_points(s: &mut String, points: &[Point]) {
+    let _ = writeln!(
+        s,
+        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
+    );
+    for p in points {
+        let _ = writeln!(s, "{} {} 0", num(p[0]), num(p[1]));
+    }
+    let _ = writeln!(s, "</DataArray>\n</Points>");
+}
+
+/// The `connectivity` and `offsets` arrays of `cells` (point indices).
+pub(crate) fn write_connectivity(s: &mut String, cells: &[Vec<usize>]) {
+    let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
+    for c in cells {
+        let ids: Vec<String> = c.iter().map(|k| k.to_string()).collect();
+        let _ = writeln!(s, "{}", ids.join(" "));
+    }
+    let _ =
+        writeln!(s, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
+    let mut end = 0usize;
+    for c in cells {
+        end += c.len();
+        let _ = writeln!(s, "{end}");
+    }
+    let _ = writeln!(s, "</DataArray>");
 }
 
 /// The VTU text of an unstructured grid of `points` and `cells` (all of VTK type `vtk_type`)
@@ -240,27 +397,10 @@ fn unstructured_grid(
         points.len(),
         cells.len()
     );
-    let _ = writeln!(
-        s,
-        "<Points>\n<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">"
-    );
-    for p in points {
-        let _ = writeln!(s, "{} {} 0", num(p[0]), num(p[1]));
-    }
-    let _ = writeln!(s, "</DataArray>\n</Points>\n<Cells>");
-    let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
-    for c in cells {
-        let ids: Vec<String> = c.iter().map(|k| k.to_string()).collect();
-        let _ = writeln!(s, "{}", ids.join(" "));
-    }
-    let _ =
-        writeln!(s, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
-    let mut end = 0usize;
-    for c in cells {
-        end += c.len();
-        let _ = writeln!(s, "{end}");
-    }
-    let _ = writeln!(s, "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
+    write_points(&mut s, points);
+    let _ = writeln!(s, "<Cells>");
+    write_connectivity(&mut s, cells);
+    let _ = writeln!(s, "<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
     for c in cells {
         // A 3-vertex cell of a quadrilateral grid (the FE's sub-triangles) is a triangle.
         let t = if vtk_type == VTK_QUAD && c.len() == 3 { VTK_TRIANGLE } else { vtk_type };
@@ -270,6 +410,42 @@ fn unstructured_grid(
     write_arrays(&mut s, "PointData", point_data);
     write_arrays(&mut s, "CellData", cell_data);
     let _ = writeln!(s, "</Piece>\n</UnstructuredGrid>\n</VTKFile>");
+    s
+}
+
+/// The VTP text of a polygonal data set: `points`, vertex cells `verts` and polyline cells
+/// `lines` (point indices), point data and field data (the data set's own, e.g. a legend).
+pub(crate) fn poly_data(
+    points: &[Point],
+    verts: &[Vec<usize>],
+    lines: &[Vec<usize>],
+    point_data: &[Array],
+    cell_data: &[Array],
+    field_data: &[Array],
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "<?xml version=\"1.0\"?>");
+    let _ = writeln!(s, "<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">");
+    let _ = writeln!(s, "<PolyData>");
+    write_arrays(&mut s, "FieldData", field_data);
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"{}\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">",
+        points.len(),
+        verts.len(),
+        lines.len()
+    );
+    write_points(&mut s, points);
+    for (tag, cells) in [("Verts", verts), ("Lines", lines)] {
+        if !cells.is_empty() {
+            let _ = writeln!(s, "<{tag}>");
+            write_connectivity(&mut s, cells);
+            let _ = writeln!(s, "</{tag}>");
+        }
+    }
+    write_arrays(&mut s, "PointData", point_data);
+    write_arrays(&mut s, "CellData", cell_data);
+    let _ = writeln!(s, "</Piece>\n</PolyData>\n</VTKFile>");
     s
 }
 
