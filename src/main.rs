@@ -10,7 +10,7 @@ use std::{path::PathBuf, process::ExitCode};
 /// contact: rigid obstacles or several bodies, Coulomb friction, load steps; Lemke's method or
 /// a sparse active-set contact solver.
 #[derive(Parser)]
-#[command(version, about)]
+#[command(version, about, after_help = EXIT_STATUS)]
 struct Args {
     /// Problem file (TOML); see problems/ for annotated examples.
     problem: PathBuf,
@@ -27,6 +27,16 @@ struct Args {
     #[arg(long, conflicts_with = "compare")]
     report: bool,
 }
+
+/// The exit statuses, as `--help` lists them.
+const EXIT_STATUS: &str = "Exit status:
+  0  solved; every check passed (residual, equilibrium, complementarity)
+  2  refused or failed (invalid input, a failed stage); nothing is written
+  3  solved and written, but a check failed: the message names it, its value and tolerance,
+     and summary.json says `checks.passed = false` (`checks.verdicts` lists every check)";
+
+/// The status of a run that was solved and written but whose checks failed.
+const CHECK_FAILED: u8 = 3;
 
 /// Writes a line to stderr; a failing stderr (closed pipe, full disk) never decides the run.
 fn say(line: std::fmt::Arguments<'_>) {
@@ -110,7 +120,25 @@ fn key_values(echo: &serde_json::Value, keys: &str) -> Vec<String> {
     out
 }
 
-fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> {
+/// How a run that reached its outputs ended: every check passed, or these failed (each
+/// `(where, verdict)`, `where` the summary that holds it).
+enum Finished {
+    Passed,
+    ChecksFailed(Vec<(String, mlpg_contact::post::summary::Verdict)>),
+}
+
+/// The failed checks of the summaries `(file, summary)` of a run.
+fn finished<'a>(
+    summaries: impl IntoIterator<Item = (String, &'a mlpg_contact::post::Summary)>,
+) -> Finished {
+    let failed: Vec<_> = summaries
+        .into_iter()
+        .flat_map(|(file, s)| s.failed_checks().into_iter().map(move |v| (file.clone(), v.clone())))
+        .collect();
+    if failed.is_empty() { Finished::Passed } else { Finished::ChecksFailed(failed) }
+}
+
+fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Finished> {
     thread_pool()?;
     let text = std::fs::read_to_string(&args.problem)
         .with_context(|| format!("cannot read {}", args.problem.display()))?;
@@ -127,7 +155,11 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> 
         if !args.quiet {
             say(format_args!("{comparison}"));
         }
-        return Ok(());
+        let out = &args.out;
+        return Ok(finished([
+            (out.join("mfvm/summary.json").display().to_string(), &comparison.mfvm.summary),
+            (out.join("fem/summary.json").display().to_string(), &comparison.fem.summary),
+        ]));
     }
     let report = mlpg_contact::pipeline::run_with_report(
         &problem,
@@ -142,7 +174,8 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<()> 
     if !args.quiet {
         say(format_args!("{report}"));
     }
-    Ok(())
+    let file = args.out.join("summary.json").display().to_string();
+    Ok(finished([(file, &report.summary)]))
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: removes the staging directory of the run under way (the
@@ -181,7 +214,17 @@ fn main() -> ExitCode {
     end_cleanly_on_signals();
     let mut echo = None;
     match run(&args, &mut echo) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(Finished::Passed) => ExitCode::SUCCESS,
+        Ok(Finished::ChecksFailed(failed)) => {
+            say(format_args!(
+                "error: the problem was solved and its outputs written, but {} of its checks failed; the result is not reliable:",
+                failed.len()
+            ));
+            for (file, v) in &failed {
+                say(format_args!("  {v} (in {file}): {}", v.remedy()));
+            }
+            ExitCode::from(CHECK_FAILED)
+        }
         Err(e) => {
             say(format_args!("error: {e:#}"));
             if let Some(keys) = e.downcast_ref::<mlpg_contact::Error>().and_then(|e| e.input_keys())

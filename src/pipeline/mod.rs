@@ -597,10 +597,28 @@ fn solve_contact(
     };
     let mut result = result;
     let polish = clock.run("lemke_polish", || lcp::polish(&lcp_problem, &mut result));
+    // The displacements of the forces `z` added to `u1`, `u2`, and their gaps.
+    let displaced = |z: &[f64], u1: &[f64], u2: Option<&[f64]>| -> Result<_, Error> {
+        let mut rhs = vec![0.0; u1.len()];
+        candidates.operator.add_forces(z, &mut rhs);
+        let d1 = model.factorisation.solve(&rhs)?;
+        let v1: Vec<f64> = u1.iter().zip(&d1).map(|(a, b)| a + b).collect();
+        let v2 = match (&target, second, u2) {
+            (Some(op), Some((_, m2)), Some(u2)) => {
+                let mut rhs2 = vec![0.0; u2.len()];
+                op.add_forces(z, &mut rhs2);
+                let d2 = m2.factorisation.solve(&rhs2)?;
+                Some(u2.iter().zip(&d2).map(|(a, b)| a + b).collect::<Vec<f64>>())
+            }
+            _ => None,
+        };
+        let gap = final_gaps(model, &candidates, &v1, target.as_ref().zip(v2.as_deref()));
+        Ok((v1, v2, gap))
+    };
     let mut rhs = model.system.rhs.clone();
     candidates.operator.add_forces(&result.z, &mut rhs);
-    let u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
-    let u2 = match (&target, second) {
+    let mut u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
+    let mut u2 = match (&target, second) {
         (Some(op), Some((_, m2))) => {
             let mut rhs2 = m2.system.rhs.clone();
             op.add_forces(&result.z, &mut rhs2);
@@ -608,7 +626,24 @@ fn solve_contact(
         }
         _ => None,
     };
-    let gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
+    let mut gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
+    // Mixed precision: `M` and `q` carry the single-precision solves' error; one correction
+    // against the displacements' own gaps closes them to double precision.
+    let mut correction = None;
+    if model.factorisation.stats().precision == FactorPrecision::Mixed {
+        let mut moved = None;
+        let record = clock.run("gap_correction", || {
+            solution::correct_closed_gaps(&lcp_problem, &mut result, &mut gap, &mut |dz| {
+                let (v1, v2, g) = displaced(dz, &u1, u2.as_deref())?;
+                moved = Some((v1, v2));
+                Ok(g)
+            })
+        })?;
+        if let (true, Some((v1, v2))) = (record.accepted, moved) {
+            (u1, u2) = (v1, v2);
+        }
+        correction = Some(record);
+    }
     let free_gap = condensed.free_gap.clone();
     let mut contact = ContactSolution::new(
         spec,
@@ -623,6 +658,7 @@ fn solve_contact(
     );
     contact.unpaired = unpaired;
     contact.lemke_polish = Some(polish);
+    contact.gap_correction = correction;
     Ok((u1, u2, contact))
 }
 

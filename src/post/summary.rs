@@ -234,6 +234,125 @@ pub struct Checks {
     pub reaction_force: [f64; 2],
     /// `Σ ν P`.
     pub contact_force: [f64; 2],
+    /// Whether every check in `verdicts` passed. A run with a failing check still writes its
+    /// outputs, and the command line ends it with exit status 3.
+    pub passed: bool,
+    /// Every check of the run against its tolerance: each body's residual and equilibrium,
+    /// the contact answer's complementarity, and the worst load increment's.
+    pub verdicts: Vec<Verdict>,
+}
+
+/// One check of a run against its tolerance (`checks.verdicts`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Verdict {
+    /// `"relative_residual"`, `"equilibrium_error"` or `"complementarity"`.
+    pub check: &'static str,
+    /// Where `summary.json` reports the value (`checks.equilibrium_error`,
+    /// `bodies[1].equilibrium_error`, `lcp`, `steps[3].complementarity`, …).
+    pub key: String,
+    /// The measured value.
+    pub value: f64,
+    /// The largest value accepted ([`crate::solution::RESIDUAL_TOLERANCE`],
+    /// [`crate::solution::EQUILIBRIUM_TOLERANCE`],
+    /// [`crate::solution::COMPLEMENTARITY_TOLERANCE`]).
+    pub tolerance: f64,
+    /// `value ≤ tolerance` (false for a value that is not a number).
+    pub pass: bool,
+}
+
+impl Verdict {
+    fn new(check: &'static str, key: String, value: f64, tolerance: f64) -> Self {
+        Self { check, key, value, tolerance, pass: value <= tolerance }
+    }
+
+    /// What to do about a failure of this check.
+    pub fn remedy(&self) -> &'static str {
+        match self.check {
+            "complementarity" => {
+                "the contact solver's answer is inaccurate: try `[contact] solver = \"active_set\"` or a coarser contact edge (a larger nodes.spacing)"
+            }
+            _ => {
+                "the magnitudes are out of scale for double precision: compare material.young between the bodies, the boundary[*] values with the body's size and the loads with the stiffness, and rescale the units"
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {:.3e} ({}) {} its tolerance {:.0e}",
+            self.key,
+            self.value,
+            self.check.replace('_', " "),
+            if self.pass { "within" } else { "above" },
+            self.tolerance
+        )
+    }
+}
+
+/// Every check of a solution against its tolerance, keyed as `summary.json` reports the
+/// values (the first body's as `checks.*`, the others' as `second_body.*` or `bodies[k].*`).
+fn verdicts(solution: &Solution) -> Vec<Verdict> {
+    use crate::solution::{COMPLEMENTARITY_TOLERANCE, EQUILIBRIUM_TOLERANCE, RESIDUAL_TOLERANCE};
+    let mut out = Vec::new();
+    let mut body = |prefix: &str, s: &Solution| {
+        out.push(Verdict::new(
+            "relative_residual",
+            format!("{prefix}.relative_residual"),
+            s.relative_residual,
+            RESIDUAL_TOLERANCE,
+        ));
+        out.push(Verdict::new(
+            "equilibrium_error",
+            format!("{prefix}.equilibrium_error"),
+            s.equilibrium_error,
+            EQUILIBRIUM_TOLERANCE,
+        ));
+    };
+    body("checks", solution);
+    if let Some(s2) = solution.second_body.as_deref() {
+        body("second_body", s2);
+    }
+    if let Some(m) = solution.multibody.as_deref() {
+        for (k, s) in m.bodies.iter().enumerate() {
+            body(&format!("bodies[{}]", k + 1), s);
+        }
+    }
+    let lcp = solution
+        .contact
+        .as_ref()
+        .map(|c| &c.lcp)
+        .or_else(|| solution.multibody.as_deref().map(|m| &m.lcp));
+    if let Some(l) = lcp {
+        let value = l.residuals.max_violation();
+        out.push(Verdict::new("complementarity", "lcp".into(), value, COMPLEMENTARITY_TOLERANCE));
+    }
+    if let Some(f) = solution.contact.as_ref().and_then(|c| c.friction.as_ref()) {
+        out.push(Verdict::new(
+            "complementarity",
+            "contact.friction_residual".into(),
+            f.step.residuals.max(),
+            COMPLEMENTARITY_TOLERANCE,
+        ));
+        // The worst increment of each measure (NaN first: it fails).
+        let worst =
+            |v: &dyn Fn(&IncrementRecord) -> f64| {
+                f.increments.iter().enumerate().map(|(k, r)| (k, v(r))).reduce(|a, b| {
+                    if a.1.is_nan() || (!b.1.is_nan() && a.1 >= b.1) { a } else { b }
+                })
+            };
+        if let Some((k, value)) = worst(&|r| r.complementarity) {
+            let key = format!("steps[{k}].complementarity");
+            out.push(Verdict::new("complementarity", key, value, COMPLEMENTARITY_TOLERANCE));
+        }
+        if let Some((k, value)) = worst(&|r| r.equilibrium_error) {
+            let key = format!("steps[{k}].equilibrium_error");
+            out.push(Verdict::new("equilibrium_error", key, value, EQUILIBRIUM_TOLERANCE));
+        }
+    }
+    out
 }
 
 /// Headline results.
@@ -293,6 +412,11 @@ pub struct LcpSummary {
     /// was accepted and the closed-set residual before and after (absent on the other paths).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lemke_polish: Option<crate::lcp::Polish>,
+    /// `precision = "mixed"` on the Lemke path only: the correction of the answer against the
+    /// displacements' own gaps, with the closed candidates' largest `|gap|` before and after
+    /// (`crate::solution::correct_closed_gaps`; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gap_correction: Option<crate::solution::GapCorrection>,
 }
 
 /// What the active-set solver did (docs/method.md §5.1).
@@ -553,12 +677,17 @@ impl Summary {
                 gmres_iterations: mixed.then_some(f.gmres_iterations),
                 worst_backward_error: is_static.then_some(f.worst_backward_error),
             },
-            checks: Checks {
-                relative_residual: solution.relative_residual,
-                equilibrium_error: solution.equilibrium_error,
-                applied_force: solution.applied_force,
-                reaction_force: solution.reaction_force,
-                contact_force: solution.contact_force,
+            checks: {
+                let verdicts = verdicts(solution);
+                Checks {
+                    relative_residual: solution.relative_residual,
+                    equilibrium_error: solution.equilibrium_error,
+                    applied_force: solution.applied_force,
+                    reaction_force: solution.reaction_force,
+                    contact_force: solution.contact_force,
+                    passed: verdicts.iter().all(|v| v.pass),
+                    verdicts,
+                }
             },
             results: Results {
                 max_displacement: solution
@@ -600,6 +729,7 @@ impl Summary {
                         work: a.work,
                     }),
                     lemke_polish: c.lemke_polish,
+                    gap_correction: c.gap_correction,
                 })
                 .or_else(|| multibody_lcp(solution)),
             contact: solution.contact.as_ref().map(|c| ContactSummary {
@@ -672,6 +802,11 @@ impl Summary {
             warnings: warnings(problem, solution),
             timings: solution.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
         }
+    }
+
+    /// The checks that failed (`checks.verdicts` whose `pass` is false).
+    pub fn failed_checks(&self) -> Vec<&Verdict> {
+        self.checks.verdicts.iter().filter(|v| !v.pass).collect()
     }
 
     /// Total seconds over the recorded stages.
@@ -798,6 +933,7 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
             work: a.work,
         }),
         lemke_polish: None,
+        gap_correction: None,
     })
 }
 

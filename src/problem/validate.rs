@@ -10,6 +10,77 @@ use crate::material::Material;
 /// numbers (stiffness times displacement, squared lengths) stay far from overflow.
 pub const MAX_MAGNITUDE: f64 = 1e100;
 
+/// The largest prescribed displacement (or obstacle displacement) accepted, in multiples of
+/// the body's size (the diagonal of its bounding box). A small-strain linear model means
+/// displacements well below the body's size; beyond it only a rigid motion is meaningful,
+/// and a rigid motion `T` costs the strains about `log10(T / (strain · size))` digits: the
+/// beam on its foundation keeps its contact force to 5.5e-8 (equilibrium error 1.3e-7) with
+/// its clamp moved by 10³ times its size, and loses it entirely (0 instead of 32.34) at 10¹².
+/// Larger values are a units mistake far more often than an intent.
+pub const MAX_DISPLACEMENT_RATIO: f64 = 1e3;
+
+/// The largest ratio of Young's moduli between the bodies of a problem. The stiffer body's
+/// forces are its modulus times displacements that carry the round-off of the softer
+/// bodies' (about ε of them): in three stacked blocks the middle block's equilibrium error
+/// grows as the ratio, 5.9e-7 at 10⁹, 8.7e-6 at 10¹⁰ (failing its check), 7e-4 at 10¹² —
+/// beyond 10¹² no tolerance could accept the answer.
+pub const MAX_YOUNG_RATIO: f64 = 1e12;
+
+/// Refuses a prescribed displacement `f` (key `field`) larger than
+/// [`MAX_DISPLACEMENT_RATIO`] times the body's size `size`.
+fn check_displacement(field: &str, f: &Field, size: f64) -> Result<(), ProblemError> {
+    let largest = match *f {
+        Field::Constant(v) => v.abs(),
+        Field::Linear { start, end } => start.abs().max(end.abs()),
+        // Built by the library only, never read from a file.
+        Field::Function(_) => return Ok(()),
+    };
+    if largest > MAX_DISPLACEMENT_RATIO * size {
+        return Err(invalid(
+            field,
+            format!("{largest:e}"),
+            format!(
+                "{:.1e} times the body's size {size:.4e} (the diagonal of its bounding box): a small-strain linear model takes displacements up to {MAX_DISPLACEMENT_RATIO:.0e} times the body's size, beyond which round-off of the rigid motion drowns the strains; check the units",
+                largest / size
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The diagonal of a domain's bounding box.
+fn body_size(domain: &Domain) -> f64 {
+    let (lo, hi) = domain.bounding_box();
+    (hi[0] - lo[0]).hypot(hi[1] - lo[1])
+}
+
+/// Refuses Young's moduli whose ratio between two bodies exceeds [`MAX_YOUNG_RATIO`],
+/// naming the stiffest body's key.
+fn check_young_ratio(problem: &Problem) -> Result<(), ProblemError> {
+    let young: Vec<f64> = (0..problem.body_count())
+        .filter_map(|k| problem.body(k))
+        .map(|p| p.material.young)
+        .collect();
+    let (Some(stiff), Some(soft)) = (
+        young.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1)),
+        young.iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)),
+    ) else {
+        return Ok(());
+    };
+    let ratio = stiff.1 / soft.1;
+    if ratio > MAX_YOUNG_RATIO {
+        return Err(invalid(
+            &format!("body[{}].material.young", stiff.0),
+            format!("{:e}", stiff.1),
+            format!(
+                "{ratio:.1e} times body[{}].material.young = {:e}: beyond a ratio of {MAX_YOUNG_RATIO:.0e} the stiffer body's forces are lost in the round-off of the softer body's displacements; treat the stiff body as rigid (a rigid obstacle) or bring the moduli closer",
+                soft.0, soft.1
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// `v`, if it is a finite number of magnitude at most [`MAX_MAGNITUDE`].
 fn check_finite(field: &str, v: f64) -> Result<f64, ProblemError> {
     if !v.is_finite() {
@@ -166,6 +237,7 @@ impl TryFrom<ProblemFile> for Problem {
                 "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
             ));
         }
+        check_young_ratio(&problem)?;
         let mut steps = load_steps(&file, &problem)?.into_iter();
         problem.steps = steps.next().unwrap_or_default();
         if let Some(p2) = problem.second_body.as_deref_mut() {
@@ -977,10 +1049,12 @@ fn edge_conditions(
                             "a component cannot have both a displacement and a traction",
                         ));
                     }
-                    (Some(v), None) => ComponentCondition::Displacement(value_field(
-                        &format!("{field}.displacement.{name}"),
-                        v,
-                    )?),
+                    (Some(v), None) => {
+                        let key = format!("{field}.displacement.{name}");
+                        let value = value_field(&key, v)?;
+                        check_displacement(&key, &value, body_size(domain))?;
+                        ComponentCondition::Displacement(value)
+                    }
                     (None, Some(v)) => ComponentCondition::Traction(value_field(
                         &format!("{field}.traction.{name}"),
                         v,
@@ -1659,8 +1733,14 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
                     "only with one body against rigid obstacles in one [contact]; between bodies, or with several contact pairs, a step moves a body through its `boundary` values",
                 ));
             }
-            check_finite(&field("obstacle_displacement"), d[0])?;
-            check_finite(&field("obstacle_displacement"), d[1])?;
+            let key = field("obstacle_displacement");
+            check_finite(&key, d[0])?;
+            check_finite(&key, d[1])?;
+            check_displacement(
+                &key,
+                &Field::Constant(d[0].hypot(d[1])),
+                body_size(&problem.domain),
+            )?;
             obstacle = d;
         }
         let friction = match step.friction {
@@ -1778,7 +1858,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
                     ),
                 ));
             }
-            set_step_values(&f, b, &mut states[index].0[e])?;
+            set_step_values(&f, b, &mut states[index].0[e], body_size(&body.domain))?;
         }
         if step.obstacle_displacement.is_none()
             && step.obstacle_force.is_none()
@@ -1869,6 +1949,7 @@ fn set_step_values(
     f: &dyn Fn(&str) -> String,
     b: &StepBoundaryFile,
     condition: &mut EdgeCondition,
+    size: f64,
 ) -> Result<(), ProblemError> {
     if b.pressure.is_none() && b.displacement.is_none() && b.traction.is_none() {
         return Err(invalid(&f("edge"), &b.edge, "the step gives no value for this edge"));
@@ -1904,6 +1985,9 @@ fn set_step_values(
                     let Some(v) = v else { continue };
                     let key = f(&format!("{kind}.{name}"));
                     let value = value_field(&key, v)?;
+                    if kind == "displacement" {
+                        check_displacement(&key, &value, size)?;
+                    }
                     match (&mut c[axis], kind) {
                         (ComponentCondition::Displacement(old), "displacement")
                         | (ComponentCondition::Traction(old), "traction") => *old = value,
