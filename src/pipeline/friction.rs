@@ -18,6 +18,21 @@ pub(super) struct StepEnd {
     pub(super) friction: f64,
 }
 
+impl StepEnd {
+    /// One step to `model`'s own load in one increment, the obstacle where it was given (a
+    /// problem without `[[step]]` tables on the load path), with the coefficient `friction`.
+    pub(super) fn whole(model: &Model, friction: f64) -> Self {
+        Self {
+            increments: 1,
+            load: model.system.load.clone(),
+            rhs: model.system.rhs.clone(),
+            obstacle: [0.0, 0.0],
+            force: None,
+            friction,
+        }
+    }
+}
+
 /// The ends of `problem.steps`: each step's conditions on the assembled body (the same
 /// constrained DOFs, so the same `K`; only `f` and the prescribed values change), MFVM or FE.
 /// `problem` is the problem `model` was built from (for two bodies: each body's own).

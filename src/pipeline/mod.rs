@@ -512,16 +512,7 @@ fn solve_contact(
     if spec.friction > 0.0 || steps.is_some() || held {
         // MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
         // models' loads in one increment.
-        let one = |m: &Model| {
-            vec![StepEnd {
-                increments: 1,
-                load: m.system.load.clone(),
-                rhs: m.system.rhs.clone(),
-                obstacle: [0.0, 0.0],
-                force: None,
-                friction: spec.friction,
-            }]
-        };
+        let one = |m: &Model| vec![StepEnd::whole(m, spec.friction)];
         let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
         let target = match (target, second) {
             (Some(op), Some((_, m2))) => Some(Target {

@@ -211,14 +211,8 @@ pub fn solve_bodies(
     if on_path {
         for (p, m) in problems.iter().zip(std::iter::once(&mut model).chain(others.iter_mut())) {
             let ends = if p.steps.is_empty() {
-                vec![StepEnd {
-                    increments: 1,
-                    load: m.system.load.clone(),
-                    rhs: m.system.rhs.clone(),
-                    obstacle: [0.0, 0.0],
-                    force: None,
-                    friction: 0.0,
-                }]
+                // μ per pair is read from the pairs (`path::friction_per_step`).
+                vec![StepEnd::whole(m, 0.0)]
             } else {
                 clock.run("load_steps", || step_ends(p, m))?
             };

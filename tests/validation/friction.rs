@@ -315,7 +315,7 @@ fn two_body_steps_are_validated() {
         (
             format!("{ok}[[step]]\nobstacle_displacement = [0.1, 0.0]\n"),
             "step[1].obstacle_displacement",
-            "only with a rigid obstacle",
+            "only with one body against rigid obstacles",
         ),
         (format!("{ok}[[step]]\nincrements = 3\n"), "step[1].boundary", "needs `boundary` values"),
         (
@@ -336,7 +336,10 @@ fn two_body_steps_are_validated() {
         "[[step]]\nboundary = [{ body = \"block\", edge = \"top\", displacement = { y = -0.01 } }]\n",
     );
     let e = Problem::from_toml(&one).unwrap_err().to_string();
-    assert!(e.contains("step[0].boundary[0].body") && e.contains("only with two [[body]]"), "{e}");
+    assert!(
+        e.contains("step[0].boundary[0].body") && e.contains("only with [[body]] tables"),
+        "{e}"
+    );
 }
 
 /// The 2 × 1 block of [`block`] on the rigid line y = 0 with friction `mu`, loaded along the
