@@ -285,6 +285,23 @@ pub(super) fn solve_frictional(
     let u2 = (u.len() == 2).then(|| u.pop()).flatten();
     let u = u.pop().expect("the first body's displacements");
     let result = load_path::normal_lcp(&step_problem, &step)?;
+    // Either body of a pair held with no load along its translation: determined only where
+    // the contact carries a force along it or blocks it both ways (docs/method.md §4.7).
+    if let (Some(load_path::Held::Among { term, pin, along }), Some(r)) = (&path.held, &rigid_mode)
+    {
+        let name = match term {
+            0 => problem.name.as_str(),
+            _ => problem.second_body.as_deref().map_or("second body", |p| p.name.as_str()),
+        };
+        load_path::check_determined(
+            (name, pin.name()),
+            r.load,
+            along,
+            &result,
+            &condensed.free_gap,
+        )
+        .map_err(lcp::LcpError::from)?;
+    }
     move_to_final_obstacle(&mut candidates, steps, load_driven.as_ref());
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();

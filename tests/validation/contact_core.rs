@@ -222,3 +222,13 @@ fn several_pairs_fall_back_from_lemke_to_the_active_set_with_auto() {
     let err = mlpg_contact::solve_with_lemke(&lemke_only, &params).unwrap_err();
     assert!(matches!(err, mlpg_contact::Error::LemkeRefused(_)), "{err}");
 }
+
+/// The upper block held by contact with no load at all: every upward translation answers, so
+/// the run is refused naming the body and the mode instead of reporting one of them.
+#[test]
+fn a_held_body_with_nothing_determining_it_is_refused() {
+    let text = shipped_text("two_blocks.toml")
+        .replace("  { edge = \"top\", displacement = { y = -0.01 } },\n", "");
+    let err = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap_err().to_string();
+    assert!(err.contains("body `upper`") && err.contains("not determined"), "{err}");
+}
