@@ -462,6 +462,21 @@ struct Solved {
     record: Option<solution::ActiveSetRecord>,
 }
 
+/// The run-time checks of `M` over all pairs (docs/method.md §4.1): an error, or with
+/// `allow_indefinite` (the same on every pair, validated) the warning to report.
+fn compliance_warning(
+    problem: &Problem,
+    pairs: &[ContactPair],
+    condensed: &contact::CondensedContact,
+) -> Result<Option<String>, Error> {
+    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
+    match contact::check_compliance(condensed, problem.discretisation.mls.support_factor) {
+        Ok(()) => Ok(None),
+        Err(err) if allow => Ok(Some(err.to_string())),
+        Err(err) => Err(err.into()),
+    }
+}
+
 /// Lemke's method on `M = Σ_b G_b K_b⁻¹ E_b` over all candidates (docs/method.md §4.5), with
 /// the search of a held translation (§4.7).
 #[allow(clippy::too_many_arguments)]
@@ -492,13 +507,7 @@ fn solve_lemke(
         }
         contact::CondensedContact::combine(initial_gap, &[total])
     })?;
-    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
-    let warning =
-        match contact::check_compliance(&condensed, problem.discretisation.mls.support_factor) {
-            Ok(()) => None,
-            Err(err) if allow => Some(err.to_string()),
-            Err(err) => return Err(err.into()),
-        };
+    let warning = compliance_warning(problem, pairs, &condensed)?;
     let lemke_on = |q: &[f64], clock: &mut Clock| -> Result<lcp::LcpSolution, Error> {
         let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), q.to_vec())?;
         let result = clock

@@ -121,13 +121,7 @@ pub(super) fn solve(
     let held = held_on_path(held_body, &term_of, &friction, &normals)?;
     let load_path::Condensed { blocks, compliance } =
         clock.run("condensation", || load_path::condense(&terms, scene.initial_gap))?;
-    let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
-    let support_factor = scene.problem.discretisation.mls.support_factor;
-    let warning = match contact::check_compliance(&compliance, support_factor) {
-        Ok(()) => None,
-        Err(err) if allow => Some(err.to_string()),
-        Err(err) => return Err(err.into()),
-    };
+    let warning = super::compliance_warning(scene.problem, pairs, &compliance)?;
     let path = Path {
         initial_gap: scene.initial_gap,
         normals: &normals,
