@@ -507,6 +507,17 @@ impl ContactSolution {
 }
 
 impl Solution {
+    /// Body `k`'s solution, numbered as [`crate::problem::Problem::body`]: 0 is this one,
+    /// then the second body's (one pair) or the other bodies' (several pairs).
+    pub fn body(&self, k: usize) -> Option<&Solution> {
+        match (k, &self.multibody) {
+            (0, _) => Some(self),
+            (k, Some(m)) => m.bodies.get(k - 1),
+            (1, None) => self.second_body.as_deref(),
+            _ => None,
+        }
+    }
+
     /// The first reported quantity holding a value that is not finite (NaN or infinite), if
     /// any: a singular system that the factorisation did not catch, or magnitudes that overflow.
     pub fn first_non_finite(&self) -> Option<&'static str> {

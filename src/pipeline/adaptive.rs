@@ -20,10 +20,15 @@ use crate::geometry::{Domain, Point};
 use crate::lcp::ContactState;
 use crate::model::Model;
 use crate::nodes::{self, Nodes};
-use crate::post::summary::{AdaptiveBodyStep, AdaptiveStep, AdaptiveSummary, OnsetEstimate};
+use crate::post::summary::{
+    AdaptiveBodyStep, AdaptivePairStep, AdaptiveStep, AdaptiveSummary, OnsetEstimate,
+};
 use crate::problem::{Adaptive, ContactTarget, Indicator, Problem, Refinement};
 use crate::progress::Progress;
-use crate::solution::Solution;
+use crate::solution::{ContactSolution, Solution};
+
+mod scene;
+use scene::Solved;
 
 /// An error estimate from one solution.
 #[derive(Clone, Debug)]
@@ -122,7 +127,11 @@ pub fn contact_marks(solution: &Solution) -> Vec<usize> {
 /// The candidates (indices into the contact table) of [`contact_marks`]: the two on either
 /// side of every change of state along the contact edge, ascending.
 pub fn transition_candidates(solution: &Solution) -> Vec<usize> {
-    let Some(c) = &solution.contact else { return Vec::new() };
+    solution.contact.as_ref().map_or_else(Vec::new, transitions_of)
+}
+
+/// [`transition_candidates`] of one contact solution (one pair's).
+fn transitions_of(c: &ContactSolution) -> Vec<usize> {
     let mut order: Vec<usize> = (0..c.candidates.len()).collect();
     order.sort_by(|&a, &b| c.candidates.arc_length[a].total_cmp(&c.candidates.arc_length[b]));
     let state = |k: usize| -> u8 {
@@ -204,6 +213,8 @@ pub struct AdaptiveRun {
     pub model: Model,
     /// The second body's final model (two-body contact only).
     pub second: Option<Model>,
+    /// The other bodies' final models (several bodies or pairs; empty otherwise).
+    pub others: Vec<Model>,
     /// The final solution.
     pub solution: Solution,
     /// The loop's record (`summary.json`'s `refinement`).
@@ -288,200 +299,95 @@ fn marks(estimate: &Estimate, fraction: f64, contact: Vec<usize>) -> (Vec<usize>
 
 /// Solves `problem` adaptively with the parameters `adaptive` (docs/method.md §2.2): solve,
 /// estimate, stop (tolerance, steps), mark, refine, stop when the refined node set would
-/// exceed `max_nodes`, repeat. `observe` sees every solve (for studies; with two bodies the
-/// first body's model and estimate, the second body's solution inside the solution). One
+/// exceed `max_nodes`, repeat. `observe` sees every solve (for studies; the first body's
+/// problem, model and estimate, the other bodies' solutions inside the solution). One
 /// progress line per solve.
 ///
-/// Two bodies (`problem.second_body`): each body is estimated, marked and refined on its
-/// own; the contact marks are the first body's transition candidates and, on the second
-/// body, the target-edge nodes at their paired points ([`paired_marks`]); the estimate the
-/// tolerance tests is the two bodies' combined `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`, and
-/// `max_nodes` counts both node sets.
+/// Any number of bodies (one body; two bodies in one pair; several bodies or pairs): each
+/// body is estimated, marked and refined on its own; the contact marks of every pair are its
+/// candidates' transition candidates and, on an elastic target, the target-edge nodes at
+/// their paired points ([`paired_marks`]); the estimate the tolerance tests is the bodies'
+/// combined `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`, and `max_nodes` counts every node set.
 ///
 /// # Errors
-/// [`Error::Problem`] for several bodies or contact pairs, the FE method, a domain with holes
-/// (what `[refinement]`'s validation refuses) or a curved target edge of the second body (what
-/// the contact's validation refuses); any stage's error of any solve.
+/// [`Error::Problem`] for the FE method, a domain with holes (what `[refinement]`'s
+/// validation refuses) or a curved target edge of an elastic pair (what the contact's
+/// validation refuses); any stage's error of any solve.
 pub fn solve_adaptive(
     problem: &Problem,
     adaptive: &Adaptive,
     progress: &mut dyn Progress,
     observe: &mut dyn FnMut(&Problem, &Model, &Solution, &Estimate),
 ) -> Result<AdaptiveRun, Error> {
-    if problem.multibody.is_some() {
-        refuse(
-            problem,
-            "adaptive refinement is implemented for one body or two bodies in one contact pair",
-        )?;
+    for k in 0..problem.body_count() {
+        check_body(problem.body(k).unwrap_or(problem))?;
     }
-    check_body(problem)?;
     if let Some(p2) = problem.second_body.as_deref() {
-        check_body(p2)?;
         check_target(problem, p2)?;
     }
     let mut current = problem.clone();
     current.adaptive = None;
     let mut rows: Vec<AdaptiveStep> = Vec::new();
     let mut step = 0;
-    // The refined node set, generated to count it (reused, it is `nodes::for_problem`'s).
+    // The refined node set of one body, generated to count it (reused, it is
+    // `nodes::for_problem`'s).
     let mut counted: Option<Nodes> = None;
     loop {
-        let regions = current.refinement.boxes.len()
-            + current.second_body.as_ref().map_or(0, |p2| p2.refinement.boxes.len());
+        let regions: usize = (0..current.body_count())
+            .filter_map(|k| current.body(k))
+            .map(|p| p.refinement.boxes.len())
+            .sum();
         progress.section(&format!(
             "refinement step {step} of at most {}: {regions} refinement regions",
             adaptive.steps,
         ));
-        let (model, second) = match counted.take() {
-            Some(nodes) if current.multibody.is_none() && current.second_body.is_none() => {
-                super::check_memory(&current)?;
-                (super::discretise_mfvm_nodes(&current, false, Some(nodes), progress)?, None)
-            }
-            _ => super::discretise_all(&current, progress)?,
-        };
-        let (model, second, solution) = super::solve_model(&current, model, second, progress)?;
-        let est = estimate(&current, &model, &solution, adaptive.indicator);
-        observe(&current, &model, &solution, &est);
-        // The second body's estimate, with its problem and model.
-        let pair = match (current.second_body.as_deref(), &second, solution.second_body.as_deref())
-        {
-            (Some(p2), Some(m2), Some(s2)) => {
-                Some((p2, m2, estimate(p2, m2, s2, adaptive.indicator)))
-            }
-            _ => None,
-        };
-        let relative = match &pair {
-            Some((_, _, e2)) => {
-                let norm = est.energy + e2.energy;
-                let total: f64 = est.node.iter().chain(&e2.node).sum();
-                if norm > 0.0 { (total / norm).sqrt() } else { 0.0 }
-            }
-            None => est.relative,
-        };
-        let total_nodes = model.nodes.len() + second.as_ref().map_or(0, |m| m.nodes.len());
-        let min_spacing = std::iter::once(&model)
-            .chain(second.as_ref())
-            .flat_map(|m| m.nodes.spacing.iter().copied())
-            .fold(f64::INFINITY, f64::min);
-        let contact = solution.contact.as_ref();
-        let mut row = AdaptiveStep {
-            step,
-            nodes: total_nodes,
-            min_spacing,
-            estimated_error: relative,
-            marked: 0,
-            marked_contact: 0,
-            total_contact_force: contact.map(|c| c.total_force),
-            onset_x: contact.and_then(|c| c.onset.from_gap),
-            last_open_x: contact.and_then(|c| c.onset.last_open),
-            first_closed_x: contact.and_then(|c| c.onset.first_closed),
-            bodies: None,
-        };
-        let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
-        let per_body = match (&pair, &second) {
-            (Some(_), Some(m2)) => format!(" ({} + {})", model.nodes.len(), m2.nodes.len()),
-            _ => String::new(),
-        };
-        progress.section(&format!(
-            "refinement step {step}: {} nodes{per_body}, estimated error {:.3e}, contact force {}, onset {} in [{}, {}]",
-            row.nodes,
-            row.estimated_error,
-            opt(row.total_contact_force),
-            opt(row.onset_x),
-            opt(row.last_open_x),
-            opt(row.first_closed_x)
-        ));
-        // Marks per body: Dörfler on the body's own estimate, and the contact marks.
-        let transitions =
-            if adaptive.contact { transition_candidates(&solution) } else { Vec::new() };
-        let first_contact: Vec<usize> = match contact {
-            Some(c) => transitions.iter().map(|&k| c.candidates.nodes[k] as usize).collect(),
-            None => Vec::new(),
-        };
-        let (marked, marked_contact) = marks(&est, adaptive.fraction, first_contact);
-        let first = BodyPart { estimate: est, marked, marked_contact };
-        let second_part = match (&pair, contact) {
-            (Some((p2, m2, e2)), c) => {
-                let target_edge = current.contact.as_ref().and_then(|s| match s.target {
-                    ContactTarget::Body { edge } => Some(edge),
-                    _ => None,
-                });
-                let paired = match (c, target_edge) {
-                    (Some(c), Some(edge)) => {
-                        let points: Vec<Point> =
-                            transitions.iter().map(|&k| c.candidates.points[k]).collect();
-                        paired_marks(&p2.domain, edge, &m2.nodes, &points)
-                    }
-                    _ => Vec::new(),
-                };
-                let (marked, marked_contact) = marks(e2, adaptive.fraction, paired);
-                Some(BodyPart { estimate: e2.clone(), marked, marked_contact })
-            }
-            _ => None,
-        };
-        if let (Some(p2), Some(m2), Some(b2)) =
-            (current.second_body.as_deref(), &second, &second_part)
-        {
-            row.bodies =
-                Some(vec![first.row(&current.name, &model.nodes), b2.row(&p2.name, &m2.nodes)]);
+        let solved = Solved::solve(current, counted.take(), progress)?;
+        let estimates: Vec<Estimate> = (0..solved.len())
+            .map(|k| {
+                let (p, m, s) = solved.body(k);
+                estimate(p, m, s, adaptive.indicator)
+            })
+            .collect();
+        observe(&solved.problem, &solved.models[0], &solved.solution, &estimates[0]);
+        let mut row = step_row(step, &solved, &estimates);
+        progress.section(&progress_line(&row, &solved));
+        let parts = body_marks(&solved, estimates, adaptive);
+        if solved.len() > 1 {
+            row.bodies = Some(
+                parts
+                    .iter()
+                    .enumerate()
+                    .map(|(k, b)| {
+                        let (p, m, _) = solved.body(k);
+                        b.row(&p.name, &m.nodes)
+                    })
+                    .collect(),
+            );
         }
-        let stop = |why: &'static str,
-                    rows: Vec<AdaptiveStep>,
-                    p: Problem,
-                    m: Model,
-                    m2: Option<Model>,
-                    s: Solution| {
-            let onset = s.contact.as_ref().map(|c| {
-                let o = &c.onset;
-                OnsetEstimate {
-                    estimate: o.from_gap,
-                    estimator: if o.from_gap == o.from_gap_raw {
-                        "gap_extrapolation"
-                    } else {
-                        "clipped"
-                    },
-                    last_open_x: o.last_open,
-                    first_closed_x: o.first_closed,
-                    bracket_width: o.last_open.zip(o.first_closed).map(|(a, b)| b - a),
-                }
-            });
-            let summary =
-                AdaptiveSummary { parameters: *adaptive, stopped_by: why, steps: rows, onset };
-            Ok(AdaptiveRun { problem: p, model: m, second: m2, solution: s, summary })
-        };
-        // The rows of a step that stops: nothing marked.
-        let unmarked = |mut row: AdaptiveStep| {
-            for b in row.bodies.iter_mut().flatten() {
-                b.marked = 0;
-                b.marked_contact = 0;
-            }
-            row
-        };
-        if adaptive.tolerance.is_some_and(|t| relative <= t) {
+        if adaptive.tolerance.is_some_and(|t| row.estimated_error <= t) {
             rows.push(unmarked(row));
-            return stop("tolerance", rows, current, model, second, solution);
+            return Ok(finish(solved, adaptive, "tolerance", rows));
         }
         if step == adaptive.steps {
             rows.push(unmarked(row));
-            return stop("steps", rows, current, model, second, solution);
+            return Ok(finish(solved, adaptive, "steps", rows));
         }
-        let parts = std::iter::once(&first).chain(second_part.as_ref());
-        row.marked = parts.clone().map(|b| b.marked.len()).sum();
-        row.marked_contact = parts.map(|b| b.marked_contact).sum();
+        row.marked = parts.iter().map(|b| b.marked.len()).sum();
+        row.marked_contact = parts.iter().map(|b| b.marked_contact).sum();
         if row.marked == 0 {
             rows.push(row);
-            return stop("no_marks", rows, current, model, second, solution);
+            return Ok(finish(solved, adaptive, "no_marks", rows));
         }
-        let mut next = refined(&current, &model.nodes, &first.marked);
-        if let (Some(p2), Some(m2), Some(b2)) =
-            (current.second_body.as_deref(), &second, &second_part)
-        {
-            next.second_body = Some(Box::new(refined(p2, &m2.nodes, &b2.marked)));
+        let mut next = solved.problem.clone();
+        for (k, part) in parts.iter().enumerate() {
+            if let Some(body) = next.body_mut(k) {
+                *body = refined(body, &solved.models[k].nodes, &part.marked);
+            }
         }
         // The generator refuses only sets beyond its own size limits: too many as well. One
         // body's set known to exceed `max_nodes` from its quadtree's leaves is not generated,
         // and the set generated to count it is the next step's.
-        let fits = if next.second_body.is_none() {
+        let fits = if next.body_count() == 1 {
             counted = nodes::for_problem_at_most(&next, adaptive.max_nodes)
                 .ok()
                 .flatten()
@@ -489,19 +395,150 @@ pub fn solve_adaptive(
             counted.is_some()
         } else {
             let count = |p: &Problem| nodes::for_problem(p).map_or(usize::MAX, |n| n.len());
-            let total = count(&next).saturating_add(next.second_body.as_deref().map_or(0, count));
+            let total = (0..next.body_count())
+                .filter_map(|k| next.body(k))
+                .fold(0usize, |sum, p| sum.saturating_add(count(p)));
             total <= adaptive.max_nodes
         };
         if !fits {
             row.marked = 0;
             row.marked_contact = 0;
             rows.push(unmarked(row));
-            return stop("max_nodes", rows, current, model, second, solution);
+            return Ok(finish(solved, adaptive, "max_nodes", rows));
         }
         rows.push(row);
         current = next;
         step += 1;
     }
+}
+
+/// The row of `summary.json`'s `refinement.steps` for one solve, nothing marked yet: the
+/// bodies' totals (least spacing), their combined estimate, and the contact's figures (one
+/// pair: its force and onset; several pairs: one row per pair).
+fn step_row(step: usize, solved: &Solved, estimates: &[Estimate]) -> AdaptiveStep {
+    let norm: f64 = estimates.iter().map(|e| e.energy).sum();
+    let total: f64 = estimates.iter().flat_map(|e| &e.node).sum();
+    let relative = if norm > 0.0 { (total / norm).sqrt() } else { 0.0 };
+    let contact = solved.solution.contact.as_ref();
+    let pairs = solved.solution.multibody.as_ref().map(|m| {
+        m.pairs
+            .iter()
+            .enumerate()
+            .map(|(k, c)| AdaptivePairStep {
+                pair: k,
+                total_contact_force: c.total_force,
+                onset_x: c.onset.from_gap,
+                last_open_x: c.onset.last_open,
+                first_closed_x: c.onset.first_closed,
+            })
+            .collect()
+    });
+    AdaptiveStep {
+        step,
+        nodes: solved.models.iter().map(|m| m.nodes.len()).sum(),
+        min_spacing: solved
+            .models
+            .iter()
+            .flat_map(|m| m.nodes.spacing.iter().copied())
+            .fold(f64::INFINITY, f64::min),
+        estimated_error: relative,
+        marked: 0,
+        marked_contact: 0,
+        total_contact_force: contact.map(|c| c.total_force),
+        onset_x: contact.and_then(|c| c.onset.from_gap),
+        last_open_x: contact.and_then(|c| c.onset.last_open),
+        first_closed_x: contact.and_then(|c| c.onset.first_closed),
+        bodies: None,
+        pairs,
+    }
+}
+
+/// The terminal line of one solve.
+fn progress_line(row: &AdaptiveStep, solved: &Solved) -> String {
+    let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
+    let per_body = if solved.len() > 1 {
+        let counts: Vec<String> = solved.models.iter().map(|m| m.nodes.len().to_string()).collect();
+        format!(" ({})", counts.join(" + "))
+    } else {
+        String::new()
+    };
+    let contact = match &row.pairs {
+        Some(pairs) => {
+            let forces: Vec<String> =
+                pairs.iter().map(|p| format!("{:.6}", p.total_contact_force)).collect();
+            format!("pair contact forces [{}]", forces.join(", "))
+        }
+        None => format!(
+            "contact force {}, onset {} in [{}, {}]",
+            opt(row.total_contact_force),
+            opt(row.onset_x),
+            opt(row.last_open_x),
+            opt(row.first_closed_x)
+        ),
+    };
+    format!(
+        "refinement step {}: {} nodes{per_body}, estimated error {:.3e}, {contact}",
+        row.step, row.nodes, row.estimated_error
+    )
+}
+
+/// Every body's marks: Dörfler on its own estimate, and the contact marks of every pair —
+/// the candidates' transition candidates on the candidates' body and, on an elastic target,
+/// the target-edge nodes at their paired points.
+fn body_marks(solved: &Solved, estimates: Vec<Estimate>, adaptive: &Adaptive) -> Vec<BodyPart> {
+    let mut contact: Vec<Vec<usize>> = vec![Vec::new(); solved.len()];
+    if adaptive.contact {
+        for pair in solved.pairs() {
+            let c = pair.contact;
+            let transitions = transitions_of(c);
+            contact[pair.body].extend(transitions.iter().map(|&k| c.candidates.nodes[k] as usize));
+            if let Some((target, edge)) = pair.target {
+                let (p2, m2, _) = solved.body(target);
+                let points: Vec<Point> =
+                    transitions.iter().map(|&k| c.candidates.points[k]).collect();
+                contact[target].extend(paired_marks(&p2.domain, edge, &m2.nodes, &points));
+            }
+        }
+    }
+    estimates
+        .into_iter()
+        .zip(contact)
+        .map(|(estimate, contact)| {
+            let (marked, marked_contact) = marks(&estimate, adaptive.fraction, contact);
+            BodyPart { estimate, marked, marked_contact }
+        })
+        .collect()
+}
+
+/// `row` with nothing marked (a step that stops).
+fn unmarked(mut row: AdaptiveStep) -> AdaptiveStep {
+    for b in row.bodies.iter_mut().flatten() {
+        b.marked = 0;
+        b.marked_contact = 0;
+    }
+    row
+}
+
+/// The loop's result, stopped by `why` after `solved`.
+fn finish(
+    solved: Solved,
+    adaptive: &Adaptive,
+    why: &'static str,
+    rows: Vec<AdaptiveStep>,
+) -> AdaptiveRun {
+    let onset = solved.solution.contact.as_ref().map(|c| {
+        let o = &c.onset;
+        OnsetEstimate {
+            estimate: o.from_gap,
+            estimator: if o.from_gap == o.from_gap_raw { "gap_extrapolation" } else { "clipped" },
+            last_open_x: o.last_open,
+            first_closed_x: o.first_closed,
+            bracket_width: o.last_open.zip(o.first_closed).map(|(a, b)| b - a),
+        }
+    });
+    let summary = AdaptiveSummary { parameters: *adaptive, stopped_by: why, steps: rows, onset };
+    let (problem, model, second, others, solution) = solved.into_parts();
+    AdaptiveRun { problem, model, second, others, solution, summary }
 }
 
 #[cfg(test)]

@@ -1091,9 +1091,9 @@ impl Outcome {
             let run = adaptive::solve_adaptive(&problem, &a, progress, &mut |_, _, _, _| {})?;
             let mut summary = Summary::new(input, &run.problem, &run.model, &run.solution);
             summary.refinement = Some(run.summary);
-            let adaptive::AdaptiveRun { mut problem, model, second, solution, .. } = run;
+            let adaptive::AdaptiveRun { mut problem, model, second, others, solution, .. } = run;
             problem.adaptive = Some(a);
-            return Ok(Self { problem, model, second, others: Vec::new(), solution, summary });
+            return Ok(Self { problem, model, second, others, solution, summary });
         }
         let (model, second) = discretise_all(&problem, progress)?;
         if problem.multibody.is_some() {
@@ -1144,6 +1144,11 @@ fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
     };
     if o.summary.refinement.is_some() {
         files.extend(post::write_node_spacing(out, problem, &o.model.nodes)?);
+        if let Some(several) = &problem.multibody {
+            for (p, m) in several.bodies.iter().zip(&o.others) {
+                files.extend(post::write_node_spacing(&out.join(&p.name), p, &m.nodes)?);
+            }
+        }
     }
     if let (Some(p2), Some(m2), Some(s2)) =
         (problem.second_body.as_deref(), second, solution.second_body.as_deref())

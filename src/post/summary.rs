@@ -106,6 +106,25 @@ pub struct AdaptiveStep {
     /// `estimated_error` their combined estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bodies: Option<Vec<AdaptiveBodyStep>>,
+    /// Several contact pairs: each pair's force and onset (the figures above are then
+    /// absent; absent with one pair).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pairs: Option<Vec<AdaptivePairStep>>,
+}
+
+/// One contact pair's figures at a step of the adaptive loop with several pairs.
+#[derive(Clone, Debug, Serialize)]
+pub struct AdaptivePairStep {
+    /// The pair's index (`[[contact]]` order, as `pairs` in the summary).
+    pub pair: usize,
+    /// The pair's `Σ P_c`.
+    pub total_contact_force: f64,
+    /// The pair's onset estimate and its bracket.
+    pub onset_x: Option<f64>,
+    /// Last open candidate before the first closed one.
+    pub last_open_x: Option<f64>,
+    /// First closed candidate.
+    pub first_closed_x: Option<f64>,
 }
 
 /// One body's part of a step of the adaptive loop with two bodies.

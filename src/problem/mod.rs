@@ -206,6 +206,17 @@ impl Problem {
             _ => None,
         }
     }
+    /// Body `k`, mutable (as [`Problem::body`]).
+    pub fn body_mut(&mut self, k: usize) -> Option<&mut Problem> {
+        if k == 0 {
+            return Some(self);
+        }
+        match &mut self.multibody {
+            Some(m) => m.bodies.get_mut(k - 1),
+            None if k == 1 => self.second_body.as_deref_mut(),
+            None => None,
+        }
+    }
     /// Number of bodies.
     pub fn body_count(&self) -> usize {
         match &self.multibody {
@@ -454,8 +465,17 @@ plane = "stress"
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("problems/three_block_stack.toml");
         let three = std::fs::read_to_string(path).unwrap();
-        let e = Problem::from_toml(&format!("{three}\n[refinement]\n")).unwrap_err().to_string();
-        assert!(e.contains("`refinement`") && e.contains("two bodies in one contact pair"), "{e}");
+        // Three bodies in two pairs are accepted; one of them with a hole is refused, naming it.
+        let p = Problem::from_toml(&format!("{three}\n[refinement]\n")).unwrap();
+        assert!(p.adaptive.is_some() && p.multibody.is_some());
+        let top = "geometry = { kind = \"rectangle\", x = [0.0, 2.0], y = [2.0, 3.0] }";
+        assert!(three.contains(top));
+        let holed = three.replace(
+            top,
+            "geometry = { kind = \"rectangle\", x = [0.0, 2.0], y = [2.0, 3.0], holes = [{ kind = \"disk\", center = [1.0, 2.5], radius = 0.1, name = \"hole\" }] }",
+        );
+        let e = Problem::from_toml(&format!("{holed}\n[refinement]\n")).unwrap_err().to_string();
+        assert!(e.contains("`refinement`") && e.contains("body[2]"), "{e}");
     }
 
     #[test]

@@ -739,26 +739,19 @@ fn node_layout(
     Ok((h, layout, None))
 }
 
-/// `[refinement]` → the adaptive loop's parameters (one body, or two bodies in one contact
-/// pair, each without holes and not from Gmsh; MFVM only).
+/// `[refinement]` → the adaptive loop's parameters (any number of bodies, each without holes
+/// and not from Gmsh; MFVM only).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
-    if problem.multibody.is_some() {
-        return Err(invalid(
-            "refinement",
-            "(several bodies or contact pairs)",
-            "adaptive refinement is implemented for one body or two bodies in one contact pair; refine more bodies statically with [[body]] nodes.refine tables",
-        ));
-    }
-    // Each body: a loop without holes, not from Gmsh. With two bodies the first may be curved
-    // (its contact edge is the candidates'); the second body's target edge is straight
-    // (refused naming `contact.target_edge` before this, docs/method.md §4.3), which the
-    // paired contact marks need.
-    let pair = problem.second_body.is_some();
-    for (k, p) in std::iter::once(problem).chain(problem.second_body.as_deref()).enumerate() {
+    // Each body: a loop without holes, not from Gmsh. The candidates' bodies may be curved;
+    // an elastic pair's target edge is straight (refused naming the contact's target edge
+    // before this, docs/method.md §4.3), which the paired contact marks need.
+    let several = problem.body_count() > 1;
+    for k in 0..problem.body_count() {
+        let Some(p) = problem.body(k) else { continue };
         let gmsh =
             p.domain.curves().iter().any(|c| matches!(c, crate::geometry::Curve::Polyline { .. }));
         if p.domain.has_holes() || p.mesh_nodes.is_some() || gmsh {
-            let value = if pair {
+            let value = if several {
                 format!("(body[{k}]: a domain with holes or a Gmsh body)")
             } else {
                 "(a domain with holes or a Gmsh body)".to_string()
@@ -769,13 +762,13 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
                 "adaptive refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
             ));
         }
-    }
-    if problem.discretisation.method == Method::Fem {
-        return Err(invalid(
-            "refinement",
-            "(method = \"fem\")",
-            "the FE path meshes a uniform grid; adaptive refinement needs method = \"mfvm\"",
-        ));
+        if p.discretisation.method == Method::Fem {
+            return Err(invalid(
+                "refinement",
+                "(method = \"fem\")",
+                "the FE path meshes a uniform grid; adaptive refinement needs method = \"mfvm\"",
+            ));
+        }
     }
     let steps = file.steps.unwrap_or(Adaptive::STEPS);
     if !(1..=30).contains(&steps) {

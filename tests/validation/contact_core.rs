@@ -35,6 +35,11 @@ fn shipped_text(file: &str) -> String {
 /// The stack with `friction = mu` on both pairs (none for 0), and with the top edge's push
 /// given by one `[[step]]` of `increments` increments (`None`: no steps).
 fn stack(mu: f64, increments: Option<usize>) -> Problem {
+    Problem::from_toml(&stack_text(mu, increments)).unwrap()
+}
+
+/// The text of [`stack`]'s problem.
+fn stack_text(mu: f64, increments: Option<usize>) -> String {
     let mut text = shipped_text("three_block_stack.toml");
     if mu > 0.0 {
         text = text.replace(
@@ -48,7 +53,7 @@ fn stack(mu: f64, increments: Option<usize>) -> Problem {
             "\n[[step]]\nincrements = {n}\nboundary = [{{ body = \"top\", edge = \"top\", displacement = {{ y = -0.01 }} }}]\n"
         ));
     }
-    Problem::from_toml(&text).unwrap()
+    text
 }
 
 /// Every pair's total normal force.
@@ -231,4 +236,92 @@ fn a_held_body_with_nothing_determining_it_is_refused() {
         .replace("  { edge = \"top\", displacement = { y = -0.01 } },\n", "");
     let err = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap_err().to_string();
     assert!(err.contains("body `upper`") && err.contains("not determined"), "{err}");
+}
+
+/// `problem` solved by the adaptive loop with its own `[refinement]`.
+fn adaptive(problem: &Problem) -> mlpg_contact::pipeline::adaptive::AdaptiveRun {
+    let a = problem.adaptive.expect("the problem has [refinement]");
+    mlpg_contact::pipeline::adaptive::solve_adaptive(
+        problem,
+        &a,
+        &mut mlpg_contact::Silent,
+        &mut |_, _, _, _| {},
+    )
+    .unwrap()
+}
+
+/// The stack refined adaptively (two refinement steps), frictionless, and with `friction =
+/// 0.3` pressed in one `[[step]]` of 2 increments: every step's node sets grow on all three
+/// bodies and the frictionless pair forces stay 30/7 at every step (uniaxial stress: every
+/// node set reproduces it; to 1e-9); the frictional answer passes the checks of the one-step
+/// frictional stack.
+///
+/// `allow_indefinite = true` on both pairs: on the graded, non-matching node sets of the
+/// refinement steps the condensed compliance's symmetric part has a small negative
+/// eigenvalue (λ_min/λ_max ≈ −2.5e-4 at the second step; docs/dev/contact_core.md), which
+/// the run-time check refuses by default. The answers are checked here instead.
+#[test]
+fn the_stack_refines_adaptively_with_friction_and_steps() {
+    let refined = |mu: f64, increments: Option<usize>| {
+        let text = stack_text(mu, increments)
+            .replace("target_edge = \"top\"\n", "target_edge = \"top\"\nallow_indefinite = true\n")
+            + "\n[refinement]\nsteps = 2\n";
+        adaptive(&Problem::from_toml(&text).unwrap())
+    };
+    let run = refined(0.0, None);
+    assert_eq!(run.summary.steps.len(), 3);
+    let exact = 30.0 / 7.0;
+    for (k, row) in run.summary.steps.iter().enumerate() {
+        let bodies = row.bodies.as_ref().expect("one row per body");
+        let pairs = row.pairs.as_ref().expect("one row per pair");
+        assert_eq!((bodies.len(), pairs.len()), (3, 2));
+        if k > 0 {
+            let before = run.summary.steps[k - 1].bodies.as_ref().unwrap();
+            for (b, (now, then)) in bodies.iter().zip(before).enumerate() {
+                assert!(now.nodes > then.nodes, "step {k}, body {b}: {} nodes", now.nodes);
+            }
+        }
+        for p in pairs {
+            let error = (p.total_contact_force - exact).abs() / exact;
+            println!("refined stack, step {k}, pair {}: force error {error:.1e}", p.pair);
+            assert!(error <= 1e-9, "step {k}, pair {}: {}", p.pair, p.total_contact_force);
+        }
+    }
+    assert_eq!(run.others.len(), 2);
+    let run = refined(0.3, Some(2));
+    assert_eq!(run.summary.steps.len(), 3);
+    assert_frictional_checks("refined, friction, two increments", &run.solution, 0.3);
+}
+
+/// The two-body Hertz problem refined adaptively, with a second pair against an obstacle far
+/// away so that it takes the several-pairs path, refines exactly as the two-body loop: the
+/// same node counts per body at every step and the same contact force to 1e-9 (the far pair
+/// never closes, so its marks are none and the two loops see the same LCP).
+#[test]
+fn a_pair_refines_on_the_several_pairs_path_as_on_the_two_body_path() {
+    let text = shipped_text("hertz_two_bodies_adaptive.toml")
+        .replace("steps = 5 ", "steps = 2 ")
+        .replace("max_nodes = 30000", "max_nodes = 3000");
+    let two = adaptive(&Problem::from_toml(&text).unwrap());
+    let several = text.replace("[contact]\n", "[[contact]]\n").replace(
+        "[refinement]",
+        "[[contact]]\nbody = \"block\"\nedge = \"right\"\nobstacle_point = [6.5, 0.0]\nobstacle_normal = [-1.0, 0.0]\n\n[refinement]",
+    );
+    let many = adaptive(&Problem::from_toml(&several).unwrap());
+    assert_eq!(two.summary.steps.len(), 3);
+    assert_eq!(two.summary.steps.len(), many.summary.steps.len());
+    assert_eq!(two.summary.stopped_by, many.summary.stopped_by);
+    for (a, b) in two.summary.steps.iter().zip(&many.summary.steps) {
+        let counts = |r: &mlpg_contact::post::summary::AdaptiveStep| -> Vec<usize> {
+            r.bodies.as_ref().unwrap().iter().map(|b| b.nodes).collect()
+        };
+        assert_eq!(counts(a), counts(b), "step {}", a.step);
+        let f = a.total_contact_force.unwrap();
+        let pairs = b.pairs.as_ref().unwrap();
+        assert_eq!(pairs[1].total_contact_force, 0.0, "the far pair stays open");
+        let error = (pairs[0].total_contact_force - f).abs() / f;
+        println!("Hertz, step {}: several-pairs loop against two-body loop {error:.1e}", a.step);
+        assert!(error <= 1e-9, "step {}: {f} against {}", a.step, pairs[0].total_contact_force);
+        assert_eq!(a.nodes, b.nodes);
+    }
 }
