@@ -132,6 +132,9 @@ impl Error {
                 | D::SeveralHeld { .. }
                 | D::FreeBody { .. },
             )) => "boundary[*].displacement, contact",
+            Error::Lcp(L::LoadDriven(D::Undetermined { .. })) => {
+                "boundary[*] of the body named, body_force, contact"
+            }
             Error::Lcp(L::LoadDriven(_)) => "step[*].obstacle_force",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
             Error::LemkeRefused(_) => "contact.solver, nodes.spacing",

@@ -92,75 +92,97 @@ fn check(text: &str) -> Result<(), String> {
     }
 }
 
-#[test]
-fn no_mutated_problem_file_panics() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
-    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.path()).collect();
-    files.sort();
-    let mut inputs = 0usize;
-    let mut accepted = 0usize;
-    let mut failures = Vec::new();
-    let mut solved = 0usize;
-    let mut run = |text: &str| {
-        inputs += 1;
+/// What the campaign saw of one file's mutations.
+#[derive(Default)]
+struct Tally {
+    inputs: usize,
+    accepted: usize,
+    solved: usize,
+    failures: Vec<String>,
+}
+
+impl Tally {
+    /// Validates `text` and, every 25th accepted input, solves it too: it must end in a
+    /// finite solution or a typed error, never in a panic.
+    fn run(&mut self, text: &str) {
+        self.inputs += 1;
         if let Ok(problem) = ProblemFile::from_toml(text).and_then(Problem::try_from) {
-            accepted += 1;
-            // Every 25th accepted input is solved too: it must end in a finite solution or a
-            // typed error, never in a panic.
-            if accepted % 25 == 0 {
-                solved += 1;
+            self.accepted += 1;
+            if self.accepted % 25 == 0 {
+                self.solved += 1;
                 match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     mlpg_contact::solve(&problem)
                 })) {
-                    Err(_) => failures.push(format!("panic solving:\n{text}")),
+                    Err(_) => self.failures.push(format!("panic solving:\n{text}")),
                     Ok(Ok(s)) if s.first_non_finite().is_some() => {
-                        failures.push(format!("a non-finite solution of:\n{text}"))
+                        self.failures.push(format!("a non-finite solution of:\n{text}"))
                     }
                     Ok(_) => {}
                 }
             }
         }
         if let Err(e) = check(text) {
-            failures.push(e);
-        }
-    };
-    // Quiet the default panic message of caught panics; failures are reported below.
-    std::panic::set_hook(Box::new(|_| {}));
-    for (seed, path) in
-        files.iter().filter(|p| p.extension().is_some_and(|x| x == "toml")).enumerate()
-    {
-        let text = std::fs::read_to_string(path).unwrap();
-        for (start, end) in numbers(&text) {
-            for r in REPLACEMENTS {
-                run(&format!("{}{r}{}", &text[..start], &text[end..]));
-            }
-        }
-        let lines: Vec<&str> = text.lines().collect();
-        for k in 0..lines.len() {
-            let mut deleted = lines.clone();
-            deleted.remove(k);
-            run(&deleted.join("\n"));
-            let mut duplicated = lines.clone();
-            duplicated.insert(k, lines[k]);
-            run(&duplicated.join("\n"));
-        }
-        let mut rng = SplitMix64::new(seed as u64 + 1);
-        for _ in 0..300 {
-            let mut bytes = text.clone().into_bytes();
-            for _ in 0..1 + rng.next_u64() % 4 {
-                let at = (rng.next_u64() % bytes.len() as u64) as usize;
-                match rng.next_u64() % 3 {
-                    0 => bytes[at] = (rng.next_u64() % 128) as u8,
-                    1 => {
-                        bytes.remove(at);
-                    }
-                    _ => bytes.insert(at, b"0.-e[]{}=\",x9"[(rng.next_u64() % 13) as usize]),
-                }
-            }
-            run(&String::from_utf8_lossy(&bytes));
+            self.failures.push(e);
         }
     }
+}
+
+/// The mutations of one shipped file (`seed` seeds its random byte edits).
+fn mutate(seed: u64, text: &str) -> Tally {
+    let mut tally = Tally::default();
+    for (start, end) in numbers(text) {
+        for r in REPLACEMENTS {
+            tally.run(&format!("{}{r}{}", &text[..start], &text[end..]));
+        }
+    }
+    let lines: Vec<&str> = text.lines().collect();
+    for k in 0..lines.len() {
+        let mut deleted = lines.clone();
+        deleted.remove(k);
+        tally.run(&deleted.join("\n"));
+        let mut duplicated = lines.clone();
+        duplicated.insert(k, lines[k]);
+        tally.run(&duplicated.join("\n"));
+    }
+    let mut rng = SplitMix64::new(seed);
+    for _ in 0..300 {
+        let mut bytes = text.to_string().into_bytes();
+        for _ in 0..1 + rng.next_u64() % 4 {
+            let at = (rng.next_u64() % bytes.len() as u64) as usize;
+            match rng.next_u64() % 3 {
+                0 => bytes[at] = (rng.next_u64() % 128) as u8,
+                1 => {
+                    bytes.remove(at);
+                }
+                _ => bytes.insert(at, b"0.-e[]{}=\",x9"[(rng.next_u64() % 13) as usize]),
+            }
+        }
+        tally.run(&String::from_utf8_lossy(&bytes));
+    }
+    tally
+}
+
+/// The files are mutated in parallel (rayon), one [`Tally`] each: the campaign is the
+/// longest single test, and its files are independent.
+#[test]
+fn no_mutated_problem_file_panics() {
+    use rayon::prelude::*;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
+    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().flatten().map(|e| e.path()).collect();
+    files.sort();
+    files.retain(|p| p.extension().is_some_and(|x| x == "toml"));
+    // Quiet the default panic message of caught panics; failures are reported below.
+    std::panic::set_hook(Box::new(|_| {}));
+    let tallies: Vec<Tally> = files
+        .par_iter()
+        .enumerate()
+        .map(|(seed, path)| mutate(seed as u64 + 1, &std::fs::read_to_string(path).unwrap()))
+        .collect();
     let _ = std::panic::take_hook();
+    let inputs: usize = tallies.iter().map(|t| t.inputs).sum();
+    let accepted: usize = tallies.iter().map(|t| t.accepted).sum();
+    let solved: usize = tallies.iter().map(|t| t.solved).sum();
+    let failures: Vec<&String> = tallies.iter().flat_map(|t| &t.failures).collect();
     println!(
         "mutation campaign: {inputs} inputs, {accepted} accepted, {solved} of those solved, {} failures",
         failures.len()
@@ -170,6 +192,10 @@ fn no_mutated_problem_file_panics() {
         failures.is_empty(),
         "{} of {inputs} inputs failed:\n{}",
         failures.len(),
-        failures[..failures.len().min(3)].join("\n---\n")
+        failures[..failures.len().min(3)]
+            .iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>()
+            .join("\n---\n")
     );
 }

@@ -24,6 +24,8 @@ mod validation {
     mod stack;
     // The contact core's load path: friction, steps and held bodies for several pairs.
     mod contact_core;
+    // Every combination of friction, steps, refinement and solver, for 1–3 bodies.
+    mod capabilities;
     // Plate with a circular hole (Kirsch): curved, non-convex boundary; errors and rates.
     mod kirsch;
     // Bodies with holes: patch test, the full Kirsch plate from curves and from Gmsh, FE.

@@ -130,13 +130,6 @@ impl TryFrom<ProblemFile> for Problem {
             };
             vec![validate_body(name, parts, discretisation)?]
         } else {
-            if file.body.len() < 2 {
-                return Err(invalid(
-                    "body",
-                    file.body.len(),
-                    "give two or more [[body]] tables (or one body at the top level)",
-                ));
-            }
             if file.geometry.is_some()
                 || file.nodes.is_some()
                 || file.material.is_some()
@@ -1667,6 +1660,8 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     // The bodies in order (0 is `problem` itself) and whether there are several.
     let all: Vec<&Problem> = (0..problem.body_count()).filter_map(|k| problem.body(k)).collect();
     let second = (all.len() > 1).then_some(());
+    // One body given as a `[[body]]` table: its steps may name it.
+    let one_table = file.body.len() == 1;
     // Several contact pairs (`multibody`): each pair keeps its own coefficient unless a step
     // sets `friction`; the obstacles of rigid pairs do not move.
     let pairs = problem.multibody.is_some();
@@ -1802,6 +1797,8 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
             let names: Vec<&str> = bodies.iter().map(|b| b.0).collect();
             let index = match (&b.body, second) {
                 (None, None) => 0,
+                // One body given as a `[[body]]` table: its steps may name it.
+                (Some(name), None) if one_table && names == [name.as_str()] => 0,
                 (Some(name), None) => {
                     return Err(invalid(
                         &f("body"),
