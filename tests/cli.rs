@@ -562,6 +562,42 @@ fn cantilever_problem_tip_deflection() {
     assert!(ls["refinement_steps"].is_null());
 }
 
+/// Runs the binary on `file` into `target/cli-tests/<name>/out`; returns (exit code, stderr,
+/// `summary.json`'s `warnings`).
+fn warnings_of(file: &Path, name: &str) -> (Option<i32>, String, Vec<String>) {
+    let dir = scratch(name).join("out");
+    let out =
+        Command::new(binary()).arg(file).arg("--out").arg(&dir).arg("--quiet").output().unwrap();
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let warnings = summary["warnings"].as_array().unwrap();
+    let warnings = warnings.iter().map(|w| w.as_str().unwrap().to_string()).collect();
+    (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned(), warnings)
+}
+
+/// A contact zone closed by fewer than 8 candidates is under-resolved: the cylinder indenter at
+/// a uniform spacing of 0.05 (tests/data/resolution/, 3 candidates closed) runs (exit 0) but
+/// warns on the terminal and in `summary.json`, naming the remedy; the shipped beam (114
+/// closed) and the shipped, refined indenter (15 closed) do not.
+#[test]
+fn under_resolved_contact_zone_warns() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let coarse = root.join("tests/data/resolution/cylinder_indenter_coarse.toml");
+    let (code, stderr, warnings) = warnings_of(&coarse, "resolution-coarse");
+    assert_eq!(code, Some(0), "{stderr}");
+    let expected = "contact: under-resolved: the contact zone closes 3 candidates (fewer than 8)";
+    assert!(stderr.contains(&format!("warning: {expected}")), "{stderr}");
+    let warning = warnings.iter().find(|w| w.starts_with(expected));
+    assert!(warning.is_some_and(|w| w.contains("[[nodes.refine]]") && w.contains("[refinement]")));
+    for shipped in ["beam_on_foundation.toml", "cylinder_indenter.toml"] {
+        let file = root.join("problems").join(shipped);
+        let (code, stderr, warnings) = warnings_of(&file, &format!("resolution-{shipped}"));
+        assert_eq!(code, Some(0), "{stderr}");
+        assert!(!stderr.contains("under-resolved"), "{shipped}: {stderr}");
+        assert!(warnings.iter().all(|w| !w.contains("under-resolved")), "{shipped}: {warnings:?}");
+    }
+}
+
 /// Every shipped problem file runs (the README's main command among them).
 #[test]
 fn every_shipped_problem_runs() {

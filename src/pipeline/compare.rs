@@ -286,8 +286,11 @@ fn overlay_plots(
     charts.push((
         "compare_deflection",
         plot::Chart {
-            title: format!("{}: {} along `{profile}`, MFVM and FE", problem.name, mfvm.component),
-            x_label: format!("distance along `{profile}`"),
+            title: format!(
+                "{}: {} along edge {profile}, MFVM and FE",
+                problem.name, mfvm.component
+            ),
+            x_label: format!("distance along edge {profile}"),
             y_label: mfvm.component.into(),
             series: vec![
                 series("MFVM", &mfvm.deflection, plot::Style::Line, 1),
@@ -300,8 +303,8 @@ fn overlay_plots(
         charts.push((
             "compare_pressure",
             plot::Chart {
-                title: format!("{}: contact pressure along `{edge}`, MFVM and FE", problem.name),
-                x_label: format!("distance along `{edge}`"),
+                title: format!("{}: contact pressure along edge {edge}, MFVM and FE", problem.name),
+                x_label: format!("distance along edge {edge}"),
                 y_label: "pressure".into(),
                 series: vec![
                     series("MFVM: P_c / |segment|", &mfvm.pressure, plot::Style::Line, 1),
@@ -314,10 +317,10 @@ fn overlay_plots(
                 "compare_tangential_traction",
                 plot::Chart {
                     title: format!(
-                        "{}: tangential traction along `{edge}`, MFVM and FE",
+                        "{}: tangential traction along edge {edge}, MFVM and FE",
                         problem.name
                     ),
-                    x_label: format!("distance along `{edge}`"),
+                    x_label: format!("distance along edge {edge}"),
                     y_label: "tangential traction".into(),
                     series: vec![
                         series("MFVM: T_c / |segment|", &mfvm.tangential, plot::Style::Line, 1),

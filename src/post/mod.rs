@@ -4,12 +4,15 @@
 //! Every file is deterministic (fixed float formatting, sorted keys) except the `timings`
 //! field of `summary.json`.
 
+mod deformed;
 mod outdir;
 pub mod paraview;
 pub mod plot;
 pub mod report;
+pub mod resolution;
 pub mod summary;
 mod vtk;
+mod zoom;
 
 pub use outdir::{MANIFEST, StagedDir, abandon_staging};
 pub use paraview::write_paraview;
@@ -261,18 +264,18 @@ pub fn write_multibody(
         let edge = &body.domain.edge_names()[pair.spec.edge];
         let target = match (pair.target_body.and_then(|t| problem.body(t)), pair.spec.target) {
             (Some(t), ContactTarget::Body { edge: e2 }) => {
-                format!("edge `{}` of `{}`", t.domain.edge_names()[e2], t.name)
+                format!("edge {} of {}", t.domain.edge_names()[e2], t.name)
             }
             _ => "the obstacle".to_string(),
         };
         let cand = &c.candidates;
         let chart = plot::Chart {
             title: format!(
-                "{}: contact pressure along `{edge}` of `{}` against {target}",
+                "{}: contact pressure along edge {edge} of {} against {target}",
                 problem.name, body.name
             ),
-            x_label: format!("distance s along `{edge}`"),
-            y_label: "contact pressure p".into(),
+            x_label: along_label(edge),
+            y_label: PRESSURE_LABEL.into(),
             series: vec![plot::Series {
                 label: "p = P_c/|segment|".into(),
                 points: (0..cand.len()).map(|i| (cand.arc_length[i], c.pressure[i])).collect(),
@@ -281,7 +284,8 @@ pub fn write_multibody(
             }],
         };
         let stem = plots.join(format!("contact_pressure_{k}"));
-        written.extend(plot::write_chart(&stem, &chart)?);
+        let window = zoom::contact_window(&cand.arc_length, &c.closed);
+        written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     }
     Ok(written)
 }
@@ -302,6 +306,7 @@ fn contact_outputs(
     let plots = dir.join("plots");
     create_dir(&plots)?;
     let edge = &problem.domain.edge_names()[problem.contact.as_ref().map_or(0, |s| s.edge)];
+    let window = zoom::contact_window(&cand.arc_length, &c.closed);
     // Deflection of the contact edge along each candidate's normal, and the obstacle at −g0.
     let deflection: Vec<(f64, f64)> = (0..cand.len())
         .map(|k| {
@@ -325,20 +330,17 @@ fn contact_outputs(
     let (target_label, target_title) = match (problem.contact.map(|s| s.target), second) {
         (Some(ContactTarget::Body { edge: e2 }), Some((p2, _))) => {
             let edge2 = &p2.domain.edge_names()[e2];
-            (
-                format!("body `{}`, edge `{edge2}`: ν·u^h − g0", p2.name),
-                format!("body `{}`", p2.name),
-            )
+            (format!("body {}, edge {edge2}: ν·u^h − g0", p2.name), format!("body {}", p2.name))
         }
         _ => ("rigid obstacle: −g0".to_string(), "the obstacle".to_string()),
     };
     let chart = plot::Chart {
-        title: format!("{}: displacement of edge `{edge}` towards {target_title}", problem.name),
-        x_label: format!("distance s along `{edge}`"),
-        y_label: "normal displacement ν·u^h".into(),
+        title: format!("{}: displacement of edge {edge} towards {target_title}", problem.name),
+        x_label: along_label(edge),
+        y_label: "normal displacement ν·u^h (length)".into(),
         series: vec![
             plot::Series {
-                label: format!("edge `{edge}`: ν·u^h ({})", method_label(problem)),
+                label: format!("edge {edge}: ν·u^h ({})", method_label(problem)),
                 points: deflection,
                 style: plot::Style::Line,
                 colour: 1,
@@ -346,13 +348,13 @@ fn contact_outputs(
             plot::Series {
                 label: target_label,
                 points: obstacle,
-                style: plot::Style::Dashed,
+                style: plot::Style::Reference,
                 colour: 0,
             },
         ],
     };
     let stem = plots.join("contact_deflection");
-    written.extend(plot::write_chart(&stem, &chart)?);
+    written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     let pressure: Vec<(f64, f64)> =
         (0..cand.len()).map(|k| (cand.arc_length[k], c.pressure[k])).collect();
     let mut series = vec![plot::Series {
@@ -361,7 +363,7 @@ fn contact_outputs(
         style: plot::Style::Line,
         colour: 4,
     }];
-    if let Some(lc) = c.onset.from_gap {
+    if let Some(lc) = zoom::marked_onset(c) {
         let top = c.pressure.iter().copied().fold(0.0, f64::max);
         series.push(plot::Series {
             label: format!("onset l_c = {lc:.4}"),
@@ -371,16 +373,17 @@ fn contact_outputs(
         });
     }
     let chart = plot::Chart {
-        title: format!("{}: contact pressure along `{edge}`", problem.name),
-        x_label: format!("distance s along `{edge}`"),
-        y_label: "contact pressure p".into(),
+        title: format!("{}: contact pressure along edge {edge}", problem.name),
+        x_label: along_label(edge),
+        y_label: PRESSURE_LABEL.into(),
         series,
     };
     let stem = plots.join("contact_pressure");
-    written.extend(plot::write_chart(&stem, &chart)?);
+    written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     if let Some(f) = &c.friction {
         let stem = plots.join("contact_traction");
-        written.extend(plot::write_chart(&stem, &traction_chart(problem, c, f, edge))?);
+        let chart = traction_chart(problem, c, f, edge);
+        written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     }
     Ok(written)
 }
@@ -504,11 +507,19 @@ fn traction_chart(
         colour: 0,
     });
     plot::Chart {
-        title: format!("{}: contact tractions along `{edge}`, friction μ = {mu}", problem.name),
-        x_label: format!("distance s along `{edge}`"),
-        y_label: "traction (p normal, q tangential along t)".into(),
+        title: format!("{}: contact tractions along edge {edge}, friction μ = {mu}", problem.name),
+        x_label: along_label(edge),
+        y_label: "traction: p normal, q along t (units of E)".into(),
         series,
     }
+}
+
+/// The y-axis label of the contact pressure plots.
+const PRESSURE_LABEL: &str = "contact pressure p (units of E)";
+
+/// The x-axis label of a plot along `edge`.
+fn along_label(edge: &str) -> String {
+    format!("s: distance along edge {edge} from its first vertex (length)")
 }
 
 /// `"MFVM"` or `"FE"`, for labels.
@@ -536,7 +547,21 @@ fn solution_plots(
 ) -> Result<Vec<PathBuf>, OutputError> {
     let plots = dir.join("plots");
     create_dir(&plots)?;
-    let nodes = &model.nodes;
+    let deformed = plots.join("deformed");
+    plot::write_cell_map(&deformed, &deformed_map(problem, model, second, solution, others))?;
+    let profile = plots.join("profile");
+    plot::write_chart(&profile, &profile_chart(problem, model, solution))?;
+    Ok(vec![
+        deformed.with_extension("svg"),
+        deformed.with_extension("png"),
+        profile.with_extension("svg"),
+        profile.with_extension("png"),
+    ])
+}
+
+/// The magnification of the deformed plot: the largest displacement of any body drawn at a
+/// tenth of the size of the bodies' bounding box (1 without displacement).
+fn magnification(problem: &Problem, solution: &Solution, others: &[Drawn<'_>]) -> f64 {
     let (lo, hi) = others.iter().fold(problem.domain.bounding_box(), |(lo, hi), (p, _, _)| {
         let (a, b) = p.domain.bounding_box();
         ([lo[0].min(a[0]), lo[1].min(a[1])], [hi[0].max(b[0]), hi[1].max(b[1])])
@@ -547,78 +572,80 @@ fn solution_plots(
         .flat_map(|s| s.displacement.iter())
         .map(|u| u[0].hypot(u[1]))
         .fold(0.0, f64::max);
-    let magnification = if umax > 0.0 { 0.1 * size / umax } else { 1.0 };
-    let deform =
-        |p: &[f64; 2], u: &[f64; 2]| (p[0] + magnification * u[0], p[1] + magnification * u[1]);
-    let mut points: Vec<(f64, f64)> =
-        nodes.points.iter().zip(&solution.displacement).map(|(p, u)| deform(p, u)).collect();
-    let mut values: Vec<f64> =
-        solution.stress.iter().map(|s| problem.material.von_mises(*s)).collect();
-    let min_spacing = nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
-    let mut lines = vec![outline(&problem.domain, min_spacing, "undeformed outline")];
-    lines.extend(hole_outlines(&problem.domain, min_spacing));
-    let mut labels = Vec::new();
+    if umax > 0.0 { 0.1 * size / umax } else { 1.0 }
+}
+
+/// The nodes of a body at their deformed positions, magnified `m` times.
+fn deformed_nodes(model: &Model, solution: &Solution, m: f64) -> Vec<(f64, f64)> {
+    let points = model.nodes.points.iter().zip(&solution.displacement);
+    points.map(|(p, u)| (p[0] + m * u[0], p[1] + m * u[1])).collect()
+}
+
+/// Another body of the deformed plot: its cells, its name at its centre and its undeformed
+/// outline (unlabelled).
+fn add_body(map: &mut plot::CellMap, (p, model, s): Drawn<'_>, m: f64) {
+    map.cells.extend(deformed::body_cells(p, model, s, m));
+    map.labels.push(body_label(&p.name, &deformed_nodes(model, s, m)));
+    let h = model.nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut o = outline(&p.domain, h, "");
+    o.label = None;
+    map.lines.push(o);
+}
+
+/// The deformed plot: every body's cells on one scale and magnification, the undeformed
+/// outlines, and the rigid obstacle(s) with their gaps magnified like the displacement.
+fn deformed_map(
+    problem: &Problem,
+    model: &Model,
+    second: Option<&Model>,
+    solution: &Solution,
+    others: &[Drawn<'_>],
+) -> plot::CellMap {
+    let m = magnification(problem, solution, others);
+    let points = deformed_nodes(model, solution, m);
+    let min_spacing = model.nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut map = plot::CellMap {
+        title: format!(
+            "{}: deformed shape (displacement ×{}), von Mises stress",
+            problem.name,
+            significant(m)
+        ),
+        value_label: "σ_vM (units of E)".into(),
+        x_label: "x + m·u_x".into(),
+        y_label: "y + m·u_y".into(),
+        cells: deformed::body_cells(problem, model, solution, m),
+        lines: vec![outline(&problem.domain, min_spacing, "undeformed outline")],
+        labels: Vec::new(),
+    };
+    map.lines.extend(hole_outlines(&problem.domain, min_spacing));
     match (problem.contact.map(|s| s.target), &solution.contact) {
         (Some(ContactTarget::Rigid(line)), Some(c)) => {
-            lines.push(obstacle_line(&line, c, magnification, &points));
+            map.lines.push(obstacle_line(&line, c, m, &points));
         }
         (Some(ContactTarget::Obstacles), Some(c)) => {
-            lines.extend(obstacle_shapes(problem, c, magnification, &points));
+            map.lines.extend(obstacle_shapes(problem, c, m, &points));
         }
         (Some(ContactTarget::Body { .. }), _) => {
-            if let (Some(p2), Some(s2)) =
-                (problem.second_body.as_deref(), solution.second_body.as_deref())
-            {
-                // The second body on the same scale and magnification.
-                if let Some(n2) = second.map(|m| &m.nodes) {
-                    labels.push(body_label(&problem.name, &points));
-                    let second: Vec<(f64, f64)> =
-                        n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
-                    labels.push(body_label(&p2.name, &second));
-                    points.extend(second);
-                    values.extend(s2.stress.iter().map(|s| p2.material.von_mises(*s)));
-                    let h2 = n2.spacing.iter().copied().fold(f64::INFINITY, f64::min);
-                    let mut o = outline(&p2.domain, h2, "");
-                    o.label = None;
-                    lines.push(o);
-                }
+            let p2 = problem.second_body.as_deref();
+            if let (Some(p2), Some(s2), Some(m2)) = (p2, solution.second_body.as_deref(), second) {
+                map.labels.push(body_label(&problem.name, &points));
+                add_body(&mut map, (p2, m2, s2), m);
             }
         }
         _ => {}
     }
     if !others.is_empty() {
-        // Every body on the same scale; the magnification from the largest displacement.
-        labels.push(body_label(&problem.name, &points));
+        map.labels.push(body_label(&problem.name, &points));
     }
-    for &(p2, m2, s2) in others {
-        let n2 = &m2.nodes;
-        let drawn: Vec<(f64, f64)> =
-            n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
-        labels.push(body_label(&p2.name, &drawn));
-        points.extend(drawn);
-        values.extend(s2.stress.iter().map(|s| p2.material.von_mises(*s)));
-        let h2 = n2.spacing.iter().copied().fold(f64::INFINITY, f64::min);
-        let mut o = outline(&p2.domain, h2, "");
-        o.label = None;
-        lines.push(o);
+    for &other in others {
+        add_body(&mut map, other, m);
     }
-    let map = plot::ColourMap {
-        title: format!(
-            "{}: deformed shape (displacement ×{}), von Mises stress",
-            problem.name,
-            significant(magnification)
-        ),
-        value_label: "von Mises σ_vM".into(),
-        x_label: "x + m·u_x".into(),
-        y_label: "y + m·u_y".into(),
-        points,
-        values,
-        lines,
-        labels,
-    };
-    let deformed = plots.join("deformed");
-    plot::write_colour_map(&deformed, &map)?;
+    map
+}
 
+/// `u_x` and `u_y` along the edge `[output] profile_edge`.
+fn profile_chart(problem: &Problem, model: &Model, solution: &Solution) -> plot::Chart {
+    let nodes = &model.nodes;
     let k = problem.profile_edge;
     let name = &problem.domain.edge_names()[k];
     let mut on_edge: Vec<(f64, usize)> = (0..nodes.len())
@@ -633,20 +660,12 @@ fn solution_plots(
         style: plot::Style::Line,
         colour,
     };
-    let chart = plot::Chart {
-        title: format!("{}: displacement u^h along edge `{name}`", problem.name),
-        x_label: format!("distance s along `{name}` from its first vertex"),
-        y_label: "displacement u^h".into(),
+    plot::Chart {
+        title: format!("{}: displacement u^h along edge {name}", problem.name),
+        x_label: along_label(name),
+        y_label: "displacement u^h (length)".into(),
         series: vec![series(0, "u_x", 0), series(1, "u_y", 1)],
-    };
-    let profile = plots.join("profile");
-    plot::write_chart(&profile, &chart)?;
-    Ok(vec![
-        deformed.with_extension("svg"),
-        deformed.with_extension("png"),
-        profile.with_extension("svg"),
-        profile.with_extension("png"),
-    ])
+    }
 }
 
 /// `plots/node_spacing.{svg,png}`: the nodes of an adaptively refined set coloured by
@@ -853,7 +872,7 @@ fn obstacle_shapes(
             }
         };
         let label =
-            format!("rigid {} `{}` (gap drawn ×{} like u)", shape.kind(), o.name, significant(m));
+            format!("rigid {} {} (gap drawn ×{} like u)", shape.kind(), o.name, significant(m));
         let mut first = true;
         let mut run: Vec<(f64, f64)> = Vec::new();
         for p in outline.iter().chain(std::iter::once(&(f64::NAN, f64::NAN))) {
@@ -879,5 +898,5 @@ fn body_label(name: &str, points: &[(f64, f64)]) -> (String, (f64, f64)) {
     let n = points.len().max(1) as f64;
     let x = points.iter().map(|p| p.0).sum::<f64>() / n;
     let y = points.iter().map(|p| p.1).sum::<f64>() / n;
-    (format!("body `{name}`"), (x, y))
+    (format!("body {name}"), (x, y))
 }

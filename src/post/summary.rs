@@ -56,7 +56,8 @@ pub struct Summary {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub refinement: Option<AdaptiveSummary>,
     /// What the run proceeded past (an unstable discretisation or an indefinite `M` accepted on
-    /// request).
+    /// request, a contact zone closed by too few candidates), each with its remedy where one
+    /// applies.
     pub warnings: Vec<String>,
     /// Seconds per stage (a stage run twice, such as `solve` for two bodies, keeps the last).
     pub timings: BTreeMap<&'static str, f64>,
@@ -958,7 +959,8 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
 
 /// Everything the run proceeded past: an unstable discretisation accepted with
 /// `allow_unstable`, a contact compliance accepted with `allow_indefinite`, Lemke's failure
-/// that `contact.solver = "auto"` answered with the active-set solver.
+/// that `contact.solver = "auto"` answered with the active-set solver, a contact zone closed
+/// by fewer candidates than [`super::resolution::MIN_CLOSED`].
 fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
     let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
     let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
@@ -984,8 +986,16 @@ fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
             c.unpaired
         )
     });
+    let resolution =
+        solution.contact.iter().filter_map(|c| super::resolution::warning("contact", c));
+    let several_resolution = several
+        .into_iter()
+        .flat_map(|m| m.pairs.iter().enumerate())
+        .filter_map(|(k, c)| super::resolution::warning(&format!("contact[{k}]"), c));
     disc.into_iter()
         .chain(contact.map(|w| format!("contact: {w}")))
+        .chain(resolution)
+        .chain(several_resolution)
         .chain(unpaired)
         .chain(fallback)
         .chain(several_warning.map(|w| format!("contact: {w}")))

@@ -164,6 +164,13 @@ pub(crate) fn merge_vertices<'a>(
 const VTK_TRIANGLE: u8 = 5;
 const VTK_QUAD: u8 = 9;
 
+/// Local corner quadruples of the four sub-quads of a Q2 element (counter-clockwise on the
+/// reference element).
+pub(crate) const Q2_SUB_QUADS: [[usize; 4]; 4] =
+    [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+/// Local corner triples of the four sub-triangles of a T6 element (counter-clockwise).
+pub(crate) const T6_SUB_TRIANGLES: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+
 /// The FE solution: points = nodes, cells = four sub-quads per Q2 element (VTK_QUAD) and four
 /// sub-triangles per T6 element (VTK_TRIANGLE).
 fn fem_vtu(
@@ -173,18 +180,13 @@ fn fem_vtu(
     solution: &Solution,
     reaction: Vec<[f64; 2]>,
 ) -> String {
-    // Local corner quadruples of the four sub-quads of a Q2 element and corner triples of the
-    // four sub-triangles of a T6 element (counter-clockwise on the reference element).
-    const SUB: [[usize; 4]; 4] = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
-    const SUB_T: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
     let quads = mesh
         .elements
         .iter()
-        .flat_map(|e| SUB.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
-    let triangles = mesh
-        .triangles
-        .iter()
-        .flat_map(|e| SUB_T.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
+        .flat_map(|e| Q2_SUB_QUADS.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
+    let triangles = mesh.triangles.iter().flat_map(|e| {
+        T6_SUB_TRIANGLES.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect())
+    });
     let connectivity: Vec<Vec<usize>> = quads.chain(triangles).collect();
     let mut point_data = field_arrays(
         &problem.material,
