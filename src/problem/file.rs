@@ -106,9 +106,10 @@ pub struct ObstacleFile {
         deserialize_with = "exact::optional_pair"
     )]
     pub normal: Option<[f64; 2]>,
-    /// Circle: its centre.
+    /// Circle: its centre (`center` is accepted too).
     #[serde(
         default,
+        alias = "center",
         skip_serializing_if = "Option::is_none",
         deserialize_with = "exact::optional_pair"
     )]
@@ -458,8 +459,8 @@ pub struct GeometryTable {
     /// Curves: the curves.
     #[serde(default)]
     pub curves: Option<Vec<CurveFile>>,
-    /// Disk: the centre.
-    #[serde(default, deserialize_with = "exact::optional_pair")]
+    /// Disk: the centre (`centre` is accepted too).
+    #[serde(default, alias = "centre", deserialize_with = "exact::optional_pair")]
     pub center: Option<[f64; 2]>,
     /// Disk: the radius.
     #[serde(default)]
@@ -590,8 +591,8 @@ pub enum HoleKind {
 pub struct HoleTable {
     /// The kind.
     pub kind: HoleKind,
-    /// Disk: the centre.
-    #[serde(default, deserialize_with = "exact::optional_pair")]
+    /// Disk: the centre (`centre` is accepted too).
+    #[serde(default, alias = "centre", deserialize_with = "exact::optional_pair")]
     pub center: Option<[f64; 2]>,
     /// Disk: the radius.
     #[serde(default)]
@@ -663,7 +664,7 @@ pub struct CurveFile {
     pub to: [f64; 2],
     /// Centre of a circular arc (absent: a straight segment). `to` must lie on the circle
     /// through the start point; `to` equal to the start point gives the full circle.
-    #[serde(default, deserialize_with = "exact::optional_pair")]
+    #[serde(default, alias = "centre", deserialize_with = "exact::optional_pair")]
     pub center: Option<[f64; 2]>,
     /// Direction of an arc: `"ccw"` (default; the body inside the circle) or `"cw"` (the
     /// body outside it, as around a hole).

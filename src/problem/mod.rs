@@ -391,6 +391,24 @@ plane = "stress"
     }
 
     #[test]
+    fn centre_and_center_are_both_accepted() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("problems/cylinder_indenter.toml");
+        let text = std::fs::read_to_string(path).unwrap();
+        assert!(text.contains("\ncentre = "));
+        let british = Problem::from_toml(&text).unwrap();
+        let american = Problem::from_toml(&text.replace("\ncentre = ", "\ncenter = ")).unwrap();
+        assert_eq!(format!("{:?}", british.obstacles), format!("{:?}", american.obstacles));
+        let disk = |key: &str| {
+            format!(
+                "[geometry]\nkind = \"disk\"\n{key} = [0.0, 0.0]\nradius = 1.0\n[nodes]\nspacing = 0.25\n[material]\nyoung = 1.0\npoisson = 0.3\nplane = \"strain\"\n[[boundary]]\nedge = \"rim\"\ndisplacement = {{ x = 0.0, y = 0.0 }}\n"
+            )
+        };
+        let (a, b) = (Problem::from_toml(&disk("center")), Problem::from_toml(&disk("centre")));
+        assert_eq!(format!("{:?}", a.unwrap().domain), format!("{:?}", b.unwrap().domain));
+    }
+
+    #[test]
     fn adaptive_table_is_validated_with_key_paths() {
         let with = |table: &str| Problem::from_toml(&format!("{BODY}\n[refinement]\n{table}"));
         let a = with("").unwrap().adaptive.unwrap();
