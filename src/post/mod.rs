@@ -154,9 +154,10 @@ fn write_body(
     written.push(save(dir, "displacement.csv", &text)?);
 
     let mut text = String::from("node,x,y,sxx,syy,sxy,von_mises\n");
+    let von_mises = solution.von_mises(&problem.material);
     for (i, p) in nodes.points.iter().enumerate() {
         let s = solution.stress[i];
-        let vm = problem.material.von_mises(s);
+        let vm = von_mises[i];
         let _ = writeln!(
             text,
             "{i},{},{},{},{},{},{}",
@@ -169,6 +170,15 @@ fn write_body(
         );
     }
     written.push(save(dir, "stress.csv", &text)?);
+
+    if !solution.hoop.is_empty() {
+        // Axisymmetric bodies only (x = r, y = z; docs/method.md §9.2).
+        let mut text = String::from("node,r,z,e_thth,s_thth\n");
+        for (i, (p, h)) in nodes.points.iter().zip(&solution.hoop).enumerate() {
+            let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(h[0]), num(h[1]));
+        }
+        written.push(save(dir, "hoop.csv", &text)?);
+    }
 
     let mut text = String::from("node,axis,x,y,reaction\n");
     for &(node, axis, r) in &solution.reactions {
@@ -552,8 +562,7 @@ fn solution_plots(
         |p: &[f64; 2], u: &[f64; 2]| (p[0] + magnification * u[0], p[1] + magnification * u[1]);
     let mut points: Vec<(f64, f64)> =
         nodes.points.iter().zip(&solution.displacement).map(|(p, u)| deform(p, u)).collect();
-    let mut values: Vec<f64> =
-        solution.stress.iter().map(|s| problem.material.von_mises(*s)).collect();
+    let mut values: Vec<f64> = solution.von_mises(&problem.material);
     let min_spacing = nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
     let mut lines = vec![outline(&problem.domain, min_spacing, "undeformed outline")];
     lines.extend(hole_outlines(&problem.domain, min_spacing));
@@ -576,7 +585,7 @@ fn solution_plots(
                         n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
                     labels.push(body_label(&p2.name, &second));
                     points.extend(second);
-                    values.extend(s2.stress.iter().map(|s| p2.material.von_mises(*s)));
+                    values.extend(s2.von_mises(&p2.material));
                     let h2 = n2.spacing.iter().copied().fold(f64::INFINITY, f64::min);
                     let mut o = outline(&p2.domain, h2, "");
                     o.label = None;
@@ -596,7 +605,7 @@ fn solution_plots(
             n2.points.iter().zip(&s2.displacement).map(|(p, u)| deform(p, u)).collect();
         labels.push(body_label(&p2.name, &drawn));
         points.extend(drawn);
-        values.extend(s2.stress.iter().map(|s| p2.material.von_mises(*s)));
+        values.extend(s2.von_mises(&p2.material));
         let h2 = n2.spacing.iter().copied().fold(f64::INFINITY, f64::min);
         let mut o = outline(&p2.domain, h2, "");
         o.label = None;
