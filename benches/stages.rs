@@ -128,6 +128,7 @@ impl Inputs {
             face_quadrature: &self.face_quadrature,
             face_shapes: &self.face_shapes,
             node_shapes: &self.node_shapes,
+            axisymmetric: None,
             beta: self.problem.discretisation.beta,
         })
         .expect("assembly")

@@ -12,8 +12,12 @@
 //! face points. `β = 0` is the paper's method; `β = 1` never touches `S` (the stencil of a row
 //! shrinks from the supports of the supports of the face points to the face points' supports).
 
+mod axisymmetric;
+
+pub use axisymmetric::Axisymmetric;
+
 use crate::geometry::{Domain, Point};
-use crate::material::Constitutive;
+use crate::material::{Constitutive, Hoop};
 use crate::mls::ShapeSet;
 use crate::nodes::{Axis, Nodes, dof};
 use crate::problem::{BodyForce, ComponentCondition, ContactTarget, EdgeCondition, Field, Problem};
@@ -40,6 +44,17 @@ pub enum AssemblyError {
     RigidBodyMotion {
         /// Which motion is free.
         mode: &'static str,
+    },
+    /// The body's material is axisymmetric but the hoop terms were not given, or the other
+    /// way round ([`AssemblyInput::axisymmetric`] against [`Body::hoop`]).
+    #[error(
+        "the body is {body} but the assembly input {input} (build AssemblyInput::axisymmetric from the cells exactly when the material is axisymmetric)"
+    )]
+    AxisymmetricMismatch {
+        /// "axisymmetric" or "plane".
+        body: &'static str,
+        /// What the input has.
+        input: &'static str,
     },
     /// `β > 0` blends in direct MLS strains at the face points, whose gradients were not
     /// computed (build the face shapes with [`needs_face_gradients`]).
@@ -156,6 +171,10 @@ pub struct GlobalSystem {
     /// The rigid-body translation the displacement conditions leave free and the contact is
     /// to hold, pinned at one node (its row among `constraints`; docs/method.md §4.7).
     pub pinned: Option<PinnedMode>,
+    /// Whether the body is axisymmetric (`x = r`): then only the axial (`y`) components of the
+    /// loads and reactions balance globally; the radial ones balance the hoop stresses
+    /// (docs/method.md §9.3).
+    pub axisymmetric: bool,
 }
 
 /// A rigid-body translation that no displacement condition restrains, left to a contact with
@@ -204,6 +223,9 @@ pub struct AssemblyInput<'a> {
     pub node_shapes: &'a ShapeSet,
     /// Stabilisation blend `β ∈ [0, 1]` (docs/method.md §3.9; 0 = the paper's mixed method).
     pub beta: f64,
+    /// The hoop terms of an axisymmetric body (docs/method.md §9; `None` in plane stress and
+    /// strain). Its hoop must be the body's [`Body::hoop`].
+    pub axisymmetric: Option<Axisymmetric<'a>>,
 }
 
 /// What either discretisation ([`assemble`], [`crate::fem::system::assemble`]) needs of the
@@ -227,6 +249,10 @@ pub struct Body<'a> {
     /// rigid-body translation that the displacement conditions leave free (MFVM: pinned,
     /// [`PinnedMode`], instead of refused).
     pub contact_may_hold: bool,
+    /// The hoop terms of an axisymmetric body (`x = r`, `y = z`; docs/method.md §9): loads are
+    /// weighted by `r` (per radian) and only the translation along the axis is a rigid-body
+    /// motion. `None` in plane stress and strain.
+    pub hoop: Option<Hoop>,
 }
 
 impl<'a> Body<'a> {
@@ -248,6 +274,7 @@ impl<'a> Body<'a> {
                 || problem.multibody.as_ref().is_some_and(|m| {
                     m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0))
                 }),
+            hoop: problem.material.hoop(),
         }
     }
 }
@@ -266,13 +293,40 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
     if needs_face_gradients(beta) && !input.face_shapes.has_gradients() {
         return Err(AssemblyError::MissingFaceGradients { beta });
     }
-    let interior_stiffness = interior_stiffness(input);
+    match (input.body.hoop.is_some(), input.axisymmetric.is_some()) {
+        (true, false) => {
+            return Err(AssemblyError::AxisymmetricMismatch {
+                body: "axisymmetric",
+                input: "lacks the hoop terms",
+            });
+        }
+        (false, true) => {
+            return Err(AssemblyError::AxisymmetricMismatch {
+                body: "plane",
+                input: "has axisymmetric hoop terms",
+            });
+        }
+        _ => {}
+    }
+    let interior_stiffness = match &input.axisymmetric {
+        Some(axi) => {
+            if needs_face_gradients(beta) && !axi.cell_shapes.has_gradients() {
+                return Err(AssemblyError::MissingFaceGradients { beta });
+            }
+            axisymmetric::interior_stiffness(input, axi)
+        }
+        None => interior_stiffness(input),
+    };
     let load = applied_load(input)?;
     let (constraints, pinned) = constraints_and_pin(input);
     if constraints.is_empty() {
         return Err(AssemblyError::NoDirichlet);
     }
-    check_rigid_body_restraint(&constraints, input.body.nodes)?;
+    if input.body.hoop.is_some() {
+        check_axial_restraint(&constraints)?;
+    } else {
+        check_rigid_body_restraint(&constraints, input.body.nodes)?;
+    }
     let collocation_scale = input.body.d[0][0];
     let (matrix, rhs) = system_matrix(
         &interior_stiffness,
@@ -289,6 +343,7 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
         matrix,
         rhs,
         pinned,
+        axisymmetric: input.body.hoop.is_some(),
     })
 }
 
@@ -318,27 +373,7 @@ fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
     let beta = input.beta;
     let mixed = 1.0 - beta;
     let n = input.body.nodes.len();
-    // Node -> (face, sign): the face normal points out of the owner.
-    let mut count = vec![0usize; n + 1];
-    for f in input.interior_faces {
-        count[f.owner as usize + 1] += 1;
-        if let EdgeLabel::Neighbour(j) = f.across {
-            count[j as usize + 1] += 1;
-        }
-    }
-    for i in 1..=n {
-        count[i] += count[i - 1];
-    }
-    let mut fill = count.clone();
-    let mut adj = vec![(0u32, 0.0f64); count[n]];
-    for (k, f) in input.interior_faces.iter().enumerate() {
-        adj[fill[f.owner as usize]] = (k as u32, 1.0);
-        fill[f.owner as usize] += 1;
-        if let EdgeLabel::Neighbour(j) = f.across {
-            adj[fill[j as usize]] = (k as u32, -1.0);
-            fill[j as usize] += 1;
-        }
-    }
+    let FaceAdjacency { count, adj } = face_adjacency(input.interior_faces, n);
     let d = input.body.d;
     let q = input.face_quadrature;
     let S = input.node_shapes;
@@ -427,6 +462,52 @@ fn interior_stiffness(input: &AssemblyInput<'_>) -> BlockRows {
             },
         )
         .collect();
+    block_rows(rows)
+}
+
+/// The interior faces of each node's cell with the sign of their normal (`+1` out of the
+/// owner, `−1` for the cell across): node `i` holds `adj[count[i]..count[i + 1]]`.
+struct FaceAdjacency {
+    count: Vec<usize>,
+    adj: Vec<(u32, f64)>,
+}
+
+impl FaceAdjacency {
+    /// The faces of node `i`'s cell and their signs.
+    fn of(&self, i: usize) -> &[(u32, f64)] {
+        &self.adj[self.count[i]..self.count[i + 1]]
+    }
+}
+
+/// [`FaceAdjacency`] of `faces` over `n` nodes.
+fn face_adjacency(faces: &[Face], n: usize) -> FaceAdjacency {
+    // Node -> (face, sign): the face normal points out of the owner.
+    let mut count = vec![0usize; n + 1];
+    for f in faces {
+        count[f.owner as usize + 1] += 1;
+        if let EdgeLabel::Neighbour(j) = f.across {
+            count[j as usize + 1] += 1;
+        }
+    }
+    for i in 1..=n {
+        count[i] += count[i - 1];
+    }
+    let mut fill = count.clone();
+    let mut adj = vec![(0u32, 0.0f64); count[n]];
+    for (k, f) in faces.iter().enumerate() {
+        adj[fill[f.owner as usize]] = (k as u32, 1.0);
+        fill[f.owner as usize] += 1;
+        if let EdgeLabel::Neighbour(j) = f.across {
+            adj[fill[j as usize]] = (k as u32, -1.0);
+            fill[j as usize] += 1;
+        }
+    }
+    FaceAdjacency { count, adj }
+}
+
+/// The rows, one per node in order, as [`BlockRows`].
+fn block_rows(rows: Vec<BlockRow>) -> BlockRows {
+    let n = rows.len();
     let mut out = BlockRows { offsets: Vec::with_capacity(n + 1), ..Default::default() };
     out.offsets.push(0);
     let total: usize = rows.iter().map(|r| r.0.len()).sum();
@@ -491,18 +572,28 @@ fn applied_load(input: &AssemblyInput<'_>) -> Result<Vec<f64>, AssemblyError> {
         }
         for (p, w) in segment_rule(face.a, face.b, input.body.load_quadrature_points) {
             let t = traction(p);
+            let w = w * radial_weight(&input.body, p);
             f[2 * owner] += w * t[0];
             f[2 * owner + 1] += w * t[1];
         }
     }
     if let Some(b) = input.body.body_force {
         for (i, cell) in input.cells.iter().enumerate() {
-            let v = integrate_over_cell(cell, |p| b.at(p));
+            let v = integrate_over_cell(cell, |p| {
+                let (b, r) = (b.at(p), radial_weight(&input.body, p));
+                [r * b[0], r * b[1]]
+            });
             f[2 * i] += v[0];
             f[2 * i + 1] += v[1];
         }
     }
     Ok(f)
+}
+
+/// The weight of a load integral at `p`: `r = x` in axisymmetry (per radian; docs/method.md
+/// §9.3), 1 otherwise.
+fn radial_weight(body: &Body<'_>, p: Point) -> f64 {
+    if body.hoop.is_some() { p[0] } else { 1.0 }
 }
 
 /// `∫_cell g dΩ` by a fan of triangles from the centroid with the 3-point (degree-2) rule.
@@ -634,6 +725,16 @@ fn check_rigid_body_restraint(
         return Err(AssemblyError::RigidBodyMotion { mode: "rotation" });
     }
     Ok(())
+}
+
+/// In axisymmetry the only rigid-body motion is the translation along the axis (`y`): a
+/// uniform `u_r` or a rotation in the `r–z` plane strains the hoop (docs/method.md §9.3).
+fn check_axial_restraint(constraints: &[Constraint]) -> Result<(), AssemblyError> {
+    if constraints.iter().any(|c| c.axis == Axis::Y) {
+        Ok(())
+    } else {
+        Err(AssemblyError::RigidBodyMotion { mode: "translation along the axis (y)" })
+    }
 }
 
 /// The solved system: `K_int` with constrained rows replaced by `c·Σ_J φ_J(x_I) û_J,i = c·ū_i`.

@@ -10,6 +10,7 @@ use crate::mls::ShapeSet;
 use crate::neighbours::Supports;
 use crate::nodes::Nodes;
 use crate::progress::StageTiming;
+use crate::weak_form::axisymmetric::on_axis;
 use crate::weak_form::{Cell, FaceQuadrature, Faces};
 
 /// A discretised body: everything needed to solve for any load and to condense onto contact
@@ -86,6 +87,37 @@ impl Model {
             Scheme::Fem(f) => f.mesh.nodal_strains(u_hat),
             Scheme::Mfvm(_) => collocated_strains(&self.node_shapes, u_hat),
         }
+    }
+}
+
+impl Model {
+    /// Axisymmetric bodies: the hoop strain `ε_θθ = u_r / r` at every node
+    /// (docs/method.md §9.2), with its limit `ε_θθ = ε_rr` on the axis (`strains` are
+    /// [`Self::nodal_strains`]): the MFVM's collocated `Σ_K φ_K(x_I) û_K,r / r_I`, the finite
+    /// elements' nodal `u_r,I / r_I`.
+    pub fn nodal_hoop_strains(&self, u_hat: &[f64], strains: &[[f64; 3]]) -> Vec<f64> {
+        let (points, spacing) = (&self.nodes.points, &self.nodes.spacing);
+        (0..self.nodes.len())
+            .map(|i| {
+                let (r, h) = (points[i][0], spacing[i]);
+                if on_axis(r, h) {
+                    return strains[i][0];
+                }
+                match &self.scheme {
+                    Scheme::Fem(_) => u_hat[2 * i] / r,
+                    Scheme::Mfvm(_) => {
+                        let ns = &self.node_shapes;
+                        let u_r: f64 = ns
+                            .support(i)
+                            .iter()
+                            .zip(ns.phi(i))
+                            .map(|(&k, &phi)| phi * u_hat[2 * k as usize])
+                            .sum();
+                        u_r / r
+                    }
+                }
+            })
+            .collect()
     }
 }
 

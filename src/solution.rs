@@ -45,7 +45,11 @@ pub struct Solution {
     /// Stresses `σ_I = D ε̂_I = (σ_xx, σ_yy, σ_xy)`. `ε̂_I = Σ_K B_K(x_I) û_K` is both the
     /// collocated strain and the direct MLS strain at the node, so the nodal stress output is
     /// the same formula for every `β` (the blend only concerns the cell-boundary points).
+    /// In axisymmetry `(σ_rr, σ_zz, σ_rz)`, including the hoop coupling `λ ε_θθ`.
     pub stress: Vec<[f64; 3]>,
+    /// Axisymmetric bodies: the hoop strain and stress `(ε_θθ, σ_θθ)` at every node
+    /// (docs/method.md §9.2); empty in plane stress and strain.
+    pub hoop: Vec<[f64; 2]>,
     /// Reactions at constrained DOFs: `(node, axis, R)` with `R = K_int û − f − E P`.
     pub reactions: Vec<(u32, Axis, f64)>,
     /// Total applied load `Σ f` (tractions and body force).
@@ -72,6 +76,18 @@ pub struct Solution {
     pub equilibrium_error: f64,
     /// Stage timings.
     pub timings: Vec<StageTiming>,
+}
+
+impl Solution {
+    /// The von Mises stress at every node, with the out-of-plane stress of `material`'s
+    /// plane state: `σ_θθ` from [`Self::hoop`] in axisymmetry.
+    pub fn von_mises(&self, material: &crate::material::Material) -> Vec<f64> {
+        self.stress
+            .iter()
+            .enumerate()
+            .map(|(i, s)| material.von_mises_with(*s, self.hoop.get(i).map(|h| h[1])))
+            .collect()
+    }
 }
 
 /// The solution of a problem with several bodies or contact pairs: one LCP over the
@@ -564,7 +580,15 @@ pub fn recover(
     let displacement: Vec<[f64; 2]> = (0..n).map(|i| ns.interpolate(i, &u_hat)).collect();
     let d = problem.material.constitutive();
     let strain = model.nodal_strains(&u_hat);
-    let stress = strain.iter().map(|e| material::apply(&d, *e)).collect();
+    let (stress, hoop) = match problem.material.hoop() {
+        None => (strain.iter().map(|e| material::apply(&d, *e)).collect(), Vec::new()),
+        Some(law) => {
+            let eps = model.nodal_hoop_strains(&u_hat, &strain);
+            let stress = strain.iter().zip(&eps).map(|(e, &t)| law.in_plane(&d, *e, t)).collect();
+            let hoop = strain.iter().zip(&eps).map(|(e, &t)| [t, law.stress(*e, t)]).collect();
+            (stress, hoop)
+        }
+    };
     let Balance { contact_rhs, reactions, applied, reaction, contact_force, imbalance, scale } =
         balance(system, &system.load, &u_hat, contact);
     let ku = linear_solve::mul(&system.matrix, &u_hat);
@@ -576,6 +600,7 @@ pub fn recover(
         displacement,
         strain,
         stress,
+        hoop,
         reactions,
         applied_force: applied,
         reaction_force: reaction,
@@ -649,7 +674,10 @@ fn balance(
         reaction[axis as usize] += r;
         reaction_abs += r.abs();
     }
-    let imbalance = (applied[0] + reaction[0] + contact_force[0])
+    // In axisymmetry the radial sums are balanced by the hoop stresses, not by each other
+    // (docs/method.md §9.3): only the axial balance is a global law.
+    let radial = if system.axisymmetric { 0.0 } else { 1.0 };
+    let imbalance = (radial * (applied[0] + reaction[0] + contact_force[0]))
         .hypot(applied[1] + reaction[1] + contact_force[1]);
     // Nothing loads the body (a prescribed motion only): the reactions are the only forces
     // and are round-off when the motion is rigid, so they are measured against the internal

@@ -53,6 +53,8 @@ mod validation {
     mod adaptive_hertz_two_bodies;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
+    // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.
+    mod axisymmetric;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.

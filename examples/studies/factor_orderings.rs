@@ -90,6 +90,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         face_quadrature: &fq,
         face_shapes: &fs,
         node_shapes: &ns,
+        axisymmetric: None,
         beta: disc.beta,
     })?;
     let k = &system.matrix;

@@ -56,6 +56,7 @@
 //! assert_eq!(solution.displacement.len(), 17 * 5); // (2·8 + 1) × (2·2 + 1) Q2 nodes
 //! ```
 
+pub mod axisymmetric;
 pub mod element;
 mod mesh;
 pub mod system;

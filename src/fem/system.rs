@@ -5,7 +5,7 @@ use super::FemError;
 use super::element;
 use super::mesh::Mesh;
 use crate::assembly::{BlockRows, Body, Constraint, GlobalSystem, SystemMatrix};
-use crate::material::Constitutive;
+use crate::material::{Constitutive, Hoop};
 use crate::nodes::{Axis, Nodes, dof};
 use crate::problem::{ComponentCondition, EdgeCondition};
 use crate::weak_form::gauss_legendre;
@@ -29,10 +29,11 @@ pub struct FemInput<'a> {
 /// [`FemError::NoDirichlet`] / [`FemError::RigidBodyMotion`] when the prescribed
 /// displacements leave a rigid-body motion free.
 pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
-    let stiffness = stiffness(input.mesh, input.body.nodes.len(), input.body.d);
+    let stiffness =
+        stiffness(input.mesh, input.body.nodes.len(), input.body.d, input.body.hoop.as_ref());
     let load = load(input);
     let constraints = constraints(input);
-    check_restraint(&constraints, input.body.nodes)?;
+    check_restraint(&constraints, input.body.nodes, input.body.hoop.is_some())?;
     let scale = input.body.d[0][0];
     let (rhs, constrained) = eliminated_rhs(&stiffness, &load, &constraints, scale);
     let matrix = eliminated_matrix(&stiffness, &constrained, scale);
@@ -44,6 +45,7 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
         matrix,
         rhs,
         pinned: None,
+        axisymmetric: input.body.hoop.is_some(),
     })
 }
 
@@ -85,13 +87,21 @@ fn eliminated_rhs(
 type BlockRow = (Vec<u32>, Vec<[[f64; 2]; 2]>);
 
 /// `K = Σ_e K_e` in block-row form, row-parallel. On the grid every element is a
-/// `h_x × h_y` rectangle, so one `K_e` serves all; a general mesh computes each element's.
-fn stiffness(mesh: &Mesh, node_count: usize, d: &Constitutive) -> BlockRows {
-    let ke: Vec<_> = match mesh.grid {
-        Some(_) => vec![mesh.stiffness(0, d)],
-        None => (0..mesh.element_count()).into_par_iter().map(|k| mesh.stiffness(k, d)).collect(),
+/// `h_x × h_y` rectangle, so one `K_e` serves all (not in axisymmetry, where `K_e` depends on
+/// the radius: [`super::axisymmetric::stiffness`]); a general mesh computes each element's.
+fn stiffness(mesh: &Mesh, node_count: usize, d: &Constitutive, hoop: Option<&Hoop>) -> BlockRows {
+    let shared = mesh.grid.is_some() && hoop.is_none();
+    let ke: Vec<_> = match (shared, hoop) {
+        (true, _) => vec![mesh.stiffness(0, d)],
+        (false, Some(hoop)) => (0..mesh.element_count())
+            .into_par_iter()
+            .map(|k| super::axisymmetric::stiffness(mesh, k, d, hoop))
+            .collect(),
+        (false, None) => {
+            (0..mesh.element_count()).into_par_iter().map(|k| mesh.stiffness(k, d)).collect()
+        }
     };
-    let ke = |k: usize| &ke[if mesh.grid.is_some() { 0 } else { k }];
+    let ke = |k: usize| &ke[if shared { 0 } else { k }];
     // Elements containing each node, with the node's local index.
     let mut touching: Vec<Vec<(u32, u8)>> = vec![Vec::new(); node_count];
     for k in 0..mesh.element_count() {
@@ -206,6 +216,8 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
                     }),
                 };
                 let n = element::lagrange(s);
+                // Per radian in axisymmetry: ∫ N t̄ r ds (docs/method.md §9.5).
+                let ds = ds * radial_weight(input, x);
                 for (a, &i) in ids.iter().enumerate() {
                     for axis in Axis::BOTH {
                         f[dof(i as usize, axis)] += ds * w * n[a] * t[axis as usize];
@@ -229,8 +241,9 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
                 element::Shape::Tri6 => cell.shape.quadrature(),
             };
             for ([xi, eta], w) in rule {
-                let force = b.at(mesh.point(k, xi, eta));
-                let det = mesh.area_factor(k, xi, eta);
+                let x = mesh.point(k, xi, eta);
+                let force = b.at(x);
+                let det = mesh.area_factor(k, xi, eta) * radial_weight(input, x);
                 let [n, _, _] = cell.shape.functions(xi, eta);
                 for (a, &i) in cell.nodes.iter().enumerate() {
                     for axis in Axis::BOTH {
@@ -241,6 +254,11 @@ fn load(input: &FemInput<'_>) -> Vec<f64> {
         }
     }
     f
+}
+
+/// The weight of a load integral at `x`: the radius `x[0]` in axisymmetry, 1 otherwise.
+fn radial_weight(input: &FemInput<'_>, x: [f64; 2]) -> f64 {
+    if input.body.hoop.is_some() { x[0] } else { 1.0 }
 }
 
 /// One constraint per (node, axis) on an edge that prescribes that component (the
@@ -263,10 +281,21 @@ fn constraints(input: &FemInput<'_>) -> Vec<Constraint> {
 }
 
 /// The prescribed DOFs must fix both translations and the rotation: the rows
-/// `(1, 0, −y_I)` (x-constraints) and `(0, 1, x_I)` (y-constraints) must have rank 3.
-fn check_restraint(constraints: &[Constraint], nodes: &Nodes) -> Result<(), FemError> {
+/// `(1, 0, −y_I)` (x-constraints) and `(0, 1, x_I)` (y-constraints) must have rank 3. In
+/// axisymmetry only the axial translation is a rigid motion (docs/method.md §9.3).
+fn check_restraint(
+    constraints: &[Constraint],
+    nodes: &Nodes,
+    axisymmetric: bool,
+) -> Result<(), FemError> {
     if constraints.is_empty() {
         return Err(FemError::NoDirichlet);
+    }
+    if axisymmetric {
+        return match constraints.iter().any(|c| c.axis == Axis::Y) {
+            true => Ok(()),
+            false => Err(FemError::RigidBodyMotion { mode: "translation along the axis (y)" }),
+        };
     }
     for (axis, mode) in [(Axis::X, "translation in x"), (Axis::Y, "translation in y")] {
         if !constraints.iter().any(|c| c.axis == axis) {

@@ -97,6 +97,15 @@ fn discretise_mfvm_nodes(
         )
     })?;
     let d = problem.material.constitutive();
+    let cells_axi = match problem.material.hoop() {
+        Some(hoop) => Some(clock.run("mls_cells", || {
+            let q = weak_form::axisymmetric::CellQuadrature::new(&cells);
+            let gradients = assembly::needs_face_gradients(disc.beta);
+            mls::shape_functions(&q.points, &nodes, &supports, &disc.mls, gradients)
+                .map(|shapes| (hoop, q, shapes))
+        })?),
+        None => None,
+    };
     let system = clock.run("assembly", || {
         assembly::assemble(&AssemblyInput {
             body: assembly::Body {
@@ -111,6 +120,11 @@ fn discretise_mfvm_nodes(
             face_shapes: &face_shapes,
             node_shapes: &node_shapes,
             beta: disc.beta,
+            axisymmetric: cells_axi.as_ref().map(|(hoop, q, shapes)| assembly::Axisymmetric {
+                hoop: *hoop,
+                cell_quadrature: q,
+                cell_shapes: shapes,
+            }),
         })
     })?;
     check_factor_memory(problem, &system, &nodes.points)?;

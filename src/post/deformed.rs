@@ -19,8 +19,7 @@ pub(super) fn body_cells(
     solution: &Solution,
     m: f64,
 ) -> Vec<Cell> {
-    let von_mises: Vec<f64> =
-        solution.stress.iter().map(|s| problem.material.von_mises(*s)).collect();
+    let von_mises = solution.von_mises(&problem.material);
     match &model.scheme {
         Scheme::Mfvm(mfvm) => mfvm_cells(mfvm, model, &solution.displacement, &von_mises, m),
         Scheme::Fem(fem) => fem_cells(&fem.mesh, model, &solution.displacement, &von_mises, m),

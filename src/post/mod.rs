@@ -157,9 +157,10 @@ fn write_body(
     written.push(save(dir, "displacement.csv", &text)?);
 
     let mut text = String::from("node,x,y,sxx,syy,sxy,von_mises\n");
+    let von_mises = solution.von_mises(&problem.material);
     for (i, p) in nodes.points.iter().enumerate() {
         let s = solution.stress[i];
-        let vm = problem.material.von_mises(s);
+        let vm = von_mises[i];
         let _ = writeln!(
             text,
             "{i},{},{},{},{},{},{}",
@@ -172,6 +173,15 @@ fn write_body(
         );
     }
     written.push(save(dir, "stress.csv", &text)?);
+
+    if !solution.hoop.is_empty() {
+        // Axisymmetric bodies only (x = r, y = z; docs/method.md §9.2).
+        let mut text = String::from("node,r,z,e_thth,s_thth\n");
+        for (i, (p, h)) in nodes.points.iter().zip(&solution.hoop).enumerate() {
+            let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(h[0]), num(h[1]));
+        }
+        written.push(save(dir, "hoop.csv", &text)?);
+    }
 
     let mut text = String::from("node,axis,x,y,reaction\n");
     for &(node, axis, r) in &solution.reactions {

@@ -74,6 +74,9 @@ fn in_words(problem: &Problem) -> String {
     let plane = match m.plane {
         PlaneState::Stress => "plane stress",
         PlaneState::Strain => "plane strain",
+        PlaneState::Axisymmetric => {
+            "axisymmetric (x is the radius r, y the axis z; loads per radian)"
+        }
     };
     let d = &problem.discretisation;
     let method = match d.method {

@@ -662,7 +662,6 @@ impl Summary {
         let only_static = |v| is_static.then_some(v);
         let mixed = is_static && f.precision == FactorPrecision::Mixed;
         let matrix = &model.system.matrix;
-        let von_mises = |s: &[f64; 3]| problem.material.von_mises(*s);
         Self {
             program: Program { name: env!("CARGO_PKG_NAME"), version: env!("CARGO_PKG_VERSION") },
             input,
@@ -715,7 +714,10 @@ impl Summary {
                     .iter()
                     .map(|u| u[0].hypot(u[1]))
                     .fold(0.0, f64::max),
-                max_von_mises: solution.stress.iter().map(von_mises).fold(0.0, f64::max),
+                max_von_mises: solution
+                    .von_mises(&problem.material)
+                    .into_iter()
+                    .fold(0.0, f64::max),
             },
             lcp: solution
                 .contact

@@ -71,8 +71,25 @@ pub fn solution_vtu(
             e
         })
         .collect();
-    let stress: Vec<[f64; 3]> = strain.iter().map(|e| material::apply(&d, *e)).collect();
-    let point_data = field_arrays(&problem.material, "", &displacement, &stress, &strain);
+    // Axisymmetric: the hoop strain interpolated like the others, the stresses with it.
+    let hoop_strain: Vec<f64> = match solution.hoop.is_empty() {
+        true => Vec::new(),
+        false => (0..points.len())
+            .map(|k| {
+                let (support, phi) = (shapes.support(k), shapes.phi(k));
+                support.iter().zip(phi).map(|(&j, &phi)| phi * solution.hoop[j as usize][0]).sum()
+            })
+            .collect(),
+    };
+    let (stress, hoop): (Vec<[f64; 3]>, Vec<[f64; 2]>) = match problem.material.hoop() {
+        Some(law) => strain
+            .iter()
+            .zip(&hoop_strain)
+            .map(|(e, &t)| (law.in_plane(&d, *e, t), [t, law.stress(*e, t)]))
+            .unzip(),
+        None => (strain.iter().map(|e| material::apply(&d, *e)).collect(), Vec::new()),
+    };
+    let point_data = field_arrays(&problem.material, "", &displacement, &stress, &strain, &hoop);
     let mut cell_data = vec![Array::Int("node".into(), (0..polygons.len() as i64).collect())];
     cell_data.extend(field_arrays(
         &problem.material,
@@ -80,6 +97,7 @@ pub fn solution_vtu(
         &solution.displacement,
         &solution.stress,
         &solution.strain,
+        &solution.hoop,
     ));
     cell_data.push(Array::Vector("node_reaction".into(), reaction));
     Ok(unstructured_grid(&points, &polygons, 7, &point_data, &cell_data))
@@ -99,18 +117,20 @@ fn nodal_reactions(n: usize, solution: &Solution) -> Vec<[f64; 2]> {
 
 /// The symmetric 3-D tensor of a plane stress `(σxx, σyy, σxy)` in VTK's six-component order
 /// `xx, yy, zz, xy, yz, xz` (ParaView reads a six-component array as a symmetric tensor):
-/// `σzz = 0` in plane stress and `ν (σxx + σyy)` in plane strain, `σyz = σxz = 0`.
-pub(crate) fn stress_tensor(material: &Material, s: [f64; 3]) -> [f64; 6] {
-    [s[0], s[1], material.sigma_zz(s), s[2], 0.0, 0.0]
+/// `σzz = 0` in plane stress and `ν (σxx + σyy)` in plane strain, `σyz = σxz = 0`; in
+/// axisymmetry `zz` is the hoop `σ_θθ` of `hoop = (ε_θθ, σ_θθ)`.
+pub(crate) fn stress_tensor(material: &Material, s: [f64; 3], hoop: Option<[f64; 2]>) -> [f64; 6] {
+    [s[0], s[1], material.out_of_plane(s, hoop.map(|h| h[1])), s[2], 0.0, 0.0]
 }
 
 /// The symmetric strain tensor of the Voigt strain `(εxx, εyy, γxy)` in the order of
 /// [`stress_tensor`]: the tensor shear `εxy = γxy / 2`; `εzz = −ν (εxx + εyy) / (1 − ν)` in
-/// plane stress and 0 in plane strain.
-pub(crate) fn strain_tensor(material: &Material, e: [f64; 3]) -> [f64; 6] {
+/// plane stress and 0 in plane strain; the hoop strain `ε_θθ` of `hoop` in axisymmetry.
+pub(crate) fn strain_tensor(material: &Material, e: [f64; 3], hoop: Option<[f64; 2]>) -> [f64; 6] {
     let zz = match material.plane {
         PlaneState::Stress => -material.poisson / (1.0 - material.poisson) * (e[0] + e[1]),
         PlaneState::Strain => 0.0,
+        PlaneState::Axisymmetric => hoop.map_or(f64::NAN, |h| h[0]),
     };
     [e[0], e[1], zz, 0.5 * e[2], 0.0, 0.0]
 }
@@ -194,6 +214,7 @@ fn fem_vtu(
         &solution.displacement,
         &solution.stress,
         &solution.strain,
+        &solution.hoop,
     );
     point_data.push(Array::Vector("reaction".into(), reaction));
     unstructured_grid(&model.nodes.points, &connectivity, VTK_QUAD, &point_data, &[])
@@ -213,27 +234,34 @@ pub(crate) enum Array {
     Strings(String, Vec<String>),
 }
 
-/// Displacement, stress and strain tensors and von Mises stress, named with `prefix`.
+/// Displacement, stress and strain tensors and von Mises stress, named with `prefix`;
+/// `hoop` holds `(ε_θθ, σ_θθ)` per point in axisymmetry (empty otherwise).
 fn field_arrays(
     material: &Material,
     prefix: &str,
     displacement: &[[f64; 2]],
     stress: &[[f64; 3]],
     strain: &[[f64; 3]],
+    hoop: &[[f64; 2]],
 ) -> Vec<Array> {
+    let h = |i: usize| hoop.get(i).copied();
     vec![
         Array::Vector(format!("{prefix}displacement"), displacement.to_vec()),
         Array::Tensor(
             format!("{prefix}stress"),
-            stress.iter().map(|s| stress_tensor(material, *s)).collect(),
+            stress.iter().enumerate().map(|(i, s)| stress_tensor(material, *s, h(i))).collect(),
         ),
         Array::Tensor(
             format!("{prefix}strain"),
-            strain.iter().map(|e| strain_tensor(material, *e)).collect(),
+            strain.iter().enumerate().map(|(i, e)| strain_tensor(material, *e, h(i))).collect(),
         ),
         Array::Scalar(
             format!("{prefix}von_mises"),
-            stress.iter().map(|t| material.von_mises(*t)).collect(),
+            stress
+                .iter()
+                .enumerate()
+                .map(|(i, t)| material.von_mises_with(*t, h(i).map(|h| h[1])))
+                .collect(),
         ),
     ]
 }

@@ -736,7 +736,7 @@ pub struct MaterialFile {
     pub young: f64,
     /// Poisson's ratio `ν`, `0 ≤ ν < 0.5`.
     pub poisson: f64,
-    /// `"stress"` or `"strain"`.
+    /// `"stress"`, `"strain"` or `"axisymmetric"` (x the radius, y the axis; docs/method.md §9).
     pub plane: PlaneState,
 }
 

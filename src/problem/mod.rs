@@ -4,10 +4,12 @@
 //! - [`mod@file`]: the raw form, as written ([`ProblemFile`]);
 //! - `validate` (private): `ProblemFile` → `Problem`, every range checked once;
 //! - [`discretisation`]: method, MLS parameters, node layout, presets and stability limits;
+//! - [`axisymmetric`]: the axis conditions and refusals of bodies of revolution;
 //! - [`contact`]: the contact specification (rigid line or second body);
 //! - [`gmsh`]: a reader for Gmsh mesh files (MSH 4.1 and 2.2, ASCII);
 //! - [`refine`]: the graded spacing of `[[nodes.refine]]`.
 
+pub mod axisymmetric;
 pub mod contact;
 pub mod discretisation;
 pub mod file;

@@ -246,6 +246,7 @@ impl TryFrom<ProblemFile> for Problem {
             Some(r) => Some(adaptive(r, &problem)?),
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
+        super::axisymmetric::refuse_unsupported(&problem)?;
         if let Some(several) = &problem.multibody {
             path_on_lemke(several, !problem.steps.is_empty(), &|k| {
                 file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k))
@@ -346,7 +347,10 @@ fn validate_body(
     let (h, layout, mesh_nodes) = node_layout(&file, &domain, mesh, discretisation.method)?;
     let refinement = refinement(file.nodes, file.geometry, &domain, h, discretisation.method)?;
     let material = material(file.material)?;
-    let boundary = edge_conditions(file.boundary, &domain)?;
+    let mut boundary = edge_conditions(file.boundary, &domain)?;
+    if material.is_axisymmetric() {
+        super::axisymmetric::axis_conditions(&domain, &mut boundary)?;
+    }
     let body_force = match file.body_force {
         Some(b) => {
             check_finite("body_force", b[0])?;

@@ -7,6 +7,7 @@
 //! on a domain edge (prescribed traction, or the edge of a Dirichlet node whose rows are
 //! replaced by collocation). This module builds the cells and faces and their quadrature.
 
+pub mod axisymmetric;
 mod quadrature;
 mod subdomain;
 
