@@ -9,11 +9,11 @@
 //! - **Refine** ([`refined`]): every marked node becomes a refinement region of the graded
 //!   generator (`Refinement::around`: spacing `h_I/2` within `h_I` of the node), and the node
 //!   set is regenerated from scratch (its layout quality is the generator's).
-//! - **Two bodies** (one contact pair): each body has its own estimate, Dörfler marks,
-//!   regions and node set; the contact marks of the first body's transition candidates are
-//!   carried to the second body's contact edge at their paired points ([`paired_marks`]), so
-//!   that the target refines where the candidate edge opens and closes. `max_nodes` counts
-//!   both bodies.
+//! - **Several bodies** (one pair or several; `adaptive/scene.rs` sees each solve as a list
+//!   of bodies and pairs): each body has its own estimate, Dörfler marks, regions and node
+//!   set; the contact marks of each pair's transition candidates are carried to an elastic
+//!   target's contact edge at their paired points ([`paired_marks`]), so that the target
+//!   refines where the candidate edge opens and closes. `max_nodes` counts every body.
 
 use crate::error::Error;
 use crate::geometry::{Domain, Point};
