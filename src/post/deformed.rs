@@ -6,7 +6,7 @@
 //! the von Mises stress: of the cell's node (MFVM), the mean of its corners' (FE).
 
 use super::plot::Cell;
-use super::vtk::{MERGE_TOLERANCE, Q2_SUB_QUADS, T6_SUB_TRIANGLES, merge_vertices};
+use super::vtk::{MERGE_TOLERANCE, fem_sub_cells, merge_vertices};
 use crate::fem::Mesh;
 use crate::model::{Mfvm, Model, Scheme};
 use crate::problem::Problem;
@@ -72,12 +72,5 @@ fn fem_cells(mesh: &Mesh, model: &Model, u: &[[f64; 2]], von_mises: &[f64], m: f
         let value = corners.iter().map(|&k| von_mises[k]).sum::<f64>() / corners.len() as f64;
         Some(Cell { polygon, value })
     };
-    let quads = mesh
-        .elements
-        .iter()
-        .flat_map(|e| Q2_SUB_QUADS.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
-    let triangles = mesh.triangles.iter().flat_map(|e| {
-        T6_SUB_TRIANGLES.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect())
-    });
-    quads.chain(triangles).filter_map(cell).collect()
+    fem_sub_cells(mesh).filter_map(cell).collect()
 }

@@ -186,10 +186,23 @@ const VTK_QUAD: u8 = 9;
 
 /// Local corner quadruples of the four sub-quads of a Q2 element (counter-clockwise on the
 /// reference element).
-pub(crate) const Q2_SUB_QUADS: [[usize; 4]; 4] =
+const Q2_SUB_QUADS: [[usize; 4]; 4] =
     [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
 /// Local corner triples of the four sub-triangles of a T6 element (counter-clockwise).
-pub(crate) const T6_SUB_TRIANGLES: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+const T6_SUB_TRIANGLES: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
+
+/// The sub-cells of `mesh` as node lists: four sub-quads per Q2 element ([`Q2_SUB_QUADS`]),
+/// then four sub-triangles per T6 element ([`T6_SUB_TRIANGLES`]).
+pub(crate) fn fem_sub_cells(mesh: &Mesh) -> impl Iterator<Item = Vec<usize>> + '_ {
+    let quads = mesh
+        .elements
+        .iter()
+        .flat_map(|e| Q2_SUB_QUADS.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
+    let triangles = mesh.triangles.iter().flat_map(|e| {
+        T6_SUB_TRIANGLES.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect())
+    });
+    quads.chain(triangles)
+}
 
 /// The FE solution: points = nodes, cells = four sub-quads per Q2 element (VTK_QUAD) and four
 /// sub-triangles per T6 element (VTK_TRIANGLE).
@@ -200,14 +213,7 @@ fn fem_vtu(
     solution: &Solution,
     reaction: Vec<[f64; 2]>,
 ) -> String {
-    let quads = mesh
-        .elements
-        .iter()
-        .flat_map(|e| Q2_SUB_QUADS.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect()));
-    let triangles = mesh.triangles.iter().flat_map(|e| {
-        T6_SUB_TRIANGLES.iter().map(move |q| q.iter().map(|&k| e[k] as usize).collect())
-    });
-    let connectivity: Vec<Vec<usize>> = quads.chain(triangles).collect();
+    let connectivity: Vec<Vec<usize>> = fem_sub_cells(mesh).collect();
     let mut point_data = field_arrays(
         &problem.material,
         "",
