@@ -186,8 +186,7 @@ const VTK_QUAD: u8 = 9;
 
 /// Local corner quadruples of the four sub-quads of a Q2 element (counter-clockwise on the
 /// reference element).
-const Q2_SUB_QUADS: [[usize; 4]; 4] =
-    [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
+const Q2_SUB_QUADS: [[usize; 4]; 4] = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]];
 /// Local corner triples of the four sub-triangles of a T6 element (counter-clockwise).
 const T6_SUB_TRIANGLES: [[usize; 3]; 4] = [[0, 3, 5], [3, 1, 4], [5, 4, 2], [3, 4, 5]];
 
