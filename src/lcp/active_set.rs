@@ -42,7 +42,7 @@ pub use friction::{
     DenseFriction, FreeResponse, FrictionStepSolution, FrictionSystem, StateResponse,
     friction_residuals, solve_friction_step,
 };
-pub use two_bodies::{Bodies, BodyParts, PairParts, TwoBodies};
+pub use two_bodies::{Bodies, BodyParts, PairParts, PairTangential, TwoBodies};
 
 /// Failures of the active-set solver.
 #[derive(Debug, thiserror::Error)]

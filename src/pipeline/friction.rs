@@ -568,7 +568,9 @@ pub(super) fn solve_frictional_active_set(
         for (k, end) in steps.iter().enumerate() {
             let mu = friction_in(k);
             match (&mut system, &target_tangential) {
-                (SparseFriction::Pair(s), Some(op_t)) => s.set_friction(&mu, [&tangential, op_t]),
+                (SparseFriction::Pair(s), Some(op_t)) => {
+                    s.set_friction(&mu, vec![(&tangential, Some(op_t))])
+                }
                 (SparseFriction::Rigid(s), _) => s.set_friction(&mu),
                 (SparseFriction::Pair(_), None) => unreachable!("two bodies have both operators"),
             }

@@ -6,6 +6,7 @@
 //! `M` (docs/method.md §5.1, [`lcp::active_set::Bodies`]).
 
 mod path;
+mod sparse_path;
 
 use super::friction::{StepEnd, step_ends};
 use super::{final_gaps, finite};
@@ -259,7 +260,15 @@ pub fn solve_bodies(
             initial_gap: &initial_gap,
             steps: &steps,
         };
-        let (solved, f) = path::solve(&scene, &models, held.as_ref(), &mut clock)?;
+        // The sparse system when a pair asks for the active set, or "auto" on every pair
+        // from the two-body threshold of all candidates on.
+        let sparse = active_set
+            || pairs.iter().all(|p| p.spec.solver.is_active_set_frictional_pair(initial_gap.len()));
+        let (solved, f) = if sparse {
+            sparse_path::solve(&scene, &models, held.as_ref(), &mut clock)?
+        } else {
+            path::solve(&scene, &models, held.as_ref(), &mut clock)?
+        };
         frictions = f;
         solved
     } else if active_set {

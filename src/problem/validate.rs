@@ -247,11 +247,6 @@ impl TryFrom<ProblemFile> for Problem {
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
         super::axisymmetric::refuse_unsupported(&problem)?;
-        if let Some(several) = &problem.multibody {
-            path_on_lemke(several, !problem.steps.is_empty(), &|k| {
-                file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k))
-            })?;
-        }
         let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0)
             || problem
                 .multibody
@@ -1880,31 +1875,6 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
         }
     }
     Ok(states.into_iter().map(|s| s.1).collect())
-}
-
-/// Several contact pairs with friction or load steps are solved on Lemke's path (the
-/// condensed load path, docs/method.md §8); the active-set method takes them one-shot and
-/// frictionless only for now.
-fn path_on_lemke(
-    several: &Multibody,
-    steps: bool,
-    key: &dyn Fn(usize) -> String,
-) -> Result<(), ProblemError> {
-    let friction = several.pairs.iter().any(|p| p.spec.friction > 0.0);
-    if !(friction || steps) {
-        return Ok(());
-    }
-    match several.pairs.iter().position(|p| p.spec.solver == ContactSolver::ActiveSet) {
-        Some(k) => Err(invalid(
-            &format!("{}.solver", key(k)),
-            "active_set",
-            format!(
-                "several contact pairs with {} are solved by Lemke's method on the condensed system for now: set solver = \"lemke\" or \"auto\"",
-                if friction { "friction" } else { "load steps" }
-            ),
-        )),
-        None => Ok(()),
-    }
 }
 
 /// Refuses a non-zero value among a body's declared conditions `declared` (key paths under

@@ -103,7 +103,8 @@ pub(super) fn compare_solutions(name: &str, lemke: &Solution, active: &Solution)
 /// answer checked on its own (scaled complementarity over all candidates, every body's
 /// equilibrium), then all pairs' forces and gaps compared over the whole LCP (relative to the
 /// largest force, resp. gap, with the bound of the closed gaps' round-off over `λ_min` of
-/// Lemke's `M`), each pair's closed set, and a held translation (relative, 1e-10).
+/// Lemke's `M`), each pair's closed set, with friction its tangential forces (relative to the
+/// largest normal force, 1e-10) and stick/slip states, and a held translation (relative, 1e-10).
 /// Returns (force, gap, translation) differences.
 pub(super) fn compare_multibody(
     name: &str,
@@ -151,6 +152,15 @@ pub(super) fn compare_multibody(
     assert!(gap < AGREEMENT.max(gap_bound), "{name}: gaps differ by {gap:e} (bound {gap_bound:e})");
     for (k, (pa, pb)) in a.pairs.iter().zip(&b.pairs).enumerate() {
         assert_eq!(pa.closed, pb.closed, "{name}: contact[{k}]: closed sets differ");
+        match (&pa.friction, &pb.friction) {
+            (Some(fa), Some(fb)) => {
+                let t = diff(&fa.step.tangential, &fb.step.tangential) / p_max;
+                assert!(t < AGREEMENT, "{name}: contact[{k}]: tangential forces differ by {t:e}");
+                assert_eq!(fa.step.state, fb.step.state, "{name}: contact[{k}]: stick/slip states");
+            }
+            (None, None) => {}
+            _ => panic!("{name}: contact[{k}]: one answer has friction, the other not"),
+        }
     }
     let translation = match (&a.held, &b.held) {
         (Some((ba, ra)), Some((bb, rb))) => {

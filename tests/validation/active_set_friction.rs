@@ -288,7 +288,7 @@ fn two_body_frictional_system_equals_the_dense_blocks() {
             m1.system.collocation_scale,
         )
         .unwrap();
-        s.set_friction(&mu, [&f.operator, target_t]).unwrap();
+        s.set_friction(&mu, vec![(&f.operator, Some(target_t))]).unwrap();
         s
     };
     // Gaps and tangential displacements relative to the free ones (closed gaps are round-off).

@@ -25,10 +25,7 @@ use mlpg_contact::solution::Solution;
 const AGREEMENT: f64 = 1e-10;
 
 /// Shipped files the active-set solver refuses, with the reason.
-const REFUSED: &[(&str, &str)] = &[(
-    "three_block_stack_friction.toml",
-    "friction and load steps with several contact pairs are on Lemke's condensed load path only (docs/dev/contact_core.md, increment 4: the sparse path over the same terms)",
-)];
+const REFUSED: &[(&str, &str)] = &[];
 
 /// Whether the problem text has a contact table.
 fn has_contact(text: &str) -> bool {

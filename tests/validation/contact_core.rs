@@ -188,13 +188,38 @@ fn two_blocks_upper_held_by_contact_carries_its_load() {
 }
 
 #[test]
-fn several_pairs_with_friction_on_the_active_set_are_refused_naming_the_key() {
-    let text = shipped_text("three_block_stack.toml").replace(
-        "target_edge = \"top\"\n",
-        "target_edge = \"top\"\nfriction = 0.3\nsolver = \"active_set\"\n",
-    );
-    let err = Problem::from_toml(&text).unwrap_err().to_string();
-    assert!(err.contains("contact[0].solver") && err.contains("lemke"), "{err}");
+fn several_pairs_with_friction_and_steps_on_the_active_set_equal_lemkes_path() {
+    for (mu, increments) in [(0.3, None), (0.3, Some(2)), (0.0, Some(2))] {
+        let label = format!("active set, μ = {mu}, increments {increments:?}");
+        let lemke = mlpg_contact::solve(&stack(mu, increments)).unwrap();
+        let text = stack_text(mu, increments)
+            .replace("target_edge = \"top\"\n", "target_edge = \"top\"\nsolver = \"active_set\"\n");
+        let sparse = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+        assert_frictional_checks(&label, &sparse, mu);
+        let (ml, ms) = (lemke.multibody.as_deref().unwrap(), sparse.multibody.as_deref().unwrap());
+        assert!(ml.active_set.is_none() && ms.active_set.is_some(), "{label}: the solvers taken");
+        let mut largest: f64 = 0.0;
+        for (cl, cs) in ml.pairs.iter().zip(&ms.pairs) {
+            let scale = cl.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+            let (fl, fs) = (cl.friction.as_ref().unwrap(), cs.friction.as_ref().unwrap());
+            for c in 0..cl.lcp.z.len() {
+                let normal = (cl.lcp.z[c] - cs.lcp.z[c]).abs();
+                let tangential = (fl.step.tangential[c] - fs.step.tangential[c]).abs();
+                largest = largest.max(normal.max(tangential) / scale);
+                assert_eq!(fl.step.state[c], fs.step.state[c], "{label}: candidate {c}");
+            }
+            assert_eq!(fl.increments.len(), fs.increments.len(), "{label}");
+        }
+        let t = |m: &mlpg_contact::solution::MultibodySolution| {
+            m.held.as_ref().unwrap().1.translation[1]
+        };
+        let (tl, ts) = (t(ml), t(ms));
+        println!(
+            "{label}: forces to {largest:.1e} of Lemke's, held translation {ts:.15e} ({tl:.15e})"
+        );
+        assert!(largest <= 1e-9, "{label}: {largest:e}");
+        assert!((tl - ts).abs() <= 1e-9 * tl.abs(), "{label}: {ts} against {tl}");
+    }
 }
 
 /// `"auto"` on several pairs falls back to the active-set method when Lemke fails (provoked by

@@ -25,12 +25,12 @@
 //! by two contact edges): its removed row would hold two unknown forces
 //! ([`ActiveSetError::OwnerConflict`]). [`TwoBodies`] is the case of two bodies and one pair.
 //!
-//! With friction (one pair between two bodies: [`Bodies::set_friction`], [`FrictionSystem`])
-//! a candidate is open, closed
+//! With friction (any number of pairs: [`Bodies::set_friction`], [`FrictionSystem`]) a
+//! candidate is open, closed
 //! (frictionless, the terms above), sticking or slipping along `±t`, as against a rigid
-//! obstacle: both forces come from the residuals `r` of the owner node's two rows of body 1,
-//! `P = ν·r/w`, `T = t·r/w`; body 2's owner rows gain `(w_j/w)(d₂ νᵀ + d₂ₜ tᵀ) r` (two terms
-//! `u_a K₁_aᵀ`, `u_b K₁_bᵀ`), row `a` is the gap row and row `b` the relative tangential
+//! obstacle: both forces come from the residuals `r` of the owner node's two rows of its body,
+//! `P = ν·r/w`, `T = t·r/w`; a target body's owner rows gain `(w_j/w)(d₂ νᵀ + d₂ₜ tᵀ) r` (two
+//! terms `u_a K_aᵀ`, `u_b K_bᵀ`), row `a` is the gap row and row `b` the relative tangential
 //! displacement condition (stick) or `(t ± μν)·r = 0` (slip±). Each mode is a set of rank-one
 //! terms; modes share terms and update columns (`K_B⁻¹ e_a`, `K_B⁻¹ e_b`, `K_B⁻¹ u_a`,
 //! `K_B⁻¹ u_b`), so a change between stick and slip is of rank one and a closing candidate of
@@ -167,8 +167,8 @@ pub struct Bodies<'a> {
     /// `K_B⁻¹ u` by candidate and vector.
     columns: HashMap<(usize, usize), Vec<f64>>,
     last: Option<(Vec<Mode>, Vec<f64>)>,
-    /// The tangential operators of both bodies (direction `t`, resp. `−t`), with friction.
-    tangential: Option<[&'a BodyOperator; 2]>,
+    /// Each pair's tangential operators ([`PairTangential`]), with friction.
+    tangential: Option<Vec<PairTangential<'a>>>,
     /// `μ_c` (empty: frictionless).
     friction: Vec<f64>,
     /// The right-hand sides `s_prev,c` of the stick rows (before the scale `s`).
@@ -176,6 +176,11 @@ pub struct Bodies<'a> {
     /// Work counters (the same as a rigid obstacle's).
     pub stats: RigidObstacleStats,
 }
+
+/// A pair's tangential operators for [`Bodies::set_friction`]: the candidate body's
+/// (direction `t`) and, against a second body, the target's (direction `−t` at the paired
+/// points); `None` against rigid obstacles.
+pub type PairTangential<'a> = (&'a BodyOperator, Option<&'a BodyOperator>);
 
 /// Two elastic bodies and one contact pair: [`Bodies`] built by [`Bodies::two`].
 pub type TwoBodies<'a> = Bodies<'a>;
@@ -415,111 +420,47 @@ impl<'a> Bodies<'a> {
         })
     }
 
-    /// Sets the Coulomb coefficients `μ_c` (docs/method.md §8) and the tangential operators of
-    /// both bodies (body 1's with direction `t`, body 2's with `−t` at the paired points, so
-    /// that they read the relative tangential displacement `s`): builds each candidate's
-    /// stick and slip terms (a candidate with `μ_c = 0` closes frictionless). A change of `μ`
-    /// drops the update columns, and the combined factorisation when it holds frictional
-    /// modes.
+    /// Sets the Coulomb coefficients `μ_c` (docs/method.md §8, over all candidates) and each
+    /// pair's tangential operators (`tangential[k]`: the candidate body's with direction `t`,
+    /// and against a second body the target's with `−t` at the paired points, so that they
+    /// read the relative tangential displacement `s`; `None` against rigid obstacles, which do
+    /// not move): builds each candidate's stick and slip terms (a candidate with `μ_c = 0`
+    /// closes frictionless). A change of `μ` drops the update columns, and the combined
+    /// factorisation when it holds frictional modes.
     ///
-    /// A closed frictional candidate's force on body 1 is `w(ν P + t T)`, both recovered from
-    /// the residuals `r` of its node's two rows: `P = ν·r/w`, `T = t·r/w`. Body 2 receives
-    /// `w_j (d₂ P + d₂ₜ T)` on the rows of its owner cells, i.e. `(w_j/w)(d₂ νᵀ + d₂ₜ tᵀ) r`:
-    /// two terms `u_a K₁_aᵀ`, `u_b K₁_bᵀ`. Row `a` is the gap row; row `b` is the scaled
-    /// relative tangential displacement `s (t·u₁^h(x_c) − t·u₂^h(y_c)) = s s_prev` (stick) or
-    /// `K₁_b + (c_a/c_b) K₁_a` with `c = t ± μν` (slip±, `(t ± μν)·r = 0`): the term
-    /// `e_b (stick row − K₁_b)ᵀ`, resp. `e_b ((c_a/c_b) K₁_a)ᵀ`, so that a change between
-    /// stick and slip is of rank one and a closing candidate of rank four.
-    ///
-    /// Friction is solved for one pair between two bodies (the several pairs of
-    /// docs/method.md §4.5 are frictionless).
+    /// A closed frictional candidate's force on its body is `w(ν P + t T)`, both recovered from
+    /// the residuals `r` of its node's two rows: `P = ν·r/w`, `T = t·r/w`. A target body
+    /// receives `w_j (d₂ P + d₂ₜ T)` on the rows of its owner cells, i.e.
+    /// `(w_j/w)(d₂ νᵀ + d₂ₜ tᵀ) r`: two terms `u_a K_aᵀ`, `u_b K_bᵀ`. Row `a` is the gap row;
+    /// row `b` is the scaled relative tangential displacement `s (t·u^h(x_c) − t·u₂^h(y_c)) =
+    /// s s_prev` (stick) or `K_b + (c_a/c_b) K_a` with `c = t ± μν` (slip±, `(t ± μν)·r = 0`):
+    /// the term `e_b (stick row − K_b)ᵀ`, resp. `e_b ((c_a/c_b) K_a)ᵀ`, so that a change
+    /// between stick and slip is of rank one and a closing candidate of rank four.
     ///
     /// # Errors
     /// [`ActiveSetError::Unsupported`] when a slip combination has no weight on row `b`
-    /// (`t_b ± μ ν_b = 0`), or the system is not one pair between two bodies.
+    /// (`t_b ± μ ν_b = 0`), `tangential` does not hold one entry per pair, or a pair's target
+    /// side and tangential target disagree.
     pub fn set_friction(
         &mut self,
         mu: &[f64],
-        tangential: [&'a BodyOperator; 2],
+        tangential: Vec<PairTangential<'a>>,
     ) -> Result<(), ActiveSetError> {
-        let (op1, (t, op2)) = match self.contact.as_slice() {
-            [PairParts { operator, target: Some(target), .. }] => (*operator, *target),
-            _ => return Err(ActiveSetError::Unsupported { candidate: 0 }),
-        };
+        let agree =
+            tangential.len() == self.contact.len()
+                && self.contact.iter().zip(&tangential).all(|(p, t)| {
+                    p.target.is_some() == t.1.is_some() && t.0.len() == p.operator.len()
+                });
+        if !agree || mu.len() != self.pairs.len() {
+            return Err(ActiveSetError::Unsupported { candidate: 0 });
+        }
+        let same = self.friction == mu;
         self.tangential = Some(tangential);
-        if self.friction == mu {
+        if same {
             return Ok(());
         }
-        let (ob, ot) = (self.offsets[self.contact[0].body], self.offsets[t]);
-        for (c, pair) in self.pairs.iter_mut().enumerate() {
-            let (n_us, n_terms) = pair.frictionless;
-            pair.us.truncate(n_us);
-            pair.terms.truncate(n_terms);
-            pair.modes.truncate(1);
-            if mu[c] == 0.0 {
-                let closed = pair.modes[0].clone();
-                pair.modes.extend([closed.clone(), closed.clone(), closed]);
-                continue;
-            }
-            let (nu, t) = (op1.direction(c), tangential[0].direction(c));
-            let (d2, d2t) = (op2.direction(c), tangential[1].direction(c));
-            let [a, b] = pair.axes;
-            let [ra, rb] = pair.dofs;
-            // Body 2's rows per unit residual r_x of body 1's row x: −(w_j/w)(d₂ ν_x + d₂ₜ t_x).
-            let target = |x: Axis| -> Vec<(usize, f64)> {
-                let mut u: Row = Vec::new();
-                for (owners, d, e) in [(&op2.owners[c], d2, nu), (&tangential[1].owners[c], d2t, t)]
-                {
-                    for &(j, w2) in owners {
-                        for ax in Axis::BOTH {
-                            let k = -w2 / pair.weight * d[ax as usize] * e[x as usize];
-                            if k != 0.0 {
-                                u.push((ot + dof(j as usize, ax), k));
-                            }
-                        }
-                    }
-                }
-                sum_rows(&u, &Vec::new()).into_iter().filter(|e| e.1 != 0.0).collect()
-            };
-            let minus_b: Row = pair.rows[1].iter().map(|&(j, v)| (j, -v)).collect();
-            let sides = [(tangential[0], ob), (tangential[1], ot)];
-            let stick_row = sum_rows(&pair_row(pair.scale, &sides, c), &minus_b);
-            let eb = pair.us.len();
-            pair.us.push(vec![(rb, 1.0)]);
-            let stick = pair.terms.len();
-            pair.terms.push(Term { u: eb, d: stick_row, rhs: TermRhs::Tangential });
-            let mut shared = vec![0];
-            for (x, r) in [(a, ra), (b, rb)] {
-                let u = target(x);
-                if !u.is_empty() {
-                    pair.us.push(u);
-                    shared.push(pair.terms.len());
-                    let d = pair.rows[if x == a { 0 } else { 1 }].clone();
-                    pair.terms.push(Term { u: pair.us.len() - 1, d, rhs: TermRhs::Row(1.0, r) });
-                }
-            }
-            let mut modes = Vec::new();
-            for sign in [1.0, -1.0] {
-                let (ca, cb) = (
-                    t[a as usize] + sign * mu[c] * nu[a as usize],
-                    t[b as usize] + sign * mu[c] * nu[b as usize],
-                );
-                if cb.abs() <= 1e-8 * ca.abs() {
-                    return Err(ActiveSetError::Unsupported { candidate: c });
-                }
-                let k = ca / cb;
-                let d: Row = pair.rows[0].iter().map(|&(j, v)| (j, k * v)).collect();
-                modes.push(pair.terms.len());
-                pair.terms.push(Term { u: eb, d, rhs: TermRhs::Row(k, ra) });
-            }
-            let with = |own: usize| {
-                let mut v = vec![shared[0], own];
-                v.extend_from_slice(&shared[1..]);
-                v
-            };
-            pair.modes.push(with(stick));
-            pair.modes.push(with(modes[0]));
-            pair.modes.push(with(modes[1]));
+        for (c, &mu_c) in mu.iter().enumerate() {
+            self.set_candidate_friction(c, mu_c)?;
         }
         self.friction = mu.to_vec();
         self.columns.clear();
@@ -528,6 +469,91 @@ impl<'a> Bodies<'a> {
             self.base_modes = vec![OPEN; self.pairs.len()];
         }
         self.last = None;
+        Ok(())
+    }
+
+    /// Candidate `c`'s stick and slip terms for the coefficient `mu` ([`Bodies::set_friction`]).
+    fn set_candidate_friction(&mut self, c: usize, mu: f64) -> Result<(), ActiveSetError> {
+        let (k, local) = self.pairs[c].contact;
+        let parts = self.contact[k];
+        let (t1, t2) = self.tangential.as_ref().expect("set by set_friction")[k];
+        let ob = self.offsets[parts.body];
+        // The target side: its DOF offset, normal and tangential operators.
+        let target = parts.target.zip(t2).map(|((t, op2), t2)| (self.offsets[t], op2, t2));
+        let pair = &mut self.pairs[c];
+        let (n_us, n_terms) = pair.frictionless;
+        pair.us.truncate(n_us);
+        pair.terms.truncate(n_terms);
+        pair.modes.truncate(1);
+        if mu == 0.0 {
+            let closed = pair.modes[0].clone();
+            pair.modes.extend([closed.clone(), closed.clone(), closed]);
+            return Ok(());
+        }
+        let (nu, t) = (parts.operator.direction(local), t1.direction(local));
+        let [a, b] = pair.axes;
+        let [ra, rb] = pair.dofs;
+        // The target's rows per unit residual r_x of the candidate body's row x:
+        // −(w_j/w)(d₂ ν_x + d₂ₜ t_x).
+        let weight = pair.weight;
+        let target_rows = |x: Axis| -> Vec<(usize, f64)> {
+            let Some((ot, op2, t2)) = target else { return Vec::new() };
+            let (d2, d2t) = (op2.direction(local), t2.direction(local));
+            let mut u: Row = Vec::new();
+            for (owners, d, e) in [(&op2.owners[local], d2, nu), (&t2.owners[local], d2t, t)] {
+                for &(j, w2) in owners {
+                    for ax in Axis::BOTH {
+                        let k = -w2 / weight * d[ax as usize] * e[x as usize];
+                        if k != 0.0 {
+                            u.push((ot + dof(j as usize, ax), k));
+                        }
+                    }
+                }
+            }
+            sum_rows(&u, &Vec::new()).into_iter().filter(|e| e.1 != 0.0).collect()
+        };
+        let minus_b: Row = pair.rows[1].iter().map(|&(j, v)| (j, -v)).collect();
+        let mut sides = vec![(t1, ob)];
+        if let Some((ot, _, t2)) = target {
+            sides.push((t2, ot));
+        }
+        let stick_row = sum_rows(&pair_row(pair.scale, &sides, local), &minus_b);
+        let eb = pair.us.len();
+        pair.us.push(vec![(rb, 1.0)]);
+        let stick = pair.terms.len();
+        pair.terms.push(Term { u: eb, d: stick_row, rhs: TermRhs::Tangential });
+        let mut shared = vec![0];
+        for (x, r) in [(a, ra), (b, rb)] {
+            let u = target_rows(x);
+            if !u.is_empty() {
+                pair.us.push(u);
+                shared.push(pair.terms.len());
+                let d = pair.rows[if x == a { 0 } else { 1 }].clone();
+                pair.terms.push(Term { u: pair.us.len() - 1, d, rhs: TermRhs::Row(1.0, r) });
+            }
+        }
+        let mut modes = Vec::new();
+        for sign in [1.0, -1.0] {
+            let (ca, cb) = (
+                t[a as usize] + sign * mu * nu[a as usize],
+                t[b as usize] + sign * mu * nu[b as usize],
+            );
+            if cb.abs() <= 1e-8 * ca.abs() {
+                return Err(ActiveSetError::Unsupported { candidate: c });
+            }
+            let k = ca / cb;
+            let d: Row = pair.rows[0].iter().map(|&(j, v)| (j, k * v)).collect();
+            modes.push(pair.terms.len());
+            pair.terms.push(Term { u: eb, d, rhs: TermRhs::Row(k, ra) });
+        }
+        let with = |own: usize| {
+            let mut v = vec![shared[0], own];
+            v.extend_from_slice(&shared[1..]);
+            v
+        };
+        pair.modes.push(with(stick));
+        pair.modes.push(with(modes[0]));
+        pair.modes.push(with(modes[1]));
         Ok(())
     }
 
@@ -888,7 +914,26 @@ impl<'a> Bodies<'a> {
         &mut self,
         active: &[bool],
     ) -> Result<Vec<Vec<f64>>, ActiveSetError> {
-        let modes = closed_modes(active);
+        self.final_body_displacements_of(closed_modes(active))
+    }
+
+    /// The displacements of every body of the frictional step that settled on `states` (those
+    /// of its last solve, else a new solve).
+    ///
+    /// # Errors
+    /// A failed solve.
+    pub fn final_body_friction_displacements(
+        &mut self,
+        states: &[ContactState],
+    ) -> Result<Vec<Vec<f64>>, ActiveSetError> {
+        let modes = self.modes_of(states);
+        self.final_body_displacements_of(modes)
+    }
+
+    fn final_body_displacements_of(
+        &mut self,
+        modes: Vec<Mode>,
+    ) -> Result<Vec<Vec<f64>>, ActiveSetError> {
         let u = match self.last.take() {
             Some((a, u)) if a == modes => u,
             _ => self.displacements_of(&modes)?,
@@ -974,7 +1019,10 @@ impl<'a> Bodies<'a> {
                     r[pair.axes[1] as usize] = dot(&pair.rows[1]) - f1[rb];
                     let (k, local) = pair.contact;
                     let nu = self.contact[k].operator.direction(local);
-                    let tc = self.tangential.map_or([0.0, 0.0], |ops| ops[0].direction(local));
+                    let tc = self
+                        .tangential
+                        .as_ref()
+                        .map_or([0.0, 0.0], |ops| ops[k].0.direction(local));
                     p.push((nu[0] * r[0] + nu[1] * r[1]) / pair.weight);
                     t.push((tc[0] * r[0] + tc[1] * r[1]) / pair.weight);
                 }
@@ -1007,19 +1055,17 @@ impl<'a> Bodies<'a> {
     /// The relative tangential displacements `t·u₁^h(x_c) − t·u₂^h(y_c)` (zero without the
     /// tangential operators).
     fn slips(&self, u: &[f64]) -> Vec<f64> {
-        match self.tangential {
-            Some([t1, t2]) => {
-                // One pair between two bodies (set_friction).
-                let pair = &self.contact[0];
-                let t = pair.target.map_or(pair.body, |(t, _)| t);
-                let mut s = t1.gap_contribution(&u[self.body_range(pair.body)]);
-                for (s, v) in s.iter_mut().zip(t2.gap_contribution(&u[self.body_range(t)])) {
-                    *s += v;
-                }
-                s
+        let Some(tangential) = &self.tangential else { return vec![0.0; self.pairs.len()] };
+        let mut s = Vec::with_capacity(self.pairs.len());
+        for (pair, &(t1, t2)) in self.contact.iter().zip(tangential) {
+            let mut part = t1.gap_contribution(&u[self.body_range(pair.body)]);
+            if let (Some((t, _)), Some(t2)) = (pair.target, t2) {
+                let other = t2.gap_contribution(&u[self.body_range(t)]);
+                part.iter_mut().zip(other).for_each(|(s, v)| *s += v);
             }
-            None => vec![0.0; self.pairs.len()],
+            s.extend(part);
         }
+        s
     }
 }
 
@@ -1080,7 +1126,7 @@ impl ActiveSetSystem for Bodies<'_> {
             x[(i, 0)] = v;
         }
         for (j, &c) in free.iter().enumerate() {
-            self.add_unit_force(None, c, x.col_mut(j + 1));
+            self.add_unit_force(false, c, x.col_mut(j + 1));
         }
         self.solve_columns(&held, x.as_mut())?;
         let q: Vec<f64> = {
@@ -1100,23 +1146,20 @@ impl ActiveSetSystem for Bodies<'_> {
 
 impl Bodies<'_> {
     /// Adds the unit force of candidate `c` on its body and its target body to the column
-    /// `x`: the normal force (`tangential` = `None`, the pair's operators) or the tangential
-    /// one (the tangential operators of the pair's two bodies).
-    fn add_unit_force(
-        &self,
-        tangential: Option<[&BodyOperator; 2]>,
-        c: usize,
-        mut x: faer::ColMut<'_, f64>,
-    ) {
+    /// `x`: the normal force (the pair's operators) or, with `tangential`, the tangential one
+    /// (the pair's tangential operators of [`Bodies::set_friction`]).
+    fn add_unit_force(&self, tangential: bool, c: usize, mut x: faer::ColMut<'_, f64>) {
         let (k, local) = self.pairs[c].contact;
         let pair = &self.contact[k];
         let mut sides = vec![(pair.operator, self.offsets[pair.body])];
         if let Some((t, op)) = pair.target {
             sides.push((op, self.offsets[t]));
         }
-        if let Some(ops) = tangential {
-            for (side, op) in sides.iter_mut().zip(ops) {
-                side.0 = op;
+        if let (true, Some(ops)) = (tangential, &self.tangential) {
+            let (t1, t2) = ops[k];
+            sides[0].0 = t1;
+            if let (Some(side), Some(t2)) = (sides.get_mut(1), t2) {
+                side.0 = t2;
             }
         }
         for (op, offset) in sides {
@@ -1184,9 +1227,9 @@ impl FrictionSystem for Bodies<'_> {
             x[(i, 0)] = v;
         }
         for (j, &c) in free.iter().enumerate() {
-            self.add_unit_force(None, c, x.col_mut(j + 1));
-            if let (true, Some(tangential)) = (mu[c] > 0.0, self.tangential) {
-                self.add_unit_force(Some(tangential), c, x.col_mut(k + j + 1));
+            self.add_unit_force(false, c, x.col_mut(j + 1));
+            if mu[c] > 0.0 && self.tangential.is_some() {
+                self.add_unit_force(true, c, x.col_mut(k + j + 1));
             }
         }
         self.solve_columns(&held, x.as_mut())?;

@@ -2,7 +2,7 @@
 //! docs/dev/contact_core.md): friction, `[[step]]` tables and a body held by the contact,
 //! each body one [`load_path::Term`] over the candidates of the pairs that touch it.
 
-use super::super::friction::{StepEnd, tangential_operators};
+use super::super::friction::{History, StepEnd, tangential_operators};
 use super::super::load_path::{self, Held, Path, Term};
 use super::{Held as HeldBody, PairCandidates, Solved};
 use crate::contact::{self, BodyOperator};
@@ -15,7 +15,62 @@ use crate::solution::FrictionContact;
 
 /// Each pair's tangential operators: the candidate body's, whether each candidate can take a
 /// tangential force, and the target body's (direction `−t`) for a pair between bodies.
-type Tangential = (BodyOperator, Vec<bool>, Option<BodyOperator>);
+pub(super) type Tangential = (BodyOperator, Vec<bool>, Option<BodyOperator>);
+
+/// Every pair's [`Tangential`] operators.
+pub(super) fn pair_tangential(scene: &Scene<'_>, models: &[&Model]) -> Vec<Tangential> {
+    scene
+        .pairs
+        .iter()
+        .zip(scene.found)
+        .map(|(pair, f)| {
+            let target = pair.target_body.zip(f.target.as_ref()).map(|(t, op)| (models[t], op));
+            tangential_operators(&f.candidates, models[pair.body], target)
+        })
+        .collect()
+}
+
+/// Each body's tangential operator over the candidates that touch it (with their global
+/// indices), as [`super::body_operator`] gives the normal ones.
+pub(super) fn tangential_by_body(
+    scene: &Scene<'_>,
+    tangential: &[Tangential],
+    bodies: usize,
+) -> Vec<Option<(BodyOperator, Vec<usize>)>> {
+    let ops: Vec<_> = tangential.iter().map(|(t, _, t2)| (t, t2.as_ref())).collect();
+    (0..bodies).map(|b| super::body_operator(b, scene.pairs, &ops, scene.offsets)).collect()
+}
+
+/// Every candidate's normal, pair after pair.
+pub(super) fn normals(scene: &Scene<'_>) -> Vec<crate::geometry::Point> {
+    scene.found.iter().flat_map(|f| f.candidates.normals.iter().copied()).collect()
+}
+
+/// One frictional record per pair from the path's last answer `step`, the coefficients of
+/// the last step and the pairs' histories.
+pub(super) fn pair_records(
+    scene: &Scene<'_>,
+    tangential: Vec<Tangential>,
+    step: &lcp::FrictionSolution,
+    last_friction: &[f64],
+    histories: Vec<History>,
+) -> Vec<FrictionContact> {
+    tangential
+        .into_iter()
+        .zip(histories)
+        .enumerate()
+        .map(|(k, ((op, free, target_op), history))| {
+            let range = scene.offsets[k]..scene.offsets[k + 1];
+            let coefficient = last_friction[range.clone()].iter().copied().fold(0.0, f64::max);
+            let step = load_path::select(step, range);
+            let length = &scene.found[k].candidates.segment_length;
+            let mut f = FrictionContact::new(coefficient, free, op, step, length);
+            history.finish(&mut f);
+            f.target_operator = target_op;
+            f
+        })
+        .collect()
+}
 
 /// What the path needs of the scene besides the models.
 pub(super) struct Scene<'s> {
@@ -31,7 +86,7 @@ pub(super) struct Scene<'s> {
 
 /// `μ` per candidate in each step: a step's `friction` when it sets one, else each pair's
 /// own; 0 where the candidate's tangential row is a displacement condition.
-fn friction_per_step(scene: &Scene<'_>, tangential: &[Tangential]) -> Vec<Vec<f64>> {
+pub(super) fn friction_per_step(scene: &Scene<'_>, tangential: &[Tangential]) -> Vec<Vec<f64>> {
     let steps = &scene.problem.steps;
     let count = steps.len().max(1);
     (0..count)
@@ -52,9 +107,31 @@ fn friction_per_step(scene: &Scene<'_>, tangential: &[Tangential]) -> Vec<Vec<f6
         .collect()
 }
 
-/// The held body's search on the path (docs/method.md §4.7); with friction only where every
-/// frictional candidate's tangent is orthogonal to the held translation (its tangential force
-/// then does not enter the pin's balance).
+/// Refuses friction with a held body unless every frictional candidate's tangent is
+/// orthogonal to the held translation (its tangential force then does not enter the pin's
+/// balance, which the search of docs/method.md §4.7 solves).
+pub(super) fn refuse_slanted(
+    pin: &crate::assembly::PinnedMode,
+    friction: &[Vec<f64>],
+    normals: &[crate::geometry::Point],
+) -> Result<(), Error> {
+    let a = pin.axis as usize;
+    let slanted = (0..normals.len()).find(|&c| {
+        friction.iter().any(|mu| mu[c] > 0.0) && contact::tangent(normals[c])[a].abs() > 1e-12
+    });
+    match slanted {
+        None => Ok(()),
+        Some(c) => {
+            let why = format!(
+                "the contact has friction and candidate {c}'s tangent has a component along the held translation (its tangential force would enter the balance the search solves)"
+            );
+            Err(lcp::LcpError::from(LoadDrivenError::Unsupported { mode: pin.name(), why }).into())
+        }
+    }
+}
+
+/// The held body's search on the path (docs/method.md §4.7), with friction only as
+/// [`refuse_slanted`] allows.
 fn held_on_path(
     held: Option<&HeldBody>,
     term_of: &[Option<usize>],
@@ -62,18 +139,7 @@ fn held_on_path(
     normals: &[crate::geometry::Point],
 ) -> Result<Option<Held>, Error> {
     let Some((b, pin, along, _)) = held else { return Ok(None) };
-    let a = pin.axis as usize;
-    let slanted = (0..normals.len()).find(|&c| {
-        friction.iter().any(|mu| mu[c] > 0.0) && contact::tangent(normals[c])[a].abs() > 1e-12
-    });
-    if let Some(c) = slanted {
-        let why = format!(
-            "the contact has friction and candidate {c}'s tangent has a component along the held translation (its tangential force would enter the balance the search solves)"
-        );
-        return Err(
-            lcp::LcpError::from(LoadDrivenError::Unsupported { mode: pin.name(), why }).into()
-        );
-    }
+    refuse_slanted(pin, friction, normals)?;
     let term = term_of[*b].expect("a held body is touched by a pair");
     Ok(Some(Held::Among { term, pin: *pin, along: along.clone() }))
 }
@@ -89,19 +155,9 @@ pub(super) fn solve(
     held_body: Option<&HeldBody>,
     clock: &mut Clock<'_>,
 ) -> Result<(Solved, Vec<FrictionContact>), Error> {
-    let (pairs, found) = (scene.pairs, scene.found);
-    let tangential: Vec<Tangential> = pairs
-        .iter()
-        .zip(found)
-        .map(|(pair, f)| {
-            let target = pair.target_body.zip(f.target.as_ref()).map(|(t, op)| (models[t], op));
-            tangential_operators(&f.candidates, models[pair.body], target)
-        })
-        .collect();
-    let tangential_ops: Vec<_> = tangential.iter().map(|(t, _, t2)| (t, t2.as_ref())).collect();
-    let tangential_by_body: Vec<Option<(BodyOperator, Vec<usize>)>> = (0..models.len())
-        .map(|b| super::body_operator(b, pairs, &tangential_ops, scene.offsets))
-        .collect();
+    let pairs = scene.pairs;
+    let tangential = pair_tangential(scene, models);
+    let tangential_by_body = tangential_by_body(scene, &tangential, models.len());
     let mut term_of = vec![None; models.len()];
     let mut terms = Vec::new();
     for (b, (normal, tangential)) in scene.operators.iter().zip(&tangential_by_body).enumerate() {
@@ -116,7 +172,7 @@ pub(super) fn solve(
             });
         }
     }
-    let normals: Vec<_> = found.iter().flat_map(|f| f.candidates.normals.iter().copied()).collect();
+    let normals = normals(scene);
     let friction = friction_per_step(scene, &tangential);
     let held = held_on_path(held_body, &term_of, &friction, &normals)?;
     let load_path::Condensed { blocks, compliance } =
@@ -145,27 +201,7 @@ pub(super) fn solve(
             None => u.push(m.factorisation.solve(&m.system.rhs)?),
         }
     }
-    let frictions = pairs
-        .iter()
-        .enumerate()
-        .zip(tangential)
-        .zip(answer.histories)
-        .map(|(((k, _), (op, free, target_op)), history)| {
-            let range = scene.offsets[k]..scene.offsets[k + 1];
-            let coefficient = last_friction[range.clone()].iter().copied().fold(0.0, f64::max);
-            let step = load_path::select(&answer.step, range);
-            let mut f = FrictionContact::new(
-                coefficient,
-                free,
-                op,
-                step,
-                &found[k].candidates.segment_length,
-            );
-            history.finish(&mut f);
-            f.target_operator = target_op;
-            f
-        })
-        .collect();
+    let frictions = pair_records(scene, tangential, &answer.step, &last_friction, answer.histories);
     let search = answer.rigid_mode.as_ref().map(|r| {
         let a = held_body.map_or(0, |(_, pin, _, _)| pin.axis as usize);
         (r.translation[a], r.evaluations)

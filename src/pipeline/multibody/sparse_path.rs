@@ -1,0 +1,283 @@
+//! Several bodies and contact pairs along the load path on the sparse system (docs/method.md
+//! §5.1, §8; plan in docs/dev/contact_core.md): friction, `[[step]]` tables and a body held
+//! by the contact with `contact[k].solver = "active_set"`. No condensed blocks: one
+//! [`lcp::active_set::Bodies`] over all bodies and pairs, whose factorisations and update
+//! columns carry over the increments; per increment each body's right-hand side, per step
+//! the coefficients `μ_c`, and the increment's frictional step solved from the previous
+//! increment's states (the held body's translation by the search of
+//! [`lcp::load_driven::find_translation_with`] over warm-started solves).
+
+use super::super::friction::{History, StepEnd, lerp};
+use super::path::{self, Scene};
+use super::{BodiesTrials, EMPTY_OPERATOR, Held as HeldBody, Solved};
+use crate::contact::BodyOperator;
+use crate::error::Error;
+use crate::lcp;
+use crate::model::Model;
+use crate::progress::Clock;
+use crate::solution::{self, FrictionContact};
+
+/// One increment's answer: the step, every body's displacements and, for a held body, its
+/// translation, the search's LCP solves and the gaps without contact forces at `t = 0`.
+struct Increment {
+    answer: lcp::active_set::FrictionStepSolution,
+    u: Vec<Vec<f64>>,
+    held: Option<(f64, usize, Vec<f64>)>,
+}
+
+/// Friction and load steps for several bodies and pairs on the sparse system: the path of
+/// [`path::solve`] with each increment an active-set step instead of the step LCP on
+/// condensed blocks.
+///
+/// # Errors
+/// The active-set solver's and the search's errors (naming the step and the increment when
+/// the problem has `[[step]]` tables), a failed solve.
+pub(super) fn solve(
+    scene: &Scene<'_>,
+    models: &[&Model],
+    held_body: Option<&HeldBody>,
+    clock: &mut Clock<'_>,
+) -> Result<(Solved, Vec<FrictionContact>), Error> {
+    let tangential = path::pair_tangential(scene, models);
+    let by_body = path::tangential_by_body(scene, &tangential, models.len());
+    let friction = path::friction_per_step(scene, &tangential);
+    if let Some((_, pin, _, _)) = held_body {
+        path::refuse_slanted(pin, &friction, &path::normals(scene))?;
+    }
+    let mut system = bodies_system(scene, models)?;
+    let pair_tangential: Vec<lcp::active_set::PairTangential<'_>> =
+        tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
+    let zeros = |m: &&Model| vec![0.0; m.system.rhs.len()];
+    let (mut loads0, mut rhss0): (Vec<_>, Vec<_>) =
+        (models.iter().map(zeros).collect(), models.iter().map(zeros).collect());
+    let m = scene.initial_gap.len();
+    let mut previous = vec![0.0; m];
+    let mut warm: Option<Vec<lcp::ContactState>> = None;
+    let mut histories: Vec<History> = (0..scene.pairs.len())
+        .map(|k| History::new(scene.offsets[k + 1] - scene.offsets[k], scene.problem.write_steps))
+        .collect();
+    let (mut iterations, mut rescues, mut end_all) =
+        (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
+    let mut last: Option<Increment> = None;
+    let params = lcp::active_set::ActiveSetParams::default();
+    let work = clock.run("friction", || -> Result<_, Error> {
+        for (k, end) in scene.steps[0].iter().enumerate() {
+            system
+                .set_friction(&friction[k], pair_tangential.clone())
+                .map_err(lcp::LcpError::from)?;
+            for i in 1..=end.increments {
+                let started = std::time::Instant::now();
+                let lambda = i as f64 / end.increments as f64;
+                let at_step = |e: lcp::LcpError| {
+                    if scene.problem.steps.is_empty() {
+                        Error::from(e)
+                    } else {
+                        let (step, increments) = (k + 1, end.increments);
+                        Error::Increment {
+                            step,
+                            increment: i,
+                            increments,
+                            cause: Box::new(e.into()),
+                        }
+                    }
+                };
+                let at = |ends: &[Vec<f64>], which: fn(&StepEnd) -> &Vec<f64>| -> Vec<Vec<f64>> {
+                    scene
+                        .steps
+                        .iter()
+                        .zip(ends)
+                        .map(|(e, v0)| lerp(v0, which(&e[k]), lambda))
+                        .collect()
+                };
+                let (loads, rhss) = (at(&loads0, |e| &e.load), at(&rhss0, |e| &e.rhs));
+                for (b, rhs) in rhss.iter().enumerate() {
+                    system.set_body_load(b, rhs);
+                }
+                let state = Warm { previous: &previous, warm: warm.as_deref(), params };
+                let solved =
+                    solve_increment(&mut system, scene, models, held_body, (&loads, &rhss), state)
+                        .map_err(at_step)?;
+                let step = &solved.answer.step;
+                let equilibrium = models
+                    .iter()
+                    .enumerate()
+                    .map(|(b, model)| {
+                        body_equilibrium(
+                            model,
+                            &loads[b],
+                            &solved.u[b],
+                            (&scene.operators[b], &by_body[b]),
+                            step,
+                        )
+                    })
+                    .fold(0.0, f64::max);
+                let seconds = started.elapsed().as_secs_f64();
+                for (p, h) in histories.iter_mut().enumerate() {
+                    let share = super::super::load_path::select(
+                        step,
+                        scene.offsets[p]..scene.offsets[p + 1],
+                    );
+                    let changes = solved.answer.changes.clone();
+                    h.record(&share, (k, i, lambda), equilibrium, changes, seconds);
+                }
+                previous.clone_from(&step.tangential_displacement);
+                iterations += step.iterations;
+                rescues.extend_from_slice(&solved.answer.rescues);
+                if solved.answer.end != lcp::active_set::ActiveSetEnd::Converged {
+                    end_all = solved.answer.end;
+                }
+                warm = Some(solved.answer.states.clone());
+                last = Some(solved);
+            }
+            for (b, ends) in scene.steps.iter().enumerate() {
+                loads0[b].clone_from(&ends[k].load);
+                rhss0[b].clone_from(&ends[k].rhs);
+            }
+        }
+        Ok(system.stats)
+    })?;
+    let Some(Increment { answer, u, held }) = last else {
+        unreachable!("validated: at least one step with at least one increment")
+    };
+    let last_friction = friction.last().cloned().unwrap_or_default();
+    let step = answer.step;
+    let (search, free_gap) = match held {
+        Some((t, evaluations, base)) => (Some((t, evaluations)), base),
+        None => (None, answer.free_gap),
+    };
+    let result = lcp::LcpSolution {
+        residuals: lcp::active_set::residuals(&free_gap, &step.normal, &step.gap),
+        w: step.gap.clone(),
+        z: step.normal.clone(),
+        pivots: iterations,
+    };
+    let frictions = path::pair_records(scene, tangential, &step, &last_friction, histories);
+    let record = solution::ActiveSetRecord {
+        iterations,
+        changes: answer.changes,
+        rescues,
+        end: end_all,
+        work,
+    };
+    let solved = Solved {
+        result,
+        free_gap,
+        condensed: None,
+        warning: None,
+        search,
+        displacements: Some(u),
+        record: Some(record),
+    };
+    Ok((solved, frictions))
+}
+
+/// The sparse system of all bodies and pairs.
+fn bodies_system<'a>(
+    scene: &Scene<'a>,
+    models: &[&'a Model],
+) -> Result<lcp::active_set::Bodies<'a>, Error> {
+    let bodies = models
+        .iter()
+        .map(|m| lcp::active_set::BodyParts {
+            matrix: &m.system.matrix,
+            rhs: &m.system.rhs,
+            factorisation: &m.factorisation,
+            operator: &EMPTY_OPERATOR,
+            points: super::super::node_points(m),
+        })
+        .collect();
+    let parts = scene
+        .pairs
+        .iter()
+        .zip(scene.found)
+        .map(|(pair, f)| lcp::active_set::PairParts {
+            body: pair.body,
+            operator: &f.candidates.operator,
+            target: pair.target_body.zip(f.target.as_ref()),
+            scale: models[pair.body].system.collocation_scale,
+        })
+        .collect();
+    Ok(lcp::active_set::Bodies::new(bodies, parts, scene.initial_gap)
+        .map_err(lcp::LcpError::from)?)
+}
+
+/// Where an increment starts: the accumulated tangential displacements and the states of
+/// the previous increment.
+struct Warm<'w> {
+    previous: &'w [f64],
+    warm: Option<&'w [lcp::ContactState]>,
+    params: lcp::active_set::ActiveSetParams,
+}
+
+/// One increment on the system whose bodies' right-hand sides are set: the active-set step,
+/// or for a held body the search for its translation (the pin then set to it and the gaps
+/// back to `g0`, so that the displacements answer the system reported).
+fn solve_increment(
+    system: &mut lcp::active_set::Bodies<'_>,
+    scene: &Scene<'_>,
+    models: &[&Model],
+    held_body: Option<&HeldBody>,
+    (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
+    start: Warm<'_>,
+) -> Result<Increment, lcp::LcpError> {
+    let Some((b, pin, along, _)) = held_body else {
+        let answer = lcp::active_set::solve_friction_step(
+            system,
+            start.previous,
+            start.warm,
+            &start.params,
+        )?;
+        let u = system.final_body_friction_displacements(&answer.states)?;
+        return Ok(Increment { answer, u, held: None });
+    };
+    let along_load: f64 = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum();
+    let mut trials = BodiesTrials {
+        system: &mut *system,
+        initial_gap: scene.initial_gap,
+        along,
+        previous: start.previous.to_vec(),
+        warm: start.warm.map(<[_]>::to_vec),
+        params: start.params,
+        iterations: 0,
+        rescues: Vec::new(),
+        round_off: Vec::new(),
+    };
+    let base = trials.base_gap()?;
+    let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, along_load)?;
+    let (iterations, rescues) = (trials.iterations, trials.rescues);
+    let mut answer = search.answer;
+    answer.step.iterations = iterations;
+    answer.rescues = rescues;
+    let model = models[*b];
+    let mut rhs = rhss[*b].clone();
+    rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
+        model.system.collocation_scale * search.displacement;
+    system.set_body_load(*b, &rhs);
+    system.set_initial_gap(scene.initial_gap);
+    let u = system.final_body_friction_displacements(&answer.states)?;
+    Ok(Increment { answer, u, held: Some((search.displacement, search.evaluations, base)) })
+}
+
+/// A body's operator over the candidates that touch it, with their global indices.
+type Indexed = Option<(BodyOperator, Vec<usize>)>;
+
+/// The relative equilibrium error of one body under its load and the normal and tangential
+/// forces of the candidates that touch it (`ops`: its normal and tangential operators with
+/// the candidates' global indices; `None` when no pair touches it).
+fn body_equilibrium(
+    model: &Model,
+    load: &[f64],
+    u: &[f64],
+    ops: (&Indexed, &Indexed),
+    step: &lcp::FrictionSolution,
+) -> f64 {
+    let gather = |v: &[f64], index: &[usize]| index.iter().map(|&g| v[g]).collect::<Vec<f64>>();
+    match ops {
+        (Some((normal, index)), Some((tangential, _))) => {
+            let (p, t) = (gather(&step.normal, index), gather(&step.tangential, index));
+            let forces = [(normal, p.as_slice()), (tangential, t.as_slice())];
+            solution::equilibrium_error(&model.system, load, u, &forces)
+        }
+        _ => solution::equilibrium_error(&model.system, load, u, &[]),
+    }
+}
