@@ -641,9 +641,18 @@ fn constraints(input: &AssemblyInput<'_>) -> Vec<Constraint> {
 /// translation they leave free ([`Body::contact_may_hold`]), the pin of that translation
 /// among them (docs/method.md §4.7).
 fn constraints_and_pin(input: &AssemblyInput<'_>) -> (Vec<Constraint>, Option<PinnedMode>) {
-    let mut out = constraints(input);
-    let pinned =
-        if input.body.contact_may_hold { free_translation(&out, input.body.nodes) } else { None };
+    with_pin(constraints(input), &input.body)
+}
+
+/// `constraints` with, when the contact may hold a rigid-body translation they leave free
+/// ([`Body::contact_may_hold`]), the pin of that translation inserted in DOF order, and the
+/// pin (docs/method.md §4.7). The MFVM's and the FE's assembly share it.
+pub(crate) fn with_pin(
+    constraints: Vec<Constraint>,
+    body: &Body<'_>,
+) -> (Vec<Constraint>, Option<PinnedMode>) {
+    let mut out = constraints;
+    let pinned = if body.contact_may_hold { free_translation(&out, body.nodes) } else { None };
     if let Some(p) = pinned {
         let pin = Constraint { node: p.node, axis: p.axis, value: 0.0 };
         let at =

@@ -4,7 +4,7 @@
 use super::FemError;
 use super::element;
 use super::mesh::Mesh;
-use crate::assembly::{BlockRows, Body, Constraint, GlobalSystem, SystemMatrix};
+use crate::assembly::{self, BlockRows, Body, Constraint, GlobalSystem, SystemMatrix};
 use crate::material::{Constitutive, Hoop};
 use crate::nodes::{Axis, Nodes, dof};
 use crate::problem::{ComponentCondition, EdgeCondition};
@@ -23,7 +23,11 @@ pub struct FemInput<'a> {
 /// `interior_stiffness` holds the unconstrained `K` (for reactions `K u − f − E P`), `matrix`
 /// the solved one. Each prescribed DOF `c` is eliminated symmetrically: its row and column
 /// are zeroed, the diagonal set to `D_00`, `rhs_c = D_00 ū_c`, and `K_{rc} ū_c` moved to the
-/// right-hand side of every other row `r`, so `matrix` stays symmetric.
+/// right-hand side of every other row `r`, so `matrix` stays symmetric. A body whose one free
+/// translation the contact holds (docs/method.md §4.7) is pinned at one node as the MFVM's is
+/// ([`assembly::with_pin`]): the pin's row is replaced, its column kept, so that setting the
+/// pin's right-hand side to `D_00 t` translates the whole body by `t` (the matrix is then
+/// unsymmetric in that column; the LU does not mind).
 ///
 /// # Errors
 /// [`FemError::NoDirichlet`] / [`FemError::RigidBodyMotion`] when the prescribed
@@ -32,11 +36,12 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
     let stiffness =
         stiffness(input.mesh, input.body.nodes.len(), input.body.d, input.body.hoop.as_ref());
     let load = load(input);
-    let constraints = constraints(input);
+    let (constraints, pinned) = constraints_and_pin(input);
     check_restraint(&constraints, input.body.nodes, input.body.hoop.is_some())?;
     let scale = input.body.d[0][0];
     let (rhs, constrained) = eliminated_rhs(&stiffness, &load, &constraints, scale);
-    let matrix = eliminated_matrix(&stiffness, &constrained, scale);
+    let pin = pinned.map(|p| dof(p.node as usize, p.axis));
+    let matrix = eliminated_matrix(&stiffness, &constrained, pin, scale);
     Ok(GlobalSystem {
         interior_stiffness: stiffness,
         load,
@@ -44,7 +49,7 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
         collocation_scale: scale,
         matrix,
         rhs,
-        pinned: None,
+        pinned,
         axisymmetric: input.body.hoop.is_some(),
     })
 }
@@ -55,9 +60,19 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
 /// differ from the assembled ones in their values only (docs/method.md §8).
 pub fn load_and_rhs(input: &FemInput<'_>, stiffness: &BlockRows) -> (Vec<f64>, Vec<f64>) {
     let load = load(input);
-    let constraints = constraints(input);
+    let (constraints, _) = constraints_and_pin(input);
     let (rhs, _) = eliminated_rhs(stiffness, &load, &constraints, input.body.d[0][0]);
     (load, rhs)
+}
+
+/// The constraints of `input`'s conditions and, when the contact may hold a free rigid-body
+/// translation (not in axisymmetry), its pin among them (docs/method.md §4.7).
+fn constraints_and_pin(input: &FemInput<'_>) -> (Vec<Constraint>, Option<assembly::PinnedMode>) {
+    let constraints = constraints(input);
+    if input.body.hoop.is_some() {
+        return (constraints, None);
+    }
+    assembly::with_pin(constraints, &input.body)
 }
 
 /// The right-hand side after symmetric elimination of `constraints` (`scale · ū_c` on a
@@ -143,8 +158,14 @@ fn stiffness(mesh: &Mesh, node_count: usize, d: &Constitutive, hoop: Option<&Hoo
 }
 
 /// The compressed-column matrix of `K` with constrained rows and columns replaced by
-/// `scale` on the diagonal. `K` is symmetric, so column `(j, b)` is read from block row `j`.
-fn eliminated_matrix(k: &BlockRows, constrained: &[bool], scale: f64) -> SystemMatrix {
+/// `scale` on the diagonal, except the `pin`'s column, which keeps its entries (its row is
+/// replaced). `K` is symmetric, so column `(j, b)` is read from block row `j`.
+fn eliminated_matrix(
+    k: &BlockRows,
+    constrained: &[bool],
+    pin: Option<usize>,
+    scale: f64,
+) -> SystemMatrix {
     let n = 2 * k.rows();
     let mut col_ptr = vec![0usize];
     let mut row_idx = Vec::with_capacity(k.nnz());
@@ -152,7 +173,7 @@ fn eliminated_matrix(k: &BlockRows, constrained: &[bool], scale: f64) -> SystemM
     for j in 0..k.rows() {
         for b in Axis::BOTH {
             let c = dof(j, b);
-            if constrained[c] {
+            if constrained[c] && pin != Some(c) {
                 row_idx.push(c);
                 values.push(scale);
             } else {
@@ -160,7 +181,16 @@ fn eliminated_matrix(k: &BlockRows, constrained: &[bool], scale: f64) -> SystemM
                     let i = k.cols[p] as usize;
                     for a in Axis::BOTH {
                         let r = dof(i, a);
-                        if !constrained[r] {
+                        if r == c {
+                            // The pin's column keeps its entries (the pinned value moves the
+                            // body rigidly when the pipeline sets it), its row is replaced.
+                            row_idx.push(r);
+                            values.push(if pin == Some(c) {
+                                scale
+                            } else {
+                                k.blocks[p][b as usize][a as usize]
+                            });
+                        } else if !constrained[r] {
                             row_idx.push(r);
                             // K[r][c] = K[c][r] = block (j, i)[b][a].
                             values.push(k.blocks[p][b as usize][a as usize]);

@@ -71,7 +71,7 @@ pub enum LoadDrivenError {
     /// A rigid-body translation left to the contact with something this method does not
     /// combine it with (friction, an obstacle pressed by a force, a pin on the contact).
     #[error(
-        "{mode} is held only by the contact, which is solved for frictionless contact with an obstacle that does not move by a force and a body whose pinned node carries no contact force; here {why} (add a displacement condition that prevents the {mode})"
+        "{mode} is held only by the contact, which is solved for contact with an obstacle that does not move by a force, friction only where the tangents are orthogonal to the translation, and a body whose pinned node carries no contact force; here {why} (add a displacement condition that prevents the {mode})"
     )]
     Unsupported {
         /// The free mode.

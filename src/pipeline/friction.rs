@@ -44,6 +44,9 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
         .map(|step| {
             let mut body = assembly::Body::new(problem, &model.nodes, &d);
             body.boundary = &step.boundary;
+            // The pin of a translation held by the contact, as assembled (a second or later
+            // body's `problem` does not know that a pair touches it).
+            body.contact_may_hold = model.system.pinned.is_some();
             let (load, rhs) = match &model.scheme {
                 Scheme::Mfvm(m) => assembly::load_and_rhs(&AssemblyInput {
                     body,
@@ -361,7 +364,8 @@ fn attach_records(
     load_driven: Option<solution::LoadDriven>,
     rigid_mode: Option<solution::RigidMode>,
 ) {
-    if pinned.is_none() || !problem.steps.is_empty() {
+    // A frictionless held body without steps reports as one-shot contact does.
+    if pinned.is_none() || !problem.steps.is_empty() || friction.coefficient > 0.0 {
         contact.friction = Some(friction);
     }
     contact.load_driven = load_driven;
@@ -388,9 +392,14 @@ fn held_projection(
                     why,
                 }))
             };
-            if let Some(k) = steps.iter().position(|s| s.friction > 0.0) {
+            // Friction where every candidate's tangent is orthogonal to the translation: the
+            // tangential forces do not enter the pin's balance the search solves (as with
+            // several pairs, `multibody::path::refuse_slanted`).
+            let a = pin.axis as usize;
+            let slanted = (0..m).find(|&c| contact::tangent(candidates.normal(c))[a].abs() > 1e-12);
+            if let (Some(k), Some(c)) = (steps.iter().position(|s| s.friction > 0.0), slanted) {
                 return Err(unsupported(format!(
-                    "the contact has friction μ = {} (in step {})",
+                    "the contact has friction μ = {} (in step {}) and candidate {c}'s tangent has a component along the held translation (its tangential force would enter the balance the search solves)",
                     steps[k].friction,
                     k + 1
                 )));
@@ -407,7 +416,6 @@ fn held_projection(
                     pin.node
                 )));
             }
-            let a = pin.axis as usize;
             let projection: Vec<f64> = (0..m).map(|c| candidates.normal(c)[a]).collect();
             if projection.iter().all(|p| p.abs() <= 1e-12) {
                 return Err(lcp::LcpError::from(

@@ -51,7 +51,7 @@ fn discretise_held(
 ) -> Result<Model, Error> {
     match problem.discretisation.method {
         Method::Mfvm => discretise_mfvm(problem, held_by_contact, progress),
-        Method::Fem => discretise_fem(problem, progress),
+        Method::Fem => discretise_fem(problem, held_by_contact, progress),
     }
 }
 
@@ -191,13 +191,21 @@ fn factor_options(problem: &Problem) -> FactorOptions {
     }
 }
 
-fn discretise_fem(problem: &Problem, progress: &mut dyn Progress) -> Result<Model, Error> {
+fn discretise_fem(
+    problem: &Problem,
+    held_by_contact: bool,
+    progress: &mut dyn Progress,
+) -> Result<Model, Error> {
     let mut clock = Clock::new(progress, Vec::new());
     let (mesh, nodes) = clock.run("mesh", || fem::mesh(problem))?;
     let d = problem.material.constitutive();
     let system = clock.run("assembly", || {
         fem::system::assemble(&fem::system::FemInput {
-            body: assembly::Body::new(problem, &nodes, &d),
+            body: assembly::Body {
+                contact_may_hold: held_by_contact
+                    || assembly::Body::new(problem, &nodes, &d).contact_may_hold,
+                ..assembly::Body::new(problem, &nodes, &d)
+            },
             mesh: &mesh,
         })
     })?;
