@@ -73,8 +73,10 @@ pub fn axis_conditions(
     Ok(())
 }
 
-/// Refuses what an axisymmetric problem cannot do yet: contact (rigid obstacles, a second
-/// body, several bodies), load steps and adaptive refinement.
+/// Refuses what an axisymmetric problem cannot do yet: several bodies (an elastic pair or
+/// more), friction, load steps and adaptive refinement. One axisymmetric body against rigid
+/// obstacles (a line: a flat or a cone; a circle: a sphere or a torus), frictionless and in
+/// one step, is solved: its contact candidates are rings (`contact::rings`).
 ///
 /// # Errors
 /// [`ProblemError::Invalid`] naming the key of the first such feature.
@@ -86,10 +88,10 @@ pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
     if !axisymmetric {
         return Ok(());
     }
-    let refused = if problem.contact.is_some() || problem.second_body.is_some() {
-        Some(("contact", "contact"))
-    } else if problem.multibody.is_some() {
-        Some(("body", "several bodies"))
+    let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
+        Some(("body", "contact between bodies (an elastic pair or more bodies)"))
+    } else if problem.contact.as_ref().is_some_and(|c| c.friction > 0.0) {
+        Some(("contact.friction", "friction"))
     } else if !problem.steps.is_empty() {
         Some(("step", "load steps"))
     } else if problem.adaptive.is_some() {
@@ -102,7 +104,7 @@ pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
             key,
             "(given)",
             format!(
-                "{what} is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves one body under displacement conditions and loads); remove it or use plane = \"strain\" or \"stress\""
+                "{what} is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves one body under displacement conditions and loads, with frictionless contact against rigid obstacles in one step); remove it or use plane = \"strain\" or \"stress\""
             ),
         )),
         None => Ok(()),
@@ -170,13 +172,23 @@ mod tests {
     }
 
     #[test]
-    fn contact_is_refused_with_a_remedy() {
+    fn contact_with_a_rigid_obstacle_is_accepted() {
         let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
-        let text = file("[0.0, 1.0]", contact);
-        let e = match Problem::from_toml(&text) {
-            Ok(_) => panic!("accepted"),
-            Err(e) => e.to_string(),
-        };
-        assert!(e.contains("not implemented for axisymmetric"), "{e}");
+        let p = Problem::from_toml(&file("[0.0, 1.0]", contact)).expect("valid");
+        assert!(p.contact.is_some());
+    }
+
+    #[test]
+    fn friction_and_steps_are_refused_with_a_remedy() {
+        let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
+        let friction = format!("{contact}\nfriction = 0.3");
+        let e = refusal(&file("[0.0, 1.0]", &friction));
+        assert!(
+            e.contains("contact.friction") && e.contains("not implemented for axisymmetric"),
+            "{e}"
+        );
+        let steps = format!("{contact}\n[[step]]\nobstacle_displacement = [0.0, -0.001]");
+        let e = refusal(&file("[0.0, 1.0]", &steps));
+        assert!(e.contains("step") && e.contains("not implemented for axisymmetric"), "{e}");
     }
 }
