@@ -266,14 +266,17 @@ impl<'a> Body<'a> {
             body_force: problem.body_force.as_ref(),
             load_quadrature_points: problem.discretisation.load_quadrature_points,
             // One body against rigid obstacles; or the first of several bodies, touched by a
-            // contact pair (docs/method.md §4.7; the others: `pipeline::multibody`).
-            contact_may_hold: problem
-                .contact
-                .as_ref()
-                .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. }))
-                || problem.multibody.as_ref().is_some_and(|m| {
-                    m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0))
-                }),
+            // contact pair (docs/method.md §4.7; the others: `pipeline::multibody`). Not an
+            // axisymmetric body: its search would balance per-radian loads against the rings'
+            // total forces (`contact::rings`); its axial restraint is checked instead.
+            contact_may_hold: !problem.material.is_axisymmetric()
+                && (problem
+                    .contact
+                    .as_ref()
+                    .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. }))
+                    || problem.multibody.as_ref().is_some_and(|m| {
+                        m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0))
+                    })),
             hoop: problem.material.hoop(),
         }
     }

@@ -56,7 +56,8 @@ pub struct Solution {
     pub applied_force: [f64; 2],
     /// Total reaction `Σ R`.
     pub reaction_force: [f64; 2],
-    /// Total contact force on the body `Σ ν P_c` (zero without contact).
+    /// Total contact force on the body `Σ ν P_c` (zero without contact; per radian for an
+    /// axisymmetric body, as the applied and reaction totals, `contact::rings`).
     pub contact_force: [f64; 2],
     /// The contact solution, when the problem has contact.
     pub contact: Option<ContactSolution>,
@@ -493,8 +494,7 @@ impl ContactSolution {
                 .max(f64::MIN_POSITIVE)
         });
         let closed: Vec<bool> = lcp.w.iter().map(|&w| w <= gap_tolerance).collect();
-        let pressure: Vec<f64> =
-            lcp.z.iter().zip(&candidates.segment_length).map(|(p, l)| p / l).collect();
+        let pressure = contact::rings::pressures(&lcp.z, &candidates.segment_length);
         let onset = contact::onset(&candidates.arc_length, &lcp.w, &pressure, &closed);
         let total_force = lcp.z.iter().sum();
         Self {
@@ -648,6 +648,12 @@ fn balance(
         let r = op.resultant(forces);
         contact_force = [contact_force[0] + r[0], contact_force[1] + r[1]];
         contact_abs += forces.iter().map(|p| p.abs()).sum::<f64>();
+    }
+    // An axisymmetric body's contact forces are rings' totals, its balance per radian
+    // (`contact::rings`).
+    if system.axisymmetric {
+        contact_force = contact_force.map(|f| f / contact::rings::REVOLUTION);
+        contact_abs /= contact::rings::REVOLUTION;
     }
     let reactions: Vec<(u32, Axis, f64)> = system
         .constraints

@@ -621,6 +621,45 @@ fn thick_cylinder_axisymmetric_problem() {
     assert!((hoop / (50.0 / 3.0) - 1.0).abs() < 5e-3, "σ_θθ(a) = {hoop:.6e}");
 }
 
+/// problems/sphere_on_flat_axisymmetric.toml: Hertz's sphere on a rigid flat. The contact
+/// forces are the rings' totals (the summary's `units_note`), the axial resultant equals them
+/// on a flat, and the reaction per radian balances them over 2π. Against Hertz for the
+/// computed force `F` (`a = (3FR/(4E*))^(1/3)`, `p₀ = 3F/(2πa²)`): `a` lies between the last
+/// closed and the first open candidate (observed 0.12476 < 0.12527 < 0.12786), and the
+/// pressure on the axis is within 1 % of `p₀` (observed −0.39 %; Hertz's idealisation at
+/// a/R ≈ 0.125 accounts for a few tenths of a percent).
+#[test]
+fn sphere_on_flat_axisymmetric_problem() {
+    let s = summary_of("sphere_on_flat_axisymmetric.toml", "sphere_on_flat_axisymmetric");
+    assert_eq!(s["checks"]["passed"], true);
+    let c = &s["contact"];
+    assert!(c["units_note"].as_str().unwrap().contains("ring"), "{c}");
+    let force = c["total_force"].as_f64().unwrap();
+    let axial = c["axial_force"].as_f64().unwrap();
+    assert!((axial - force).abs() < 1e-12 * force, "{axial} against {force}");
+    let reaction = s["checks"]["reaction_force"][1].as_f64().unwrap();
+    let per_radian = force / std::f64::consts::TAU;
+    assert!((reaction + per_radian).abs() < 1e-8 * per_radian, "{reaction} against {force}");
+    let e_star = 1.0 / (1.0 - 0.3f64 * 0.3);
+    let a = (3.0 * force / (4.0 * e_star)).cbrt();
+    let p0 = 3.0 * force / (std::f64::consts::TAU * a * a);
+    let csv = std::fs::read_to_string(
+        scratch("sphere_on_flat_axisymmetric").join("out").join("contact.csv"),
+    )
+    .unwrap();
+    // candidate, node, x, y, arc_length, initial_gap, gap, force, pressure, in_contact
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
+        .collect();
+    let last_closed = rows.iter().filter(|r| r[9] == 1.0).map(|r| r[2]).fold(0.0, f64::max);
+    let first_open =
+        rows.iter().filter(|r| r[9] == 0.0).map(|r| r[2]).fold(f64::INFINITY, f64::min);
+    assert!(last_closed < a && a < first_open, "a = {a} not in [{last_closed}, {first_open}]");
+    assert!((rows[0][8] / p0 - 1.0).abs() < 0.01, "p(0) = {} against p0 = {p0}", rows[0][8]);
+}
+
 /// Every shipped problem file runs (the README's main command among them).
 #[test]
 fn every_shipped_problem_runs() {

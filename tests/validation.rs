@@ -55,6 +55,10 @@ mod validation {
     mod flat_punch;
     // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.
     mod axisymmetric;
+    // Axisymmetric contact: rings; a cylinder on a flat (exact), Hertz's sphere, MFVM and FE.
+    mod axisymmetric_contact;
+    // Axisymmetric contact along load paths: steps, a force-driven flat, a rigid sphere, friction.
+    mod axisymmetric_contact_paths;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.

@@ -15,6 +15,7 @@
 
 mod condense;
 pub mod fem;
+pub mod rings;
 pub mod spectrum;
 
 pub use crate::problem::{
@@ -105,7 +106,8 @@ pub enum ContactError {
 /// The candidates on `edge` of a discretised body, whichever discretisation built it: the
 /// MFVM's owned boundary segments with MLS gap rows ([`candidates`]), or the FE edge nodes
 /// ([`fem::candidates`]). `problem` is the problem `model` was built from; `target(x)` is
-/// the initial gap and the contact normal at a point `x` of the edge.
+/// the initial gap and the contact normal at a point `x` of the edge. The candidates of an
+/// axisymmetric body are rings ([`rings`]): their forces are the rings' totals.
 ///
 /// # Errors
 /// As [`candidates`] and [`fem::candidates`].
@@ -116,12 +118,22 @@ pub fn candidates_on(
     target: &dyn Fn(Point) -> (f64, Point),
     condensation: Condensation,
 ) -> Result<Candidates, ContactError> {
-    match &model.scheme {
+    let mut found = match &model.scheme {
         Scheme::Mfvm(m) => candidates(BodyView::new(problem, model, m), edge, target, condensation),
         Scheme::Fem(f) => {
             fem::candidates(&f.mesh, &problem.domain, &model.nodes, &model.system, edge, target)
         }
+    }?;
+    if model.system.axisymmetric {
+        let area = match &model.scheme {
+            Scheme::Mfvm(m) => rings::mfvm_areas(&m.faces.boundary, edge, &found.nodes),
+            Scheme::Fem(f) => {
+                rings::fem_areas(&f.mesh, &problem.domain, &model.nodes, edge, &found.nodes)
+            }
+        };
+        rings::into_rings(&mut found, area);
     }
+    Ok(found)
 }
 
 /// The initial gap and contact normal at `x` against the rigid target of `spec`

@@ -57,8 +57,8 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
                     face_shapes: &m.face_shapes,
                     node_shapes: &model.node_shapes,
                     beta: problem.discretisation.beta,
-                    // Loads only: the hoop terms are in the matrix (steps are refused in
-                    // axisymmetry, `problem::axisymmetric`; the loads weigh by r anyway).
+                    // Loads only: the hoop terms are in the matrix; the loads weigh by r
+                    // through `Body::hoop` in axisymmetry.
                     axisymmetric: None,
                 })?,
                 Scheme::Fem(f) => fem::system::load_and_rhs(

@@ -367,8 +367,13 @@ fn contact_outputs(
     written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     let pressure: Vec<(f64, f64)> =
         (0..cand.len()).map(|k| (cand.arc_length[k], c.pressure[k])).collect();
+    // An axisymmetric body's candidates are rings (`contact::rings`).
+    let label = match problem.material.is_axisymmetric() {
+        true => "p = F_c/(ring area), F_c the ring's total force",
+        false => "p = P_c/|segment|",
+    };
     let mut series = vec![plot::Series {
-        label: "p = P_c/|segment|".into(),
+        label: label.into(),
         points: pressure,
         style: plot::Style::Line,
         colour: 4,

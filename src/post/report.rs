@@ -222,6 +222,10 @@ fn results(s: &Summary) -> Vec<(String, String)> {
     if let Some(c) = &s.contact {
         let opt = |v: Option<f64>| v.map_or_else(|| "–".into(), g);
         rows.push(("total contact force".into(), g(c.total_force)));
+        if let Some(axial) = c.axial_force {
+            // Axisymmetric: the forces above are the rings' totals (summary's units_note).
+            rows.push(("axial contact force, whole circumference".into(), g(axial)));
+        }
         rows.push((
             "candidates closed / all (zones)".into(),
             format!("{} / {} ({})", c.closed, c.candidates, c.closed_intervals),

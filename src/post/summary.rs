@@ -13,6 +13,9 @@ use serde::Serialize;
 use serde_json::Value;
 use std::collections::BTreeMap;
 
+/// The units of an axisymmetric body's contact (`contact::rings`).
+pub const RING_NOTE: &str = "axisymmetric: each candidate is a ring; force (contact.csv) and total_force are the rings' total forces over the whole circumference (2π × the force per radian), pressure = force / ring area (2π ∫ r ds over the candidate's segment), axial_force = Σ ν_z × force; applied_force, reaction_force, contact_force and reactions.csv stay per radian";
+
 /// How `summary.json` explains the onset fields.
 pub const ONSET_NOTE: &str = "distances along the contact edge from its first vertex; onset_x: gap^(2/3) extrapolated from the last two open candidates, clipped to [last_open_x, first_closed_x]; onset_x_from_pressure: p^2 extrapolated from the first two closed candidates";
 
@@ -463,8 +466,15 @@ pub struct ContactSummary {
     pub closed: usize,
     /// Maximal runs of closed candidates.
     pub closed_intervals: usize,
-    /// `Σ P_c`.
+    /// `Σ P_c` (an axisymmetric body: the rings' total forces, [`RING_NOTE`]).
     pub total_force: f64,
+    /// An axisymmetric body: `Σ ν_c,z P_c`, the axial resultant of the rings' forces on the
+    /// body over the whole circumference (absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axial_force: Option<f64>,
+    /// An axisymmetric body: what the contact forces mean ([`RING_NOTE`]; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub units_note: Option<&'static str>,
     /// Onset from the gaps, clipped to the bracket.
     pub onset_x: Option<f64>,
     /// Onset from the gaps, unclipped.
@@ -759,6 +769,10 @@ impl Summary {
                 closed: c.closed.iter().filter(|&&v| v).count(),
                 closed_intervals: c.onset.closed_intervals,
                 total_force: c.total_force,
+                axial_force: model.system.axisymmetric.then(|| {
+                    c.candidates.normals.iter().zip(&c.lcp.z).map(|(n, p)| n[1] * p).sum()
+                }),
+                units_note: model.system.axisymmetric.then_some(RING_NOTE),
                 onset_x: c.onset.from_gap,
                 onset_x_unclipped: c.onset.from_gap_raw,
                 onset_x_from_pressure: c.onset.from_pressure,

@@ -73,8 +73,12 @@ pub fn axis_conditions(
     Ok(())
 }
 
-/// Refuses what an axisymmetric problem cannot do yet: contact (rigid obstacles, a second
-/// body, several bodies), load steps and adaptive refinement.
+/// Refuses what an axisymmetric problem cannot do yet: several bodies (an elastic pair or
+/// more) and adaptive refinement. One axisymmetric body against rigid obstacles (a line: a
+/// flat or a cone; a circle: a sphere or a torus), with friction and load steps, is solved:
+/// its contact candidates are rings (`contact::rings`). The obstacles of such a body are
+/// surfaces of revolution and may move (or be pressed) along the axis only, and each step's
+/// conditions on the axis obey [`axis_conditions`].
 ///
 /// # Errors
 /// [`ProblemError::Invalid`] naming the key of the first such feature.
@@ -86,26 +90,42 @@ pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
     if !axisymmetric {
         return Ok(());
     }
-    let refused = if problem.contact.is_some() || problem.second_body.is_some() {
-        Some(("contact", "contact"))
-    } else if problem.multibody.is_some() {
-        Some(("body", "several bodies"))
-    } else if !problem.steps.is_empty() {
-        Some(("step", "load steps"))
+    let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
+        Some(("body", "contact between bodies (an elastic pair or more bodies)"))
     } else if problem.adaptive.is_some() {
         Some(("refinement", "adaptive refinement"))
     } else {
         None
     };
-    match refused {
-        Some((key, what)) => Err(invalid(
+    if let Some((key, what)) = refused {
+        return Err(invalid(
             key,
             "(given)",
             format!(
-                "{what} is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves one body under displacement conditions and loads); remove it or use plane = \"strain\" or \"stress\""
+                "{what} is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves one body under displacement conditions and loads, with contact against rigid obstacles, friction and load steps); remove it or use plane = \"strain\" or \"stress\""
             ),
+        ));
+    }
+    for (k, step) in problem.steps.iter().enumerate() {
+        axial_motion(&format!("step[{k}].obstacle_displacement"), step.obstacle_displacement)?;
+        if let Some(f) = step.obstacle_force {
+            axial_motion(&format!("step[{k}].obstacle_force"), f)?;
+        }
+        axis_conditions(&problem.domain, &mut step.boundary.clone())?;
+    }
+    Ok(())
+}
+
+/// Refuses a radial component of an obstacle's motion or force: a rigid surface of revolution
+/// moved across the axis is no longer axisymmetric.
+fn axial_motion(key: &str, v: [f64; 2]) -> Result<(), ProblemError> {
+    match v[0] == 0.0 {
+        true => Ok(()),
+        false => Err(invalid(
+            key,
+            format!("[{}, {}]", v[0], v[1]),
+            "with material.plane = \"axisymmetric\" an obstacle is a surface of revolution and moves along the axis only: give x = 0",
         )),
-        None => Ok(()),
     }
 }
 
@@ -170,13 +190,32 @@ mod tests {
     }
 
     #[test]
-    fn contact_is_refused_with_a_remedy() {
+    fn contact_with_a_rigid_obstacle_is_accepted() {
         let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
-        let text = file("[0.0, 1.0]", contact);
-        let e = match Problem::from_toml(&text) {
-            Ok(_) => panic!("accepted"),
-            Err(e) => e.to_string(),
-        };
-        assert!(e.contains("not implemented for axisymmetric"), "{e}");
+        let p = Problem::from_toml(&file("[0.0, 1.0]", contact)).expect("valid");
+        assert!(p.contact.is_some());
+    }
+
+    #[test]
+    fn friction_and_axial_steps_are_accepted_radial_motion_refused() {
+        let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
+        let friction = format!("{contact}\nfriction = 0.3");
+        assert!(Problem::from_toml(&file("[0.0, 1.0]", &friction)).is_ok());
+        let steps = format!("{friction}\n[[step]]\nobstacle_displacement = [0.0, -0.02]");
+        assert_eq!(Problem::from_toml(&file("[0.0, 1.0]", &steps)).expect("valid").steps.len(), 1);
+        let radial = format!("{contact}\n[[step]]\nobstacle_displacement = [0.01, -0.02]");
+        let e = refusal(&file("[0.0, 1.0]", &radial));
+        assert!(e.contains("step[0].obstacle_displacement") && e.contains("along the axis"), "{e}");
+        let force = format!("{contact}\n[[step]]\nobstacle_force = [0.5, -1.0]");
+        let e = refusal(&file("[0.0, 1.0]", &force));
+        assert!(e.contains("step[0].obstacle_force"), "{e}");
+    }
+
+    #[test]
+    fn several_bodies_and_refinement_are_refused_with_a_remedy() {
+        let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
+        let adaptive = format!("{contact}\n[refinement]\nsteps = 2");
+        let e = refusal(&file("[0.0, 1.0]", &adaptive));
+        assert!(e.contains("refinement") && e.contains("not implemented for axisymmetric"), "{e}");
     }
 }

@@ -1,0 +1,227 @@
+//! Axisymmetric contact along load paths (docs/method.md §9.6, §8, §4.6): the rings' forces
+//! through load steps, an obstacle pressed by a force, a rigid sphere (a circle obstacle) and
+//! friction, on the Hertz sphere of `axisymmetric_contact.rs` (the quarter-disk section
+//! `R = 1` about `(0, 1)`, the MFVM with a box refined to `h` around the contact).
+//!
+//! 1. **Frictionless steps equal one step**: the top pushed down by 0.015 in two steps (4 and
+//!    2 increments) gives the one-step answer (the frictionless problem has no path).
+//! 2. **μ → 0 is frictionless**: `μ = 1e-12` in 3 increments equals the frictionless run.
+//! 3. **A rigid flat pressed by a force**: the top held, the flat pushed up by
+//!    `obstacle_force = [0, F]`, `F` the total force over the circumference: the rings carry
+//!    `F`, the top's reaction per radian is `−F/2π`, and the displacement-driven run at the
+//!    displacement found gives the same forces.
+//! 4. **A rigid sphere pressed into a cylinder** (the circle obstacle `R = 1` centred on the
+//!    axis, a block `[0, 2] × [−2, 0]` clamped at its bottom, pushed in by 0.015): Hertz's
+//!    `a`, `p₀` for the computed force within 2 % (the block's finite size: `a` is 1/16 of its
+//!    radius and depth), Lemke and the active set alike.
+//! 5. **Friction** `μ = 0.3`, the sphere pressed in 6 increments: Coulomb's cone holds on every
+//!    ring (`|T| ≤ μF`), each increment's complementarity and balance pass, and every loaded
+//!    increment has a central stick zone inside a slip annulus (`0 < c < a`, `c` and `a` the
+//!    outermost sticking and closed candidates). Spence's self-similarity (`c/a` constant) is
+//!    not resolved at this spacing: the annulus stays about two candidates wide (observed
+//!    `c/a` 0.50, 0.73, 0.79, 0.81, 0.83, 0.85 with `a − c` ≈ 0.019), a finer box is needed.
+
+use super::common::*;
+use mlpg_contact::Solution;
+use mlpg_contact::lcp::ContactState;
+use mlpg_contact::problem::Problem;
+use std::f64::consts::TAU;
+
+const SPACING: f64 = 0.01;
+
+/// The Hertz sphere with `top` the top edge's declared condition, `contact` extra keys of
+/// `[contact]` and `tail` further tables (steps).
+fn sphere(top: &str, contact: &str, tail: &str) -> Problem {
+    Problem::from_toml(&format!(
+        r#"
+        [geometry]
+        kind = "curves"
+        start = [0.0, 0.0]
+        curves = [
+            {{ name = "arc", to = [0.5, 0.1339745962155614], center = [0.0, 1.0] }},
+            {{ name = "rim", to = [1.0, 1.0], center = [0.0, 1.0] }},
+            {{ name = "top", to = [0.0, 1.0] }},
+            {{ name = "axis", to = [0.0, 0.0] }},
+        ]
+        [nodes]
+        spacing = 0.05
+        [[nodes.refine]]
+        x = [0.0, 0.2]
+        y = [0.0, 0.05]
+        spacing = {SPACING}
+        [material]
+        young = 1.0
+        poisson = 0.3
+        plane = "axisymmetric"
+        [discretisation]
+        beta = 0.5
+        [[boundary]]
+        edge = "top"
+        displacement = {{ y = {top} }}
+        [contact]
+        edge = "arc"
+        obstacle_point = [0.0, 0.0]
+        obstacle_normal = [0.0, 1.0]
+        {contact}
+        {tail}
+        "#
+    ))
+    .unwrap()
+}
+
+fn solve(p: &Problem) -> Solution {
+    mlpg_contact::solve(p).unwrap()
+}
+
+/// The largest difference of two force vectors over the largest force.
+fn difference(a: &Solution, b: &Solution) -> f64 {
+    let (za, zb) = (&a.contact.as_ref().unwrap().lcp.z, &b.contact.as_ref().unwrap().lcp.z);
+    assert_eq!(za.len(), zb.len());
+    let scale = za.iter().copied().fold(0.0, f64::max);
+    za.iter().zip(zb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
+}
+
+#[test]
+fn frictionless_steps_and_vanishing_friction_equal_one_step() {
+    let one = solve(&sphere("-0.015", "", ""));
+    let steps = solve(&sphere(
+        "0.0",
+        "",
+        r#"
+        [[step]]
+        increments = 4
+        boundary = [{ edge = "top", displacement = { y = -0.0075 } }]
+        [[step]]
+        increments = 2
+        boundary = [{ edge = "top", displacement = { y = -0.015 } }]"#,
+    ));
+    let tiny = solve(&sphere(
+        "0.0",
+        "friction = 1e-12",
+        r#"
+        [[step]]
+        increments = 3
+        boundary = [{ edge = "top", displacement = { y = -0.015 } }]"#,
+    ));
+    for (label, s) in [("steps", &steps), ("μ = 1e-12", &tiny)] {
+        let d = difference(&one, s);
+        println!("axisymmetric sphere: {label} against one step {d:.2e}");
+        assert!(d < 1e-10, "{label}: {d:.3e}");
+        let c = s.contact.as_ref().unwrap();
+        assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
+        assert!(s.equilibrium_error < 1e-8, "{label}: {}", s.equilibrium_error);
+    }
+}
+
+#[test]
+fn a_rigid_flat_pressed_by_a_force_carries_it_over_the_rings() {
+    let force = 2.88e-3;
+    let by_force =
+        solve(&sphere("0.0", "", &format!("[[step]]\nobstacle_force = [0.0, {force:?}]")));
+    let c = by_force.contact.as_ref().unwrap();
+    assert!((c.total_force - force).abs() < 1e-10 * force, "{}", c.total_force);
+    let per_radian = force / TAU;
+    let reaction = by_force.reaction_force[1];
+    assert!((reaction + per_radian).abs() < 1e-8 * per_radian, "{reaction}");
+    let s = c.load_driven.as_ref().unwrap().displacement;
+    println!("axisymmetric sphere pressed by {force:e}: the flat moves by {s:?}");
+    let by_displacement =
+        solve(&sphere("0.0", "", &format!("[[step]]\nobstacle_displacement = [0.0, {:?}]", s[1])));
+    let d = difference(&by_force, &by_displacement);
+    assert!(d < 1e-8, "force- and displacement-driven runs differ by {d:.3e}");
+}
+
+/// A rigid sphere (a circle obstacle centred on the axis) pressed into a cylinder block.
+fn indenter(spacing: f64, solver: &str) -> Problem {
+    Problem::from_toml(&format!(
+        r#"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 2.0]
+        y = [-2.0, 0.0]
+        [nodes]
+        spacing = 0.1
+        [[nodes.refine]]
+        x = [0.0, 0.25]
+        y = [-0.15, 0.0]
+        spacing = {spacing}
+        [material]
+        young = 1.0
+        poisson = 0.3
+        plane = "axisymmetric"
+        [discretisation]
+        beta = 0.5
+        [[boundary]]
+        edge = "bottom"
+        displacement = {{ x = 0.0, y = 0.0 }}
+        [[obstacle]]
+        name = "sphere"
+        kind = "circle"
+        centre = [0.0, 1.0]
+        radius = 1.0
+        [contact]
+        edge = "top"
+        target = "sphere"
+        solver = "{solver}"
+        [[step]]
+        obstacle_displacement = [0.0, -0.015]
+        "#
+    ))
+    .unwrap()
+}
+
+#[test]
+fn a_rigid_sphere_pressed_into_a_cylinder_meets_hertz() {
+    let lemke = solve(&indenter(0.005, "lemke"));
+    let active = solve(&indenter(0.005, "active_set"));
+    let d = difference(&lemke, &active);
+    assert!(d < 1e-9, "active set against Lemke {d:.3e}");
+    let out = super::axisymmetric_contact::measure("rigid sphere h = 0.005", &lemke);
+    let c = lemke.contact.as_ref().unwrap();
+    let axial = c.candidates.normals.iter().zip(&c.lcp.z).map(|(n, f)| n[1] * f).sum::<f64>();
+    println!("rigid sphere: total {:.6e}, axial {axial:.6e}", c.total_force);
+    assert!(out.radius_error.abs() < 0.02, "a error {}", out.radius_error);
+    assert!(out.peak_error.abs() < 0.02, "p0 error {}", out.peak_error);
+}
+
+#[test]
+fn friction_keeps_a_central_stick_zone_inside_a_slip_annulus() {
+    let mu = 0.3;
+    let mut p = sphere(
+        "0.0",
+        &format!("friction = {mu:?}"),
+        r#"
+        [[step]]
+        increments = 6
+        boundary = [{ edge = "top", displacement = { y = -0.015 } }]"#,
+    );
+    p.write_steps = true;
+    let s = solve(&p);
+    let c = s.contact.as_ref().unwrap();
+    let f = c.friction.as_ref().unwrap();
+    assert!(f.increments.iter().all(|r| r.complementarity < 1e-9 && r.equilibrium_error < 1e-8));
+    let r = |k: usize| c.candidates.points[k][0];
+    let mut ratios = Vec::new();
+    let mut smallest = f64::INFINITY;
+    for snap in &f.snapshots {
+        for (k, (t, n)) in snap.tangential.iter().zip(&snap.normal).enumerate() {
+            assert!(t.abs() <= mu * n * (1.0 + 1e-9) + 1e-15, "ring {k}: |T| {t:e} > μF {n:e}");
+        }
+        let outer = |pick: &dyn Fn(ContactState) -> bool| {
+            (0..snap.state.len()).filter(|&k| pick(snap.state[k])).map(r).fold(0.0, f64::max)
+        };
+        let a = outer(&|s| s != ContactState::Open);
+        let stick = outer(&|s| s == ContactState::Stick);
+        println!(
+            "axisymmetric sphere μ = {mu}: load factor {:.3} a {a:.4} c {stick:.4} c/a {:.3}",
+            snap.load_factor,
+            stick / a
+        );
+        if a > 0.0 {
+            ratios.push(stick / a);
+            smallest = smallest.min(a);
+        }
+    }
+    assert_eq!(ratios.len(), f.snapshots.len(), "an increment without contact");
+    assert!(ratios.iter().all(|&q| q > 0.0 && q < 1.0), "c/a {ratios:?} (smallest a {smallest})");
+}
