@@ -5,6 +5,7 @@
 //! field of `summary.json`.
 
 mod deformed;
+pub mod history;
 mod outdir;
 pub mod paraview;
 pub mod plot;
