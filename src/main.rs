@@ -157,6 +157,9 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Fini
         );
         let report =
             mlpg_contact::pipeline::dynamics::run(&problem, &args.out, echo, &mut progress)?;
+        for w in &report.summary.warnings {
+            say(format_args!("warning: {w}"));
+        }
         if !args.quiet {
             say(format_args!("{report}"));
         }

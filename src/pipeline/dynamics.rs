@@ -137,12 +137,14 @@ pub fn run(
     let staged = post::StagedDir::new(out)?;
     let outcome = solve(problem, progress)?;
     let h = outcome.dynamics.time_step;
+    let figures = outcome.simulation.figures(h);
     let summary = DynamicSummary {
+        warnings: post::history::warnings(&figures, outcome.dynamics.theta),
         name: problem.name.clone(),
         nodes: outcome.nodes(),
         candidates: outcome.candidates.as_ref().map_or(0, Candidates::len),
         dynamics: (&outcome.dynamics).into(),
-        figures: outcome.simulation.figures(h),
+        figures,
         input,
         timings: outcome.timings.clone(),
     };

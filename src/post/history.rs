@@ -22,6 +22,8 @@ pub struct DynamicSummary {
     pub dynamics: DynamicsEcho,
     /// The run's figures.
     pub figures: Figures,
+    /// What the reader should know about the result ([`warnings`]).
+    pub warnings: Vec<String>,
     /// The problem file as read.
     pub input: serde_json::Value,
     /// Wall time of each stage.
@@ -53,6 +55,28 @@ impl From<&Dynamics> for DynamicsEcho {
             initial_velocity: d.initial_velocity,
         }
     }
+}
+
+/// Energy-balance errors above this are reported as a warning: the energy grew or vanished
+/// beyond what the loads and the contacts explain (docs/method.md §10.2: a complex mode of
+/// the Petrov–Galerkin `K` growing at θ = ½, or the damping of θ > ½).
+pub const ENERGY_BALANCE_WARNING: f64 = 0.05;
+
+/// The warnings of a run with these figures and parameters.
+pub fn warnings(figures: &Figures, theta: f64) -> Vec<String> {
+    let mut out = Vec::new();
+    if figures.energy_balance_error > ENERGY_BALANCE_WARNING {
+        let remedy = if theta == 0.5 {
+            "at theta = 0.5 a mode of the non-symmetric MFVM stiffness can grow over long runs; set dynamics.theta = 0.51 or more (docs/method.md §10.2)"
+        } else {
+            "theta > 0.5 damps the high frequencies; a smaller dynamics.time_step or theta closer to 0.5 damps less"
+        };
+        out.push(format!(
+            "the energy balance is off by {:.1} % of the largest energy: {remedy}",
+            100.0 * figures.energy_balance_error
+        ));
+    }
+    out
 }
 
 /// Writes `history.csv`, `plots/history_force.{svg,png}`, `plots/history_energy.{svg,png}`
@@ -141,7 +165,7 @@ fn force_chart(history: &History) -> plot::Chart {
         title: "Total contact force (mean over each step)".into(),
         x_label: "time".into(),
         y_label: "contact force".into(),
-        series: vec![series(history, "", 0, |r| r.contact_force)],
+        series: vec![series(history, "total contact force", 0, |r| r.contact_force)],
     }
 }
 
