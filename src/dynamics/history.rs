@@ -67,6 +67,9 @@ pub struct Figures {
     /// Largest `|E(t) − E(0) − W_ext(t) + loss(t)| / max(E(0), max_t E(t))` over the run: what the
     /// time stepping and the energy measure add or lose besides the contacts.
     pub energy_balance_error: f64,
+    /// The positive part of the same: the largest energy the run gained beyond what the loads
+    /// brought, relative (a growing mode; numerical damping does not count).
+    pub energy_growth: f64,
     /// Steps with a non-empty index set.
     pub contact_steps: usize,
     /// Lemke's pivots over the run.
@@ -92,10 +95,12 @@ impl History {
         let total_impulse: f64 = r[1..].iter().map(|x| x.contact_force * h).sum();
         let top = r.iter().map(Record::energy).fold(first.energy(), f64::max);
         let scale = if top > 0.0 { top } else { 1.0 };
-        let energy_balance_error = r
+        let excess: Vec<f64> = r
             .iter()
-            .map(|x| (x.energy() - first.energy() - x.external_work + x.contact_loss).abs() / scale)
-            .fold(0.0, f64::max);
+            .map(|x| (x.energy() - first.energy() - x.external_work + x.contact_loss) / scale)
+            .collect();
+        let energy_balance_error = excess.iter().map(|e| e.abs()).fold(0.0, f64::max);
+        let energy_growth = excess.iter().copied().fold(0.0, f64::max);
         Figures {
             steps: r.len() - 1,
             end_time: last.time,
@@ -112,6 +117,7 @@ impl History {
             contact_loss: last.contact_loss,
             external_work: last.external_work,
             energy_balance_error,
+            energy_growth,
             contact_steps: r.iter().filter(|x| x.active > 0).count(),
             pivots: r.iter().map(|x| x.pivots).sum(),
         }
