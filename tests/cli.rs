@@ -646,6 +646,28 @@ fn bar_impact_problem() {
     );
 }
 
+/// `[dynamics.output] every = 40`: a VTP snapshot at steps 0, 40, …, 240 (the last) and
+/// `frames.pvd` listing them with their times; without the key (the shipped file) none.
+#[test]
+fn dynamics_snapshots_every_k_steps() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/bar_impact.toml");
+    let text = std::fs::read_to_string(&file).unwrap() + "\n[dynamics.output]\nevery = 100\n";
+    let (code, stderr) = run_text("bar_impact_snapshots", &text);
+    assert_eq!(code, Some(0), "{stderr}");
+    let out = scratch("bar_impact_snapshots").join("out");
+    let pvd = std::fs::read_to_string(out.join("frames.pvd")).unwrap();
+    for (t, step) in [("0", 0), ("1.25", 100), ("2.5", 200), ("3", 240)] {
+        let name = format!("frames/frame_{step:06}.vtp");
+        assert!(
+            pvd.contains(&format!("timestep=\"{t}\" group=\"\" part=\"0\" file=\"{name}\"")),
+            "{pvd}"
+        );
+        let vtp = std::fs::read_to_string(out.join(&name)).unwrap();
+        assert!(vtp.contains("Name=\"velocity\"") && vtp.contains("NumberOfPoints=\"205\""));
+    }
+    assert_eq!(pvd.matches("<DataSet").count(), 4, "{pvd}");
+}
+
 /// A `[dynamics]` file with `--compare`, or without its density, is refused with exit status 2.
 #[test]
 fn bad_dynamics_input_is_refused() {

@@ -24,6 +24,7 @@ mod iteration;
 pub mod mass;
 
 pub use history::{Figures, History, Record};
+
 pub use impacts::Impacts;
 pub use iteration::Iteration;
 
@@ -81,6 +82,8 @@ pub struct Contact<'a> {
 pub struct Simulation {
     /// Records at time 0 and after every step.
     pub history: History,
+    /// Snapshots at time 0, every `snapshot_every` steps and at the end (empty without).
+    pub frames: Vec<Frame>,
     /// Nodal parameters `û` at the end.
     pub displacement: Vec<f64>,
     /// Their rates `v̂` at the end.
@@ -95,6 +98,30 @@ impl Simulation {
     /// The run's figures.
     pub fn figures(&self, h: f64) -> Figures {
         self.history.figures(h, mass::total(&self.mass))
+    }
+}
+
+/// A snapshot of the body: the displacement and velocity at the nodes (`Φ q`, `Φ v`).
+pub struct Frame {
+    /// Time.
+    pub time: f64,
+    /// The step.
+    pub step: usize,
+    /// `u^h(x_I)`.
+    pub displacement: Vec<[f64; 2]>,
+    /// `v^h(x_I)`.
+    pub velocity: Vec<[f64; 2]>,
+}
+
+impl Frame {
+    fn of(body: &Body<'_>, state: &State, step: usize, time: f64) -> Self {
+        let shapes = body.node_shapes;
+        Self {
+            time,
+            step,
+            displacement: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.q)).collect(),
+            velocity: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.v)).collect(),
+        }
     }
 }
 
@@ -127,6 +154,12 @@ pub fn simulate(
         State { q: vec![0.0; n], v: (0..n).map(|d| params.initial_velocity[d % 2]).collect() };
     let mut history = History { records: vec![record(body, &mass, &state, 0.0)] };
     let steps = params.steps();
+    let snapshot =
+        |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
+    let mut frames = Vec::new();
+    if snapshot(0) {
+        frames.push(Frame::of(body, &state, 0, 0.0));
+    }
     for step in 1..=steps {
         let v_free = iteration.free_velocity(&state.q, &state.v)?;
         let (v_next, answer) = match &impacts {
@@ -155,10 +188,13 @@ pub fn simulate(
             rec.pivots = answer.pivots;
         }
         history.records.push(rec);
+        if snapshot(step) {
+            frames.push(Frame::of(body, &state, step, step as f64 * h));
+        }
         progress(step, steps);
     }
     let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&state.q));
-    Ok(Simulation { history, displacement: state.q, velocity: state.v, mass, final_gap })
+    Ok(Simulation { history, frames, displacement: state.q, velocity: state.v, mass, final_gap })
 }
 
 /// The applied load `f` on the free rows (a constrained row's load goes to the support).

@@ -148,12 +148,13 @@ pub fn run(
         input,
         timings: outcome.timings.clone(),
     };
-    let files = post::history::write_dynamic(
+    let mut files =
+        post::frames::write_frames(staged.path(), outcome.points(), &outcome.simulation.frames)?;
+    files.extend(post::history::write_dynamic(
         staged.path(),
         &outcome.simulation.history,
-        outcome.dynamics.every,
         &summary,
-    )?;
+    )?);
     let files = staged.commit(files)?;
     Ok(DynamicReport { summary, files })
 }

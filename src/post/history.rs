@@ -82,11 +82,10 @@ pub fn warnings(figures: &Figures) -> Vec<String> {
 pub fn write_dynamic(
     dir: &Path,
     history: &History,
-    every: usize,
     summary: &DynamicSummary,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let csv = dir.join("history.csv");
-    write_text(&csv, &history_csv(history, every))?;
+    write_text(&csv, &history_csv(history))?;
     let plots = dir.join("plots");
     super::create_dir(&plots)?;
     let force = plots.join("history_force");
@@ -108,22 +107,11 @@ pub fn write_dynamic(
     Ok(files)
 }
 
-/// The rows written: every `every`-th record, and the last.
-fn written(history: &History, every: usize) -> impl Iterator<Item = &Record> {
-    let last = history.records.len() - 1;
-    history
-        .records
-        .iter()
-        .enumerate()
-        .filter(move |(k, _)| k % every == 0 || *k == last)
-        .map(|(_, r)| r)
-}
-
-fn history_csv(history: &History, every: usize) -> String {
+fn history_csv(history: &History) -> String {
     let mut s = String::from(
         "time,contact_force,kinetic_energy,strain_energy,external_work,contact_loss,momentum_x,momentum_y,active\n",
     );
-    for r in written(history, every) {
+    for r in &history.records {
         let _ = writeln!(
             s,
             "{},{},{},{},{},{},{},{},{}",

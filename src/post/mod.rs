@@ -5,6 +5,7 @@
 //! field of `summary.json`.
 
 mod deformed;
+pub mod frames;
 pub mod history;
 mod outdir;
 pub mod paraview;

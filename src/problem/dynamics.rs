@@ -22,8 +22,9 @@ pub struct Dynamics {
     pub restitution: f64,
     /// Uniform velocity at time 0.
     pub initial_velocity: [f64; 2],
-    /// A `history.csv` row every this many steps (the first and last always).
-    pub every: usize,
+    /// A VTP snapshot of the body every this many steps (the first and last always;
+    /// `None`: no snapshots).
+    pub snapshot_every: Option<usize>,
 }
 
 impl Dynamics {
@@ -82,13 +83,20 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
             return Err(invalid("dynamics.initial_velocity", v, "must be finite numbers"));
         }
     }
-    let every = d.output.as_ref().and_then(|o| o.every).unwrap_or(1);
-    if every == 0 {
+    let snapshot_every = d.output.as_ref().and_then(|o| o.every);
+    if snapshot_every == Some(0) {
         return Err(invalid("dynamics.output.every", 0, "must be at least 1"));
     }
     let density = density(file)?;
-    let dynamics =
-        Dynamics { density, end_time, time_step, theta, restitution, initial_velocity, every };
+    let dynamics = Dynamics {
+        density,
+        end_time,
+        time_step,
+        theta,
+        restitution,
+        initial_velocity,
+        snapshot_every,
+    };
     if dynamics.steps() > MAX_STEPS {
         return Err(invalid(
             "dynamics.time_step",

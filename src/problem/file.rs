@@ -90,8 +90,9 @@ pub struct DynamicsFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicsOutputFile {
-    /// Write a row of `history.csv` every this many steps (default 1: every step; the first
-    /// and last steps are always written).
+    /// Write a snapshot of the body (`frames/frame_<step>.vtp`, indexed by `frames.pvd` for
+    /// ParaView) every this many steps, and at the first and last (default: no snapshots;
+    /// `history.csv` has every step).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub every: Option<usize>,
 }
