@@ -37,6 +37,7 @@ use crate::material::Constitutive;
 use crate::mls::ShapeSet;
 use crate::problem::dynamics::Dynamics;
 use crate::weak_form::Cell;
+use std::time::Instant;
 
 /// Failures of the time stepping.
 #[derive(Debug, thiserror::Error)]
@@ -92,6 +93,17 @@ pub struct Simulation {
     pub mass: Vec<f64>,
     /// Each candidate's gap at the end.
     pub final_gap: Vec<f64>,
+    /// Wall time of the set-up (`M̂`'s factorisation and `W`) and of the steps' LCPs.
+    pub seconds: Seconds,
+}
+
+/// Wall times inside [`simulate`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Seconds {
+    /// Factorising `M̂` and condensing `W`.
+    pub setup: f64,
+    /// Forming and solving the steps' LCPs (index sets included).
+    pub lcp: f64,
 }
 
 impl Simulation {
@@ -143,12 +155,15 @@ pub fn simulate(
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Simulation, DynamicsError> {
     let (h, theta, n) = (params.time_step, params.theta, body.system.matrix.n);
+    let mut seconds = Seconds::default();
+    let clock = Instant::now();
     let mass = mass::lumped_mass(body.cells, params.density);
     let iteration = Iteration::new(body.system, &mass, body.node_shapes, h, theta, body.points)?;
     let impacts = match &contact {
         Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, n)?),
         None => None,
     };
+    seconds.setup = clock.elapsed().as_secs_f64();
     let load = free_load(body.system);
     let mut state =
         State { q: vec![0.0; n], v: (0..n).map(|d| params.initial_velocity[d % 2]).collect() };
@@ -164,9 +179,11 @@ pub fn simulate(
         let v_free = iteration.free_velocity(&state.q, &state.v)?;
         let (v_next, answer) = match &impacts {
             Some(impacts) => {
+                let clock = Instant::now();
                 let active = impacts.index_set(&state.q, &state.v, h);
                 let answer =
                     impacts.impulses(&active, &v_free, &state.v, params.restitution, step)?;
+                seconds.lcp += clock.elapsed().as_secs_f64();
                 (impacts.apply(&v_free, &answer.impulses), Some(answer))
             }
             None => (v_free, None),
@@ -194,7 +211,15 @@ pub fn simulate(
         progress(step, steps);
     }
     let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&state.q));
-    Ok(Simulation { history, frames, displacement: state.q, velocity: state.v, mass, final_gap })
+    Ok(Simulation {
+        history,
+        frames,
+        displacement: state.q,
+        velocity: state.v,
+        mass,
+        final_gap,
+        seconds,
+    })
 }
 
 /// The applied load `f` on the free rows (a constrained row's load goes to the support).

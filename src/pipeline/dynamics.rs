@@ -8,7 +8,7 @@ use crate::dynamics::{self, Body, Contact, Simulation};
 use crate::error::Error;
 use crate::post::{self, history::DynamicSummary};
 use crate::problem::{Problem, dynamics::Dynamics};
-use crate::progress::{Clock, Progress};
+use crate::progress::{Clock, Progress, StageTiming};
 use std::path::{Path, PathBuf};
 
 /// A dynamic run, solved: the body, its candidates and the time history.
@@ -120,6 +120,10 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
     let simulation = clock.run_counted("time steps", |advance| {
         dynamics::simulate(&body, contact, &dynamics, advance)
     })?;
+    // The shares of the stage: the set-up (M̂'s LU and W) and the steps' LCPs.
+    let s = simulation.seconds;
+    clock.timings.push(StageTiming { stage: "time steps: M̂ and W set-up", seconds: s.setup });
+    clock.timings.push(StageTiming { stage: "time steps: LCPs", seconds: s.lcp });
     Ok(DynamicOutcome { candidates, simulation, dynamics, timings: clock.timings, parts })
 }
 
