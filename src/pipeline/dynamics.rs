@@ -150,7 +150,7 @@ pub fn run(
         dynamics: (&outcome.dynamics).into(),
         figures,
         input,
-        timings: outcome.timings.clone(),
+        timings: outcome.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
     };
     let mut files =
         post::frames::write_frames(staged.path(), outcome.points(), &outcome.simulation.frames)?;

@@ -4,8 +4,8 @@
 use super::{OutputError, num, plot, write_text};
 use crate::dynamics::{Figures, History, Record};
 use crate::problem::dynamics::Dynamics;
-use crate::progress::StageTiming;
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -26,8 +26,9 @@ pub struct DynamicSummary {
     pub warnings: Vec<String>,
     /// The problem file as read.
     pub input: serde_json::Value,
-    /// Wall time of each stage.
-    pub timings: Vec<StageTiming>,
+    /// Wall time of each stage, seconds (the only non-deterministic entry, as in the static
+    /// `summary.json`).
+    pub timings: BTreeMap<&'static str, f64>,
 }
 
 /// The checked `[dynamics]` parameters, as used.
