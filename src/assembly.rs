@@ -249,6 +249,9 @@ pub struct Body<'a> {
     /// rigid-body translation that the displacement conditions leave free (MFVM: pinned,
     /// [`PinnedMode`], instead of refused).
     pub contact_may_hold: bool,
+    /// Whether inertia holds the rigid-body motions (elastodynamics, docs/method.md §10): the
+    /// displacement conditions need not restrain them, and there may be none.
+    pub inertia: bool,
     /// The hoop terms of an axisymmetric body (`x = r`, `y = z`; docs/method.md §9): loads are
     /// weighted by `r` (per radian) and only the translation along the axis is a rigid-body
     /// motion. `None` in plane stress and strain.
@@ -268,8 +271,10 @@ impl<'a> Body<'a> {
             // One body against rigid obstacles; or the first of several bodies, touched by a
             // contact pair (docs/method.md §4.7; the others: `pipeline::multibody`). Not an
             // axisymmetric body: its search would balance per-radian loads against the rings'
-            // total forces (`contact::rings`); its axial restraint is checked instead.
+            // total forces (`contact::rings`); its axial restraint is checked instead. Not in
+            // dynamics, where inertia holds the free motions.
             contact_may_hold: !problem.material.is_axisymmetric()
+                && problem.dynamics.is_none()
                 && (problem
                     .contact
                     .as_ref()
@@ -278,6 +283,7 @@ impl<'a> Body<'a> {
                         m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0))
                     })),
             hoop: problem.material.hoop(),
+            inertia: problem.dynamics.is_some(),
         }
     }
 }
@@ -322,10 +328,11 @@ pub fn assemble(input: &AssemblyInput<'_>) -> Result<GlobalSystem, AssemblyError
     };
     let load = applied_load(input)?;
     let (constraints, pinned) = constraints_and_pin(input);
-    if constraints.is_empty() {
+    if input.body.inertia {
+        // Inertia holds the rigid-body motions: nothing to check.
+    } else if constraints.is_empty() {
         return Err(AssemblyError::NoDirichlet);
-    }
-    if input.body.hoop.is_some() {
+    } else if input.body.hoop.is_some() {
         check_axial_restraint(&constraints)?;
     } else {
         check_rigid_body_restraint(&constraints, input.body.nodes)?;

@@ -1,9 +1,9 @@
 //! The crate error: one variant per pipeline stage, each wrapping that stage's typed error.
 
 use crate::{
-    assembly::AssemblyError, contact::ContactError, fem::FemError, geometry::GeometryError,
-    lcp::LcpError, linear_solve::SolveError, mls::MlsError, post::OutputError,
-    problem::ProblemError, weak_form::CellError,
+    assembly::AssemblyError, contact::ContactError, dynamics::DynamicsError, fem::FemError,
+    geometry::GeometryError, lcp::LcpError, linear_solve::SolveError, mls::MlsError,
+    post::OutputError, problem::ProblemError, weak_form::CellError,
 };
 
 /// Any failure of the pipeline, tagged by the stage that raised it.
@@ -86,6 +86,9 @@ pub enum Error {
     /// Writing outputs failed (stage 9).
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// The time stepping failed (stage 11).
+    #[error(transparent)]
+    Dynamics(#[from] DynamicsError),
 }
 
 impl From<crate::lcp::load_driven::LoadDrivenError> for Error {
@@ -144,6 +147,7 @@ impl Error {
                 "nodes.spacing, discretisation.support_factor, discretisation.precision"
             }
             Error::Output(_) => "--out",
+            Error::Dynamics(_) => "dynamics.time_step, contact, material",
         })
     }
 }

@@ -32,7 +32,7 @@
 //! | 8 | [`model`] | [`model::Model`]: the discretised body, MFVM or FE ([`model::Scheme`]) |
 //! | 9 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E` |
 //! | 10 | [`lcp`] | the LCP solver (Lemke) |
-//! | 11 | [`solution`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks |
+//! | 11 | [`solution`], [`dynamics`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks; Moreau–Jean time stepping with contact (mass, `M̂`, one LCP per step, history) |
 //! | 12 | [`post`] | outputs: CSV, VTU, plots, `summary.json` |
 //! | 13 | [`error`] | [`Error`], one variant per stage |
 //! | 14 | [`pipeline`] | orchestration: [`discretise`], [`solve_model`], [`solve`], [`run`], [`compare`] |
@@ -103,6 +103,7 @@
 
 pub mod assembly;
 pub mod contact;
+pub mod dynamics;
 pub mod error;
 pub mod fem;
 pub mod geometry;

@@ -150,6 +150,21 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Fini
     let problem = problem::Problem::try_from(file)
         .with_context(|| format!("in {}", args.problem.display()))?;
     let mut progress = mlpg_contact::progress::StageProgress::new(args.quiet);
+    if problem.dynamics.is_some() {
+        anyhow::ensure!(
+            !args.compare && !args.report,
+            "--compare and --report are not available for a [dynamics] problem yet"
+        );
+        let report =
+            mlpg_contact::pipeline::dynamics::run(&problem, &args.out, echo, &mut progress)?;
+        for w in &report.summary.warnings {
+            say(format_args!("warning: {w}"));
+        }
+        if !args.quiet {
+            say(format_args!("{report}"));
+        }
+        return Ok(Finished::Passed);
+    }
     if args.compare {
         let comparison = mlpg_contact::compare::compare(&problem, &args.out, echo, &mut progress)?;
         if !args.quiet {

@@ -122,7 +122,7 @@ impl Model {
 }
 
 /// Collocated strains `ε̂_I = Σ_J B_J(x_I) û_J` at every node from MLS gradients.
-fn collocated_strains(ns: &ShapeSet, u_hat: &[f64]) -> Vec<[f64; 3]> {
+pub fn collocated_strains(ns: &ShapeSet, u_hat: &[f64]) -> Vec<[f64; 3]> {
     (0..ns.len())
         .map(|i| {
             let (gx, gy) = ns.grad(i);

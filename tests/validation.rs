@@ -51,6 +51,8 @@ mod validation {
     mod adaptive_hertz_cylinder;
     // Adaptive refinement of two bodies, the first curved: Hertz cylinder on a block; Cattaneo–Mindlin.
     mod adaptive_hertz_two_bodies;
+    // Elastodynamics: lumped mass, free flight, the bar impact against the 1-D wave solution.
+    mod dynamics;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.

@@ -191,6 +191,7 @@ fn patch_problem(layout: Layout) -> Problem {
         multibody: None,
         mesh_nodes: None,
         steps: Vec::new(),
+        dynamics: None,
     }
 }
 

@@ -58,6 +58,7 @@
 
 pub mod axisymmetric;
 pub mod element;
+pub mod mass;
 mod mesh;
 pub mod system;
 

@@ -6,6 +6,7 @@
 
 pub mod adaptive;
 pub mod compare;
+pub mod dynamics;
 mod friction;
 mod load_path;
 pub mod memory;
@@ -72,6 +73,48 @@ fn discretise_mfvm_nodes(
     progress: &mut dyn Progress,
 ) -> Result<Model, Error> {
     let mut clock = Clock::new(progress, Vec::new());
+    let parts = mfvm_parts(problem, held_by_contact, given, &mut clock)?;
+    let (nodes, system) = (parts.nodes, parts.system);
+    check_factor_memory(problem, &system, &nodes.points)?;
+    let factorisation = clock.run("factorisation", || {
+        let ordering = ColumnOrdering::NestedDissection(&nodes.points);
+        let options = if condensed_sparsely(problem, &nodes, system.pinned.is_some()) {
+            FactorOptions::nested_dissection_static()
+        } else {
+            factor_options(problem)
+        };
+        Factorisation::with_options(&system.matrix, ordering, &options)
+    })?;
+    Ok(Model {
+        nodes,
+        node_shapes: parts.node_shapes,
+        system,
+        factorisation,
+        scheme: Scheme::Mfvm(Box::new(parts.mfvm)),
+        timings: clock.timings,
+    })
+}
+
+/// An MFVM body assembled but not factorised: nodes, shape functions at the nodes, the system
+/// and the MFVM's own data (a dynamic run factorises `M + h²θ² K` instead of `K`).
+pub struct MfvmParts {
+    /// Nodes.
+    pub nodes: nodes::Nodes,
+    /// Shape functions with gradients at the nodes.
+    pub node_shapes: mls::ShapeSet,
+    /// `K`, `f` and the collocation rows.
+    pub system: assembly::GlobalSystem,
+    /// Supports, cells, faces and face shapes.
+    pub mfvm: model::Mfvm,
+}
+
+/// The stages of [`discretise_mfvm_nodes`] before the factorisation, timed on `clock`.
+fn mfvm_parts(
+    problem: &Problem,
+    held_by_contact: bool,
+    given: Option<nodes::Nodes>,
+    clock: &mut Clock<'_>,
+) -> Result<MfvmParts, Error> {
     let disc = &problem.discretisation;
     let nodes = match given {
         Some(nodes) => clock.run("nodes", || nodes),
@@ -127,29 +170,11 @@ fn discretise_mfvm_nodes(
             }),
         })
     })?;
-    check_factor_memory(problem, &system, &nodes.points)?;
-    let factorisation = clock.run("factorisation", || {
-        let ordering = ColumnOrdering::NestedDissection(&nodes.points);
-        let options = if condensed_sparsely(problem, &nodes, system.pinned.is_some()) {
-            FactorOptions::nested_dissection_static()
-        } else {
-            factor_options(problem)
-        };
-        Factorisation::with_options(&system.matrix, ordering, &options)
-    })?;
-    Ok(Model {
+    Ok(MfvmParts {
         nodes,
         node_shapes,
         system,
-        factorisation,
-        scheme: Scheme::Mfvm(Box::new(model::Mfvm {
-            supports,
-            cells,
-            faces,
-            face_quadrature,
-            face_shapes,
-        })),
-        timings: clock.timings,
+        mfvm: model::Mfvm { supports, cells, faces, face_quadrature, face_shapes },
     })
 }
 
@@ -355,6 +380,7 @@ pub fn solve(problem: &Problem) -> Result<Solution, Error> {
 /// # Errors
 /// As [`solve`].
 pub fn solve_with_lemke(problem: &Problem, lemke: &lcp::LemkeParams) -> Result<Solution, Error> {
+    refuse_dynamics(problem)?;
     let mut silent = Silent;
     if let Some(a) = &problem.adaptive {
         let run = adaptive::solve_adaptive(problem, a, &mut silent, &mut |_, _, _, _| {})?;
@@ -1109,6 +1135,7 @@ impl Outcome {
         input: serde_json::Value,
         progress: &mut dyn Progress,
     ) -> Result<Self, Error> {
+        refuse_dynamics(&problem)?;
         if let Some(a) = problem.adaptive {
             let run = adaptive::solve_adaptive(&problem, &a, progress, &mut |_, _, _, _| {})?;
             let mut summary = Summary::new(input, &run.problem, &run.model, &run.solution);
@@ -1188,6 +1215,20 @@ fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
 }
 
 /// [`run`], also returning the model and the solution (for [`compare`]).
+/// The static solves refuse a `[dynamics]` problem: it runs through [`dynamics::run`] or
+/// [`dynamics::solve`].
+fn refuse_dynamics(problem: &Problem) -> Result<(), Error> {
+    match problem.dynamics {
+        Some(_) => Err(crate::problem::ProblemError::Invalid {
+            field: "dynamics".into(),
+            value: "(given)".into(),
+            reason: "a [dynamics] problem is solved by pipeline::dynamics::run or ::solve (the command line does this), not by the static solve".into(),
+        }
+        .into()),
+        None => Ok(()),
+    }
+}
+
 fn solve_and_write(
     problem: &Problem,
     out: &Path,

@@ -5,6 +5,8 @@
 //! field of `summary.json`.
 
 mod deformed;
+pub mod frames;
+pub mod history;
 mod outdir;
 pub mod paraview;
 pub mod plot;

@@ -315,7 +315,7 @@ fn multiblock(blocks: &[(&str, Vec<(String, String)>)]) -> String {
 }
 
 /// The text of a `.pvd` time series: one `(time, file)` per entry.
-fn collection(entries: &[(f64, &str)]) -> String {
+pub(crate) fn collection(entries: &[(f64, &str)]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ =

@@ -53,6 +53,48 @@ pub struct ProblemFile {
     /// `[contact] target` names them. Not echoed when absent.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub obstacle: Vec<ObstacleFile>,
+    /// Elastodynamics (`[dynamics]`, docs/method.md §10): time stepping with inertia instead
+    /// of one static solve. Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dynamics: Option<DynamicsFile>,
+}
+
+/// `[dynamics]`: Moreau–Jean time stepping of one body (docs/method.md §10). `end_time` and
+/// `time_step` are required; `[material] density` must be given.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsFile {
+    /// The run ends at this time (> 0); it starts at 0.
+    pub end_time: f64,
+    /// The fixed time step `h` (> 0, at most `end_time`).
+    pub time_step: f64,
+    /// The θ of the θ-method, in `[0.5, 1]` (default 0.5: no numerical dissipation).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theta: Option<f64>,
+    /// Newton's coefficient of restitution `e ∈ [0, 1]` at the contacts (default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// The body's uniform velocity `[vx, vy]` at time 0 (default `[0, 0]`).
+    #[serde(
+        default,
+        deserialize_with = "exact::optional_pair",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub initial_velocity: Option<[f64; 2]>,
+    /// Snapshot frequency and the like.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output: Option<DynamicsOutputFile>,
+}
+
+/// `[dynamics.output]`.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicsOutputFile {
+    /// Write a snapshot of the body (`frames/frame_<step>.vtp`, indexed by `frames.pvd` for
+    /// ParaView) every this many steps, and at the first and last (default: no snapshots;
+    /// `history.csv` has every step).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub every: Option<usize>,
 }
 
 /// `[refinement]`: the solve–estimate–mark–refine loop (rectangles, one body, MFVM). Every
@@ -738,6 +780,9 @@ pub struct MaterialFile {
     pub poisson: f64,
     /// `"stress"`, `"strain"` or `"axisymmetric"` (x the radius, y the axis; docs/method.md §9).
     pub plane: PlaneState,
+    /// Mass density `ρ` (> 0): needed only with `[dynamics]`. Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
 }
 
 /// `[discretisation]`, or a preset name alone (`discretisation = "stabilised"`).
@@ -926,7 +971,7 @@ impl NodesFile {
 impl MaterialFile {
     /// `[material]`: Young's modulus, Poisson's ratio and the plane state.
     pub fn new(young: f64, poisson: f64, plane: PlaneState) -> Self {
-        Self { young, poisson, plane }
+        Self { young, poisson, plane, density: None }
     }
 }
 

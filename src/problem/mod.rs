@@ -6,12 +6,14 @@
 //! - [`discretisation`]: method, MLS parameters, node layout, presets and stability limits;
 //! - [`axisymmetric`]: the axis conditions and refusals of bodies of revolution;
 //! - [`contact`]: the contact specification (rigid line or second body);
+//! - [`dynamics`]: the checked `[dynamics]` table (time stepping with inertia);
 //! - [`gmsh`]: a reader for Gmsh mesh files (MSH 4.1 and 2.2, ASCII);
 //! - [`refine`]: the graded spacing of `[[nodes.refine]]`.
 
 pub mod axisymmetric;
 pub mod contact;
 pub mod discretisation;
+pub mod dynamics;
 pub mod file;
 pub mod gmsh;
 pub mod refine;
@@ -170,6 +172,8 @@ pub struct Problem {
     /// The second body of a two-body contact holds the same steps (the same number and
     /// increments, validated) with its own conditions; its `obstacle_displacement` is zero.
     pub steps: Vec<LoadStep>,
+    /// Elastodynamics (`[dynamics]`, docs/method.md §10; `None`: the static solve).
+    pub dynamics: Option<dynamics::Dynamics>,
 }
 
 /// The bodies and contact pairs of a problem with several of them (`Problem::multibody`).

@@ -252,6 +252,7 @@ impl TryFrom<ProblemFile> for Problem {
                 .multibody
                 .as_ref()
                 .is_some_and(|m| m.pairs.iter().any(|p| p.spec.friction > 0.0));
+        problem.dynamics = super::dynamics::dynamics(&file, &problem)?;
         if problem.write_steps && problem.steps.is_empty() && !frictional {
             return Err(invalid(
                 "output.steps",
@@ -373,6 +374,7 @@ fn validate_body(
         multibody: None,
         mesh_nodes,
         steps: Vec::new(),
+        dynamics: None,
     })
 }
 
@@ -990,6 +992,11 @@ fn material(m: &MaterialFile) -> Result<Material, ProblemError> {
     }
     if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
         return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
+    }
+    if let Some(rho) = m.density {
+        if !(rho.is_finite() && rho > 0.0) {
+            return Err(invalid("material.density", rho, "must be a positive number"));
+        }
     }
     Ok(Material { young: m.young, poisson: m.poisson, plane: m.plane })
 }

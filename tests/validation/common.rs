@@ -38,6 +38,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         second_body: None,
         multibody: None,
         mesh_nodes: None,
+        dynamics: None,
         steps: Vec::new(),
     }
 }

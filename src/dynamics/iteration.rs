@@ -1,0 +1,132 @@
+//! The iteration matrix of the θ-method, `M̂ = M Φ + h²θ² K`, factorised once per run
+//! (docs/method.md §10.2), and the free velocity of a step.
+//!
+//! A row of `K` that is a collocated displacement condition (docs/method.md §3.6) has no mass
+//! and keeps its collocation row unscaled in `M̂`: the step then places the field at
+//! `q_{n+θ}` on the prescribed value (zero in this increment), exactly.
+
+use super::DynamicsError;
+use crate::assembly::{GlobalSystem, SystemMatrix};
+use crate::geometry::Point;
+use crate::linear_solve::{ColumnOrdering, Factorisation, mul};
+use crate::mls::ShapeSet;
+
+/// `M̂` factorised, with what the free step needs.
+pub struct Iteration<'a> {
+    system: &'a GlobalSystem,
+    /// The LU of `M̂`.
+    pub factorisation: Factorisation,
+    h: f64,
+    theta: f64,
+    constrained: Vec<bool>,
+}
+
+impl<'a> Iteration<'a> {
+    /// Builds and factorises `M̂` from `system` (K with its collocation rows), the lumped
+    /// `mass` and the shape functions at the nodes (`Φ`), for step `h` and `θ`; `points`
+    /// order the columns (nested dissection).
+    ///
+    /// # Errors
+    /// [`DynamicsError::Solve`] when the factorisation fails.
+    pub fn new(
+        system: &'a GlobalSystem,
+        mass: &[f64],
+        node_shapes: &ShapeSet,
+        h: f64,
+        theta: f64,
+        points: &[Point],
+    ) -> Result<Self, DynamicsError> {
+        let n = system.matrix.n;
+        let constrained: Vec<bool> = (0..n).map(|d| system.is_constrained(d)).collect();
+        let mut entries = Vec::new();
+        for i in 0..node_shapes.len() {
+            for (&j, &phi) in node_shapes.support(i).iter().zip(node_shapes.phi(i)) {
+                for a in 0..2 {
+                    let (r, c) = (2 * i + a, 2 * j as usize + a);
+                    if !constrained[r] {
+                        entries.push((r, c, mass[r] * phi));
+                    }
+                }
+            }
+        }
+        let s = h * h * theta * theta;
+        let k = &system.matrix;
+        for c in 0..n {
+            for e in k.col_ptr[c]..k.col_ptr[c + 1] {
+                let r = k.row_idx[e];
+                entries.push((r, c, if constrained[r] { k.values[e] } else { s * k.values[e] }));
+            }
+        }
+        let matrix = compressed_columns(n, entries);
+        let factorisation =
+            Factorisation::with_ordering(&matrix, ColumnOrdering::NestedDissection(points))?;
+        Ok(Self { system, factorisation, h, theta, constrained })
+    }
+
+    /// The velocity at the end of the step without contact impulses:
+    /// `v_free = v + M̂⁻¹ h (f − K (q + hθ v))` (a collocation row: divided by `h²θ²`).
+    ///
+    /// # Errors
+    /// [`DynamicsError::Solve`] when the solve is not finite.
+    pub fn free_velocity(&self, q: &[f64], v: &[f64]) -> Result<Vec<f64>, DynamicsError> {
+        let (h, theta) = (self.h, self.theta);
+        let ahead: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + h * theta * v).collect();
+        let k_ahead = mul(&self.system.matrix, &ahead);
+        let rhs: Vec<f64> = (0..q.len())
+            .map(|d| {
+                let r = h * (self.system.rhs[d] - k_ahead[d]);
+                if self.constrained[d] { r / (h * h * theta * theta) } else { r }
+            })
+            .collect();
+        let dv = self.factorisation.solve(&rhs)?;
+        Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
+    }
+
+    /// `M̂⁻¹ b`.
+    ///
+    /// # Errors
+    /// [`DynamicsError::Solve`] when the solve is not finite.
+    pub fn solve(&self, b: &[f64]) -> Result<Vec<f64>, DynamicsError> {
+        Ok(self.factorisation.solve(b)?)
+    }
+}
+
+/// The compressed-column matrix of the entries `(row, column, value)` (duplicates summed,
+/// every diagonal entry present).
+fn compressed_columns(n: usize, mut entries: Vec<(usize, usize, f64)>) -> SystemMatrix {
+    entries.extend((0..n).map(|d| (d, d, 0.0)));
+    entries.sort_by_key(|&(r, c, _)| (c, r));
+    let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::<f64>::new());
+    let mut last = None;
+    for (r, c, v) in entries {
+        if last == Some((r, c)) {
+            if let Some(x) = values.last_mut() {
+                *x += v;
+            }
+            continue;
+        }
+        while col_ptr.len() <= c {
+            col_ptr.push(row_idx.len());
+        }
+        row_idx.push(r);
+        values.push(v);
+        last = Some((r, c));
+    }
+    while col_ptr.len() <= n {
+        col_ptr.push(row_idx.len());
+    }
+    SystemMatrix { n, col_ptr, row_idx, values }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn compressed_columns_sum_duplicates_and_store_every_diagonal() {
+        let m = compressed_columns(3, vec![(1, 0, 3.0), (0, 0, 1.0), (0, 1, 2.0), (1, 0, 0.5)]);
+        assert_eq!(m.col_ptr, vec![0, 2, 4, 5]);
+        assert_eq!(m.row_idx, vec![0, 1, 0, 1, 2]);
+        assert_eq!(m.values, vec![1.0, 3.5, 2.0, 0.0, 0.0]);
+    }
+}

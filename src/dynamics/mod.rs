@@ -1,0 +1,246 @@
+//! Stage 11: elastodynamics with contact — Moreau–Jean time stepping of one body against
+//! rigid obstacles (docs/method.md §10; the plan in docs/dev/dynamics.md).
+//!
+//! Per step `n → n + 1` (step `h`, `θ ∈ [½, 1]`, restitution `e`):
+//!
+//! ```text
+//! v_free = v + M̂⁻¹ h (f − K (q + hθ v))            M̂ = M Φ + h²θ² K, factorised once
+//! A      = { c : g_c(q + h/2 v) ≤ 0 }                 index set from the predicted gap
+//! Π_A    : 0 ≤ Π ⊥ G v_free + W Π + e G v ≥ 0         W = G M̂⁻¹ E, condensed once
+//! v⁺     = v_free + M̂⁻¹ E Π
+//! q⁺     = q + h ((1 − θ) v + θ v⁺)
+//! ```
+//!
+//! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
+//! - `iteration` (private): `M̂` and the free velocity;
+//! - `impacts` (private): `W`, the index set and each step's LCP;
+//! - [`energy`]: kinetic and strain energies, momentum;
+//! - [`history`]: one record per step and the run's figures.
+
+pub mod energy;
+pub mod history;
+mod impacts;
+mod iteration;
+pub mod mass;
+
+pub use history::{Figures, History, Record};
+
+pub use impacts::Impacts;
+pub use iteration::Iteration;
+
+use crate::assembly::GlobalSystem;
+use crate::contact::BodyOperator;
+use crate::geometry::Point;
+use crate::lcp::LcpError;
+use crate::linear_solve::SolveError;
+use crate::material::Constitutive;
+use crate::mls::ShapeSet;
+use crate::problem::dynamics::Dynamics;
+use crate::weak_form::Cell;
+use std::time::Instant;
+
+/// Failures of the time stepping.
+#[derive(Debug, thiserror::Error)]
+pub enum DynamicsError {
+    /// The iteration matrix could not be factorised or a solve was not finite.
+    #[error("time stepping: {0}")]
+    Solve(#[from] SolveError),
+    /// A step's contact LCP failed.
+    #[error(
+        "time step {step}: the contact LCP failed ({source}); a smaller dynamics.time_step may help"
+    )]
+    Lcp {
+        /// The step.
+        step: usize,
+        /// Lemke's error.
+        source: LcpError,
+    },
+}
+
+/// What the time stepping needs of a discretised MFVM body.
+pub struct Body<'a> {
+    /// `K` with its collocation rows, and `f`.
+    pub system: &'a GlobalSystem,
+    /// The subdomain cells (mass and strain energy).
+    pub cells: &'a [Cell],
+    /// Shape functions with gradients at the nodes (collocated strains).
+    pub node_shapes: &'a ShapeSet,
+    /// Node positions (the ordering of the factorisation).
+    pub points: &'a [Point],
+    /// Constitutive matrix `D`.
+    pub constitutive: Constitutive,
+}
+
+/// The contact candidates against rigid obstacles: their operators and initial gaps.
+pub struct Contact<'a> {
+    /// `G` and `E`.
+    pub operator: &'a BodyOperator,
+    /// `g0`.
+    pub initial_gap: &'a [f64],
+}
+
+/// A finished run.
+pub struct Simulation {
+    /// Records at time 0 and after every step.
+    pub history: History,
+    /// Snapshots at time 0, every `snapshot_every` steps and at the end (empty without).
+    pub frames: Vec<Frame>,
+    /// Nodal parameters `û` at the end.
+    pub displacement: Vec<f64>,
+    /// Their rates `v̂` at the end.
+    pub velocity: Vec<f64>,
+    /// The lumped mass per DOF.
+    pub mass: Vec<f64>,
+    /// Each candidate's gap at the end.
+    pub final_gap: Vec<f64>,
+    /// Wall time of the set-up (`M̂`'s factorisation and `W`) and of the steps' LCPs.
+    pub seconds: Seconds,
+}
+
+/// Wall times inside [`simulate`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Seconds {
+    /// Factorising `M̂` and condensing `W`.
+    pub setup: f64,
+    /// Forming and solving the steps' LCPs (index sets included).
+    pub lcp: f64,
+}
+
+impl Simulation {
+    /// The run's figures.
+    pub fn figures(&self, h: f64) -> Figures {
+        self.history.figures(h, mass::total(&self.mass))
+    }
+}
+
+/// A snapshot of the body: the displacement and velocity at the nodes (`Φ q`, `Φ v`).
+pub struct Frame {
+    /// Time.
+    pub time: f64,
+    /// The step.
+    pub step: usize,
+    /// `u^h(x_I)`.
+    pub displacement: Vec<[f64; 2]>,
+    /// `v^h(x_I)`.
+    pub velocity: Vec<[f64; 2]>,
+}
+
+impl Frame {
+    fn of(body: &Body<'_>, state: &State, step: usize, time: f64) -> Self {
+        let shapes = body.node_shapes;
+        Self {
+            time,
+            step,
+            displacement: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.q)).collect(),
+            velocity: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.v)).collect(),
+        }
+    }
+}
+
+/// The state of the body: `q = û` and `v = v̂`.
+struct State {
+    q: Vec<f64>,
+    v: Vec<f64>,
+}
+
+/// Runs the Moreau–Jean time stepping of `body` from `params.initial_velocity` (undeformed)
+/// to `params.end_time`, reporting `(step, steps)` to `progress`.
+///
+/// # Errors
+/// [`DynamicsError`] when the factorisation, a solve or a step's LCP fails.
+pub fn simulate(
+    body: &Body<'_>,
+    contact: Option<Contact<'_>>,
+    params: &Dynamics,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Simulation, DynamicsError> {
+    let (h, theta, n) = (params.time_step, params.theta, body.system.matrix.n);
+    let mut seconds = Seconds::default();
+    let clock = Instant::now();
+    let mass = mass::lumped_mass(body.cells, params.density);
+    let iteration = Iteration::new(body.system, &mass, body.node_shapes, h, theta, body.points)?;
+    let impacts = match &contact {
+        Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, n)?),
+        None => None,
+    };
+    seconds.setup = clock.elapsed().as_secs_f64();
+    let load = free_load(body.system);
+    let mut state =
+        State { q: vec![0.0; n], v: (0..n).map(|d| params.initial_velocity[d % 2]).collect() };
+    let mut history = History { records: vec![record(body, &mass, &state, 0.0)] };
+    let steps = params.steps();
+    let snapshot =
+        |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
+    let mut frames = Vec::new();
+    if snapshot(0) {
+        frames.push(Frame::of(body, &state, 0, 0.0));
+    }
+    for step in 1..=steps {
+        let v_free = iteration.free_velocity(&state.q, &state.v)?;
+        let (v_next, answer) = match &impacts {
+            Some(impacts) => {
+                let clock = Instant::now();
+                let active = impacts.index_set(&state.q, &state.v, h);
+                let answer =
+                    impacts.impulses(&active, &v_free, &state.v, params.restitution, step)?;
+                seconds.lcp += clock.elapsed().as_secs_f64();
+                (impacts.apply(&v_free, &answer.impulses), Some(answer))
+            }
+            None => (v_free, None),
+        };
+        let q_next: Vec<f64> = (0..n)
+            .map(|d| state.q[d] + h * ((1.0 - theta) * state.v[d] + theta * v_next[d]))
+            .collect();
+        let dq: Vec<f64> = q_next.iter().zip(&state.q).map(|(a, b)| a - b).collect();
+        let previous = &history.records[history.records.len() - 1];
+        let (external, loss) = (previous.external_work, previous.contact_loss);
+        state = State { q: q_next, v: v_next };
+        let mut rec = record(body, &mass, &state, step as f64 * h);
+        rec.external_work = external + load.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
+        rec.contact_loss = loss;
+        if let (Some(impacts), Some(answer)) = (&impacts, &answer) {
+            rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
+            rec.contact_loss -= impacts.work(&answer.impulses, &dq) / h;
+            rec.active = answer.active;
+            rec.pivots = answer.pivots;
+        }
+        history.records.push(rec);
+        if snapshot(step) {
+            frames.push(Frame::of(body, &state, step, step as f64 * h));
+        }
+        progress(step, steps);
+    }
+    let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&state.q));
+    Ok(Simulation {
+        history,
+        frames,
+        displacement: state.q,
+        velocity: state.v,
+        mass,
+        final_gap,
+        seconds,
+    })
+}
+
+/// The applied load `f` on the free rows (a constrained row's load goes to the support).
+fn free_load(system: &GlobalSystem) -> Vec<f64> {
+    (0..system.load.len())
+        .map(|d| if system.is_constrained(d) { 0.0 } else { system.load[d] })
+        .collect()
+}
+
+/// The record of `state` at `time`, without contact or work (the caller adds them).
+fn record(body: &Body<'_>, mass: &[f64], state: &State, time: f64) -> Record {
+    let v = mass::nodal_values(body.node_shapes, &state.v);
+    Record {
+        time,
+        contact_force: 0.0,
+        kinetic_energy: energy::kinetic(mass, &v),
+        strain_energy: energy::strain(body.node_shapes, body.cells, &body.constitutive, &state.q),
+        external_work: 0.0,
+        contact_loss: 0.0,
+        momentum: energy::momentum(mass, &v),
+        active: 0,
+        pivots: 0,
+    }
+}

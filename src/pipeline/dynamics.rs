@@ -1,0 +1,164 @@
+//! Elastodynamic runs (`[dynamics]`, docs/method.md §10): the body assembled without a
+//! static factorisation, its contact candidates against the rigid obstacles, the time
+//! stepping ([`crate::dynamics::simulate`]) and the outputs.
+
+use super::{MfvmParts, mfvm_parts};
+use crate::contact::{self, BodyView, Candidates};
+use crate::dynamics::{self, Body, Contact, Simulation};
+use crate::error::Error;
+use crate::post::{self, history::DynamicSummary};
+use crate::problem::{Problem, dynamics::Dynamics};
+use crate::progress::{Clock, Progress, StageTiming};
+use std::path::{Path, PathBuf};
+
+/// A dynamic run, solved: the body, its candidates and the time history.
+pub struct DynamicOutcome {
+    /// The body's nodes, shapes, system and MFVM data.
+    pub parts: MfvmParts,
+    /// The candidates (`None` without contact).
+    pub candidates: Option<Candidates>,
+    /// The time stepping's result.
+    pub simulation: Simulation,
+    /// The checked parameters.
+    pub dynamics: Dynamics,
+    /// Stage timings.
+    pub timings: Vec<crate::progress::StageTiming>,
+}
+
+impl DynamicOutcome {
+    /// Number of nodes.
+    pub fn nodes(&self) -> usize {
+        self.parts.nodes.len()
+    }
+    /// The nodes' positions.
+    pub fn points(&self) -> &[crate::geometry::Point] {
+        &self.parts.nodes.points
+    }
+}
+
+/// What [`run`] wrote.
+pub struct DynamicReport {
+    /// The contents of `summary.json`.
+    pub summary: DynamicSummary,
+    /// Files written (`summary.json` last).
+    pub files: Vec<PathBuf>,
+}
+
+impl std::fmt::Display for DynamicReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (s, g) = (&self.summary, &self.summary.figures);
+        let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
+        writeln!(f, "{}: {} nodes, {} time steps to t = {}", s.name, s.nodes, g.steps, g.end_time)?;
+        writeln!(
+            f,
+            "  contact from {} to {} (duration {}), mean force {}, peak {:.6}",
+            opt(g.contact_start),
+            opt(g.contact_end),
+            opt(g.contact_duration),
+            opt(g.mean_contact_force),
+            g.peak_contact_force
+        )?;
+        writeln!(
+            f,
+            "  final velocity [{:.6}, {:.6}]; energy {:.6e} → {:.6e}, lost at contacts {:.6e}",
+            g.final_velocity[0],
+            g.final_velocity[1],
+            g.initial_energy,
+            g.final_energy,
+            g.contact_loss
+        )
+    }
+}
+
+/// The body of the dynamic `problem` assembled, not factorised (its rigid-body motions need
+/// no displacement condition: inertia holds them).
+///
+/// # Errors
+/// A stage's error.
+pub fn discretise(problem: &Problem, clock: &mut Clock<'_>) -> Result<MfvmParts, Error> {
+    mfvm_parts(problem, false, None, clock)
+}
+
+/// Solves the dynamic `problem` (its `dynamics` must be `Some`).
+///
+/// # Errors
+/// Any stage's error.
+pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOutcome, Error> {
+    let dynamics =
+        problem.dynamics.clone().ok_or_else(|| crate::problem::ProblemError::Invalid {
+            field: "dynamics".into(),
+            value: "(missing)".into(),
+            reason: "a dynamic run needs a [dynamics] table".into(),
+        })?;
+    let mut clock = Clock::new(progress, Vec::new());
+    let parts = discretise(problem, &mut clock)?;
+    let candidates = match &problem.contact {
+        Some(spec) => Some(clock.run("candidates", || {
+            let view = BodyView {
+                domain: &problem.domain,
+                nodes: &parts.nodes,
+                supports: &parts.mfvm.supports,
+                mls: &problem.discretisation.mls,
+                boundary_faces: &parts.mfvm.faces.boundary,
+                system: &parts.system,
+            };
+            let target =
+                |x| contact::rigid_target(problem, spec, x).unwrap_or((f64::INFINITY, [0.0, 1.0]));
+            contact::candidates(view, spec.edge, &target, spec.condensation)
+        })?),
+        None => None,
+    };
+    let body = Body {
+        system: &parts.system,
+        cells: &parts.mfvm.cells,
+        node_shapes: &parts.node_shapes,
+        points: &parts.nodes.points,
+        constitutive: problem.material.constitutive(),
+    };
+    let contact =
+        candidates.as_ref().map(|c| Contact { operator: &c.operator, initial_gap: &c.initial_gap });
+    let simulation = clock.run_counted("time steps", |advance| {
+        dynamics::simulate(&body, contact, &dynamics, advance)
+    })?;
+    // The shares of the stage: the set-up (M̂'s LU and W) and the steps' LCPs.
+    let s = simulation.seconds;
+    clock.timings.push(StageTiming { stage: "time steps: M̂ and W set-up", seconds: s.setup });
+    clock.timings.push(StageTiming { stage: "time steps: LCPs", seconds: s.lcp });
+    Ok(DynamicOutcome { candidates, simulation, dynamics, timings: clock.timings, parts })
+}
+
+/// Solves the dynamic `problem` and writes its outputs to `out` (`input`: the problem file
+/// as read, echoed into `summary.json`).
+///
+/// # Errors
+/// Any stage's error.
+pub fn run(
+    problem: &Problem,
+    out: &Path,
+    input: serde_json::Value,
+    progress: &mut dyn Progress,
+) -> Result<DynamicReport, Error> {
+    let staged = post::StagedDir::new(out)?;
+    let outcome = solve(problem, progress)?;
+    let h = outcome.dynamics.time_step;
+    let figures = outcome.simulation.figures(h);
+    let summary = DynamicSummary {
+        warnings: post::history::warnings(&figures),
+        name: problem.name.clone(),
+        nodes: outcome.nodes(),
+        candidates: outcome.candidates.as_ref().map_or(0, Candidates::len),
+        dynamics: (&outcome.dynamics).into(),
+        figures,
+        input,
+        timings: outcome.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
+    };
+    let mut files =
+        post::frames::write_frames(staged.path(), outcome.points(), &outcome.simulation.frames)?;
+    files.extend(post::history::write_dynamic(
+        staged.path(),
+        &outcome.simulation.history,
+        &summary,
+    )?);
+    let files = staged.commit(files)?;
+    Ok(DynamicReport { summary, files })
+}

@@ -1,0 +1,168 @@
+//! The outputs of a dynamic run (docs/method.md §10): `history.csv` (one row per written
+//! step), the force and energy plots against time, and `summary.json` with the run's figures.
+
+use super::{OutputError, num, plot, write_text};
+use crate::dynamics::{Figures, History, Record};
+use crate::problem::dynamics::Dynamics;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The contents of a dynamic run's `summary.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicSummary {
+    /// The problem's name.
+    pub name: String,
+    /// Nodes of the body.
+    pub nodes: usize,
+    /// Contact candidates.
+    pub candidates: usize,
+    /// The time stepping's parameters.
+    pub dynamics: DynamicsEcho,
+    /// The run's figures.
+    pub figures: Figures,
+    /// What the reader should know about the result ([`warnings`]).
+    pub warnings: Vec<String>,
+    /// The problem file as read.
+    pub input: serde_json::Value,
+    /// Wall time of each stage, seconds (the only non-deterministic entry, as in the static
+    /// `summary.json`).
+    pub timings: BTreeMap<&'static str, f64>,
+}
+
+/// The checked `[dynamics]` parameters, as used.
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicsEcho {
+    /// Density.
+    pub density: f64,
+    /// Time step.
+    pub time_step: f64,
+    /// θ.
+    pub theta: f64,
+    /// Restitution.
+    pub restitution: f64,
+    /// Initial velocity.
+    pub initial_velocity: [f64; 2],
+}
+
+impl From<&Dynamics> for DynamicsEcho {
+    fn from(d: &Dynamics) -> Self {
+        Self {
+            density: d.density,
+            time_step: d.time_step,
+            theta: d.theta,
+            restitution: d.restitution,
+            initial_velocity: d.initial_velocity,
+        }
+    }
+}
+
+/// An energy growth ([`Figures::energy_growth`]) above this is reported as a warning: the
+/// energy grew beyond what the loads brought — a complex mode of the Petrov–Galerkin `K`
+/// growing at θ = ½ (docs/method.md §10.2). Numerical damping (θ > ½) is not warned about.
+pub const ENERGY_GROWTH_WARNING: f64 = 0.05;
+
+/// The warnings of a run with these figures.
+pub fn warnings(figures: &Figures) -> Vec<String> {
+    let mut out = Vec::new();
+    if figures.energy_growth > ENERGY_GROWTH_WARNING {
+        out.push(format!(
+            "the energy grew by {:.3e} of its largest value beyond the work of the loads: a mode of the non-symmetric MFVM stiffness grows at dynamics.theta = 0.5 over long runs; set theta = 0.51 or more (docs/method.md §10.2)",
+            figures.energy_growth
+        ));
+    }
+    out
+}
+
+/// Writes `history.csv`, `plots/history_force.{svg,png}`, `plots/history_energy.{svg,png}`
+/// and `summary.json` (last) under `dir`; returns the files.
+///
+/// # Errors
+/// [`OutputError`] when a file cannot be written.
+pub fn write_dynamic(
+    dir: &Path,
+    history: &History,
+    summary: &DynamicSummary,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let csv = dir.join("history.csv");
+    write_text(&csv, &history_csv(history))?;
+    let plots = dir.join("plots");
+    super::create_dir(&plots)?;
+    let force = plots.join("history_force");
+    plot::write_chart(&force, &force_chart(history))?;
+    let energy = plots.join("history_energy");
+    plot::write_chart(&energy, &energy_chart(history))?;
+    let json = dir.join("summary.json");
+    let text = serde_json::to_string_pretty(summary).map_err(|e| OutputError::Io {
+        path: json.display().to_string(),
+        source: std::io::Error::other(e),
+    })?;
+    write_text(&json, &(text + "\n"))?;
+    let mut files = vec![csv];
+    for stem in [force, energy] {
+        files.push(stem.with_extension("svg"));
+        files.push(stem.with_extension("png"));
+    }
+    files.push(json);
+    Ok(files)
+}
+
+fn history_csv(history: &History) -> String {
+    let mut s = String::from(
+        "time,contact_force,kinetic_energy,strain_energy,external_work,contact_loss,momentum_x,momentum_y,active\n",
+    );
+    for r in &history.records {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{}",
+            num(r.time),
+            num(r.contact_force),
+            num(r.kinetic_energy),
+            num(r.strain_energy),
+            num(r.external_work),
+            num(r.contact_loss),
+            num(r.momentum[0]),
+            num(r.momentum[1]),
+            r.active
+        );
+    }
+    s
+}
+
+fn series(
+    history: &History,
+    label: &str,
+    colour: usize,
+    f: impl Fn(&Record) -> f64,
+) -> plot::Series {
+    plot::Series {
+        label: label.into(),
+        points: history.records.iter().map(|r| (r.time, f(r))).collect(),
+        style: plot::Style::Line,
+        colour,
+    }
+}
+
+fn force_chart(history: &History) -> plot::Chart {
+    plot::Chart {
+        title: "Total contact force (mean over each step)".into(),
+        x_label: "time".into(),
+        y_label: "contact force".into(),
+        series: vec![series(history, "total contact force", 0, |r| r.contact_force)],
+    }
+}
+
+fn energy_chart(history: &History) -> plot::Chart {
+    plot::Chart {
+        title: "Energies".into(),
+        x_label: "time".into(),
+        y_label: "energy".into(),
+        series: vec![
+            series(history, "kinetic", 0, |r| r.kinetic_energy),
+            series(history, "strain", 1, |r| r.strain_energy),
+            series(history, "kinetic + strain", 2, Record::energy),
+            series(history, "lost at contacts", 3, |r| r.contact_loss),
+        ],
+    }
+}

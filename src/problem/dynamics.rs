@@ -1,0 +1,201 @@
+//! The checked `[dynamics]` table (docs/method.md §10): the time stepping's parameters, the
+//! density, the initial velocity, and the refusals of what the first dynamic increment does
+//! not support (docs/dev/dynamics.md).
+
+use super::{ContactSolver, Method, Precision, Problem, ProblemError, ProblemFile, invalid};
+
+/// Most time steps a run may take.
+pub const MAX_STEPS: usize = 10_000_000;
+
+/// Elastodynamics of one body by Moreau–Jean time stepping (docs/method.md §10).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Dynamics {
+    /// Mass density `ρ` (`[material] density`).
+    pub density: f64,
+    /// End time `T` (the run starts at 0).
+    pub end_time: f64,
+    /// Fixed time step `h`.
+    pub time_step: f64,
+    /// θ of the θ-method, in `[0.5, 1]`.
+    pub theta: f64,
+    /// Newton's coefficient of restitution `e ∈ [0, 1]`.
+    pub restitution: f64,
+    /// Uniform velocity at time 0.
+    pub initial_velocity: [f64; 2],
+    /// A VTP snapshot of the body every this many steps (the first and last always;
+    /// `None`: no snapshots).
+    pub snapshot_every: Option<usize>,
+}
+
+impl Dynamics {
+    /// Number of time steps: `T / h` rounded up (a last step never overshoots by more than
+    /// `h`; `T / h` within 10⁻⁹ of an integer counts as that integer).
+    pub fn steps(&self) -> usize {
+        let ratio = self.end_time / self.time_step;
+        let near = ratio.round();
+        if (ratio - near).abs() <= 1e-9 * near.max(1.0) {
+            near as usize
+        } else {
+            ratio.ceil() as usize
+        }
+    }
+}
+
+/// `[dynamics]` of `file` checked against the validated `problem` (`None` without the table).
+///
+/// # Errors
+/// [`ProblemError::Invalid`] naming the key path and a remedy.
+pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics>, ProblemError> {
+    let Some(d) = &file.dynamics else {
+        return Ok(None);
+    };
+    let positive = |key: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(invalid(key, v, "must be a positive number"))
+        }
+    };
+    let end_time = positive("dynamics.end_time", d.end_time)?;
+    let time_step = positive("dynamics.time_step", d.time_step)?;
+    if time_step > end_time {
+        return Err(invalid(
+            "dynamics.time_step",
+            time_step,
+            format!("must be at most dynamics.end_time = {end_time}"),
+        ));
+    }
+    let theta = d.theta.unwrap_or(0.5);
+    if !(0.5..=1.0).contains(&theta) {
+        return Err(invalid(
+            "dynamics.theta",
+            theta,
+            "must be in [0.5, 1] (0.5 keeps the energy, larger values damp high frequencies; below 0.5 the scheme is unstable)",
+        ));
+    }
+    let restitution = d.restitution.unwrap_or(0.0);
+    if !(0.0..=1.0).contains(&restitution) {
+        return Err(invalid("dynamics.restitution", restitution, "must be in [0, 1]"));
+    }
+    let initial_velocity = d.initial_velocity.unwrap_or([0.0; 2]);
+    for v in initial_velocity {
+        if !v.is_finite() {
+            return Err(invalid("dynamics.initial_velocity", v, "must be finite numbers"));
+        }
+    }
+    let snapshot_every = d.output.as_ref().and_then(|o| o.every);
+    if snapshot_every == Some(0) {
+        return Err(invalid("dynamics.output.every", 0, "must be at least 1"));
+    }
+    let density = density(file)?;
+    let dynamics = Dynamics {
+        density,
+        end_time,
+        time_step,
+        theta,
+        restitution,
+        initial_velocity,
+        snapshot_every,
+    };
+    if dynamics.steps() > MAX_STEPS {
+        return Err(invalid(
+            "dynamics.time_step",
+            time_step,
+            format!(
+                "end_time / time_step = {:.3e} steps, more than {MAX_STEPS}; take a larger step",
+                end_time / time_step
+            ),
+        ));
+    }
+    refuse_unsupported(file, problem)?;
+    refuse_inconsistent_start(problem, initial_velocity)?;
+    Ok(Some(dynamics))
+}
+
+/// `[material] density` (or the one `[[body]]` table's), required with `[dynamics]`.
+fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
+    let (key, given) = match (&file.material, file.body.as_slice()) {
+        (Some(m), _) => ("material.density", m.density),
+        (None, [b]) => ("body[0].material.density", b.material.density),
+        _ => ("material.density", None),
+    };
+    given.ok_or_else(|| {
+        invalid(
+            key,
+            "(missing)",
+            "[dynamics] needs the mass density; add `density = …` to [material]",
+        )
+    })
+}
+
+/// What the first dynamic increment refuses: it steps one MFVM body, frictionless, against
+/// rigid obstacles, from rest at its prescribed displacements.
+fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
+    let spec = problem.contact.as_ref();
+    let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
+        Some(("body", "several bodies"))
+    } else if spec.is_some_and(|c| c.friction > 0.0) {
+        Some(("contact.friction", "friction"))
+    } else if spec.is_some_and(|c| c.solver == ContactSolver::ActiveSet) {
+        Some((
+            "contact.solver",
+            "the active-set solver (each step's LCP is solved by Lemke's method)",
+        ))
+    } else if !file.step.is_empty() {
+        Some(("step", "[[step]] load steps"))
+    } else if problem.adaptive.is_some() {
+        Some(("refinement", "adaptive refinement"))
+    } else if problem.material.is_axisymmetric() {
+        Some(("material.plane", "an axisymmetric body"))
+    } else if problem.discretisation.method == Method::Fem {
+        Some(("discretisation.method", "the finite element method"))
+    } else if problem.discretisation.precision != Precision::Double {
+        Some(("discretisation.precision", "mixed precision"))
+    } else if problem.write_steps {
+        Some(("output.steps", "per-increment contact tables"))
+    } else {
+        None
+    };
+    match refused {
+        Some((key, what)) => Err(invalid(
+            key,
+            "(given)",
+            format!(
+                "{what} is not implemented with [dynamics] yet (it steps one MFVM body, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The start must satisfy the displacement conditions: every prescribed displacement is zero
+/// (the body starts undeformed at rest on its supports), and the initial velocity has no
+/// component that a displacement condition holds.
+fn refuse_inconsistent_start(problem: &Problem, velocity: [f64; 2]) -> Result<(), ProblemError> {
+    let names = problem.domain.edge_names();
+    for (k, condition) in problem.boundary.iter().enumerate() {
+        for axis in 0..2 {
+            let Some(field) = condition.displacement(axis) else { continue };
+            if !field.is_zero() {
+                return Err(invalid(
+                    &format!("boundary ({}).displacement", names[k]),
+                    "(non-zero)",
+                    "with [dynamics] prescribed displacements must be 0 (a displacement history is a later increment); move the load to a traction or an initial velocity",
+                ));
+            }
+            if velocity[axis] != 0.0 {
+                return Err(invalid(
+                    "dynamics.initial_velocity",
+                    format!("{velocity:?}"),
+                    format!(
+                        "edge `{}` holds the {} displacement at 0, so the initial velocity's {} component must be 0",
+                        names[k],
+                        ["x", "y"][axis],
+                        ["x", "y"][axis]
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
