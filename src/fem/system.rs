@@ -25,7 +25,7 @@ pub struct FemInput<'a> {
 /// are zeroed, the diagonal set to `D_00`, `rhs_c = D_00 ū_c`, and `K_{rc} ū_c` moved to the
 /// right-hand side of every other row `r`, so `matrix` stays symmetric. A body whose one free
 /// translation the contact holds (docs/method.md §4.7) is pinned at one node as the MFVM's is
-/// ([`assembly::with_pin`]): the pin's row is replaced, its column kept, so that setting the
+/// (`assembly::with_pin`): the pin's row is replaced, its column kept, so that setting the
 /// pin's right-hand side to `D_00 t` translates the whole body by `t` (the matrix is then
 /// unsymmetric in that column; the LU does not mind).
 ///
