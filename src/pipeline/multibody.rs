@@ -576,28 +576,7 @@ fn solve_active_set(
 ) -> Result<Solved, Error> {
     let params = lcp::active_set::ActiveSetParams::default();
     clock.run("active_set", || -> Result<Solved, Error> {
-        let bodies: Vec<_> = models
-            .iter()
-            .map(|m| lcp::active_set::BodyParts {
-                matrix: &m.system.matrix,
-                rhs: &m.system.rhs,
-                factorisation: &m.factorisation,
-                operator: &EMPTY_OPERATOR,
-                points: super::node_points(m),
-            })
-            .collect();
-        let parts = pairs
-            .iter()
-            .zip(found)
-            .map(|(pair, f)| lcp::active_set::PairParts {
-                body: pair.body,
-                operator: &f.candidates.operator,
-                target: pair.target_body.zip(f.target.as_ref()),
-                scale: models[pair.body].system.collocation_scale,
-            })
-            .collect();
-        let mut system = lcp::active_set::Bodies::new(bodies, parts, initial_gap)
-            .map_err(lcp::LcpError::from)?;
+        let mut system = bodies_system(models, pairs, found, initial_gap)?;
         let Some((b, pin, along, load)) = held else {
             let answer =
                 lcp::active_set::solve(&mut system, &params).map_err(lcp::LcpError::from)?;
@@ -667,6 +646,36 @@ fn solve_active_set(
             }),
         })
     })
+}
+
+/// The sparse system of all bodies and pairs ([`lcp::active_set::Bodies`]).
+fn bodies_system<'a>(
+    models: &[&'a Model],
+    pairs: &'a [ContactPair],
+    found: &'a [PairCandidates],
+    initial_gap: &[f64],
+) -> Result<lcp::active_set::Bodies<'a>, Error> {
+    let bodies = models
+        .iter()
+        .map(|m| lcp::active_set::BodyParts {
+            matrix: &m.system.matrix,
+            rhs: &m.system.rhs,
+            factorisation: &m.factorisation,
+            operator: &EMPTY_OPERATOR,
+            points: super::node_points(m),
+        })
+        .collect();
+    let parts = pairs
+        .iter()
+        .zip(found)
+        .map(|(pair, f)| lcp::active_set::PairParts {
+            body: pair.body,
+            operator: &f.candidates.operator,
+            target: pair.target_body.zip(f.target.as_ref()),
+            scale: models[pair.body].system.collocation_scale,
+        })
+        .collect();
+    Ok(lcp::active_set::Bodies::new(bodies, parts, initial_gap).map_err(lcp::LcpError::from)?)
 }
 
 /// The operator [`lcp::active_set::BodyParts::operator`] holds for [`lcp::active_set::Bodies::new`],

@@ -9,7 +9,7 @@
 
 use super::super::friction::{History, StepEnd, lerp};
 use super::path::{self, Scene};
-use super::{BodiesTrials, EMPTY_OPERATOR, Held as HeldBody, Solved};
+use super::{BodiesTrials, Held as HeldBody, Solved};
 use crate::contact::BodyOperator;
 use crate::error::Error;
 use crate::lcp;
@@ -44,7 +44,7 @@ pub(super) fn solve(
     if let Some((_, pin, _, _)) = held_body {
         path::refuse_slanted(pin, &friction, &path::normals(scene))?;
     }
-    let mut system = bodies_system(scene, models)?;
+    let mut system = super::bodies_system(models, scene.pairs, scene.found, scene.initial_gap)?;
     let pair_tangential: Vec<lcp::active_set::PairTangential<'_>> =
         tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
     let zeros = |m: &&Model| vec![0.0; m.system.rhs.len()];
@@ -169,36 +169,6 @@ pub(super) fn solve(
         record: Some(record),
     };
     Ok((solved, frictions))
-}
-
-/// The sparse system of all bodies and pairs.
-fn bodies_system<'a>(
-    scene: &Scene<'a>,
-    models: &[&'a Model],
-) -> Result<lcp::active_set::Bodies<'a>, Error> {
-    let bodies = models
-        .iter()
-        .map(|m| lcp::active_set::BodyParts {
-            matrix: &m.system.matrix,
-            rhs: &m.system.rhs,
-            factorisation: &m.factorisation,
-            operator: &EMPTY_OPERATOR,
-            points: super::super::node_points(m),
-        })
-        .collect();
-    let parts = scene
-        .pairs
-        .iter()
-        .zip(scene.found)
-        .map(|(pair, f)| lcp::active_set::PairParts {
-            body: pair.body,
-            operator: &f.candidates.operator,
-            target: pair.target_body.zip(f.target.as_ref()),
-            scale: models[pair.body].system.collocation_scale,
-        })
-        .collect();
-    Ok(lcp::active_set::Bodies::new(bodies, parts, scene.initial_gap)
-        .map_err(lcp::LcpError::from)?)
 }
 
 /// Where an increment starts: the accumulated tangential displacements and the states of
