@@ -392,11 +392,9 @@ fn held_projection(
                     why,
                 }))
             };
-            // Friction where every candidate's tangent is orthogonal to the translation: the
-            // tangential forces do not enter the pin's balance the search solves (as with
-            // several pairs, `multibody::path::refuse_slanted`).
+            // Friction where every candidate's tangent is orthogonal to the translation.
             let a = pin.axis as usize;
-            let slanted = (0..m).find(|&c| contact::tangent(candidates.normal(c))[a].abs() > 1e-12);
+            let slanted = slanted(&candidates.normals, a, |_| true);
             if let (Some(k), Some(c)) = (steps.iter().position(|s| s.friction > 0.0), slanted) {
                 return Err(unsupported(format!(
                     "the contact has friction μ = {} (in step {}) and candidate {c}'s tangent has a component along the held translation (its tangential force would enter the balance the search solves)",
@@ -426,6 +424,18 @@ fn held_projection(
             Ok(Some(projection))
         }
     }
+}
+
+/// The first candidate among those `frictional` selects whose tangent has a component along
+/// the held axis `axis`: with friction its tangential force would enter the pin's balance that
+/// the search of a held translation solves (docs/method.md §4.7), which is refused; friction
+/// with tangents orthogonal to the translation is accepted.
+pub(super) fn slanted(
+    normals: &[geometry::Point],
+    axis: usize,
+    frictional: impl Fn(usize) -> bool,
+) -> Option<usize> {
+    (0..normals.len()).find(|&c| frictional(c) && contact::tangent(normals[c])[axis].abs() > 1e-12)
 }
 
 /// The held translation of either body of a two-body pair (docs/method.md §4.7): the pinned
@@ -458,7 +468,7 @@ fn held_between(
     }
     let a = pin.axis as usize;
     let frictional = steps.iter().any(|s| s.friction > 0.0);
-    if frictional && (0..candidates.len()).any(|c| candidates.tangent(c)[a].abs() > 1e-12) {
+    if frictional && slanted(&candidates.normals, a, |_| true).is_some() {
         return Err(unsupported(
             "the contact has friction and a candidate's tangent has a component along the held translation".into(),
         ));

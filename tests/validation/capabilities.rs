@@ -142,6 +142,16 @@ fn one_body(f: Features) -> String {
     text
 }
 
+/// Asserts every force of `forces` equal to the one of `reference` at its index to the
+/// relative `tolerance` (`what` names the reference in the message).
+fn assert_close(label: &str, what: &str, forces: &[f64], reference: &[f64], tolerance: f64) {
+    assert_eq!(forces.len(), reference.len(), "{label}: against {what}");
+    for (p, q) in forces.iter().zip(reference) {
+        let difference = (p - q).abs() / q;
+        assert!(difference <= tolerance, "{label}: {p} against {what} {q}");
+    }
+}
+
 /// What a combination gives: `Ok(interface forces)` or `Err(message)`.
 fn outcome(text: &str) -> Result<(Vec<f64>, bool), String> {
     let problem = Problem::from_toml(text).map_err(|e| e.to_string())?;
@@ -181,27 +191,19 @@ fn every_combination_solves_with_its_checks() {
             assert!(passed, "{label}: a check failed");
             assert_eq!(forces.len(), bodies.max(2) - 1, "{label}");
             if !f.friction {
-                for p in &forces {
-                    let error = (p - exact).abs() / exact;
-                    assert!(error <= 1e-8, "{label}: force {p} against {exact}");
-                }
+                assert_close(&label, "the exact", &forces, &vec![exact; forces.len()], 1e-8);
             }
             if !listed {
                 pair_form.insert((bodies, bits), forces[0]);
             } else if let Some(p) = pair_form.get(&(bodies, bits)) {
                 // Same LCP on the two-body and the several-pairs path.
-                let difference = (forces[0] - p).abs() / p;
-                assert!(difference <= 1e-9, "{label}: {} against [contact] {p}", forces[0]);
+                assert_close(&label, "[contact]", &forces[..1], &[*p], 1e-9);
             }
             if !f.active_set {
                 lemke.insert((bodies, listed, bits), forces.clone());
             } else {
                 // Same LCP by either solver.
-                let by_lemke = &lemke[&(bodies, listed, bits & 7)];
-                for (p, q) in forces.iter().zip(by_lemke) {
-                    let difference = (p - q).abs() / q;
-                    assert!(difference <= 1e-9, "{label}: {p} against Lemke's {q}");
-                }
+                assert_close(&label, "Lemke's", &forces, &lemke[&(bodies, listed, bits & 7)], 1e-9);
             }
             rows.push(format!("{label}: solves, forces {forces:.6?}"));
         }
@@ -372,19 +374,14 @@ fn every_driving_and_method_solves_or_is_refused_naming_its_key() {
                     let pairs = bodies - 1 + usize::from(bodies == 1 || driving == Driving::Force);
                     assert_eq!(forces.len(), pairs.max(1), "{label}");
                     if !f.friction || driving != Driving::Prescribed {
-                        for p in &forces {
-                            let error = (p - exact).abs() / exact;
-                            assert!(error <= 1e-8, "{label}: force {p} against {exact}");
-                        }
+                        let exact = vec![exact; forces.len()];
+                        assert_close(&label, "the exact", &forces, &exact, 1e-8);
                     }
                     let key = (fem, bodies, driving as u8, bits & 7);
                     if !f.active_set {
                         lemke.insert(key, forces.clone());
                     } else if let Some(by_lemke) = lemke.get(&key) {
-                        for (p, q) in forces.iter().zip(by_lemke) {
-                            let difference = (p - q).abs() / q;
-                            assert!(difference <= 1e-8, "{label}: {p} against Lemke's {q}");
-                        }
+                        assert_close(&label, "Lemke's", &forces, by_lemke, 1e-8);
                     }
                     if !f.friction && !f.steps {
                         one_increment.insert((key, f.active_set), forces.clone());
@@ -392,10 +389,7 @@ fn every_driving_and_method_solves_or_is_refused_naming_its_key() {
                         f.friction,
                         one_increment.get(&((fem, bodies, driving as u8, bits & 5), f.active_set)),
                     ) {
-                        for (p, q) in forces.iter().zip(one) {
-                            let difference = (p - q).abs() / q;
-                            assert!(difference <= 1e-8, "{label}: {p} against one increment's {q}");
-                        }
+                        assert_close(&label, "one increment's", &forces, one, 1e-8);
                     }
                     rows.push(format!("{label}: solves, forces {forces:.6?}"));
                 }

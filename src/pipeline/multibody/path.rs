@@ -5,7 +5,7 @@
 use super::super::friction::{History, StepEnd, tangential_operators};
 use super::super::load_path::{self, Held, Path, Term};
 use super::{Held as HeldBody, PairCandidates, Solved};
-use crate::contact::{self, BodyOperator};
+use crate::contact::BodyOperator;
 use crate::error::Error;
 use crate::lcp::{self, load_driven::LoadDrivenError};
 use crate::model::Model;
@@ -107,19 +107,15 @@ pub(super) fn friction_per_step(scene: &Scene<'_>, tangential: &[Tangential]) ->
         .collect()
 }
 
-/// Refuses friction with a held body unless every frictional candidate's tangent is
-/// orthogonal to the held translation (its tangential force then does not enter the pin's
-/// balance, which the search of docs/method.md §4.7 solves).
+/// Refuses friction with a held body where a frictional candidate's tangent is not
+/// orthogonal to the held translation ([`super::super::friction::slanted`]).
 pub(super) fn refuse_slanted(
     pin: &crate::assembly::PinnedMode,
     friction: &[Vec<f64>],
     normals: &[crate::geometry::Point],
 ) -> Result<(), Error> {
-    let a = pin.axis as usize;
-    let slanted = (0..normals.len()).find(|&c| {
-        friction.iter().any(|mu| mu[c] > 0.0) && contact::tangent(normals[c])[a].abs() > 1e-12
-    });
-    match slanted {
+    let frictional = |c: usize| friction.iter().any(|mu| mu[c] > 0.0);
+    match super::super::friction::slanted(normals, pin.axis as usize, frictional) {
         None => Ok(()),
         Some(c) => {
             let why = format!(
