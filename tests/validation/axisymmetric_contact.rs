@@ -90,20 +90,24 @@ fn a_solid_cylinder_on_a_flat_carries_a_uniform_pressure_over_rings() {
     }
 }
 
+/// The sphere's section (radius 1, centre (0, 1), the flat at y = 0): its arc to 30° from
+/// the axis, the rim, the top and the axis; a `[geometry]` table.
+pub(super) const SPHERE_SECTION: &str = r#"[geometry]
+        kind = "curves"
+        start = [0.0, 0.0]
+        curves = [
+            { name = "arc", to = [0.5, 0.1339745962155614], center = [0.0, 1.0] },
+            { name = "rim", to = [1.0, 1.0], center = [0.0, 1.0] },
+            { name = "top", to = [0.0, 1.0] },
+            { name = "axis", to = [0.0, 0.0] },
+        ]"#;
+
 /// The Hertz sphere by the MFVM: coarse spacing 0.05, a box `[0, 0.2] × [0, 0.05]` around the
 /// contact zone at `spacing` (graded nodes take the stabilised blend `β = 0.5`, §3.9).
 fn sphere_mfvm(spacing: f64, solver: &str) -> Problem {
     Problem::from_toml(&format!(
         r#"
-        [geometry]
-        kind = "curves"
-        start = [0.0, 0.0]
-        curves = [
-            {{ name = "arc", to = [0.5, 0.1339745962155614], center = [0.0, 1.0] }},
-            {{ name = "rim", to = [1.0, 1.0], center = [0.0, 1.0] }},
-            {{ name = "top", to = [0.0, 1.0] }},
-            {{ name = "axis", to = [0.0, 0.0] }},
-        ]
+        {SPHERE_SECTION}
         [nodes]
         spacing = 0.05
         [[nodes.refine]]

@@ -21,6 +21,7 @@
 //!    not resolved at this spacing: the annulus stays about two candidates wide (observed
 //!    `c/a` 0.50, 0.73, 0.79, 0.81, 0.83, 0.85 with `a − c` ≈ 0.019), a finer box is needed.
 
+use super::axisymmetric_contact::SPHERE_SECTION;
 use super::common::*;
 use mlpg_contact::Solution;
 use mlpg_contact::lcp::ContactState;
@@ -34,15 +35,7 @@ const SPACING: f64 = 0.01;
 fn sphere(top: &str, contact: &str, tail: &str) -> Problem {
     Problem::from_toml(&format!(
         r#"
-        [geometry]
-        kind = "curves"
-        start = [0.0, 0.0]
-        curves = [
-            {{ name = "arc", to = [0.5, 0.1339745962155614], center = [0.0, 1.0] }},
-            {{ name = "rim", to = [1.0, 1.0], center = [0.0, 1.0] }},
-            {{ name = "top", to = [0.0, 1.0] }},
-            {{ name = "axis", to = [0.0, 0.0] }},
-        ]
+        {SPHERE_SECTION}
         [nodes]
         spacing = 0.05
         [[nodes.refine]]
