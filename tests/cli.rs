@@ -902,11 +902,6 @@ fn bad_several_bodies_input_gives_a_clear_error_and_exit_code_2() {
             "`contact[1].target_edge`: roof",
         ),
         (
-            "stack-friction-active-set",
-            with(second, &format!("friction = 0.2\nsolver = \"active_set\"\n{second}")),
-            "`contact[1].solver`: active_set (several contact pairs with friction are solved by Lemke's method",
-        ),
-        (
             "stack-mixed-solvers",
             with(second, &format!("solver = \"active_set\"\n{second}")).replacen(
                 "[[contact]]\n",
