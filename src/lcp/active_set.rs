@@ -105,11 +105,17 @@ pub struct ActiveSetParams {
     /// enters when `g_c < −τ max(‖q‖∞, ‖g‖∞)`, an active one leaves when
     /// `P_c < −τ ‖P‖∞`.
     pub tolerance: f64,
+    /// A floor of the force scale the settled answer's residuals are measured against
+    /// (default 0: the answer's own largest force). The searches over an obstacle's or a
+    /// held body's position (docs/method.md §4.6–4.7) set it to the force they aim at: a
+    /// trial that barely touches carries forces at round-off, and measured against its own
+    /// scale the round-off reads as a violated cone.
+    pub force_scale: f64,
 }
 
 impl Default for ActiveSetParams {
     fn default() -> Self {
-        Self { max_iterations: 50, max_fallbacks: 3, tolerance: 1e-10 }
+        Self { max_iterations: 50, max_fallbacks: 3, tolerance: 1e-10, force_scale: 0.0 }
     }
 }
 

@@ -647,6 +647,7 @@ pub(super) fn solve_frictional_active_set(
                                 let (e, size, along) = force_along(f, &candidates.normals);
                                 let target = (1.0 - lambda) * force0 + lambda * size;
                                 trials.along.clone_from(&along);
+                                trials.params.force_scale = target.abs();
                                 trials.base_gap().and_then(|base| {
                                     lcp::load_driven::find_displacement_with(
                                         &mut trials,
@@ -679,6 +680,7 @@ pub(super) fn solve_frictional_active_set(
                                         let mut r = [0.0; 2];
                                         r[a] = sign;
                                         trials.along.clone_from(&along);
+                                        trials.params.force_scale = along_load.abs();
                                         let base = trials.base_gap()?;
                                         lcp::load_driven::find_displacement_with(
                                             &mut trials,

@@ -603,7 +603,7 @@ fn solve_active_set(
             along,
             previous: vec![0.0; initial_gap.len()],
             warm: None,
-            params,
+            params: lcp::active_set::ActiveSetParams { force_scale: load.abs(), ..params },
             iterations: 0,
             rescues: Vec::new(),
             round_off: Vec::new(),

@@ -104,19 +104,20 @@ pub struct FrictionStepSolution {
 /// The scaled residuals of a step's answer (docs/method.md §8) without the blocks: the
 /// displacement scale `U = max(‖q_n‖∞, ‖q_t − s_prev‖∞, ‖g − q_n‖∞, ‖Δs − (q_t − s_prev)‖∞)`
 /// (the last two are `M` times the forces, where `lcp::solve_step` uses the bound
-/// `max|M| F`).
+/// `max|M| F`). The force scale is the largest force, at least `force_floor`
+/// ([`ActiveSetParams::force_scale`](super::ActiveSetParams::force_scale)).
 pub fn friction_residuals(
     free: (&[f64], &[f64]),
     forces: (&[f64], &[f64]),
     gap: &[f64],
     slip_increment: &[f64],
-    mu: &[f64],
+    (mu, force_floor): (&[f64], f64),
 ) -> FrictionResiduals {
     let ((qn, dq), (p, t)) = (free, forces);
     let inf = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let diff =
         |a: &[f64], b: &[f64]| a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-    let f = inf(p).max(inf(t));
+    let f = inf(p).max(inf(t)).max(force_floor);
     let f = if f > 0.0 { f } else { 1.0 };
     let u = inf(qn)
         .max(inf(dq))
@@ -225,7 +226,8 @@ pub fn solve_friction_step(
         let changed = (0..m).filter(|&c| next[c] != states[c]).count();
         changes.push(changed);
         if changed == 0 {
-            let step = finish(&r, &states, previous, (&qn, &dq), &mu, pivots, iterations);
+            let mu = (mu.as_slice(), params.force_scale);
+            let step = finish(&r, &states, previous, (&qn, &dq), mu, pivots, iterations);
             let residual = step.residuals.max();
             if residual > FRICTION_TOLERANCE {
                 return Err(ActiveSetError::NotConverged {
@@ -286,7 +288,7 @@ fn finish(
     states: &[ContactState],
     previous: &[f64],
     free: (&[f64], &[f64]),
-    mu: &[f64],
+    (mu, force_floor): (&[f64], f64),
     pivots: usize,
     iterations: usize,
 ) -> FrictionSolution {
@@ -309,7 +311,7 @@ fn finish(
         }
     }
     let ds: Vec<f64> = s.iter().zip(previous).map(|(a, b)| a - b).collect();
-    let residuals = friction_residuals(free, (&p, &t), &g, &ds, mu);
+    let residuals = friction_residuals(free, (&p, &t), &g, &ds, (mu, force_floor));
     // Reported as `lcp::solve_step` classifies its answers.
     let state = crate::lcp::friction::classify(&p, &ds, residuals.displacement_scale);
     FrictionSolution {

@@ -207,7 +207,7 @@ fn solve_increment(
         along,
         previous: start.previous.to_vec(),
         warm: start.warm.map(<[_]>::to_vec),
-        params: start.params,
+        params: lcp::active_set::ActiveSetParams { force_scale: along_load.abs(), ..start.params },
         iterations: 0,
         rescues: Vec::new(),
         round_off: Vec::new(),
