@@ -92,14 +92,57 @@ class Result:
         return next(p for p in written if p.name == "report.html")
 
 
+def _problem_error(field: str, value: Any, reason: str) -> ProblemError:
+    """A ``ProblemError`` raised on the Python side, with the attributes the extension sets."""
+    err = ProblemError(f"`{field}` = {value!r}: {reason}")
+    err.field, err.value, err.reason = field, repr(value), reason
+    return err
+
+
+# Deeper than any problem file nests (tables in arrays in tables: four or five levels).
+_MAX_DEPTH = 32
+
+
+def _plain(value: Any, field: str, depth: int = 0) -> Any:
+    """``value`` as plain JSON data: numpy scalars and arrays become numbers and lists, tuples
+    lists; anything a problem file cannot hold raises ``ProblemError`` naming the key path."""
+    if depth > _MAX_DEPTH:
+        raise _problem_error(field, "...", f"nested deeper than {_MAX_DEPTH} levels")
+    if isinstance(value, Mapping):
+        out = {}
+        for key, item in value.items():
+            if not isinstance(key, str):
+                raise _problem_error(f"{field}.{key!r}" if field else repr(key), key, "keys are strings")
+            out[key] = _plain(item, f"{field}.{key}" if field else key, depth + 1)
+        return out
+    if isinstance(value, (list, tuple)):
+        return [_plain(item, f"{field}[{i}]", depth + 1) for i, item in enumerate(value)]
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    tolist = getattr(value, "tolist", None)  # numpy scalars and arrays
+    if callable(tolist) and type(value).__module__ == "numpy":
+        converted = tolist()
+        if isinstance(converted, (list, bool, int, float)):
+            return _plain(converted, field, depth + 1)
+    raise _problem_error(
+        field, value, f"a {type(value).__name__} is not a problem-file value (numbers, strings, booleans, lists, tables)"
+    )
+
+
 def _path(problem: Problem) -> Path | None:
     """The problem file's path, if ``problem`` names one."""
     if isinstance(problem, os.PathLike):
         return Path(problem)
     if isinstance(problem, str) and "\n" not in problem:
-        # One line naming a file (or ending in .toml) is a path; anything else is TOML text.
-        if problem.endswith(".toml") or Path(problem).is_file():
+        # One line naming a file (or ending in .toml) is a path; anything else is TOML text
+        # (a line too long to name a file, e.g. JSON text, included).
+        if problem.endswith(".toml"):
             return Path(problem)
+        try:
+            if Path(problem).is_file():
+                return Path(problem)
+        except (OSError, ValueError):
+            return None
     return None
 
 
@@ -107,7 +150,7 @@ def _text(problem: Problem) -> tuple[str, str, str | None]:
     """(text, format, folder) of a problem given as a path, TOML text or a dict; ``folder`` is
     the problem file's folder (relative mesh paths are taken from there), else ``None``."""
     if isinstance(problem, Mapping):
-        return json.dumps(problem), "json", None
+        return json.dumps(_plain(problem, "")), "json", None
     path = _path(problem)
     if path is not None:
         return path.read_text(encoding="utf-8"), "toml", str(path.resolve().parent)
@@ -119,8 +162,9 @@ def _text(problem: Problem) -> tuple[str, str, str | None]:
 def solve(problem: Problem) -> Result:
     """Solves a problem (a path to a problem file, its text, or a dict of the same keys).
 
+    A dict may hold numpy scalars and arrays (taken as numbers and lists) and tuples (lists).
     Raises ``ProblemError`` (a ``ValueError`` with ``field``, ``value`` and ``reason``) for
-    invalid input and ``SolveError`` (a ``RuntimeError`` with ``keys``) when the run fails.
+    invalid input, a value no problem file can hold (a set, a complex number) included, and ``SolveError`` (a ``RuntimeError`` with ``keys``) when the run fails.
     The GIL is released while solving, so threads can solve in parallel.
     """
     text, fmt, folder = _text(problem)
@@ -145,26 +189,50 @@ def _as_dict(problem: Problem) -> dict:
 def with_values(problem: Problem, values: Mapping[str, Any]) -> dict:
     """A copy of ``problem`` as a dict with dotted keys set, e.g.
     ``{"nodes.spacing": 0.5, "contact.obstacle_point": [0, -3.02]}``; a list index is
-    written ``boundary[1].traction.y``."""
+    written ``boundary[1].traction.y``. A key path that does not fit the problem (an index out
+    of range or not a number, a table used as a list) raises ``ProblemError`` naming it."""
     out = _as_dict(problem)
     for key, value in values.items():
-        node: Any = out
-        parts = key.split(".")
-        for k, part in enumerate(parts):
-            name, _, index = part.partition("[")
-            last = k == len(parts) - 1
-            if index:
-                i = int(index.rstrip("]"))
-                node = node[name]
-                if last:
-                    node[i] = value
-                else:
-                    node = node[i]
-            elif last:
-                node[name] = value
-            else:
-                node = node.setdefault(name, {})
+        try:
+            _set(out, key, value)
+        except (KeyError, IndexError, TypeError, ValueError, AttributeError) as e:
+            raise _problem_error(
+                key, value, f"no such key path ({type(e).__name__}: {e}); write tables with dots and "
+                "list entries with an index in brackets, e.g. `boundary[1].traction.y`"
+            ) from None
     return out
+
+
+def _set(out: dict, key: str, value: Any) -> None:
+    """Sets the dotted ``key`` of :func:`with_values` in ``out``."""
+    if not isinstance(key, str) or not key:
+        raise ValueError("a key path is a non-empty string")
+    node: Any = out
+    parts = key.split(".")
+    for k, part in enumerate(parts):
+        name, bracket, index = part.partition("[")
+        last = k == len(parts) - 1
+        if not name:
+            raise ValueError(f"empty name in {part!r}")
+        if bracket:
+            if not index.endswith("]"):
+                raise ValueError(f"unclosed index in {part!r}")
+            i = int(index[:-1])
+            if i < 0:
+                raise IndexError(f"negative index {i}")
+            node = node[name]
+            if not isinstance(node, list):
+                raise TypeError(f"{name!r} is not a list")
+            if last:
+                node[i] = value
+            else:
+                node = node[i]
+        elif last:
+            node[name] = value
+        else:
+            node = node.setdefault(name, {})
+            if not isinstance(node, dict):
+                raise TypeError(f"{name!r} is not a table")
 
 
 def _summary_row(problem: dict) -> dict:
@@ -182,6 +250,9 @@ def sweep(base: Problem, grid: Mapping[str, Iterable[Any]], client: Any = None) 
     import itertools
 
     keys = list(grid)
+    for k in keys:
+        if isinstance(grid[k], (str, bytes)) or not isinstance(grid[k], Iterable):
+            raise _problem_error(k, grid[k], "a sweep's grid gives a list of values for each key")
     combos = [dict(zip(keys, values)) for values in itertools.product(*(list(grid[k]) for k in keys))]
     problems = [with_values(base, c) for c in combos]
     if client is None:
