@@ -138,6 +138,9 @@ impl Error {
             Error::Lcp(L::LoadDriven(D::Undetermined { .. })) => {
                 "boundary[*] of the body named, body_force, contact"
             }
+            Error::Lcp(L::LoadDriven(D::SlantedFriction { .. })) => {
+                "step[*].obstacle_force, step[*].friction, contact.friction"
+            }
             Error::Lcp(L::LoadDriven(_)) => "step[*].obstacle_force",
             Error::Lcp(_) => "contact, discretisation.support_factor, discretisation.beta",
             Error::LemkeRefused(_) => "contact.solver, nodes.spacing",

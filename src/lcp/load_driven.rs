@@ -68,6 +68,24 @@ pub enum LoadDrivenError {
         /// The applied load's component along the mode.
         load: f64,
     },
+    /// An obstacle pressed by a force with friction where a candidate's tangent has a
+    /// component along the force: its tangential force would enter the balance along the
+    /// force that the search solves (docs/method.md §4.6), which it does not.
+    #[error(
+        "step {step} presses the obstacle by a force along ({:.3}, {:.3}) with friction μ = {mu}, and candidate {candidate}'s tangent has a component along the force (its tangential force would enter the balance the search solves); a force-driven obstacle takes friction where the force is normal to every tangent (a flat contact pressed along its normal): press along the normal, prescribe the obstacle's displacement instead, or set the step's `friction = 0`",
+        direction[0],
+        direction[1]
+    )]
+    SlantedFriction {
+        /// The step (1-based).
+        step: usize,
+        /// The force's direction.
+        direction: [f64; 2],
+        /// The step's friction coefficient.
+        mu: f64,
+        /// The first candidate whose tangent has a component along the force.
+        candidate: usize,
+    },
     /// A rigid-body translation left to the contact with something this method does not
     /// combine it with (friction, an obstacle pressed by a force, a pin on the contact).
     #[error(

@@ -259,7 +259,8 @@ pub(super) fn solve_frictional(
     // obstacle or a second body, and with a pinned node that carries no contact force.
     let pinned = model.system.pinned;
     let held = match &target {
-        None => held_projection(pinned, steps, false, &candidates)?
+        None => refuse_slanted_force(steps, &candidates)
+            .and_then(|()| held_projection(pinned, steps, false, &candidates))?
             .zip(pinned)
             .map(|(projection, pin)| load_path::Held::Alone { pin, projection }),
         Some(tg) => held_between(problem, model, tg, &candidates, steps)?,
@@ -370,6 +371,32 @@ fn attach_records(
     }
     contact.load_driven = load_driven;
     contact.rigid_mode = rigid_mode;
+}
+
+/// A force-driven obstacle (docs/method.md §4.6) takes friction where every step with a force
+/// and friction presses along a direction orthogonal to every candidate's tangent (a flat
+/// contact pressed along its normal): the obstacle's motion then leaves the tangential
+/// displacements alone and the tangential forces carry nothing along the force, so the
+/// search's balance is the normal forces' as without friction. Otherwise refused.
+fn refuse_slanted_force(steps: &[StepEnd], candidates: &contact::Candidates) -> Result<(), Error> {
+    for (k, step) in steps.iter().enumerate() {
+        let Some(f) = step.force.filter(|_| step.friction > 0.0) else { continue };
+        let (e, _, _) = force_along(f, &candidates.normals);
+        let along = |c: usize| {
+            let t = contact::tangent(candidates.normals[c]);
+            (t[0] * e[0] + t[1] * e[1]).abs() > 1e-12
+        };
+        if let Some(candidate) = (0..candidates.len()).find(|&c| along(c)) {
+            let error = lcp::load_driven::LoadDrivenError::SlantedFriction {
+                step: k + 1,
+                direction: e,
+                mu: step.friction,
+                candidate,
+            };
+            return Err(lcp::LcpError::from(error).into());
+        }
+    }
+    Ok(())
 }
 
 /// The checks of a rigid translation of the body held by the contact alone (docs/method.md
@@ -563,6 +590,7 @@ pub(super) fn solve_frictional_active_set(
     // An obstacle pressed by a force (docs/method.md §4.6), a translation held by the contact
     // (§4.7): as on Lemke's path, with each trial a warm-started active-set solve.
     let pinned = model.system.pinned;
+    refuse_slanted_force(steps, &candidates)?;
     let mode_projection = held_projection(pinned, steps, target.is_some(), &candidates)?;
     let mut force0 = 0.0;
     let mut load_driven: Option<solution::LoadDriven> = None;

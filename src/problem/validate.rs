@@ -1789,13 +1789,6 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
                     "the steps press the obstacle by `obstacle_force`: give forces in every step, not displacements",
                 ));
             }
-            if friction != 0.0 {
-                return Err(invalid(
-                    &field("friction"),
-                    friction,
-                    "a step with `obstacle_force` is frictionless: set `friction = 0` in the step (or `[contact] friction = 0`)",
-                ));
-            }
         }
         let mut named = Vec::new();
         for (j, b) in step.boundary.iter().enumerate() {
