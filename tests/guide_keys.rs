@@ -342,6 +342,22 @@ fn every_guide_page_is_in_the_summary_and_every_link_resolves() {
 }
 
 #[test]
+fn the_readme_is_a_front_page() {
+    let readme = read("README.md");
+    let lines = readme.lines().count();
+    assert!(lines <= 200, "README.md has {lines} lines: keep it a front page (≤ 200)");
+    for command in [
+        "cargo run --release -- problems/beam_on_foundation.toml --out out/beam",
+        "cargo test --release",
+        "cargo install --path .",
+        "target/release/mlpg-contact",
+        "docs/guide/",
+    ] {
+        assert!(readme.contains(command), "README.md does not mention `{command}`");
+    }
+}
+
+#[test]
 fn broken_links_are_reported() {
     assert_eq!(
         anchor(" The tangent and the stick/slip coordinate"),
