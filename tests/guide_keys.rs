@@ -432,3 +432,28 @@ fn centre_and_center_are_accepted_wherever_one_is() {
     }
     assert!(seen >= 4, "only {seen} centre keys found (geometry, holes, curves, obstacles)");
 }
+
+/// `mdbook test` (rustdoc) compiles every untagged fenced block and every indented code block
+/// as Rust: each page fences its code and names its language (`toml`, `console`, `text`, …).
+#[test]
+fn every_code_block_of_the_guide_names_its_language() {
+    let mut problems = Vec::new();
+    for page in guide_pages() {
+        let text = read(&format!("docs/guide/src/{page}"));
+        let (mut fenced, mut previous_blank) = (false, true);
+        for (k, line) in text.lines().enumerate() {
+            let opening = !fenced && line.trim_start().starts_with("```");
+            if opening && line.trim() == "```" {
+                problems.push(format!("{page}:{}: a fence without a language", k + 1));
+            }
+            if !fenced && line.starts_with("    ") && previous_blank {
+                problems.push(format!("{page}:{}: an indented code block", k + 1));
+            }
+            if line.trim_start().starts_with("```") {
+                fenced = !fenced;
+            }
+            previous_blank = line.trim().is_empty();
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
