@@ -457,3 +457,104 @@ fn every_code_block_of_the_guide_names_its_language() {
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
 }
+
+/// The sources of the string values the raw structs accept (their `rename_all = "snake_case"`
+/// enums).
+const VALUE_SOURCES: &[&str] = &[
+    include_str!("../src/problem/file.rs"),
+    include_str!("../src/problem/discretisation.rs"),
+    include_str!("../src/problem/contact.rs"),
+    include_str!("../src/problem/refine.rs"),
+    include_str!("../src/material.rs"),
+];
+
+/// Enum of string values → the reference page that lists them.
+const VALUE_PAGES: &[(&str, &str)] = &[
+    ("Preset", "discretisation.md"),
+    ("Method", "discretisation.md"),
+    ("Basis", "discretisation.md"),
+    ("Precision", "discretisation.md"),
+    ("ContactSolver", "contact.md"),
+    ("Condensation", "contact.md"),
+    ("Indicator", "refinement.md"),
+    ("PlaneState", "material.md"),
+    ("Turn", "geometry.md"),
+    ("NodesFrom", "nodes.md"),
+    ("LayoutKind", "nodes.md"),
+    ("GeometryKind", "geometry.md"),
+    ("HoleKind", "geometry.md"),
+];
+
+/// The unit-variant enums of `source` read with `rename_all = "snake_case"`, with their values.
+fn value_enums(source: &str) -> Vec<(String, Vec<String>)> {
+    let mut enums = Vec::new();
+    let mut snake = false;
+    let mut lines = source.lines().map(str::trim);
+    while let Some(line) = lines.next() {
+        if line.starts_with("#[serde(") {
+            snake = line.contains("rename_all = \"snake_case\"") && !line.contains("tag");
+            continue;
+        }
+        let Some(name) = line.strip_prefix("pub enum ").and_then(|r| r.strip_suffix(" {")) else {
+            if !line.starts_with("#[") && !line.starts_with("//") {
+                snake = false;
+            }
+            continue;
+        };
+        if snake {
+            let variants = lines
+                .by_ref()
+                .take_while(|l| *l != "}")
+                .filter(|l| l.chars().next().is_some_and(char::is_uppercase))
+                .map(|l| snake_case(l.trim_end_matches(',')))
+                .collect();
+            enums.push((name.to_string(), variants));
+        }
+        snake = false;
+    }
+    enums
+}
+
+/// `StressState` → `stress_state`.
+fn snake_case(camel: &str) -> String {
+    let mut out = String::new();
+    for (k, c) in camel.chars().enumerate() {
+        if c.is_uppercase() && k > 0 {
+            out.push('_');
+        }
+        out.extend(c.to_lowercase());
+    }
+    out
+}
+
+/// Every string value a raw struct's key accepts is named, quoted, on its reference page; every
+/// enum type of a raw struct's field has a page in [`VALUE_PAGES`].
+#[test]
+fn every_string_value_has_an_entry_in_the_guide() {
+    let enums: Vec<_> = VALUE_SOURCES.iter().flat_map(|s| value_enums(s)).collect();
+    let mut missing = Vec::new();
+    for (name, page) in VALUE_PAGES {
+        let Some((_, values)) = enums.iter().find(|(e, _)| e == name) else {
+            missing.push(format!("VALUE_PAGES names {name}, which the sources no longer have"));
+            continue;
+        };
+        let path = format!("{REFERENCE}/{page}");
+        let text = read(&path);
+        for value in values {
+            if !text.contains(&format!("\"{value}\"")) {
+                missing.push(format!("\"{value}\" ({name}) is not named in {path}"));
+            }
+        }
+    }
+    let field_types = RAW_STRUCTS.lines().filter_map(|l| l.trim().strip_prefix("pub "));
+    for (name, _) in &enums {
+        let used = field_types.clone().any(|f| f.contains(&format!("<{name}>")))
+            || field_types.clone().any(|f| f.contains(&format!("::{name}>")))
+            || field_types.clone().any(|f| f.ends_with(&format!(": {name},")));
+        if used && !VALUE_PAGES.iter().any(|(e, _)| e == name) {
+            missing.push(format!("enum {name} is read by a raw struct but has no page"));
+        }
+    }
+    assert!(enums.len() >= 13, "only {} enums found: the extraction broke", enums.len());
+    assert!(missing.is_empty(), "{}", missing.join("\n"));
+}
