@@ -10,6 +10,7 @@
 //! table row of that page (`` | `friction` | … ``; `` `output.every` `` counts for `output` and
 //! `every`, `` `[[nodes.refine]]` `` for `nodes` and `refine`).
 
+use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -557,4 +558,139 @@ fn every_string_value_has_an_entry_in_the_guide() {
     }
     assert!(enums.len() >= 13, "only {} enums found: the extraction broke", enums.len());
     assert!(missing.is_empty(), "{}", missing.join("\n"));
+}
+
+// The JSON Schema of the problem file (`mlpg-contact schema`, `problem::schema`): its tables'
+// keys are the raw structs' keys, it accepts every shipped problem file and refuses an unknown
+// key. The validator below reads the subset of JSON Schema the schema uses.
+
+/// The errors of `value` against `schema` (`root` resolves `$ref`s), each with its key path.
+fn schema_errors(schema: &Value, root: &Value, value: &Value, path: &str) -> Vec<String> {
+    if let Some(reference) = schema["$ref"].as_str() {
+        let name = reference.trim_start_matches("#/$defs/");
+        return schema_errors(&root["$defs"][name], root, value, path);
+    }
+    if let Some(branches) = schema["anyOf"].as_array() {
+        let fits = branches.iter().any(|b| schema_errors(b, root, value, path).is_empty());
+        return if fits { Vec::new() } else { vec![format!("{path}: fits no alternative")] };
+    }
+    let fits_type = match schema["type"].as_str() {
+        Some("object") => value.is_object(),
+        Some("array") => value.is_array(),
+        Some("string") => value.is_string(),
+        Some("number") => value.is_number(),
+        Some("integer") => value.is_u64(),
+        Some("boolean") => value.is_boolean(),
+        _ => true,
+    };
+    if !fits_type {
+        return vec![format!("{path}: not of type {}", schema["type"])];
+    }
+    if let Some(values) = schema["enum"].as_array().filter(|v| !v.contains(value)) {
+        return vec![format!("{path}: {value} is none of {values:?}")];
+    }
+    let mut errors = Vec::new();
+    if let Some(object) = value.as_object() {
+        for (key, item) in object {
+            match schema["properties"].get(key) {
+                Some(s) => errors.extend(schema_errors(s, root, item, &format!("{path}.{key}"))),
+                None if schema["additionalProperties"] == false => {
+                    errors.push(format!("{path}: unknown key `{key}`"));
+                }
+                None => {}
+            }
+        }
+        let required = schema["required"].as_array().into_iter().flatten();
+        for key in required.filter_map(Value::as_str).filter(|k| !object.contains_key(*k)) {
+            errors.push(format!("{path}: `{key}` missing"));
+        }
+    }
+    if let Some(items) = value.as_array() {
+        let count = items.len() as u64;
+        if schema["minItems"].as_u64().is_some_and(|n| count < n)
+            || schema["maxItems"].as_u64().is_some_and(|n| count > n)
+        {
+            errors.push(format!("{path}: {count} items"));
+        }
+        for (k, item) in items.iter().enumerate() {
+            errors.extend(schema_errors(&schema["items"], root, item, &format!("{path}[{k}]")));
+        }
+    }
+    errors
+}
+
+/// Every shipped problem file (`problems/`, `problems/large/`) as JSON, with its path.
+fn shipped_problems_as_json() -> Vec<(String, Value)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["problems", "problems/large"] {
+        for entry in std::fs::read_dir(root.join(dir)).unwrap().map(Result::unwrap) {
+            let path = entry.path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let json: Value = toml::from_str(&text).unwrap();
+                files.push((path.display().to_string(), json));
+            }
+        }
+    }
+    files
+}
+
+#[test]
+fn the_schema_accepts_every_shipped_problem_and_refuses_an_unknown_key() {
+    let schema = mlpg_contact::problem::schema::problem_file();
+    let files = shipped_problems_as_json();
+    assert!(files.len() >= 25, "only {} problem files found", files.len());
+    for (path, json) in &files {
+        let errors = schema_errors(&schema, &schema, json, "");
+        assert!(errors.is_empty(), "{path}: {}", errors.join("; "));
+    }
+    let (_, mut beam) =
+        files.into_iter().find(|(p, _)| p.ends_with("beam_on_foundation.toml")).unwrap();
+    beam["material"]["colour"] = Value::from("blue");
+    let errors = schema_errors(&schema, &schema, &beam, "");
+    assert_eq!(errors, vec![".material: unknown key `colour`"]);
+    beam["material"].as_object_mut().unwrap().remove("colour");
+    beam["nodes"]["spacing"] = Value::from("fine");
+    assert_eq!(
+        schema_errors(&schema, &schema, &beam, ""),
+        vec![".nodes.spacing: not of type \"number\""]
+    );
+}
+
+#[test]
+fn the_schemas_tables_have_the_raw_structs_keys() {
+    let schema = mlpg_contact::problem::schema::problem_file();
+    let mut problems = Vec::new();
+    for (name, keys) in raw_structs(RAW_STRUCTS) {
+        let table = if name == "ProblemFile" { &schema } else { &schema["$defs"][&name] };
+        let Some(properties) = table["properties"].as_object() else {
+            problems.push(format!("the schema has no table for {name}"));
+            continue;
+        };
+        let expected: BTreeSet<&str> = keys
+            .iter()
+            .flat_map(|k| std::iter::once(&k.name).chain(&k.aliases))
+            .map(String::as_str)
+            .collect();
+        let found: BTreeSet<&str> = properties.keys().map(String::as_str).collect();
+        if expected != found {
+            problems.push(format!("{name}: the struct has {expected:?}, the schema {found:?}"));
+        }
+        if table["additionalProperties"] != false {
+            problems.push(format!("{name}: the schema allows unknown keys"));
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+#[test]
+fn the_schema_command_prints_the_schema() {
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_mlpg-contact"))
+        .arg("schema")
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let printed: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(printed, mlpg_contact::problem::schema::problem_file());
 }
