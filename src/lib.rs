@@ -129,3 +129,8 @@ pub use pipeline::{
 };
 pub use progress::{Progress, Silent, StageTiming};
 pub use solution::{ContactSolution, Solution};
+
+/// The user guide's Rust examples (`docs/guide/`), compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/guide/doctests.md")]
+pub struct GuideExamples;

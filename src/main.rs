@@ -1,5 +1,6 @@
 //! `mlpg-contact <problem.toml> --out <dir> [--compare]`: solve a problem file (or compare
-//! both methods on it) and write the outputs.
+//! both methods on it) and write the outputs; `mlpg-contact schema`: print the problem file's
+//! JSON Schema.
 use anyhow::Context;
 use clap::Parser;
 use mlpg_contact::problem;
@@ -10,10 +11,20 @@ use std::{path::PathBuf, process::ExitCode};
 /// contact: rigid obstacles or several bodies, Coulomb friction, load steps; Lemke's method or
 /// a sparse active-set contact solver.
 #[derive(Parser)]
-#[command(version, about, after_help = EXIT_STATUS)]
+#[command(
+    version,
+    about,
+    after_help = EXIT_STATUS,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
 struct Args {
+    /// Other commands than solving.
+    #[command(subcommand)]
+    command: Option<Command>,
     /// Problem file (TOML); see problems/ for annotated examples.
-    problem: PathBuf,
+    #[arg(required = true)]
+    problem: Option<PathBuf>,
     /// Output directory (created if missing).
     #[arg(long, default_value = "out")]
     out: PathBuf,
@@ -26,6 +37,13 @@ struct Args {
     /// Also write report.html: one self-contained page with the problem, results and plots.
     #[arg(long, conflicts_with = "compare")]
     report: bool,
+}
+
+/// Commands other than solving a problem file.
+#[derive(clap::Subcommand)]
+enum Command {
+    /// Print the JSON Schema of the problem file (for editors: a `#:schema <file>` comment).
+    Schema,
 }
 
 /// The exit statuses, as `--help` lists them.
@@ -139,16 +157,22 @@ fn finished<'a>(
 }
 
 fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Finished> {
+    if let Some(Command::Schema) = args.command {
+        writeln!(std::io::stdout().lock(), "{:#}", problem::schema::problem_file())
+            .context("cannot write the schema to stdout")?;
+        return Ok(Finished::Passed);
+    }
+    let path = args.problem.as_deref().context("a problem file is required")?;
     thread_pool()?;
-    let text = std::fs::read_to_string(&args.problem)
-        .with_context(|| format!("cannot read {}", args.problem.display()))?;
-    let file = problem::ProblemFile::from_toml(&text)
-        .with_context(|| format!("in {}", args.problem.display()))?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let file =
+        problem::ProblemFile::from_toml(&text).with_context(|| format!("in {}", path.display()))?;
     let echo = echo.insert(serde_json::to_value(&file)?).clone();
     let mut file = file;
-    file.resolve_paths(args.problem.parent().unwrap_or(std::path::Path::new("")));
-    let problem = problem::Problem::try_from(file)
-        .with_context(|| format!("in {}", args.problem.display()))?;
+    file.resolve_paths(path.parent().unwrap_or(std::path::Path::new("")));
+    let problem =
+        problem::Problem::try_from(file).with_context(|| format!("in {}", path.display()))?;
     let mut progress = mlpg_contact::progress::StageProgress::new(args.quiet);
     if problem.dynamics.is_some() {
         anyhow::ensure!(

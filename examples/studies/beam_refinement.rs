@@ -1,6 +1,6 @@
 //! Refinement study of the paper's beam on a rigid foundation (problems/beam_on_foundation.toml):
 //! node spacing, then support factor and quadrature at one spacing. Prints Markdown tables
-//! (the README's) and the successive differences of the headline values.
+//! (the user guide's, docs/guide/src/validation.md) and the successive differences of the headline values.
 //!
 //! ```text
 //! cargo run --release --example beam_refinement -- [--finest 0.0625]

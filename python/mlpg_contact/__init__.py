@@ -8,7 +8,8 @@ volume method, or the built-in finite elements) and get numpy arrays back.
     result.write("out/beam")         # the command line's output files
 
 A problem is a path to a problem file, the text of one, or a dict with the same keys
-(`{"geometry": {"kind": "rectangle", ...}, ...}`); the keys are documented in the README.
+(`{"geometry": {"kind": "rectangle", ...}, ...}`); the keys are documented in the user guide
+(docs/guide/src/reference/).
 """
 from __future__ import annotations
 

@@ -9,7 +9,7 @@
 //! total contact force and the onset converge under refinement (successive differences
 //! shrink). The same checks for the stabilised blend (docs/method.md §3.9) at `α_s = 3`,
 //! `β = 0.5`, which must agree with the default variant. The converged values are established by `cargo run --release --example
-//! beam_refinement` (README).
+//! beam_refinement` (docs/guide/src/validation.md).
 
 use mlpg_contact::problem::Problem;
 
