@@ -7,6 +7,7 @@
 mod deformed;
 pub mod frames;
 pub mod history;
+pub mod load_history;
 mod outdir;
 pub mod paraview;
 pub mod plot;
@@ -14,7 +15,7 @@ pub mod report;
 pub mod resolution;
 pub mod summary;
 mod vtk;
-mod zoom;
+pub mod zoom;
 
 pub use outdir::{MANIFEST, StagedDir, abandon_staging};
 pub use paraview::write_paraview;
@@ -136,8 +137,9 @@ fn write_body(
     let mut written = Vec::new();
     let nodes = &model.nodes;
     let names = problem.domain.edge_names();
+    let [x, y] = coordinate_names(problem);
 
-    let mut text = String::from("node,x,y,edges,spacing\n");
+    let mut text = format!("node,{x},{y},edges,spacing\n");
     for (i, p) in nodes.points.iter().enumerate() {
         let edges: Vec<&str> = nodes.edges[i].iter().map(|k| names[k].as_str()).collect();
         let _ = writeln!(
@@ -151,14 +153,14 @@ fn write_body(
     }
     written.push(save(dir, "nodes.csv", &text)?);
 
-    let mut text = String::from("node,x,y,ux,uy\n");
+    let mut text = format!("node,{x},{y},u{x},u{y}\n");
     for (i, p) in nodes.points.iter().enumerate() {
         let u = solution.displacement[i];
         let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(u[0]), num(u[1]));
     }
     written.push(save(dir, "displacement.csv", &text)?);
 
-    let mut text = String::from("node,x,y,sxx,syy,sxy,von_mises\n");
+    let mut text = format!("node,{x},{y},s{x}{x},s{y}{y},s{x}{y},von_mises\n");
     let von_mises = solution.von_mises(&problem.material);
     for (i, p) in nodes.points.iter().enumerate() {
         let s = solution.stress[i];
@@ -185,10 +187,10 @@ fn write_body(
         written.push(save(dir, "hoop.csv", &text)?);
     }
 
-    let mut text = String::from("node,axis,x,y,reaction\n");
+    let mut text = format!("node,axis,{x},{y},reaction\n");
     for &(node, axis, r) in &solution.reactions {
         let p = nodes.points[node as usize];
-        let a = if axis == Axis::X { "x" } else { "y" };
+        let a = if axis == Axis::X { x } else { y };
         let _ = writeln!(text, "{node},{a},{},{},{}", num(p[0]), num(p[1]), num(r));
     }
     written.push(save(dir, "reactions.csv", &text)?);
@@ -204,11 +206,11 @@ fn write_body(
 }
 
 /// The text of `contact.csv`: one row per candidate (with the friction columns when the
-/// contact has friction).
-fn contact_table(c: &ContactSolution) -> String {
+/// contact has friction); `x, y` the names of the coordinates ([`coordinate_names`]).
+fn contact_table(c: &ContactSolution, [x, y]: [&str; 2]) -> String {
     let cand = &c.candidates;
     let mut text =
-        String::from("candidate,node,x,y,arc_length,initial_gap,gap,force,pressure,in_contact");
+        format!("candidate,node,{x},{y},arc_length,initial_gap,gap,force,pressure,in_contact");
     // Friction columns only with friction, so that frictionless files are unchanged.
     if c.friction.is_some() {
         text.push_str(",tangential_force,tangential_traction,slip,state");
@@ -271,8 +273,9 @@ pub fn write_multibody(
     let plots = dir.join("plots");
     create_dir(&plots)?;
     for (k, (pair, c)) in several.pairs.iter().zip(&ms.pairs).enumerate() {
-        written.push(save(dir, &format!("contact_{k}.csv"), &contact_table(c))?);
         let body = problem.body(pair.body).unwrap_or(problem);
+        let table = contact_table(c, coordinate_names(body));
+        written.push(save(dir, &format!("contact_{k}.csv"), &table)?);
         let edge = &body.domain.edge_names()[pair.spec.edge];
         let target = match (pair.target_body.and_then(|t| problem.body(t)), pair.spec.target) {
             (Some(t), ContactTarget::Body { edge: e2 }) => {
@@ -299,6 +302,22 @@ pub fn write_multibody(
         let window = zoom::contact_window(&cand.arc_length, &c.closed);
         written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     }
+    let histories: Vec<load_history::PairHistory<'_>> = several
+        .pairs
+        .iter()
+        .zip(&ms.pairs)
+        .enumerate()
+        .filter_map(|(k, (pair, c))| {
+            let body = problem.body(pair.body).unwrap_or(problem);
+            let edge = &body.domain.edge_names()[pair.spec.edge];
+            c.friction.as_ref().map(|f| load_history::PairHistory {
+                index: k,
+                label: format!("contact[{k}] {}.{edge}", body.name),
+                records: &f.increments,
+            })
+        })
+        .collect();
+    written.extend(load_history::write(dir, &problem.name, &histories)?);
     Ok(written)
 }
 
@@ -310,10 +329,18 @@ fn contact_outputs(
     c: &ContactSolution,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let cand = &c.candidates;
-    let text = contact_table(c);
+    let text = contact_table(c, coordinate_names(problem));
     let mut written = vec![save(dir, "contact.csv", &text)?];
     if let Some(f) = c.friction.as_ref().filter(|f| !f.snapshots.is_empty()) {
-        written.extend(increment_tables(dir, c, f)?);
+        written.extend(increment_tables(dir, c, f, coordinate_names(problem))?);
+    }
+    if let Some(f) = &c.friction {
+        let pairs = [load_history::PairHistory {
+            index: 0,
+            label: "contact".into(),
+            records: &f.increments,
+        }];
+        written.extend(load_history::write(dir, &problem.name, &pairs)?);
     }
     let plots = dir.join("plots");
     create_dir(&plots)?;
@@ -413,6 +440,7 @@ fn increment_tables(
     dir: &Path,
     c: &ContactSolution,
     f: &crate::solution::FrictionContact,
+    [x, y]: [&str; 2],
 ) -> Result<Vec<PathBuf>, OutputError> {
     let steps = dir.join("steps");
     create_dir(&steps)?;
@@ -421,8 +449,8 @@ fn increment_tables(
     let mut index = String::from("step,increment,load_factor,normal_force,tangential_force,file\n");
     for snap in &f.snapshots {
         let name = format!("contact_s{:03}_i{:04}.csv", snap.step, snap.increment);
-        let mut text = String::from(
-            "candidate,node,x,y,arc_length,gap,force,pressure,in_contact,tangential_force,tangential_traction,slip,state\n",
+        let mut text = format!(
+            "candidate,node,{x},{y},arc_length,gap,force,pressure,in_contact,tangential_force,tangential_traction,slip,state\n",
         );
         for k in 0..cand.len() {
             let p = cand.points[k];
@@ -539,6 +567,12 @@ fn along_label(edge: &str) -> String {
     format!("s: distance along edge {edge} from its first vertex (length)")
 }
 
+/// The names of the two coordinates of `problem`'s body, for headers and labels: `x, y`, or
+/// `r, z` for an axisymmetric body (x is the radius r, y the axis z; docs/method.md §9).
+pub fn coordinate_names(problem: &Problem) -> [&'static str; 2] {
+    if problem.material.is_axisymmetric() { ["r", "z"] } else { ["x", "y"] }
+}
+
 /// `"MFVM"` or `"FE"`, for labels.
 pub fn method_label(problem: &Problem) -> &'static str {
     match problem.discretisation.method {
@@ -620,6 +654,7 @@ fn deformed_map(
 ) -> plot::CellMap {
     let m = magnification(problem, solution, others);
     let points = deformed_nodes(model, solution, m);
+    let [x, y] = coordinate_names(problem);
     let min_spacing = model.nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
     let mut map = plot::CellMap {
         title: format!(
@@ -628,8 +663,8 @@ fn deformed_map(
             significant(m)
         ),
         value_label: "σ_vM (units of E)".into(),
-        x_label: "x + m·u_x".into(),
-        y_label: "y + m·u_y".into(),
+        x_label: format!("{x} + m·u_{x}"),
+        y_label: format!("{y} + m·u_{y}"),
         cells: deformed::body_cells(problem, model, solution, m),
         lines: vec![outline(&problem.domain, min_spacing, "undeformed outline")],
         labels: Vec::new(),
@@ -671,6 +706,7 @@ fn profile_chart(problem: &Problem, model: &Model, solution: &Solution) -> plot:
         .collect();
     on_edge.sort_by(|a, b| a.0.total_cmp(&b.0));
     let len = problem.domain.curve(k).length();
+    let [x, y] = coordinate_names(problem);
     let series = |axis: usize, label: &str, colour: usize| plot::Series {
         label: label.into(),
         points: on_edge.iter().map(|&(t, i)| (t * len, solution.displacement[i][axis])).collect(),
@@ -681,7 +717,7 @@ fn profile_chart(problem: &Problem, model: &Model, solution: &Solution) -> plot:
         title: format!("{}: displacement u^h along edge {name}", problem.name),
         x_label: along_label(name),
         y_label: "displacement u^h (length)".into(),
-        series: vec![series(0, "u_x", 0), series(1, "u_y", 1)],
+        series: vec![series(0, &format!("u_{x}"), 0), series(1, &format!("u_{y}"), 1)],
     }
 }
 
@@ -708,8 +744,8 @@ pub fn write_node_spacing(
             significant(min_spacing)
         ),
         value_label: "log₂(h₀ / h_I)".into(),
-        x_label: "x".into(),
-        y_label: "y".into(),
+        x_label: coordinate_names(problem)[0].into(),
+        y_label: coordinate_names(problem)[1].into(),
         points: nodes.points.iter().map(|p| (p[0], p[1])).collect(),
         values: nodes.spacing.iter().map(|h| (h0 / h).log2()).collect(),
         lines: Vec::new(),
