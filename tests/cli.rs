@@ -622,6 +622,37 @@ fn thick_cylinder_axisymmetric_problem() {
     assert_r_z_labels(&out, &["nodes.csv", "displacement.csv", "stress.csv", "reactions.csv"]);
 }
 
+/// `[output] revolve` and `revolve_segments` are checked: an angle in (0, 360] degrees, for
+/// an axisymmetric body only; 1 to 3600 segments, only with an angle. Each refusal names the
+/// key.
+#[test]
+fn bad_revolve_input_is_refused() {
+    let axi = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/thick_cylinder_axisymmetric.toml"),
+    )
+    .unwrap();
+    let with = |keys: &str| axi.replace("[output]\n", &format!("[output]\n{keys}\n"));
+    let plane = format!("{BASE}[output]\nrevolve = 90.0\n");
+    expect_refusals(&[
+        ("revolve_plane", plane, "output.revolve"),
+        ("revolve_zero", with("revolve = 0.0"), "output.revolve"),
+        ("revolve_large", with("revolve = 361.0"), "output.revolve"),
+        ("revolve_nan", with("revolve = nan"), "output.revolve"),
+        (
+            "revolve_no_segments",
+            with("revolve = 90.0\nrevolve_segments = 0"),
+            "output.revolve_segments",
+        ),
+        (
+            "revolve_many",
+            with("revolve = 90.0\nrevolve_segments = 3601"),
+            "output.revolve_segments",
+        ),
+        ("segments_alone", with("revolve_segments = 8"), "output.revolve_segments"),
+        ("revolve_typo", with("revolve_segment = 8"), "revolve_segment"),
+    ]);
+}
+
 /// The outputs of an axisymmetric body in `out` name the coordinates r and z: the CSV
 /// headers (`node,r,z,…`; `ur, uz`; `srr, szz, srz`; reactions along `r` or `z`) and the axis
 /// labels of the deformed and profile plots.

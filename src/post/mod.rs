@@ -13,6 +13,7 @@ pub mod paraview;
 pub mod plot;
 pub mod report;
 pub mod resolution;
+mod revolve;
 pub mod summary;
 mod vtk;
 pub mod zoom;
@@ -195,8 +196,11 @@ fn write_body(
     }
     written.push(save(dir, "reactions.csv", &text)?);
 
-    let vtu = vtk::solution_vtu(problem, model, solution)?;
-    written.push(save(dir, "solution.vtu", &vtu)?);
+    let grid = vtk::solution_grid(problem, model, solution)?;
+    written.push(save(dir, "solution.vtu", &grid.to_vtu())?);
+    if let Some(r) = &problem.revolve {
+        written.push(save(dir, "solution_revolved.vtu", &revolve::revolved_vtu(&grid, r))?);
+    }
 
     written.extend(solution_plots(dir, problem, model, second, solution, others)?);
     if let Some(c) = &solution.contact {

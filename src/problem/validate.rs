@@ -246,6 +246,7 @@ impl TryFrom<ProblemFile> for Problem {
             Some(r) => Some(adaptive(r, &problem)?),
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
+        problem.revolve = revolve(&file.output, &problem)?;
         super::axisymmetric::refuse_unsupported(&problem)?;
         let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0)
             || problem
@@ -368,6 +369,7 @@ fn validate_body(
         body_force,
         profile_edge: 0,
         write_steps: false,
+        revolve: None,
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
@@ -1070,6 +1072,41 @@ fn smallest_extent(domain: &Domain) -> f64 {
 
 /// Directory names of the outputs that a body's name must not take.
 const RESERVED_NAMES: [&str; 3] = ["plots", "mfvm", "fem"];
+
+/// `[output] revolve` (degrees in `(0, 360]`, axisymmetric bodies only) and
+/// `revolve_segments` (1 to [`Revolve::MAX_SEGMENTS`], only with `revolve`; default
+/// `⌈Θ / 5°⌉`).
+fn revolve(output: &OutputFile, problem: &Problem) -> Result<Option<Revolve>, ProblemError> {
+    let Some(angle) = output.revolve else {
+        return match output.revolve_segments {
+            Some(n) => Err(invalid(
+                "output.revolve_segments",
+                n,
+                "needs output.revolve, the angle to sweep (degrees)",
+            )),
+            None => Ok(None),
+        };
+    };
+    if !(0.0..=360.0).contains(&angle) || angle == 0.0 {
+        return Err(invalid("output.revolve", angle, "must be an angle in (0, 360] degrees"));
+    }
+    if !problem.material.is_axisymmetric() {
+        return Err(invalid(
+            "output.revolve",
+            angle,
+            "sweeps an axisymmetric section about its axis: needs material.plane = \"axisymmetric\"",
+        ));
+    }
+    let segments = match output.revolve_segments {
+        Some(n) if (1..=Revolve::MAX_SEGMENTS).contains(&n) => n,
+        Some(n) => {
+            let reason = format!("must be 1 to {}", Revolve::MAX_SEGMENTS);
+            return Err(invalid("output.revolve_segments", n, reason));
+        }
+        None => (angle / Revolve::SEGMENT_DEGREES).ceil() as usize,
+    };
+    Ok(Some(Revolve { angle_degrees: angle, segments }))
+}
 
 /// A body name that is used as an output directory (`<out>/<name>/`): 1–64 ASCII letters,
 /// digits, `_` or `-`, so that it can neither be empty, nor leave the output directory, nor
