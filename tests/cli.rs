@@ -653,6 +653,37 @@ fn bad_revolve_input_is_refused() {
     ]);
 }
 
+/// `[output] units = "N, mm, MPa"` names the units in the axis labels of every body's plots
+/// (problems/two_blocks.toml: the second body's under `lower/`); a malformed list is refused
+/// naming `output.units`.
+#[test]
+fn units_name_the_axes_and_bad_units_are_refused() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml"),
+    )
+    .unwrap();
+    let with = |units: &str| match text.contains("[output]\n") {
+        true => text.replace("[output]\n", &format!("[output]\nunits = {units:?}\n")),
+        false => format!("{text}\n[output]\nunits = {units:?}\n"),
+    };
+    let (code, stderr) = run_text("units", &with("N, mm, MPa"));
+    assert_eq!(code, Some(0), "{stderr}");
+    let out = scratch("units").join("out");
+    let svg = |rel: &str| std::fs::read_to_string(out.join(rel)).unwrap();
+    assert!(svg("plots/contact_pressure.svg").contains("contact pressure p (MPa)"));
+    assert!(svg("plots/deformed.svg").contains("σ_vM (MPa)"));
+    for profile in ["plots/profile.svg", "lower/plots/profile.svg"] {
+        let text = svg(profile);
+        assert!(text.contains("displacement u^h (mm)") && !text.contains("(length)"), "{profile}");
+    }
+    expect_refusals(&[
+        ("units_two", with("N, mm"), "output.units"),
+        ("units_empty", with("N, , MPa"), "output.units"),
+        ("units_four", with("N, mm, MPa, s"), "output.units"),
+        ("units_long", with("N, mm, megapascal_units_"), "output.units"),
+    ]);
+}
+
 /// The outputs of an axisymmetric body in `out` name the coordinates r and z: the CSV
 /// headers (`node,r,z,…`; `ur, uz`; `srr, szz, srz`; reactions along `r` or `z`) and the axis
 /// labels of the deformed and profile plots.

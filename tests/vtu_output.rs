@@ -186,6 +186,7 @@ fn patch_problem(layout: Layout) -> Problem {
         profile_edge: 0,
         write_steps: false,
         revolve: None,
+        units: None,
         contact: None,
         obstacles: Vec::new(),
         second_body: None,

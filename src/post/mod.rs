@@ -293,8 +293,8 @@ pub fn write_multibody(
                 "{}: contact pressure along edge {edge} of {} against {target}",
                 problem.name, body.name
             ),
-            x_label: along_label(edge),
-            y_label: PRESSURE_LABEL.into(),
+            x_label: along_label(problem, edge),
+            y_label: pressure_label(problem),
             series: vec![plot::Series {
                 label: "p = P_c/|segment|".into(),
                 points: (0..cand.len()).map(|i| (cand.arc_length[i], c.pressure[i])).collect(),
@@ -379,8 +379,8 @@ fn contact_outputs(
     };
     let chart = plot::Chart {
         title: format!("{}: displacement of edge {edge} towards {target_title}", problem.name),
-        x_label: along_label(edge),
-        y_label: "normal displacement ν·u^h (length)".into(),
+        x_label: along_label(problem, edge),
+        y_label: format!("normal displacement ν·u^h ({})", length_unit(problem)),
         series: vec![
             plot::Series {
                 label: format!("edge {edge}: ν·u^h ({})", method_label(problem)),
@@ -422,8 +422,8 @@ fn contact_outputs(
     }
     let chart = plot::Chart {
         title: format!("{}: contact pressure along edge {edge}", problem.name),
-        x_label: along_label(edge),
-        y_label: PRESSURE_LABEL.into(),
+        x_label: along_label(problem, edge),
+        y_label: pressure_label(problem),
         series,
     };
     let stem = plots.join("contact_pressure");
@@ -557,18 +557,30 @@ fn traction_chart(
     });
     plot::Chart {
         title: format!("{}: contact tractions along edge {edge}, friction μ = {mu}", problem.name),
-        x_label: along_label(edge),
-        y_label: "traction: p normal, q along t (units of E)".into(),
+        x_label: along_label(problem, edge),
+        y_label: format!("traction: p normal, q along t ({})", stress_unit(problem)),
         series,
     }
 }
 
 /// The y-axis label of the contact pressure plots.
-const PRESSURE_LABEL: &str = "contact pressure p (units of E)";
+fn pressure_label(problem: &Problem) -> String {
+    format!("contact pressure p ({})", stress_unit(problem))
+}
+
+/// The unit of lengths in labels: `[output] units`' length, or the word "length".
+fn length_unit(problem: &Problem) -> &str {
+    problem.units.as_ref().map_or("length", |u| u.length.as_str())
+}
+
+/// The unit of stresses in labels: `[output] units`' stress, or "units of E".
+fn stress_unit(problem: &Problem) -> &str {
+    problem.units.as_ref().map_or("units of E", |u| u.stress.as_str())
+}
 
 /// The x-axis label of a plot along `edge`.
-fn along_label(edge: &str) -> String {
-    format!("s: distance along edge {edge} from its first vertex (length)")
+fn along_label(problem: &Problem, edge: &str) -> String {
+    format!("s: distance along edge {edge} from its first vertex ({})", length_unit(problem))
 }
 
 /// The names of the two coordinates of `problem`'s body, for headers and labels: `x, y`, or
@@ -666,7 +678,7 @@ fn deformed_map(
             problem.name,
             significant(m)
         ),
-        value_label: "σ_vM (units of E)".into(),
+        value_label: format!("σ_vM ({})", stress_unit(problem)),
         x_label: format!("{x} + m·u_{x}"),
         y_label: format!("{y} + m·u_{y}"),
         cells: deformed::body_cells(problem, model, solution, m),
@@ -719,8 +731,8 @@ fn profile_chart(problem: &Problem, model: &Model, solution: &Solution) -> plot:
     };
     plot::Chart {
         title: format!("{}: displacement u^h along edge {name}", problem.name),
-        x_label: along_label(name),
-        y_label: "displacement u^h (length)".into(),
+        x_label: along_label(problem, name),
+        y_label: format!("displacement u^h ({})", length_unit(problem)),
         series: vec![series(0, &format!("u_{x}"), 0), series(1, &format!("u_{y}"), 1)],
     }
 }

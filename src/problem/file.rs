@@ -838,6 +838,10 @@ pub struct OutputFile {
     /// The segments (wedges) over the swept angle (default one per 5°; needs `revolve`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub revolve_segments: Option<usize>,
+    /// The force, length and stress units of the numbers, for axis labels, e.g.
+    /// `"N, mm, MPa"` (default: the labels say "length" and "units of E").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<String>,
 }
 
 /// One `[[boundary]]` entry.

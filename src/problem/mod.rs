@@ -154,6 +154,8 @@ pub struct Problem {
     pub write_steps: bool,
     /// Write the section swept about the axis (`[output] revolve`; axisymmetric bodies).
     pub revolve: Option<Revolve>,
+    /// The units named in axis labels (`[output] units`; `None`: "length", "units of E").
+    pub units: Option<Units>,
     /// Frictionless contact, if any.
     pub contact: Option<ContactSpec>,
     /// The rigid obstacles the contact edge touches when its target is
@@ -315,6 +317,18 @@ pub struct Revolve {
     pub angle_degrees: f64,
     /// Segments `n` over `Θ` (each `Θ / n`), at least 1.
     pub segments: usize,
+}
+
+/// `[output] units = "N, mm, MPa"`: the names of the force, length and stress units of the
+/// problem's numbers, used in the plots' axis labels only (nothing is converted).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Units {
+    /// Force unit.
+    pub force: String,
+    /// Length unit.
+    pub length: String,
+    /// Stress unit.
+    pub stress: String,
 }
 
 impl Revolve {

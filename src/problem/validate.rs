@@ -247,6 +247,14 @@ impl TryFrom<ProblemFile> for Problem {
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
         problem.revolve = revolve(&file.output, &problem)?;
+        problem.units = file.output.units.as_deref().map(units).transpose()?;
+        let named = problem.units.clone();
+        if let Some(p2) = problem.second_body.as_deref_mut() {
+            p2.units = named.clone();
+        }
+        for p in problem.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()) {
+            p.units = named.clone();
+        }
         super::axisymmetric::refuse_unsupported(&problem)?;
         let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0)
             || problem
@@ -370,6 +378,7 @@ fn validate_body(
         profile_edge: 0,
         write_steps: false,
         revolve: None,
+        units: None,
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
@@ -1106,6 +1115,26 @@ fn revolve(output: &OutputFile, problem: &Problem) -> Result<Option<Revolve>, Pr
         None => (angle / Revolve::SEGMENT_DEGREES).ceil() as usize,
     };
     Ok(Some(Revolve { angle_degrees: angle, segments }))
+}
+
+/// `[output] units`: three names separated by commas (force, length, stress), each 1–16
+/// characters without control characters.
+fn units(text: &str) -> Result<Units, ProblemError> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let valid =
+        |p: &&str| (1..=16).contains(&p.chars().count()) && !p.chars().any(char::is_control);
+    match parts.as_slice() {
+        [force, length, stress] if parts.iter().all(valid) => Ok(Units {
+            force: force.to_string(),
+            length: length.to_string(),
+            stress: stress.to_string(),
+        }),
+        _ => Err(invalid(
+            "output.units",
+            format!("{text:?}"),
+            "three unit names separated by commas, force, length and stress (each 1–16 characters), e.g. \"N, mm, MPa\"",
+        )),
+    }
 }
 
 /// A body name that is used as an output directory (`<out>/<name>/`): 1–64 ASCII letters,

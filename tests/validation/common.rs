@@ -34,6 +34,7 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         profile_edge: 0,
         write_steps: false,
         revolve: None,
+        units: None,
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
