@@ -619,6 +619,96 @@ fn thick_cylinder_axisymmetric_problem() {
     assert!((u_r / 1.906_666_7e-4 - 1.0).abs() < 2e-3, "u_r(a) = {u_r:.6e}");
     let hoop = row_at_inner("hoop.csv")[4];
     assert!((hoop / (50.0 / 3.0) - 1.0).abs() < 5e-3, "σ_θθ(a) = {hoop:.6e}");
+    assert_r_z_labels(&out, &["nodes.csv", "displacement.csv", "stress.csv", "reactions.csv"]);
+}
+
+/// `[output] revolve` and `revolve_segments` are checked: an angle in (0, 360] degrees, for
+/// an axisymmetric body only; 1 to 3600 segments, only with an angle. Each refusal names the
+/// key.
+#[test]
+fn bad_revolve_input_is_refused() {
+    let axi = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/thick_cylinder_axisymmetric.toml"),
+    )
+    .unwrap();
+    let with = |keys: &str| axi.replace("[output]\n", &format!("[output]\n{keys}\n"));
+    let plane = format!("{BASE}[output]\nrevolve = 90.0\n");
+    expect_refusals(&[
+        ("revolve_plane", plane, "output.revolve"),
+        ("revolve_zero", with("revolve = 0.0"), "output.revolve"),
+        ("revolve_large", with("revolve = 361.0"), "output.revolve"),
+        ("revolve_nan", with("revolve = nan"), "output.revolve"),
+        (
+            "revolve_no_segments",
+            with("revolve = 90.0\nrevolve_segments = 0"),
+            "output.revolve_segments",
+        ),
+        (
+            "revolve_many",
+            with("revolve = 90.0\nrevolve_segments = 3601"),
+            "output.revolve_segments",
+        ),
+        ("segments_alone", with("revolve_segments = 8"), "output.revolve_segments"),
+        ("revolve_typo", with("revolve_segment = 8"), "revolve_segment"),
+    ]);
+}
+
+/// `[output] units = "N, mm, MPa"` names the units in the axis labels of every body's plots
+/// (problems/two_blocks.toml: the second body's under `lower/`); a malformed list is refused
+/// naming `output.units`.
+#[test]
+fn units_name_the_axes_and_bad_units_are_refused() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml"),
+    )
+    .unwrap();
+    let with = |units: &str| match text.contains("[output]\n") {
+        true => text.replace("[output]\n", &format!("[output]\nunits = {units:?}\n")),
+        false => format!("{text}\n[output]\nunits = {units:?}\n"),
+    };
+    let (code, stderr) = run_text("units", &with("N, mm, MPa"));
+    assert_eq!(code, Some(0), "{stderr}");
+    let out = scratch("units").join("out");
+    let svg = |rel: &str| std::fs::read_to_string(out.join(rel)).unwrap();
+    assert!(svg("plots/contact_pressure.svg").contains("contact pressure p (MPa)"));
+    assert!(svg("plots/deformed.svg").contains("σ_vM (MPa)"));
+    for profile in ["plots/profile.svg", "lower/plots/profile.svg"] {
+        let text = svg(profile);
+        assert!(text.contains("displacement u^h (mm)") && !text.contains("(length)"), "{profile}");
+    }
+    expect_refusals(&[
+        ("units_two", with("N, mm"), "output.units"),
+        ("units_empty", with("N, , MPa"), "output.units"),
+        ("units_four", with("N, mm, MPa, s"), "output.units"),
+        ("units_long", with("N, mm, megapascal_units_"), "output.units"),
+    ]);
+}
+
+/// The outputs of an axisymmetric body in `out` name the coordinates r and z: the CSV
+/// headers (`node,r,z,…`; `ur, uz`; `srr, szz, srz`; reactions along `r` or `z`) and the axis
+/// labels of the deformed and profile plots.
+fn assert_r_z_labels(out: &Path, tables: &[&str]) {
+    let expected = [
+        ("nodes.csv", "node,r,z,edges,spacing"),
+        ("displacement.csv", "node,r,z,ur,uz"),
+        ("stress.csv", "node,r,z,srr,szz,srz,von_mises"),
+        ("reactions.csv", "node,axis,r,z,reaction"),
+        ("contact.csv", "candidate,node,r,z,arc_length,"),
+    ];
+    for (file, head) in expected.iter().filter(|(f, _)| tables.contains(f)) {
+        let text = std::fs::read_to_string(out.join(file)).unwrap();
+        assert!(text.starts_with(head), "{file}: {}", text.lines().next().unwrap());
+    }
+    if tables.contains(&"reactions.csv") {
+        let text = std::fs::read_to_string(out.join("reactions.csv")).unwrap();
+        let axes: Vec<&str> = text.lines().skip(1).map(|l| l.split(',').nth(1).unwrap()).collect();
+        assert!(!axes.is_empty() && axes.iter().all(|a| *a == "r" || *a == "z"), "{axes:?}");
+    }
+    let deformed = std::fs::read_to_string(out.join("plots/deformed.svg")).unwrap();
+    assert!(deformed.contains("r + m·u_r") && deformed.contains("z + m·u_z"));
+    assert!(!deformed.contains("x + m·u_x"));
+    let profile = std::fs::read_to_string(out.join("plots/profile.svg")).unwrap();
+    assert!(profile.contains("u_r") && profile.contains("u_z") && !profile.contains("u_x"));
 }
 
 /// problems/sphere_on_flat_axisymmetric.toml: Hertz's sphere on a rigid flat. The contact
@@ -647,7 +737,9 @@ fn sphere_on_flat_axisymmetric_problem() {
         scratch("sphere_on_flat_axisymmetric").join("out").join("contact.csv"),
     )
     .unwrap();
-    // candidate, node, x, y, arc_length, initial_gap, gap, force, pressure, in_contact
+    // candidate, node, r, z, arc_length, initial_gap, gap, force, pressure, in_contact
+    let out = scratch("sphere_on_flat_axisymmetric").join("out");
+    assert_r_z_labels(&out, &["contact.csv", "displacement.csv", "reactions.csv"]);
     let rows: Vec<Vec<f64>> = csv
         .lines()
         .skip(1)
@@ -1056,6 +1148,43 @@ fn compare_mode_writes_both_methods_and_the_table() {
     assert_eq!(fem["problem"]["method"], "fem");
 }
 
+/// The height of a PNG image (its IHDR chunk).
+fn png_height(path: &Path) -> u32 {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG", "{}", path.display());
+    u32::from_be_bytes(bytes[20..24].try_into().unwrap())
+}
+
+/// `--compare` on a small contact zone (problems/cylinder_indenter.toml at h = 0.05, 0.025
+/// near the zone; the FE mesh is uniform at 0.05, with a few candidates closed): the
+/// pressure overlay zooms to the zone like the single-run plots (a 1000 × 820 image with the
+/// whole edge in a panel), the deflection overlay along the profile edge does not
+/// (1000 × 600); the shipped beam's zone covers most of its edge and is not zoomed.
+#[test]
+fn compare_plots_zoom_to_a_small_contact_zone() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cylinder_indenter.toml"),
+    )
+    .unwrap()
+    .replace("spacing = 0.00625", "spacing = 0.025")
+    .replace("spacing = 0.1\n", "spacing = 0.05\n");
+    let dir = scratch("compare_zoom");
+    let file = dir.join("problem.toml");
+    std::fs::write(&file, text).unwrap();
+    let out_dir = dir.join("out");
+    let out = Command::new(binary())
+        .arg(&file)
+        .args(["--compare", "--quiet", "--out"])
+        .arg(&out_dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let plots = out_dir.join("plots");
+    assert_eq!(png_height(&plots.join("compare_pressure.png")), 820);
+    assert_eq!(png_height(&plots.join("compare_deflection.png")), 600);
+    assert_eq!(png_height(&out_dir.join("mfvm/plots/contact_pressure.png")), 820);
+}
+
 /// The same input gives the same bytes, whatever the number of threads (timings aside): the
 /// elastostatic cantilever, the contact beam (parallel blocked condensation) and its
 /// stabilised variant (β > 0 assembly).
@@ -1205,6 +1334,96 @@ fn report_page_is_written_when_asked() {
     // --report with --compare is refused by the argument parser (exit 2).
     let both = Command::new(binary()).arg(&file).arg("--report").arg("--compare").output().unwrap();
     assert_eq!(both.status.code(), Some(2));
+}
+
+/// A run along several load increments (problems/beam_on_foundation_friction.toml: one step
+/// of 10 increments) writes `load_history.csv`, one row per increment with the totals of
+/// `summary.json`'s `steps` records, and `plots/load_history`; its `--report` shows the force
+/// balance of the body (the summary's sums, adding up to the residual) and the history plot,
+/// and links every file by a relative path. A single-increment run has no load history.
+#[test]
+fn stepped_run_writes_its_load_history_and_report() {
+    let dir = scratch("load_history").join("out");
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/beam_on_foundation_friction.toml");
+    let out = Command::new(binary())
+        .arg(&file)
+        .args(["--report", "--quiet", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let records = s["steps"].as_array().unwrap();
+    let csv = std::fs::read_to_string(dir.join("load_history.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let rows: Vec<Vec<f64>> =
+        lines.map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
+    assert_eq!(rows.len(), 10, "{csv}");
+    assert_eq!(rows.len(), records.len());
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    for (row, rec) in rows.iter().zip(records) {
+        for key in ["load_factor", "normal_force", "tangential_force"] {
+            let expected = rec[key].as_f64().unwrap();
+            let got = row[col(key)];
+            assert!((got - expected).abs() <= 1e-11 * expected.abs(), "{key}: {got} {expected}");
+        }
+        let t = rec["step"].as_f64().unwrap() - 1.0 + rec["load_factor"].as_f64().unwrap();
+        assert!((row[col("path_parameter")] - t).abs() <= 1e-12, "{row:?}");
+    }
+    let total = s["contact"]["total_force"].as_f64().unwrap();
+    assert!((rows[9][col("normal_force")] - total).abs() <= 1e-9 * total.abs(), "{total}");
+    for ext in ["svg", "png"] {
+        assert!(dir.join(format!("plots/load_history.{ext}")).is_file());
+    }
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    assert!(html.contains("<figure id=\"load_history\">"), "the history plot inline");
+    // The balance table: the summary's sums per direction, and their sum.
+    let c = &s["checks"];
+    let balance = &html[html.find("<table id=\"balance\">").unwrap()..];
+    let balance = &balance[..balance.find("</table>").unwrap()];
+    assert_eq!(balance.matches("<tr>").count(), 3, "a header and two directions: {balance}");
+    let cells = |row: &str| -> Vec<String> {
+        row.split("<td class=\"num\">").skip(1).map(|c| c[..c.find('<').unwrap()].into()).collect()
+    };
+    for (a, row) in balance.split("<tr>").skip(2).enumerate() {
+        let v = cells(row);
+        let expected: Vec<f64> = ["applied_force", "reaction_force", "contact_force"]
+            .map(|k| c[k][a].as_f64().unwrap())
+            .into();
+        for (cell, e) in v.iter().zip(&expected) {
+            let got: f64 = cell.parse().unwrap();
+            assert!((got - e).abs() <= 1e-5 * e.abs().max(1e-12), "{cell} against {e}");
+        }
+        let sum: f64 = v[3].parse().unwrap();
+        assert!((sum - expected.iter().sum::<f64>()).abs() <= 1e-2 * sum.abs().max(1e-300));
+    }
+    // Every file but the page itself linked relative to it.
+    for entry in walk(&dir) {
+        let rel = entry.strip_prefix(&dir).unwrap().to_str().unwrap().replace('\\', "/");
+        if rel != "report.html" && !rel.starts_with('.') {
+            assert!(html.contains(&format!("<a href=\"{rel}\">")), "{rel} not linked");
+        }
+    }
+    // One increment: no history.
+    let one = scratch("load_history_one").join("out");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/flat_punch.toml");
+    let out =
+        Command::new(binary()).arg(&file).args(["--quiet", "--out"]).arg(&one).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(one.join("contact.csv").is_file() && !one.join("load_history.csv").exists());
+}
+
+/// Every file under `dir`, recursively.
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() { files.extend(walk(&path)) } else { files.push(path) }
+    }
+    files
 }
 
 /// problems/beam_on_foundation_adaptive.toml: `summary.json` holds the loop's per-step table

@@ -35,6 +35,9 @@ pub struct MethodRun {
     pub tangential: Vec<(f64, f64)>,
     /// With friction: the extent of the stick zone along the contact edge ([`stick_extent`]).
     pub stick_extent: Option<(f64, f64)>,
+    /// The arc-length window the contact plots zoom to ([`post::zoom::contact_window`]; `None`:
+    /// the whole edge, or no contact).
+    pub contact_window: Option<(f64, f64)>,
 }
 
 /// The extent `(start, end)` along the contact edge (arc length) of the sticking candidates:
@@ -130,6 +133,10 @@ fn run_one(
         component,
         tangential,
         stick_extent: solution.contact.as_ref().and_then(stick_extent),
+        contact_window: solution
+            .contact
+            .as_ref()
+            .and_then(|c| post::zoom::contact_window(&c.candidates.arc_length, &c.closed)),
     };
     Ok((run, report.files))
 }
@@ -282,9 +289,16 @@ fn overlay_plots(
         colour,
     };
     let mut charts = Vec::new();
+    // The contact plots zoom to the window covering both methods' zones; the whole edge
+    // when either shows it whole.
+    let window = match (mfvm.contact_window, fem.contact_window) {
+        (Some(a), Some(b)) => Some((a.0.min(b.0), a.1.max(b.1))),
+        _ => None,
+    };
     let profile = &names[problem.profile_edge];
     charts.push((
         "compare_deflection",
+        None,
         plot::Chart {
             title: format!(
                 "{}: {} along edge {profile}, MFVM and FE",
@@ -302,6 +316,7 @@ fn overlay_plots(
         let edge = &names[spec.edge];
         charts.push((
             "compare_pressure",
+            window,
             plot::Chart {
                 title: format!("{}: contact pressure along edge {edge}, MFVM and FE", problem.name),
                 x_label: format!("distance along edge {edge}"),
@@ -315,6 +330,7 @@ fn overlay_plots(
         if !mfvm.tangential.is_empty() {
             charts.push((
                 "compare_tangential_traction",
+                window,
                 plot::Chart {
                     title: format!(
                         "{}: tangential traction along edge {edge}, MFVM and FE",
@@ -336,9 +352,9 @@ fn overlay_plots(
         }
     }
     let mut files = Vec::new();
-    for (name, chart) in charts {
+    for (name, zoom, chart) in charts {
         let stem = plots.join(name);
-        plot::write_chart(&stem, &chart)?;
+        plot::write_zoomed_chart(&stem, &chart, zoom)?;
         files.push(stem.with_extension("svg"));
         files.push(stem.with_extension("png"));
     }

@@ -7,14 +7,16 @@
 mod deformed;
 pub mod frames;
 pub mod history;
+pub mod load_history;
 mod outdir;
 pub mod paraview;
 pub mod plot;
 pub mod report;
 pub mod resolution;
+mod revolve;
 pub mod summary;
 mod vtk;
-mod zoom;
+pub mod zoom;
 
 pub use outdir::{MANIFEST, StagedDir, abandon_staging};
 pub use paraview::write_paraview;
@@ -136,8 +138,9 @@ fn write_body(
     let mut written = Vec::new();
     let nodes = &model.nodes;
     let names = problem.domain.edge_names();
+    let [x, y] = coordinate_names(problem);
 
-    let mut text = String::from("node,x,y,edges,spacing\n");
+    let mut text = format!("node,{x},{y},edges,spacing\n");
     for (i, p) in nodes.points.iter().enumerate() {
         let edges: Vec<&str> = nodes.edges[i].iter().map(|k| names[k].as_str()).collect();
         let _ = writeln!(
@@ -151,14 +154,14 @@ fn write_body(
     }
     written.push(save(dir, "nodes.csv", &text)?);
 
-    let mut text = String::from("node,x,y,ux,uy\n");
+    let mut text = format!("node,{x},{y},u{x},u{y}\n");
     for (i, p) in nodes.points.iter().enumerate() {
         let u = solution.displacement[i];
         let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(u[0]), num(u[1]));
     }
     written.push(save(dir, "displacement.csv", &text)?);
 
-    let mut text = String::from("node,x,y,sxx,syy,sxy,von_mises\n");
+    let mut text = format!("node,{x},{y},s{x}{x},s{y}{y},s{x}{y},von_mises\n");
     let von_mises = solution.von_mises(&problem.material);
     for (i, p) in nodes.points.iter().enumerate() {
         let s = solution.stress[i];
@@ -185,16 +188,19 @@ fn write_body(
         written.push(save(dir, "hoop.csv", &text)?);
     }
 
-    let mut text = String::from("node,axis,x,y,reaction\n");
+    let mut text = format!("node,axis,{x},{y},reaction\n");
     for &(node, axis, r) in &solution.reactions {
         let p = nodes.points[node as usize];
-        let a = if axis == Axis::X { "x" } else { "y" };
+        let a = if axis == Axis::X { x } else { y };
         let _ = writeln!(text, "{node},{a},{},{},{}", num(p[0]), num(p[1]), num(r));
     }
     written.push(save(dir, "reactions.csv", &text)?);
 
-    let vtu = vtk::solution_vtu(problem, model, solution)?;
-    written.push(save(dir, "solution.vtu", &vtu)?);
+    let grid = vtk::solution_grid(problem, model, solution)?;
+    written.push(save(dir, "solution.vtu", &grid.to_vtu())?);
+    if let Some(r) = &problem.revolve {
+        written.push(save(dir, "solution_revolved.vtu", &revolve::revolved_vtu(&grid, r))?);
+    }
 
     written.extend(solution_plots(dir, problem, model, second, solution, others)?);
     if let Some(c) = &solution.contact {
@@ -204,11 +210,11 @@ fn write_body(
 }
 
 /// The text of `contact.csv`: one row per candidate (with the friction columns when the
-/// contact has friction).
-fn contact_table(c: &ContactSolution) -> String {
+/// contact has friction); `x, y` the names of the coordinates ([`coordinate_names`]).
+fn contact_table(c: &ContactSolution, [x, y]: [&str; 2]) -> String {
     let cand = &c.candidates;
     let mut text =
-        String::from("candidate,node,x,y,arc_length,initial_gap,gap,force,pressure,in_contact");
+        format!("candidate,node,{x},{y},arc_length,initial_gap,gap,force,pressure,in_contact");
     // Friction columns only with friction, so that frictionless files are unchanged.
     if c.friction.is_some() {
         text.push_str(",tangential_force,tangential_traction,slip,state");
@@ -271,8 +277,9 @@ pub fn write_multibody(
     let plots = dir.join("plots");
     create_dir(&plots)?;
     for (k, (pair, c)) in several.pairs.iter().zip(&ms.pairs).enumerate() {
-        written.push(save(dir, &format!("contact_{k}.csv"), &contact_table(c))?);
         let body = problem.body(pair.body).unwrap_or(problem);
+        let table = contact_table(c, coordinate_names(body));
+        written.push(save(dir, &format!("contact_{k}.csv"), &table)?);
         let edge = &body.domain.edge_names()[pair.spec.edge];
         let target = match (pair.target_body.and_then(|t| problem.body(t)), pair.spec.target) {
             (Some(t), ContactTarget::Body { edge: e2 }) => {
@@ -286,8 +293,8 @@ pub fn write_multibody(
                 "{}: contact pressure along edge {edge} of {} against {target}",
                 problem.name, body.name
             ),
-            x_label: along_label(edge),
-            y_label: PRESSURE_LABEL.into(),
+            x_label: along_label(problem, edge),
+            y_label: pressure_label(problem),
             series: vec![plot::Series {
                 label: "p = P_c/|segment|".into(),
                 points: (0..cand.len()).map(|i| (cand.arc_length[i], c.pressure[i])).collect(),
@@ -299,6 +306,22 @@ pub fn write_multibody(
         let window = zoom::contact_window(&cand.arc_length, &c.closed);
         written.extend(plot::write_zoomed_chart(&stem, &chart, window)?);
     }
+    let histories: Vec<load_history::PairHistory<'_>> = several
+        .pairs
+        .iter()
+        .zip(&ms.pairs)
+        .enumerate()
+        .filter_map(|(k, (pair, c))| {
+            let body = problem.body(pair.body).unwrap_or(problem);
+            let edge = &body.domain.edge_names()[pair.spec.edge];
+            c.friction.as_ref().map(|f| load_history::PairHistory {
+                index: k,
+                label: format!("contact[{k}] {}.{edge}", body.name),
+                records: &f.increments,
+            })
+        })
+        .collect();
+    written.extend(load_history::write(dir, &problem.name, &histories)?);
     Ok(written)
 }
 
@@ -310,10 +333,18 @@ fn contact_outputs(
     c: &ContactSolution,
 ) -> Result<Vec<PathBuf>, OutputError> {
     let cand = &c.candidates;
-    let text = contact_table(c);
+    let text = contact_table(c, coordinate_names(problem));
     let mut written = vec![save(dir, "contact.csv", &text)?];
     if let Some(f) = c.friction.as_ref().filter(|f| !f.snapshots.is_empty()) {
-        written.extend(increment_tables(dir, c, f)?);
+        written.extend(increment_tables(dir, c, f, coordinate_names(problem))?);
+    }
+    if let Some(f) = &c.friction {
+        let pairs = [load_history::PairHistory {
+            index: 0,
+            label: "contact".into(),
+            records: &f.increments,
+        }];
+        written.extend(load_history::write(dir, &problem.name, &pairs)?);
     }
     let plots = dir.join("plots");
     create_dir(&plots)?;
@@ -348,8 +379,8 @@ fn contact_outputs(
     };
     let chart = plot::Chart {
         title: format!("{}: displacement of edge {edge} towards {target_title}", problem.name),
-        x_label: along_label(edge),
-        y_label: "normal displacement ν·u^h (length)".into(),
+        x_label: along_label(problem, edge),
+        y_label: format!("normal displacement ν·u^h ({})", length_unit(problem)),
         series: vec![
             plot::Series {
                 label: format!("edge {edge}: ν·u^h ({})", method_label(problem)),
@@ -391,8 +422,8 @@ fn contact_outputs(
     }
     let chart = plot::Chart {
         title: format!("{}: contact pressure along edge {edge}", problem.name),
-        x_label: along_label(edge),
-        y_label: PRESSURE_LABEL.into(),
+        x_label: along_label(problem, edge),
+        y_label: pressure_label(problem),
         series,
     };
     let stem = plots.join("contact_pressure");
@@ -413,6 +444,7 @@ fn increment_tables(
     dir: &Path,
     c: &ContactSolution,
     f: &crate::solution::FrictionContact,
+    [x, y]: [&str; 2],
 ) -> Result<Vec<PathBuf>, OutputError> {
     let steps = dir.join("steps");
     create_dir(&steps)?;
@@ -421,8 +453,8 @@ fn increment_tables(
     let mut index = String::from("step,increment,load_factor,normal_force,tangential_force,file\n");
     for snap in &f.snapshots {
         let name = format!("contact_s{:03}_i{:04}.csv", snap.step, snap.increment);
-        let mut text = String::from(
-            "candidate,node,x,y,arc_length,gap,force,pressure,in_contact,tangential_force,tangential_traction,slip,state\n",
+        let mut text = format!(
+            "candidate,node,{x},{y},arc_length,gap,force,pressure,in_contact,tangential_force,tangential_traction,slip,state\n",
         );
         for k in 0..cand.len() {
             let p = cand.points[k];
@@ -525,18 +557,36 @@ fn traction_chart(
     });
     plot::Chart {
         title: format!("{}: contact tractions along edge {edge}, friction μ = {mu}", problem.name),
-        x_label: along_label(edge),
-        y_label: "traction: p normal, q along t (units of E)".into(),
+        x_label: along_label(problem, edge),
+        y_label: format!("traction: p normal, q along t ({})", stress_unit(problem)),
         series,
     }
 }
 
 /// The y-axis label of the contact pressure plots.
-const PRESSURE_LABEL: &str = "contact pressure p (units of E)";
+fn pressure_label(problem: &Problem) -> String {
+    format!("contact pressure p ({})", stress_unit(problem))
+}
+
+/// The unit of lengths in labels: `[output] units`' length, or the word "length".
+fn length_unit(problem: &Problem) -> &str {
+    problem.units.as_ref().map_or("length", |u| u.length.as_str())
+}
+
+/// The unit of stresses in labels: `[output] units`' stress, or "units of E".
+fn stress_unit(problem: &Problem) -> &str {
+    problem.units.as_ref().map_or("units of E", |u| u.stress.as_str())
+}
 
 /// The x-axis label of a plot along `edge`.
-fn along_label(edge: &str) -> String {
-    format!("s: distance along edge {edge} from its first vertex (length)")
+fn along_label(problem: &Problem, edge: &str) -> String {
+    format!("s: distance along edge {edge} from its first vertex ({})", length_unit(problem))
+}
+
+/// The names of the two coordinates of `problem`'s body, for headers and labels: `x, y`, or
+/// `r, z` for an axisymmetric body (x is the radius r, y the axis z; docs/method.md §9).
+pub fn coordinate_names(problem: &Problem) -> [&'static str; 2] {
+    if problem.material.is_axisymmetric() { ["r", "z"] } else { ["x", "y"] }
 }
 
 /// `"MFVM"` or `"FE"`, for labels.
@@ -620,6 +670,7 @@ fn deformed_map(
 ) -> plot::CellMap {
     let m = magnification(problem, solution, others);
     let points = deformed_nodes(model, solution, m);
+    let [x, y] = coordinate_names(problem);
     let min_spacing = model.nodes.spacing.iter().copied().fold(f64::INFINITY, f64::min);
     let mut map = plot::CellMap {
         title: format!(
@@ -627,9 +678,9 @@ fn deformed_map(
             problem.name,
             significant(m)
         ),
-        value_label: "σ_vM (units of E)".into(),
-        x_label: "x + m·u_x".into(),
-        y_label: "y + m·u_y".into(),
+        value_label: format!("σ_vM ({})", stress_unit(problem)),
+        x_label: format!("{x} + m·u_{x}"),
+        y_label: format!("{y} + m·u_{y}"),
         cells: deformed::body_cells(problem, model, solution, m),
         lines: vec![outline(&problem.domain, min_spacing, "undeformed outline")],
         labels: Vec::new(),
@@ -671,6 +722,7 @@ fn profile_chart(problem: &Problem, model: &Model, solution: &Solution) -> plot:
         .collect();
     on_edge.sort_by(|a, b| a.0.total_cmp(&b.0));
     let len = problem.domain.curve(k).length();
+    let [x, y] = coordinate_names(problem);
     let series = |axis: usize, label: &str, colour: usize| plot::Series {
         label: label.into(),
         points: on_edge.iter().map(|&(t, i)| (t * len, solution.displacement[i][axis])).collect(),
@@ -679,9 +731,9 @@ fn profile_chart(problem: &Problem, model: &Model, solution: &Solution) -> plot:
     };
     plot::Chart {
         title: format!("{}: displacement u^h along edge {name}", problem.name),
-        x_label: along_label(name),
-        y_label: "displacement u^h (length)".into(),
-        series: vec![series(0, "u_x", 0), series(1, "u_y", 1)],
+        x_label: along_label(problem, name),
+        y_label: format!("displacement u^h ({})", length_unit(problem)),
+        series: vec![series(0, &format!("u_{x}"), 0), series(1, &format!("u_{y}"), 1)],
     }
 }
 
@@ -708,8 +760,8 @@ pub fn write_node_spacing(
             significant(min_spacing)
         ),
         value_label: "log₂(h₀ / h_I)".into(),
-        x_label: "x".into(),
-        y_label: "y".into(),
+        x_label: coordinate_names(problem)[0].into(),
+        y_label: coordinate_names(problem)[1].into(),
         points: nodes.points.iter().map(|p| (p[0], p[1])).collect(),
         values: nodes.spacing.iter().map(|h| (h0 / h).log2()).collect(),
         lines: Vec::new(),

@@ -47,7 +47,7 @@ fn conditions(problem: &Problem) -> Vec<String> {
             EdgeCondition::Pressure(p) => out.push(format!("edge `{edge}`: pressure {}", field(p))),
             EdgeCondition::Components(parts) => {
                 let mut said = Vec::new();
-                for (axis, part) in ["x", "y"].iter().zip(parts) {
+                for (axis, part) in super::coordinate_names(problem).iter().zip(parts) {
                     match part {
                         ComponentCondition::Displacement(f) => {
                             said.push(format!("u_{axis} = {}", field(f)));
@@ -275,6 +275,91 @@ fn results(s: &Summary) -> Vec<(String, String)> {
     rows
 }
 
+/// One body's force balance: its name and `Σ f`, `Σ R`, `Σ ν P` and the relative error.
+type Balance = (String, [f64; 2], [f64; 2], [f64; 2], f64);
+
+/// Every body's force balance, the first body first (from `summary.json`'s `checks`,
+/// `second_body` and `bodies`).
+fn balances(s: &Summary) -> Vec<Balance> {
+    let body = |b: &super::summary::SecondBody| {
+        let name = b.name.clone().unwrap_or_else(|| "-".into());
+        (name, b.applied_force, b.reaction_force, b.contact_force, b.equilibrium_error)
+    };
+    if let Some(bodies) = &s.bodies {
+        return bodies.iter().map(body).collect();
+    }
+    let c = &s.checks;
+    let first = (
+        s.problem.name.clone(),
+        c.applied_force,
+        c.reaction_force,
+        c.contact_force,
+        c.equilibrium_error,
+    );
+    std::iter::once(first).chain(s.second_body.as_ref().map(body)).collect()
+}
+
+/// The force balance table: per body and direction the applied load, the reactions, the
+/// contact force and their sum (zero in equilibrium), with the relative error.
+fn balance_table(s: &Summary, problem: &Problem) -> String {
+    let axes = super::coordinate_names(problem);
+    let mut html = String::from("<h2>Force balance</h2>\n");
+    html.push_str(if problem.material.is_axisymmetric() {
+        "<p>Per body, the sums over the whole body of the applied load Σf, the support reactions ΣR and the contact forces Σν P (per radian: r is x, z is y); in equilibrium they add up to zero.</p>\n"
+    } else {
+        "<p>Per body, the sums over the whole body of the applied load Σf, the support reactions ΣR and the contact forces Σν P; in equilibrium they add up to zero.</p>\n"
+    });
+    html.push_str(
+        "<table id=\"balance\">\n<tr><th>body</th><th>direction</th><th>applied Σf</th><th>reactions ΣR</th><th>contact Σν P</th><th>sum</th><th>relative error</th></tr>\n",
+    );
+    for (name, f, r, p, error) in balances(s) {
+        for (a, axis) in axes.iter().enumerate() {
+            let error = if a == 0 { format!("{error:.2e}") } else { String::new() };
+            let _ = writeln!(
+                html,
+                "<tr><td>{}</td><td>{axis}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{}</td><td class=\"num\">{:.2e}</td><td class=\"num\">{error}</td></tr>",
+                esc(&name),
+                g(f[a]),
+                g(r[a]),
+                g(p[a]),
+                f[a] + r[a] + p[a]
+            );
+        }
+    }
+    html.push_str("</table>\n");
+    html
+}
+
+/// The list of the run's files, each a link relative to `dir` (where `report.html` is).
+fn file_links(dir: &Path, files: &[PathBuf]) -> String {
+    let mut html = String::from("<h2>Files</h2>\n<ul id=\"files\">\n");
+    for path in files {
+        let rel = path.strip_prefix(dir).unwrap_or(path);
+        let href: Vec<String> =
+            rel.components().map(|c| percent_encode(&c.as_os_str().to_string_lossy())).collect();
+        let _ = writeln!(
+            html,
+            "<li><a href=\"{}\"><code>{}</code></a></li>",
+            esc(&href.join("/")),
+            esc(&rel.display().to_string())
+        );
+    }
+    html.push_str("</ul>\n");
+    html
+}
+
+/// `name` with every byte but unreserved URL characters percent-encoded (RFC 3986).
+fn percent_encode(name: &str) -> String {
+    name.bytes()
+        .map(|b| match b {
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'-' | b'.' | b'_' | b'~' => {
+                (b as char).to_string()
+            }
+            _ => format!("%{b:02X}"),
+        })
+        .collect()
+}
+
 /// Writes `report.html` into `dir` from the run's summary and the SVG plots among `files`.
 ///
 /// # Errors
@@ -311,6 +396,7 @@ pub fn write_report(
         let _ = writeln!(html, "<tr><th>{}</th><td class=\"num\">{}</td></tr>", esc(&k), esc(&v));
     }
     html.push_str("</table>\n");
+    html.push_str(&balance_table(summary, problem));
     if !summary.warnings.is_empty() {
         html.push_str("<h2>Warnings</h2>\n<ul>\n");
         for w in &summary.warnings {
@@ -340,12 +426,9 @@ pub fn write_report(
         let _ =
             writeln!(html, "<tr><td>{}</td><td class=\"num\">{seconds:.3}</td></tr>", esc(stage));
     }
-    html.push_str("</table>\n<h2>Files</h2>\n<ul>\n");
-    for path in files {
-        let rel = path.strip_prefix(dir).unwrap_or(path).display().to_string();
-        let _ = writeln!(html, "<li><code>{}</code></li>", esc(&rel));
-    }
-    html.push_str("</ul>\n</body>\n</html>\n");
+    html.push_str("</table>\n");
+    html.push_str(&file_links(dir, files));
+    html.push_str("</body>\n</html>\n");
     let path = dir.join("report.html");
     write_text(&path, &html)?;
     Ok(path)
@@ -402,5 +485,15 @@ mod tests {
         );
         assert_eq!(g(32.34714824628428), "32.3471");
         assert_eq!(g(1.5e-7), "1.50000e-7");
+    }
+
+    #[test]
+    fn links_are_relative_and_encoded() {
+        let dir = std::path::Path::new("/run");
+        let files = [dir.join("plots/a b.svg"), dir.join("lower/contact.csv")];
+        let html = super::file_links(dir, &files);
+        assert!(html.contains("<a href=\"plots/a%20b.svg\"><code>plots/a b.svg</code></a>"));
+        assert!(html.contains("<a href=\"lower/contact.csv\">"));
+        assert!(!html.contains("/run"), "{html}");
     }
 }

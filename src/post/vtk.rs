@@ -23,7 +23,30 @@ use std::fmt::Write as _;
 /// Merge tolerance of cell vertices, relative to the smallest node spacing.
 pub(crate) const MERGE_TOLERANCE: f64 = 1e-9;
 
-/// The VTU text of a solution.
+/// A grid of `solution.vtu` before it is written: points, cells (all of VTK type `vtk_type`;
+/// a 3-vertex cell of a quadrilateral grid is a triangle), point and cell data.
+pub(crate) struct Grid {
+    /// Points (z = 0).
+    pub points: Vec<Point>,
+    /// Cells as point indices.
+    pub cells: Vec<Vec<usize>>,
+    /// The cells' VTK type.
+    pub vtk_type: u8,
+    /// Point data.
+    pub point_data: Vec<Array>,
+    /// Cell data.
+    pub cell_data: Vec<Array>,
+}
+
+impl Grid {
+    /// The VTU text.
+    pub fn to_vtu(&self) -> String {
+        let Self { points, cells, vtk_type, point_data, cell_data } = self;
+        unstructured_grid(points, cells, *vtk_type, point_data, cell_data)
+    }
+}
+
+/// The grid of a solution's `solution.vtu` ([`Grid::to_vtu`] writes it).
 ///
 /// Point data: `displacement` (a vector), `stress` and `strain` (symmetric tensors, see
 /// [`tensor`]), `von_mises`; MFVM cell data (one cell per node): `node`, and the node's own
@@ -34,14 +57,14 @@ pub(crate) const MERGE_TOLERANCE: f64 = 1e-9;
 ///
 /// # Errors
 /// [`OutputError::Field`] when the MLS shape functions cannot be evaluated at a cell vertex.
-pub fn solution_vtu(
+pub(crate) fn solution_grid(
     problem: &Problem,
     model: &Model,
     solution: &Solution,
-) -> Result<String, OutputError> {
+) -> Result<Grid, OutputError> {
     let reaction = nodal_reactions(model.nodes.len(), solution);
     let mfvm = match &model.scheme {
-        Scheme::Fem(fem) => return Ok(fem_vtu(problem, model, &fem.mesh, solution, reaction)),
+        Scheme::Fem(fem) => return Ok(fem_grid(problem, model, &fem.mesh, solution, reaction)),
         Scheme::Mfvm(mfvm) => mfvm,
     };
     let h = model.nodes.spacing.iter().copied().filter(|h| *h > 0.0).fold(f64::INFINITY, f64::min);
@@ -100,7 +123,7 @@ pub fn solution_vtu(
         &solution.hoop,
     ));
     cell_data.push(Array::Vector("node_reaction".into(), reaction));
-    Ok(unstructured_grid(&points, &polygons, 7, &point_data, &cell_data))
+    Ok(Grid { points, cells: polygons, vtk_type: 7, point_data, cell_data })
 }
 
 /// The reaction `(R_x, R_y)` at each of `n` nodes (zero in a component without a
@@ -205,13 +228,13 @@ pub(crate) fn fem_sub_cells(mesh: &Mesh) -> impl Iterator<Item = Vec<usize>> + '
 
 /// The FE solution: points = nodes, cells = four sub-quads per Q2 element (VTK_QUAD) and four
 /// sub-triangles per T6 element (VTK_TRIANGLE).
-fn fem_vtu(
+fn fem_grid(
     problem: &Problem,
     model: &Model,
     mesh: &Mesh,
     solution: &Solution,
     reaction: Vec<[f64; 2]>,
-) -> String {
+) -> Grid {
     let connectivity: Vec<Vec<usize>> = fem_sub_cells(mesh).collect();
     let mut point_data = field_arrays(
         &problem.material,
@@ -222,7 +245,8 @@ fn fem_vtu(
         &solution.hoop,
     );
     point_data.push(Array::Vector("reaction".into(), reaction));
-    unstructured_grid(&model.nodes.points, &connectivity, VTK_QUAD, &point_data, &[])
+    let points = model.nodes.points.clone();
+    Grid { points, cells: connectivity, vtk_type: VTK_QUAD, point_data, cell_data: Vec::new() }
 }
 
 /// One data array of a VTK XML piece.
@@ -231,6 +255,8 @@ pub(crate) enum Array {
     Int(String, Vec<i64>),
     /// 2-D vectors, written with a zero third component.
     Vector(String, Vec<[f64; 2]>),
+    /// 3-D vectors.
+    Vector3(String, Vec<[f64; 3]>),
     /// Symmetric tensors in VTK's order `xx, yy, zz, xy, yz, xz` ([`stress_tensor`]).
     Tensor(String, Vec<[f64; 6]>),
     /// Scalars.
@@ -296,7 +322,7 @@ pub(crate) fn write_arrays(s: &mut String, tag: &str, arrays: &[Array]) {
     let _ = write!(s, "<{tag}");
     if tag != "FieldData" {
         let vectors = arrays.iter().find_map(|a| match a {
-            Array::Vector(name, _) => Some(name.as_str()),
+            Array::Vector(name, _) | Array::Vector3(name, _) => Some(name.as_str()),
             _ => None,
         });
         let tensors = arrays.iter().find_map(|a| match a {
@@ -333,6 +359,17 @@ pub(crate) fn write_arrays(s: &mut String, tag: &str, arrays: &[Array]) {
                 );
                 for u in v {
                     let _ = writeln!(s, "{} {} 0", num(u[0]), num(u[1]));
+                }
+            }
+            Array::Vector3(name, v) => {
+                let _ = writeln!(
+                    s,
+                    "<DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" NumberOfTuples=\"{}\" format=\"ascii\">",
+                    xml_escape(name),
+                    v.len()
+                );
+                for u in v {
+                    let _ = writeln!(s, "{} {} {}", num(u[0]), num(u[1]), num(u[2]));
                 }
             }
             Array::Tensor(name, v) => {

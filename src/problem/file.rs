@@ -831,6 +831,17 @@ pub struct OutputFile {
     /// `[[step]]` tables or friction).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub steps: Option<bool>,
+    /// Axisymmetric bodies: also write `solution_revolved.vtu`, the section swept about the
+    /// axis by this angle in degrees, in (0, 360] (default: not written).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub revolve: Option<f64>,
+    /// The segments (wedges) over the swept angle (default one per 5°; needs `revolve`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub revolve_segments: Option<usize>,
+    /// The force, length and stress units of the numbers, for axis labels, e.g.
+    /// `"N, mm, MPa"` (default: the labels say "length" and "units of E").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<String>,
 }
 
 /// One `[[boundary]]` entry.

@@ -153,6 +153,10 @@ pub struct Problem {
     pub profile_edge: usize,
     /// Write every load increment's contact table (`[output] steps`).
     pub write_steps: bool,
+    /// Write the section swept about the axis (`[output] revolve`; axisymmetric bodies).
+    pub revolve: Option<Revolve>,
+    /// The units named in axis labels (`[output] units`; `None`: "length", "units of E").
+    pub units: Option<Units>,
     /// Frictionless contact, if any.
     pub contact: Option<ContactSpec>,
     /// The rigid obstacles the contact edge touches when its target is
@@ -304,6 +308,40 @@ fn invalid(field: &str, value: impl std::fmt::Display, reason: impl Into<String>
         }
     }
     ProblemError::Invalid { field: field.into(), value, reason: reason.into() }
+}
+
+/// `[output] revolve` and `revolve_segments`: the angle an axisymmetric body's section is
+/// swept about the axis for `solution_revolved.vtu`, and the segments (wedges) over it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Revolve {
+    /// Swept angle `Θ` in degrees, in `(0, 360]`.
+    pub angle_degrees: f64,
+    /// Segments `n` over `Θ` (each `Θ / n`), at least 1.
+    pub segments: usize,
+}
+
+/// `[output] units = "N, mm, MPa"`: the names of the force, length and stress units of the
+/// problem's numbers, used in the plots' axis labels only (nothing is converted).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Units {
+    /// Force unit.
+    pub force: String,
+    /// Length unit.
+    pub length: String,
+    /// Stress unit.
+    pub stress: String,
+}
+
+impl Revolve {
+    /// Default segment width in degrees: `revolve_segments` defaults to `⌈Θ / 5°⌉`.
+    pub const SEGMENT_DEGREES: f64 = 5.0;
+    /// Most segments accepted.
+    pub const MAX_SEGMENTS: usize = 3600;
+
+    /// Whether the sweep is a full turn (the last copy of the section is the first).
+    pub fn full_turn(&self) -> bool {
+        self.angle_degrees == 360.0
+    }
 }
 
 impl Problem {

@@ -246,6 +246,15 @@ impl TryFrom<ProblemFile> for Problem {
             Some(r) => Some(adaptive(r, &problem)?),
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
+        problem.revolve = revolve(&file.output, &problem)?;
+        problem.units = file.output.units.as_deref().map(units).transpose()?;
+        let named = problem.units.clone();
+        if let Some(p2) = problem.second_body.as_deref_mut() {
+            p2.units = named.clone();
+        }
+        for p in problem.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()) {
+            p.units = named.clone();
+        }
         super::axisymmetric::refuse_unsupported(&problem)?;
         let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0)
             || problem
@@ -368,6 +377,8 @@ fn validate_body(
         body_force,
         profile_edge: 0,
         write_steps: false,
+        revolve: None,
+        units: None,
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
@@ -1070,6 +1081,61 @@ fn smallest_extent(domain: &Domain) -> f64 {
 
 /// Directory names of the outputs that a body's name must not take.
 const RESERVED_NAMES: [&str; 3] = ["plots", "mfvm", "fem"];
+
+/// `[output] revolve` (degrees in `(0, 360]`, axisymmetric bodies only) and
+/// `revolve_segments` (1 to [`Revolve::MAX_SEGMENTS`], only with `revolve`; default
+/// `⌈Θ / 5°⌉`).
+fn revolve(output: &OutputFile, problem: &Problem) -> Result<Option<Revolve>, ProblemError> {
+    let Some(angle) = output.revolve else {
+        return match output.revolve_segments {
+            Some(n) => Err(invalid(
+                "output.revolve_segments",
+                n,
+                "needs output.revolve, the angle to sweep (degrees)",
+            )),
+            None => Ok(None),
+        };
+    };
+    if !(0.0..=360.0).contains(&angle) || angle == 0.0 {
+        return Err(invalid("output.revolve", angle, "must be an angle in (0, 360] degrees"));
+    }
+    if !problem.material.is_axisymmetric() {
+        return Err(invalid(
+            "output.revolve",
+            angle,
+            "sweeps an axisymmetric section about its axis: needs material.plane = \"axisymmetric\"",
+        ));
+    }
+    let segments = match output.revolve_segments {
+        Some(n) if (1..=Revolve::MAX_SEGMENTS).contains(&n) => n,
+        Some(n) => {
+            let reason = format!("must be 1 to {}", Revolve::MAX_SEGMENTS);
+            return Err(invalid("output.revolve_segments", n, reason));
+        }
+        None => (angle / Revolve::SEGMENT_DEGREES).ceil() as usize,
+    };
+    Ok(Some(Revolve { angle_degrees: angle, segments }))
+}
+
+/// `[output] units`: three names separated by commas (force, length, stress), each 1–16
+/// characters without control characters.
+fn units(text: &str) -> Result<Units, ProblemError> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let valid =
+        |p: &&str| (1..=16).contains(&p.chars().count()) && !p.chars().any(char::is_control);
+    match parts.as_slice() {
+        [force, length, stress] if parts.iter().all(valid) => Ok(Units {
+            force: force.to_string(),
+            length: length.to_string(),
+            stress: stress.to_string(),
+        }),
+        _ => Err(invalid(
+            "output.units",
+            format!("{text:?}"),
+            "three unit names separated by commas, force, length and stress (each 1–16 characters), e.g. \"N, mm, MPa\"",
+        )),
+    }
+}
 
 /// A body name that is used as an output directory (`<out>/<name>/`): 1–64 ASCII letters,
 /// digits, `_` or `-`, so that it can neither be empty, nor leave the output directory, nor

@@ -33,6 +33,8 @@ pub fn base_problem(domain: Domain, h: f64, layout: Layout, material: Material) 
         body_force: None,
         profile_edge: 0,
         write_steps: false,
+        revolve: None,
+        units: None,
         contact: None,
         obstacles: Vec::new(),
         second_body: None,
