@@ -2,7 +2,7 @@
 //! density, the initial velocity, and the refusals of what the first dynamic increment does
 //! not support (docs/dev/dynamics.md).
 
-use super::{ContactSolver, Method, Precision, Problem, ProblemError, ProblemFile, invalid};
+use super::{ContactSolver, Precision, Problem, ProblemError, ProblemFile, invalid};
 
 /// Most time steps a run may take.
 pub const MAX_STEPS: usize = 10_000_000;
@@ -147,8 +147,6 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("refinement", "adaptive refinement"))
     } else if problem.material.is_axisymmetric() {
         Some(("material.plane", "an axisymmetric body"))
-    } else if problem.discretisation.method == Method::Fem {
-        Some(("discretisation.method", "the finite element method"))
     } else if problem.discretisation.precision != Precision::Double {
         Some(("discretisation.precision", "mixed precision"))
     } else if problem.write_steps {
