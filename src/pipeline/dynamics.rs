@@ -4,7 +4,7 @@
 
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
-use crate::contact::{self, BodyView, Candidates};
+use crate::contact::{self, BodyView, Candidates, rings};
 use crate::dynamics::{self, Body, Contact, Simulation, StrainEnergy};
 use crate::error::Error;
 use crate::fem::{self, Mesh};
@@ -152,7 +152,7 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         Some(spec) => Some(clock.run("candidates", || {
             let target =
                 |x| contact::rigid_target(problem, spec, x).unwrap_or((f64::INFINITY, [0.0, 1.0]));
-            match &body {
+            let mut found = match &body {
                 DynamicBody::Mfvm(parts) => {
                     let view = BodyView {
                         domain: &problem.domain,
@@ -172,7 +172,12 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
                     spec.edge,
                     &target,
                 ),
+            }?;
+            if problem.material.is_axisymmetric() {
+                let area = ring_areas(problem, &body, spec.edge, &found);
+                rings::into_rings(&mut found, area);
             }
+            Ok::<_, contact::ContactError>(found)
         })?),
         None => None,
     };
@@ -189,30 +194,56 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
     Ok(DynamicOutcome { candidates, simulation, dynamics, timings: clock.timings, body })
 }
 
-/// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`
-/// on the nodal values; FE: HRZ) and its strain energy.
-fn stepped_body<'a>(problem: &Problem, body: &'a DynamicBody, density: f64) -> Body<'a> {
+/// The ring areas of the axisymmetric `body`'s candidates `found` on `edge`.
+fn ring_areas(problem: &Problem, body: &DynamicBody, edge: usize, found: &Candidates) -> Vec<f64> {
     match body {
-        DynamicBody::Mfvm(parts) => Body {
-            system: &parts.system,
-            node_shapes: &parts.node_shapes,
-            points: &parts.nodes.points,
-            mass: dynamics::mass::lumped_mass(&parts.mfvm.cells, density),
-            strain: StrainEnergy::Collocated {
-                cells: &parts.mfvm.cells,
-                constitutive: problem.material.constitutive(),
-            },
-        },
-        DynamicBody::Fem(p) => Body {
-            system: &p.system,
-            node_shapes: &p.node_shapes,
-            points: &p.nodes.points,
-            mass: fem::mass::lumped_mass(&p.mesh, density, fem::mass::Lumping::Hrz)
-                .into_iter()
-                .flat_map(|m| [m, m])
-                .collect(),
-            strain: StrainEnergy::Quadratic(&p.system.interior_stiffness),
-        },
+        DynamicBody::Mfvm(p) => rings::mfvm_areas(&p.mfvm.faces.boundary, edge, &found.nodes),
+        DynamicBody::Fem(p) => {
+            rings::fem_areas(&p.mesh, &problem.domain, &p.nodes, edge, &found.nodes)
+        }
+    }
+}
+
+/// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`
+/// on the nodal values; FE: HRZ; axisymmetric: per radian, `ρ r dA`) and its strain energy
+/// (the MFVM's collocated strains have no hoop term, so an axisymmetric MFVM body measures
+/// `½ uᵀ K u` as the FE does).
+fn stepped_body<'a>(problem: &Problem, body: &'a DynamicBody, density: f64) -> Body<'a> {
+    let axisymmetric = problem.material.is_axisymmetric();
+    match body {
+        DynamicBody::Mfvm(parts) => {
+            let cells = &parts.mfvm.cells;
+            Body {
+                system: &parts.system,
+                node_shapes: &parts.node_shapes,
+                points: &parts.nodes.points,
+                mass: match axisymmetric {
+                    true => dynamics::mass::lumped_mass_per_radian(cells, density),
+                    false => dynamics::mass::lumped_mass(cells, density),
+                },
+                strain: match axisymmetric {
+                    true => StrainEnergy::Quadratic(&parts.system.interior_stiffness),
+                    false => StrainEnergy::Collocated {
+                        cells,
+                        constitutive: problem.material.constitutive(),
+                    },
+                },
+            }
+        }
+        DynamicBody::Fem(p) => {
+            let hrz = fem::mass::Lumping::Hrz;
+            let nodal = match axisymmetric {
+                true => fem::mass::lumped_mass_per_radian(&p.mesh, density, hrz),
+                false => fem::mass::lumped_mass(&p.mesh, density, hrz),
+            };
+            Body {
+                system: &p.system,
+                node_shapes: &p.node_shapes,
+                points: &p.nodes.points,
+                mass: nodal.into_iter().flat_map(|m| [m, m]).collect(),
+                strain: StrainEnergy::Quadratic(&p.system.interior_stiffness),
+            }
+        }
     }
 }
 

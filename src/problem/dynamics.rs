@@ -145,8 +145,6 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("step", "[[step]] load steps"))
     } else if problem.adaptive.is_some() {
         Some(("refinement", "adaptive refinement"))
-    } else if problem.material.is_axisymmetric() {
-        Some(("material.plane", "an axisymmetric body"))
     } else if problem.discretisation.precision != Precision::Double {
         Some(("discretisation.precision", "mixed precision"))
     } else if problem.write_steps {
