@@ -128,8 +128,9 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
     })
 }
 
-/// What the first dynamic increment refuses: it steps one MFVM body, frictionless, against
-/// rigid obstacles, from rest at its prescribed displacements.
+/// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
+/// axisymmetric), frictionless, against rigid obstacles, from rest at its prescribed
+/// displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let spec = problem.contact.as_ref();
     let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
@@ -157,7 +158,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one MFVM body, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),
