@@ -2,7 +2,9 @@
 //! (docs/method.md §10.2), and the free velocity of a step.
 //!
 //! A row of `K` that is a collocated displacement condition (docs/method.md §3.6) has no mass
-//! and keeps its collocation row unscaled in `M̂`: the step then places the field at
+//! and its collocation row enters `M̂` scaled by `h²θ²` like the other rows of `K` (so the
+//! LU's pivoting sees rows of one magnitude: unscaled, the rows of a steel body's axis
+//! rollers were 10¹⁶ times the others and the steps diverged): the step then places the field at
 //! `q_{n+θ}` on the prescribed value (zero in this increment), exactly.
 
 use super::DynamicsError;
@@ -18,7 +20,6 @@ pub struct Iteration<'a> {
     pub factorisation: Factorisation,
     h: f64,
     theta: f64,
-    constrained: Vec<bool>,
 }
 
 impl<'a> Iteration<'a> {
@@ -54,17 +55,17 @@ impl<'a> Iteration<'a> {
         for c in 0..n {
             for e in k.col_ptr[c]..k.col_ptr[c + 1] {
                 let r = k.row_idx[e];
-                entries.push((r, c, if constrained[r] { k.values[e] } else { s * k.values[e] }));
+                entries.push((r, c, s * k.values[e]));
             }
         }
         let matrix = compressed_columns(n, entries);
         let factorisation =
             Factorisation::with_ordering(&matrix, ColumnOrdering::NestedDissection(points))?;
-        Ok(Self { system, factorisation, h, theta, constrained })
+        Ok(Self { system, factorisation, h, theta })
     }
 
     /// The velocity at the end of the step without contact impulses:
-    /// `v_free = v + M̂⁻¹ h (f − K (q + hθ v))` (a collocation row: divided by `h²θ²`).
+    /// `v_free = v + M̂⁻¹ h (f − K (q + hθ v))` (a collocation row's `f` is its prescribed value).
     ///
     /// # Errors
     /// [`DynamicsError::Solve`] when the solve is not finite.
@@ -72,12 +73,7 @@ impl<'a> Iteration<'a> {
         let (h, theta) = (self.h, self.theta);
         let ahead: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + h * theta * v).collect();
         let k_ahead = mul(&self.system.matrix, &ahead);
-        let rhs: Vec<f64> = (0..q.len())
-            .map(|d| {
-                let r = h * (self.system.rhs[d] - k_ahead[d]);
-                if self.constrained[d] { r / (h * h * theta * theta) } else { r }
-            })
-            .collect();
+        let rhs: Vec<f64> = (0..q.len()).map(|d| h * (self.system.rhs[d] - k_ahead[d])).collect();
         let dv = self.factorisation.solve(&rhs)?;
         Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
     }

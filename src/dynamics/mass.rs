@@ -23,6 +23,27 @@ pub fn lumped_mass(cells: &[Cell], density: f64) -> Vec<f64> {
         .collect()
 }
 
+/// The axisymmetric body's mass per radian on the nodal values: `ρ ∫_{Ω_I} r dA` for both
+/// DOFs of every node (`x = r`; docs/method.md §10.1), exact over the cells' polygons (the
+/// first moment `∫ r dA = ⅙ Σ_k (r_k + r_{k+1})(r_k z_{k+1} − r_{k+1} z_k)`).
+pub fn lumped_mass_per_radian(cells: &[Cell], density: f64) -> Vec<f64> {
+    cells
+        .iter()
+        .flat_map(|c| {
+            let n = c.vertices.len();
+            let moment: f64 = (0..n)
+                .map(|k| {
+                    let (a, b) = (c.vertices[k], c.vertices[(k + 1) % n]);
+                    (a[0] + b[0]) * (a[0] * b[1] - b[0] * a[1])
+                })
+                .sum::<f64>()
+                / 6.0;
+            let m = density * moment;
+            [m, m]
+        })
+        .collect()
+}
+
 /// Total mass of one direction: `Σ_I ρ |Ω_I|` (the x DOFs' masses).
 pub fn total(mass: &[f64]) -> f64 {
     mass.iter().step_by(2).sum()

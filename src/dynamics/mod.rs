@@ -28,7 +28,7 @@ pub use history::{Figures, History, Record};
 pub use impacts::Impacts;
 pub use iteration::Iteration;
 
-use crate::assembly::GlobalSystem;
+use crate::assembly::{BlockRows, GlobalSystem};
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
 use crate::lcp::LcpError;
@@ -57,18 +57,43 @@ pub enum DynamicsError {
     },
 }
 
-/// What the time stepping needs of a discretised MFVM body.
+/// What the time stepping needs of a discretised body (MFVM or finite elements).
 pub struct Body<'a> {
-    /// `K` with its collocation rows, and `f`.
+    /// `K` with its collocation rows (MFVM) or eliminated rows (FE), and `f`.
     pub system: &'a GlobalSystem,
-    /// The subdomain cells (mass and strain energy).
-    pub cells: &'a [Cell],
-    /// Shape functions with gradients at the nodes (collocated strains).
+    /// The nodal values `Φ` of the parameters: the MLS shape functions at the nodes (with
+    /// gradients: collocated strains), or the identity of the finite elements.
     pub node_shapes: &'a ShapeSet,
     /// Node positions (the ordering of the factorisation).
     pub points: &'a [Point],
-    /// Constitutive matrix `D`.
-    pub constitutive: Constitutive,
+    /// The lumped mass per DOF (interleaved), acting on the nodal values `Φ v̂`.
+    pub mass: Vec<f64>,
+    /// How the strain energy is measured.
+    pub strain: StrainEnergy<'a>,
+}
+
+/// The strain energy of a state (docs/method.md §10.4).
+pub enum StrainEnergy<'a> {
+    /// MFVM: `½ Σ_I |Ω_I| ε̂_Iᵀ D ε̂_I` from the collocated strains over the cells.
+    Collocated {
+        /// The subdomain cells.
+        cells: &'a [Cell],
+        /// Constitutive matrix `D`.
+        constitutive: Constitutive,
+    },
+    /// Finite elements: `½ uᵀ K u` with the symmetric unconstrained stiffness.
+    Quadratic(&'a BlockRows),
+}
+
+impl StrainEnergy<'_> {
+    fn of(&self, node_shapes: &ShapeSet, q: &[f64]) -> f64 {
+        match self {
+            Self::Collocated { cells, constitutive } => {
+                energy::strain(node_shapes, cells, constitutive, q)
+            }
+            Self::Quadratic(k) => 0.5 * k.mul(q).iter().zip(q).map(|(a, b)| a * b).sum::<f64>(),
+        }
+    }
 }
 
 /// The contact candidates against rigid obstacles: their operators and initial gaps.
@@ -157,8 +182,8 @@ pub fn simulate(
     let (h, theta, n) = (params.time_step, params.theta, body.system.matrix.n);
     let mut seconds = Seconds::default();
     let clock = Instant::now();
-    let mass = mass::lumped_mass(body.cells, params.density);
-    let iteration = Iteration::new(body.system, &mass, body.node_shapes, h, theta, body.points)?;
+    let mass = &body.mass;
+    let iteration = Iteration::new(body.system, mass, body.node_shapes, h, theta, body.points)?;
     let impacts = match &contact {
         Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, n)?),
         None => None,
@@ -167,7 +192,7 @@ pub fn simulate(
     let load = free_load(body.system);
     let mut state =
         State { q: vec![0.0; n], v: (0..n).map(|d| params.initial_velocity[d % 2]).collect() };
-    let mut history = History { records: vec![record(body, &mass, &state, 0.0)] };
+    let mut history = History { records: vec![record(body, &state, 0.0)] };
     let steps = params.steps();
     let snapshot =
         |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
@@ -195,7 +220,7 @@ pub fn simulate(
         let previous = &history.records[history.records.len() - 1];
         let (external, loss) = (previous.external_work, previous.contact_loss);
         state = State { q: q_next, v: v_next };
-        let mut rec = record(body, &mass, &state, step as f64 * h);
+        let mut rec = record(body, &state, step as f64 * h);
         rec.external_work = external + load.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
         rec.contact_loss = loss;
         if let (Some(impacts), Some(answer)) = (&impacts, &answer) {
@@ -216,7 +241,7 @@ pub fn simulate(
         frames,
         displacement: state.q,
         velocity: state.v,
-        mass,
+        mass: body.mass.clone(),
         final_gap,
         seconds,
     })
@@ -230,13 +255,13 @@ fn free_load(system: &GlobalSystem) -> Vec<f64> {
 }
 
 /// The record of `state` at `time`, without contact or work (the caller adds them).
-fn record(body: &Body<'_>, mass: &[f64], state: &State, time: f64) -> Record {
-    let v = mass::nodal_values(body.node_shapes, &state.v);
+fn record(body: &Body<'_>, state: &State, time: f64) -> Record {
+    let (mass, v) = (&body.mass, mass::nodal_values(body.node_shapes, &state.v));
     Record {
         time,
         contact_force: 0.0,
         kinetic_energy: energy::kinetic(mass, &v),
-        strain_energy: energy::strain(body.node_shapes, body.cells, &body.constitutive, &state.q),
+        strain_energy: body.strain.of(body.node_shapes, &state.q),
         external_work: 0.0,
         contact_loss: 0.0,
         momentum: energy::momentum(mass, &v),

@@ -21,22 +21,40 @@ pub enum Lumping {
 
 /// The lumped mass of every node of `mesh` (per unit thickness).
 pub fn lumped_mass(mesh: &Mesh, density: f64, lumping: Lumping) -> Vec<f64> {
+    assembled(mesh, |k| element_mass(mesh, k, density, lumping, false))
+}
+
+/// The lumped mass per radian of every node of an axisymmetric `mesh` (`x = r`): the element
+/// integrals weighted by `r` (`ρ ∫ N_a² r dA` scaled to `ρ ∫ r dA` for HRZ).
+pub fn lumped_mass_per_radian(mesh: &Mesh, density: f64, lumping: Lumping) -> Vec<f64> {
+    assembled(mesh, |k| element_mass(mesh, k, density, lumping, true))
+}
+
+fn assembled(mesh: &Mesh, element: impl Fn(usize) -> Vec<f64>) -> Vec<f64> {
     let mut mass = vec![0.0; mesh.node_count()];
     for k in 0..mesh.element_count() {
-        for (a, m) in element_mass(mesh, k, density, lumping).into_iter().enumerate() {
+        for (a, m) in element(k).into_iter().enumerate() {
             mass[mesh.cell(k).nodes[a] as usize] += m;
         }
     }
     mass
 }
 
-/// The lumped masses of the nodes of element `k`, in local order.
-pub fn element_mass(mesh: &Mesh, k: usize, density: f64, lumping: Lumping) -> Vec<f64> {
+/// The lumped masses of the nodes of element `k`, in local order (`per_radian`: the
+/// integrals weighted by `r = x`).
+pub fn element_mass(
+    mesh: &Mesh,
+    k: usize,
+    density: f64,
+    lumping: Lumping,
+    per_radian: bool,
+) -> Vec<f64> {
     let shape = mesh.cell(k).shape;
     let n = shape.node_count();
     let (mut total, mut rows, mut diagonal) = (0.0, vec![0.0; n], vec![0.0; n]);
     for ([xi, eta], w) in shape.quadrature() {
-        let weight = w * mesh.area_factor(k, xi, eta);
+        let r = if per_radian { mesh.point(k, xi, eta)[0] } else { 1.0 };
+        let weight = w * r * mesh.area_factor(k, xi, eta);
         let values = shape.functions(xi, eta)[0];
         total += weight;
         for a in 0..n {
@@ -75,18 +93,18 @@ mod tests {
 
     #[test]
     fn row_sums_vanish_at_the_triangle_corners_and_not_on_the_quadrilateral() {
-        let t = element_mass(&triangle(), 0, 1.0, Lumping::RowSum);
+        let t = element_mass(&triangle(), 0, 1.0, Lumping::RowSum, false);
         for (a, corner) in t[..3].iter().enumerate() {
             assert!(corner.abs() < 1e-14, "corner {a}: {corner}");
         }
         assert!(t[3..].iter().all(|&x| (x - 1.0 / 3.0).abs() < 1e-14), "{t:?}");
         let grid = Mesh::rectangle([0.0, 1.0], [0.0, 1.0], 1.0);
-        let q = element_mass(&grid, 0, 1.0, Lumping::RowSum);
+        let q = element_mass(&grid, 0, 1.0, Lumping::RowSum, false);
         let expected = [1.0 / 36.0, 1.0 / 9.0, 1.0 / 36.0, 1.0 / 9.0, 4.0 / 9.0];
         for (a, e) in [0, 1, 2, 3, 4].into_iter().zip(expected) {
             assert!((q[a] - e).abs() < 1e-14, "node {a}: {} against {e}", q[a]);
         }
-        let h = element_mass(&grid, 0, 1.0, Lumping::Hrz);
+        let h = element_mass(&grid, 0, 1.0, Lumping::Hrz, false);
         println!("Q9 HRZ corner, mid-side, centre: {:.6} {:.6} {:.6}", h[0], h[1], h[4]);
     }
 }

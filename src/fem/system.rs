@@ -37,7 +37,9 @@ pub fn assemble(input: &FemInput<'_>) -> Result<GlobalSystem, FemError> {
         stiffness(input.mesh, input.body.nodes.len(), input.body.d, input.body.hoop.as_ref());
     let load = load(input);
     let (constraints, pinned) = constraints_and_pin(input);
-    check_restraint(&constraints, input.body.nodes, input.body.hoop.is_some())?;
+    if !input.body.inertia {
+        check_restraint(&constraints, input.body.nodes, input.body.hoop.is_some())?;
+    }
     let scale = input.body.d[0][0];
     let (rhs, constrained) = eliminated_rhs(&stiffness, &load, &constraints, scale);
     let pin = pinned.map(|p| dof(p.node as usize, p.axis));

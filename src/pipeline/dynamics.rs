@@ -1,20 +1,55 @@
 //! Elastodynamic runs (`[dynamics]`, docs/method.md §10): the body assembled without a
-//! static factorisation, its contact candidates against the rigid obstacles, the time
-//! stepping ([`crate::dynamics::simulate`]) and the outputs.
+//! static factorisation (MFVM or finite elements), its contact candidates against the rigid
+//! obstacles, the time stepping ([`crate::dynamics::simulate`]) and the outputs.
 
 use super::{MfvmParts, mfvm_parts};
-use crate::contact::{self, BodyView, Candidates};
-use crate::dynamics::{self, Body, Contact, Simulation};
+use crate::assembly::{self, GlobalSystem};
+use crate::contact::{self, BodyView, Candidates, rings};
+use crate::dynamics::{self, Body, Contact, Simulation, StrainEnergy};
 use crate::error::Error;
+use crate::fem::{self, Mesh};
+use crate::mls::ShapeSet;
+use crate::nodes::Nodes;
 use crate::post::{self, history::DynamicSummary};
+use crate::problem::Method;
 use crate::problem::{Problem, dynamics::Dynamics};
 use crate::progress::{Clock, Progress, StageTiming};
 use std::path::{Path, PathBuf};
 
+/// The body of a dynamic run, assembled.
+pub enum DynamicBody {
+    /// MFVM: nodes, shapes, system and the cells.
+    Mfvm(Box<MfvmParts>),
+    /// Finite elements: the mesh, its nodes, the system and the identity `Φ`.
+    Fem(Box<FemParts>),
+}
+
+/// The finite element body of a dynamic run, assembled, not factorised.
+pub struct FemParts {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Its nodes.
+    pub nodes: Nodes,
+    /// `K` (eliminated rows) and `f`.
+    pub system: GlobalSystem,
+    /// The identity as shape functions (`u^h(x_I) = u_I`).
+    pub node_shapes: ShapeSet,
+}
+
+impl DynamicBody {
+    /// The nodes.
+    pub fn nodes(&self) -> &Nodes {
+        match self {
+            Self::Mfvm(p) => &p.nodes,
+            Self::Fem(p) => &p.nodes,
+        }
+    }
+}
+
 /// A dynamic run, solved: the body, its candidates and the time history.
 pub struct DynamicOutcome {
-    /// The body's nodes, shapes, system and MFVM data.
-    pub parts: MfvmParts,
+    /// The body.
+    pub body: DynamicBody,
     /// The candidates (`None` without contact).
     pub candidates: Option<Candidates>,
     /// The time stepping's result.
@@ -28,11 +63,11 @@ pub struct DynamicOutcome {
 impl DynamicOutcome {
     /// Number of nodes.
     pub fn nodes(&self) -> usize {
-        self.parts.nodes.len()
+        self.body.nodes().len()
     }
     /// The nodes' positions.
     pub fn points(&self) -> &[crate::geometry::Point] {
-        &self.parts.nodes.points
+        &self.body.nodes().points
     }
 }
 
@@ -79,6 +114,24 @@ pub fn discretise(problem: &Problem, clock: &mut Clock<'_>) -> Result<MfvmParts,
     mfvm_parts(problem, false, None, clock)
 }
 
+/// The finite element body of the dynamic `problem`, assembled, not factorised (inertia
+/// holds its rigid-body motions).
+///
+/// # Errors
+/// A stage's error.
+pub fn discretise_fem(problem: &Problem, clock: &mut Clock<'_>) -> Result<FemParts, Error> {
+    let (mesh, nodes) = clock.run("mesh", || fem::mesh(problem))?;
+    let d = problem.material.constitutive();
+    let system = clock.run("assembly", || {
+        fem::system::assemble(&fem::system::FemInput {
+            body: assembly::Body::new(problem, &nodes, &d),
+            mesh: &mesh,
+        })
+    })?;
+    let ids: Vec<u32> = (0..nodes.len() as u32).collect();
+    Ok(FemParts { node_shapes: ShapeSet::nodal(&ids), mesh, nodes, system })
+}
+
 /// Solves the dynamic `problem` (its `dynamics` must be `Some`).
 ///
 /// # Errors
@@ -91,40 +144,107 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
             reason: "a dynamic run needs a [dynamics] table".into(),
         })?;
     let mut clock = Clock::new(progress, Vec::new());
-    let parts = discretise(problem, &mut clock)?;
+    let body = match problem.discretisation.method {
+        Method::Fem => DynamicBody::Fem(Box::new(discretise_fem(problem, &mut clock)?)),
+        Method::Mfvm => DynamicBody::Mfvm(Box::new(discretise(problem, &mut clock)?)),
+    };
     let candidates = match &problem.contact {
         Some(spec) => Some(clock.run("candidates", || {
-            let view = BodyView {
-                domain: &problem.domain,
-                nodes: &parts.nodes,
-                supports: &parts.mfvm.supports,
-                mls: &problem.discretisation.mls,
-                boundary_faces: &parts.mfvm.faces.boundary,
-                system: &parts.system,
-            };
             let target =
                 |x| contact::rigid_target(problem, spec, x).unwrap_or((f64::INFINITY, [0.0, 1.0]));
-            contact::candidates(view, spec.edge, &target, spec.condensation)
+            let mut found = match &body {
+                DynamicBody::Mfvm(parts) => {
+                    let view = BodyView {
+                        domain: &problem.domain,
+                        nodes: &parts.nodes,
+                        supports: &parts.mfvm.supports,
+                        mls: &problem.discretisation.mls,
+                        boundary_faces: &parts.mfvm.faces.boundary,
+                        system: &parts.system,
+                    };
+                    contact::candidates(view, spec.edge, &target, spec.condensation)
+                }
+                DynamicBody::Fem(p) => contact::fem::candidates(
+                    &p.mesh,
+                    &problem.domain,
+                    &p.nodes,
+                    &p.system,
+                    spec.edge,
+                    &target,
+                ),
+            }?;
+            if problem.material.is_axisymmetric() {
+                let area = ring_areas(problem, &body, spec.edge, &found);
+                rings::into_rings(&mut found, area);
+            }
+            Ok::<_, contact::ContactError>(found)
         })?),
         None => None,
     };
-    let body = Body {
-        system: &parts.system,
-        cells: &parts.mfvm.cells,
-        node_shapes: &parts.node_shapes,
-        points: &parts.nodes.points,
-        constitutive: problem.material.constitutive(),
-    };
+    let stepped = stepped_body(problem, &body, dynamics.density);
     let contact =
         candidates.as_ref().map(|c| Contact { operator: &c.operator, initial_gap: &c.initial_gap });
     let simulation = clock.run_counted("time steps", |advance| {
-        dynamics::simulate(&body, contact, &dynamics, advance)
+        dynamics::simulate(&stepped, contact, &dynamics, advance)
     })?;
     // The shares of the stage: the set-up (M̂'s LU and W) and the steps' LCPs.
     let s = simulation.seconds;
     clock.timings.push(StageTiming { stage: "time steps: M̂ and W set-up", seconds: s.setup });
     clock.timings.push(StageTiming { stage: "time steps: LCPs", seconds: s.lcp });
-    Ok(DynamicOutcome { candidates, simulation, dynamics, timings: clock.timings, parts })
+    Ok(DynamicOutcome { candidates, simulation, dynamics, timings: clock.timings, body })
+}
+
+/// The ring areas of the axisymmetric `body`'s candidates `found` on `edge`.
+fn ring_areas(problem: &Problem, body: &DynamicBody, edge: usize, found: &Candidates) -> Vec<f64> {
+    match body {
+        DynamicBody::Mfvm(p) => rings::mfvm_areas(&p.mfvm.faces.boundary, edge, &found.nodes),
+        DynamicBody::Fem(p) => {
+            rings::fem_areas(&p.mesh, &problem.domain, &p.nodes, edge, &found.nodes)
+        }
+    }
+}
+
+/// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`
+/// on the nodal values; FE: HRZ; axisymmetric: per radian, `ρ r dA`) and its strain energy
+/// (the MFVM's collocated strains have no hoop term, so an axisymmetric MFVM body measures
+/// `½ uᵀ K u` as the FE does).
+fn stepped_body<'a>(problem: &Problem, body: &'a DynamicBody, density: f64) -> Body<'a> {
+    let axisymmetric = problem.material.is_axisymmetric();
+    match body {
+        DynamicBody::Mfvm(parts) => {
+            let cells = &parts.mfvm.cells;
+            Body {
+                system: &parts.system,
+                node_shapes: &parts.node_shapes,
+                points: &parts.nodes.points,
+                mass: match axisymmetric {
+                    true => dynamics::mass::lumped_mass_per_radian(cells, density),
+                    false => dynamics::mass::lumped_mass(cells, density),
+                },
+                strain: match axisymmetric {
+                    true => StrainEnergy::Quadratic(&parts.system.interior_stiffness),
+                    false => StrainEnergy::Collocated {
+                        cells,
+                        constitutive: problem.material.constitutive(),
+                    },
+                },
+            }
+        }
+        DynamicBody::Fem(p) => {
+            let hrz = fem::mass::Lumping::Hrz;
+            let nodal = match axisymmetric {
+                true => fem::mass::lumped_mass_per_radian(&p.mesh, density, hrz),
+                false => fem::mass::lumped_mass(&p.mesh, density, hrz),
+            };
+            Body {
+                system: &p.system,
+                node_shapes: &p.node_shapes,
+                points: &p.nodes.points,
+                mass: nodal.into_iter().flat_map(|m| [m, m]).collect(),
+                strain: StrainEnergy::Quadratic(&p.system.interior_stiffness),
+            }
+        }
+    }
 }
 
 /// Solves the dynamic `problem` and writes its outputs to `out` (`input`: the problem file

@@ -2,7 +2,7 @@
 //! density, the initial velocity, and the refusals of what the first dynamic increment does
 //! not support (docs/dev/dynamics.md).
 
-use super::{ContactSolver, Method, Precision, Problem, ProblemError, ProblemFile, invalid};
+use super::{ContactSolver, Precision, Problem, ProblemError, ProblemFile, invalid};
 
 /// Most time steps a run may take.
 pub const MAX_STEPS: usize = 10_000_000;
@@ -128,8 +128,9 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
     })
 }
 
-/// What the first dynamic increment refuses: it steps one MFVM body, frictionless, against
-/// rigid obstacles, from rest at its prescribed displacements.
+/// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
+/// axisymmetric), frictionless, against rigid obstacles, from rest at its prescribed
+/// displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let spec = problem.contact.as_ref();
     let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
@@ -145,10 +146,6 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("step", "[[step]] load steps"))
     } else if problem.adaptive.is_some() {
         Some(("refinement", "adaptive refinement"))
-    } else if problem.material.is_axisymmetric() {
-        Some(("material.plane", "an axisymmetric body"))
-    } else if problem.discretisation.method == Method::Fem {
-        Some(("discretisation.method", "the finite element method"))
     } else if problem.discretisation.precision != Precision::Double {
         Some(("discretisation.precision", "mixed precision"))
     } else if problem.write_steps {
@@ -161,7 +158,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one MFVM body, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),
