@@ -263,7 +263,7 @@ pub fn run(
     let h = outcome.dynamics.time_step;
     let figures = outcome.simulation.figures(h);
     let summary = DynamicSummary {
-        warnings: post::history::warnings(&figures),
+        warnings: post::history::warnings(&figures, outcome.dynamics.theta),
         name: problem.name.clone(),
         nodes: outcome.nodes(),
         candidates: outcome.candidates.as_ref().map_or(0, Candidates::len),

@@ -63,12 +63,17 @@ impl From<&Dynamics> for DynamicsEcho {
 /// growing at θ = ½ (docs/method.md §10.2). Numerical damping (θ > ½) is not warned about.
 pub const ENERGY_GROWTH_WARNING: f64 = 0.05;
 
-/// The warnings of a run with these figures.
-pub fn warnings(figures: &Figures) -> Vec<String> {
+/// The warnings of a run with these figures at the θ it used.
+pub fn warnings(figures: &Figures, theta: f64) -> Vec<String> {
     let mut out = Vec::new();
     if figures.energy_growth > ENERGY_GROWTH_WARNING {
+        let remedy = if theta < 0.51 {
+            "set theta = 0.51 or more"
+        } else {
+            "raise theta further, or refine the time step"
+        };
         out.push(format!(
-            "the energy grew by {:.3e} of its largest value beyond the work of the loads: a mode of the non-symmetric MFVM stiffness grows at dynamics.theta = 0.5 over long runs; set theta = 0.51 or more (docs/method.md §10.2)",
+            "the energy grew by {:.3e} of its largest value beyond the work of the loads at dynamics.theta = {theta}: a mode of the non-symmetric stiffness grows near theta = 0.5 over long runs; {remedy} (docs/method.md §10.2)",
             figures.energy_growth
         ));
     }

@@ -253,7 +253,16 @@ fn bodies_and_control(defs: &mut Map<String, Value>) {
             &["end_time", "time_step"],
         ),
     );
-    add("OutputFile", table(json!({ "profile_edge": string(), "steps": boolean() }), &[]));
+    add(
+        "OutputFile",
+        table(
+            json!({
+                "profile_edge": string(), "steps": boolean(), "revolve": number(),
+                "revolve_segments": integer(), "units": string(),
+            }),
+            &[],
+        ),
+    );
 }
 
 /// The schema of the problem file.

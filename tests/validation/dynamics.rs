@@ -240,7 +240,7 @@ fn theta_half_grows_over_long_runs_and_the_warning_says_so() {
         println!("θ = {theta}: E(40) / E(2.2) = {:.4e}", end / after);
         assert_eq!(end > 2.0 * after, grows, "θ = {theta}: {after:e} → {end:e}");
         let growth = f.energy_growth;
-        assert_eq!(warnings(&f).is_empty(), !grows, "θ = {theta}: growth {growth:e}");
+        assert_eq!(warnings(&f, theta).is_empty(), !grows, "θ = {theta}: growth {growth:e}");
     }
 }
 
