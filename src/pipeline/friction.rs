@@ -382,11 +382,7 @@ fn refuse_slanted_force(steps: &[StepEnd], candidates: &contact::Candidates) -> 
     for (k, step) in steps.iter().enumerate() {
         let Some(f) = step.force.filter(|_| step.friction > 0.0) else { continue };
         let (e, _, _) = force_along(f, &candidates.normals);
-        let along = |c: usize| {
-            let t = contact::tangent(candidates.normals[c]);
-            (t[0] * e[0] + t[1] * e[1]).abs() > 1e-12
-        };
-        if let Some(candidate) = (0..candidates.len()).find(|&c| along(c)) {
+        if let Some(candidate) = slanted(&candidates.normals, e, |_| true) {
             let error = lcp::load_driven::LoadDrivenError::SlantedFriction {
                 step: k + 1,
                 direction: e,
@@ -421,7 +417,7 @@ fn held_projection(
             };
             // Friction where every candidate's tangent is orthogonal to the translation.
             let a = pin.axis as usize;
-            let slanted = slanted(&candidates.normals, a, |_| true);
+            let slanted = slanted(&candidates.normals, axis_direction(a), |_| true);
             if let (Some(k), Some(c)) = (steps.iter().position(|s| s.friction > 0.0), slanted) {
                 return Err(unsupported(format!(
                     "the contact has friction μ = {} (in step {}) and candidate {c}'s tangent has a component along the held translation (its tangential force would enter the balance the search solves)",
@@ -454,15 +450,26 @@ fn held_projection(
 }
 
 /// The first candidate among those `frictional` selects whose tangent has a component along
-/// the held axis `axis`: with friction its tangential force would enter the pin's balance that
-/// the search of a held translation solves (docs/method.md §4.7), which is refused; friction
-/// with tangents orthogonal to the translation is accepted.
+/// the unit `direction` (a held axis, a force's direction): with friction its tangential force
+/// would enter the balance along it that the searches of docs/method.md §4.6–4.7 solve,
+/// which is refused; friction with tangents orthogonal to it is accepted.
 pub(super) fn slanted(
     normals: &[geometry::Point],
-    axis: usize,
+    direction: geometry::Point,
     frictional: impl Fn(usize) -> bool,
 ) -> Option<usize> {
-    (0..normals.len()).find(|&c| frictional(c) && contact::tangent(normals[c])[axis].abs() > 1e-12)
+    let along = |c: usize| {
+        let t = contact::tangent(normals[c]);
+        (t[0] * direction[0] + t[1] * direction[1]).abs() > 1e-12
+    };
+    (0..normals.len()).find(|&c| frictional(c) && along(c))
+}
+
+/// The unit vector of a held axis (0: x, 1: y).
+pub(super) fn axis_direction(axis: usize) -> geometry::Point {
+    let mut r = [0.0; 2];
+    r[axis] = 1.0;
+    r
 }
 
 /// The held translation of either body of a two-body pair (docs/method.md §4.7): the pinned
@@ -495,7 +502,7 @@ fn held_between(
     }
     let a = pin.axis as usize;
     let frictional = steps.iter().any(|s| s.friction > 0.0);
-    if frictional && slanted(&candidates.normals, a, |_| true).is_some() {
+    if frictional && slanted(&candidates.normals, axis_direction(a), |_| true).is_some() {
         return Err(unsupported(
             "the contact has friction and a candidate's tangent has a component along the held translation".into(),
         ));

@@ -115,7 +115,8 @@ pub(super) fn refuse_slanted(
     normals: &[crate::geometry::Point],
 ) -> Result<(), Error> {
     let frictional = |c: usize| friction.iter().any(|mu| mu[c] > 0.0);
-    match super::super::friction::slanted(normals, pin.axis as usize, frictional) {
+    use super::super::friction::{axis_direction, slanted};
+    match slanted(normals, axis_direction(pin.axis as usize), frictional) {
         None => Ok(()),
         Some(c) => {
             let why = format!(
