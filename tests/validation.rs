@@ -26,6 +26,7 @@ mod validation {
     mod contact_core;
     // Every combination of friction, steps, refinement and solver, for 1–3 bodies.
     mod capabilities;
+    mod obstacle_pairs;
     // Plate with a circular hole (Kirsch): curved, non-convex boundary; errors and rates.
     mod kirsch;
     // Bodies with holes: patch test, the full Kirsch plate from curves and from Gmsh, FE.

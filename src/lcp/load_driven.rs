@@ -16,6 +16,8 @@
 //! doubled step while one side is missing). Once an iterate's piece holds the root, the next
 //! iterate is the root to round-off: every evaluation is one LCP on the same `M`.
 
+pub mod nested;
+
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 
@@ -202,6 +204,10 @@ pub trait Trials {
     fn force_round_off(&self, _answer: &Self::Answer, _along: &[f64]) -> f64 {
         0.0
     }
+    /// Places the trials inside an outer search ([`nested::HeldWithin`]) at its displacement
+    /// `s`, whose gaps are `q`: trials that answer from `q` need nothing (the default); trials
+    /// that move their own gaps add the outer shift.
+    fn set_outer(&mut self, _s: f64, _q: &[f64]) {}
 }
 
 /// Lemke's trials: `solve(q)` answers the LCP, `forces` reads `z`, and the gaps and slopes
@@ -362,6 +368,33 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
     debug_assert_eq!(compliance.len(), base_gap.len() * base_gap.len());
     let mut trials = Condensed { compliance, solve, forces, answer: std::marker::PhantomData };
     find_translation_with(&mut trials, base_gap, along, target)
+}
+
+/// [`find_displacement`] with a body held by the contact (docs/method.md §4.6–4.7;
+/// [`nested::HeldWithin`]): `held_along` are its `b_c`, `held_load` the load along its
+/// translation. Returns the obstacle's search, the body's translation and the LCP solves of
+/// all inner searches.
+///
+/// # Errors
+/// As [`find_displacement`] and [`find_translation`].
+pub fn find_displacement_held<S, E: From<LoadDrivenError>>(
+    compliance: &[f64],
+    base_gap: &[f64],
+    (along, direction, target): (&[f64], [f64; 2], f64),
+    (held_along, held_load): (&[f64], f64),
+    solve: impl FnMut(&[f64]) -> Result<S, E>,
+    forces: impl Fn(&S) -> &[f64],
+) -> Result<(ForceSearch<S>, f64, usize), E> {
+    let mut inner = Condensed { compliance, solve, forces, answer: std::marker::PhantomData };
+    let mut trials = nested::HeldWithin {
+        inner: &mut inner,
+        held_along,
+        held_load,
+        translation: 0.0,
+        evaluations: 0,
+    };
+    let search = find_displacement_with(&mut trials, base_gap, along, direction, target)?;
+    Ok((search, trials.translation, trials.evaluations))
 }
 
 /// [`find_translation`] whatever answers the LCP at each trial (`trials`, as

@@ -274,6 +274,7 @@ pub(super) fn solve_frictional(
         normals: &candidates.normals,
         steps,
         friction,
+        moved: None,
         held,
         groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
@@ -344,12 +345,16 @@ fn move_to_final_obstacle(
     load_driven: Option<&solution::LoadDriven>,
 ) {
     if let Some(end) = steps.last() {
-        let d = load_driven.map_or(end.obstacle, |l| l.displacement);
-        for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
-            let dn = d[0] * nu[0] + d[1] * nu[1];
-            if dn != 0.0 {
-                *g -= dn;
-            }
+        move_obstacle(candidates, load_driven.map_or(end.obstacle, |l| l.displacement));
+    }
+}
+
+/// The initial gaps measured from the obstacle moved by `d`: `g0 − d·ν_c`.
+pub(super) fn move_obstacle(candidates: &mut contact::Candidates, d: geometry::Point) {
+    for (g, nu) in candidates.initial_gap.iter_mut().zip(&candidates.normals) {
+        let dn = d[0] * nu[0] + d[1] * nu[1];
+        if dn != 0.0 {
+            *g -= dn;
         }
     }
 }
@@ -379,14 +384,25 @@ fn attach_records(
 /// displacements alone and the tangential forces carry nothing along the force, so the
 /// search's balance is the normal forces' as without friction. Otherwise refused.
 fn refuse_slanted_force(steps: &[StepEnd], candidates: &contact::Candidates) -> Result<(), Error> {
+    refuse_slanted_force_on(steps, &candidates.normals, |k, _| steps[k].friction)
+}
+
+/// [`refuse_slanted_force`] with `μ` per step and candidate (`mu(k, c)`): with several
+/// pairs, each pair's own coefficient, 0 on the candidates whose obstacle the force does not
+/// move.
+pub(super) fn refuse_slanted_force_on(
+    steps: &[StepEnd],
+    normals: &[geometry::Point],
+    mu: impl Fn(usize, usize) -> f64,
+) -> Result<(), Error> {
     for (k, step) in steps.iter().enumerate() {
-        let Some(f) = step.force.filter(|_| step.friction > 0.0) else { continue };
-        let (e, _, _) = force_along(f, &candidates.normals);
-        if let Some(candidate) = slanted(&candidates.normals, e, |_| true) {
+        let Some(f) = step.force else { continue };
+        let (e, _, _) = force_along(f, normals);
+        if let Some(candidate) = slanted(normals, e, |c| mu(k, c) > 0.0) {
             let error = lcp::load_driven::LoadDrivenError::SlantedFriction {
                 step: k + 1,
                 direction: e,
-                mu: step.friction,
+                mu: mu(k, candidate),
                 candidate,
             };
             return Err(lcp::LcpError::from(error).into());

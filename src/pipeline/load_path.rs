@@ -115,18 +115,28 @@ pub(super) fn check_determined(
 
 /// What the path is run on besides the terms: the candidates' initial gaps and normals, the
 /// step ends that carry the obstacle's motion, force and increments (the first term's), `μ`
-/// per step and candidate, the held translation, and the candidate ranges whose histories
-/// are recorded apart (the pairs).
+/// per step and candidate, the candidates the obstacle moves, the held translation, and the
+/// candidate ranges whose histories are recorded apart (the pairs).
 pub(super) struct Path<'a> {
     pub(super) initial_gap: &'a [f64],
     pub(super) normals: &'a [geometry::Point],
     pub(super) steps: &'a [StepEnd],
     pub(super) friction: Vec<Vec<f64>>,
+    /// The candidates the obstacle's motion or force moves (`None`: all): with several pairs,
+    /// those of the pairs against rigid obstacles, which move together (docs/method.md §4.6).
+    pub(super) moved: Option<&'a [bool]>,
     pub(super) held: Option<Held>,
     pub(super) groups: Vec<Range<usize>>,
     pub(super) write_steps: bool,
     /// Whether the problem has `[[step]]` tables (a failure then names the step).
     pub(super) named_steps: bool,
+}
+
+impl Path<'_> {
+    /// Whether the obstacle's motion moves candidate `c`'s target.
+    fn moves(&self, c: usize) -> bool {
+        self.moved.is_none_or(|moved| moved[c])
+    }
 }
 
 /// The condensed blocks over all candidates (`g0` in `free_gap`) and the frictionless `M`
@@ -230,7 +240,7 @@ fn step_end_gaps(
             };
             if end.obstacle != [0.0, 0.0] {
                 let d = end.obstacle;
-                for c in 0..m {
+                for c in (0..m).filter(|&c| path.moves(c)) {
                     let (nu, t) = (path.normals[c], contact::tangent(path.normals[c]));
                     qn[c] -= d[0] * nu[0] + d[1] * nu[1];
                     qt[c] -= d[0] * t[0] + d[1] * t[1];
@@ -265,20 +275,49 @@ fn solve_increment(
     let Some(compliance) = compliance else { return lcp::solve_step(step_problem) };
     let base = step_problem.free_gap.clone();
     if let Some(f) = end.force {
-        let (e, size, along) = force_along(f, path.normals);
+        let (e, size, mut along) = force_along(f, path.normals);
+        for (c, a) in along.iter_mut().enumerate() {
+            if !path.moves(c) {
+                *a = 0.0;
+            }
+        }
         let target = (1.0 - lambda) * searches.force0 + lambda * size;
-        let search = lcp::load_driven::find_displacement(
-            compliance,
-            &base,
-            &along,
-            e,
-            target,
-            |q| {
-                step_problem.free_gap = q.to_vec();
-                lcp::solve_step(step_problem)
-            },
-            |answer| answer.normal.as_slice(),
-        )?;
+        let solve = |q: &[f64]| {
+            step_problem.free_gap = q.to_vec();
+            lcp::solve_step(step_problem)
+        };
+        fn forces(answer: &lcp::FrictionSolution) -> &[f64] {
+            answer.normal.as_slice()
+        }
+        let search = match &path.held {
+            // A body held by the contact as well: its search inside each trial (§4.7).
+            Some(Held::Among { term, pin, along: held_along }) => {
+                let load = lerp(&loads0[*term], &terms[*term].steps[k].load, lambda);
+                let held_load: f64 = load.iter().skip(pin.axis as usize).step_by(2).sum();
+                let (search, translation, evaluations) = lcp::load_driven::find_displacement_held(
+                    compliance,
+                    &base,
+                    (&along, e, target),
+                    (held_along, held_load),
+                    solve,
+                    forces,
+                )?;
+                let mut t = [0.0; 2];
+                t[pin.axis as usize] = translation;
+                searches.rigid_mode = Some(solution::RigidMode {
+                    mode: pin.name(),
+                    pin_point: terms[*term].model.nodes.points[pin.node as usize],
+                    translation: t,
+                    load: held_load,
+                    evaluations,
+                    total_evaluations: searches.total_evaluations + evaluations,
+                });
+                lcp::load_driven::ForceSearch { evaluations, ..search }
+            }
+            _ => lcp::load_driven::find_displacement(
+                compliance, &base, &along, e, target, solve, forces,
+            )?,
+        };
         searches.total_evaluations += search.evaluations;
         let s = search.displacement;
         searches.load_driven = Some(solution::LoadDriven {

@@ -860,6 +860,25 @@ pub struct RunReport {
     pub files: Vec<PathBuf>,
 }
 
+/// The console line of an obstacle pressed by a force (docs/method.md §4.6).
+fn write_load_driven(
+    f: &mut std::fmt::Formatter<'_>,
+    indent: &str,
+    l: &crate::post::summary::LoadDrivenSummary,
+) -> std::fmt::Result {
+    writeln!(
+        f,
+        "{indent}obstacle pressed by ({:.6e}, {:.6e}): displaced by ({:.6e}, {:.6e}), s = {:.9e} along the force, carrying {:.9e} ({} LCP solves)",
+        l.obstacle_force[0],
+        l.obstacle_force[1],
+        l.obstacle_displacement[0],
+        l.obstacle_displacement[1],
+        l.displacement_along_force,
+        l.carried_force,
+        l.lcp_solves
+    )
+}
+
 impl std::fmt::Display for RunReport {
     /// The result block the command line prints after the stage list.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -904,6 +923,8 @@ impl std::fmt::Display for RunReport {
                 )?;
             }
         }
+        let first_rigid =
+            s.pairs.iter().flatten().position(|p| p.target_body.is_none()).unwrap_or(usize::MAX);
         for (k, p) in s.pairs.iter().flatten().enumerate() {
             let target = match (&p.target_body, &p.target_edge) {
                 (Some(b), Some(e)) => format!("{b}.{e}"),
@@ -921,6 +942,10 @@ impl std::fmt::Display for RunReport {
                     "    friction μ = {}: tangential force {:.6}, {stick} candidates stick and {slip} slip ({} increment(s), residual {:.1e})",
                     fr.coefficient, fr.total_tangential_force, fr.increments, fr.residual
                 )?;
+            }
+            // The obstacles move together: their record once, with the first rigid pair.
+            if let Some(l) = p.load_driven.as_ref().filter(|_| k == first_rigid) {
+                write_load_driven(f, "    ", l)?;
             }
         }
         if let (Some(_), Some(l)) = (&s.pairs, &s.lcp) {
@@ -961,17 +986,7 @@ impl std::fmt::Display for RunReport {
                 opt(c.onset_x_from_pressure)
             )?;
             if let Some(l) = &c.load_driven {
-                writeln!(
-                    f,
-                    "  obstacle pressed by ({:.6e}, {:.6e}): displaced by ({:.6e}, {:.6e}), s = {:.9e} along the force, carrying {:.9e} ({} LCP solves)",
-                    l.obstacle_force[0],
-                    l.obstacle_force[1],
-                    l.obstacle_displacement[0],
-                    l.obstacle_displacement[1],
-                    l.displacement_along_force,
-                    l.carried_force,
-                    l.lcp_solves
-                )?;
+                write_load_driven(f, "  ", l)?;
             }
             if let Some(r) = &c.rigid_mode {
                 writeln!(

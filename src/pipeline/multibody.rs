@@ -243,12 +243,19 @@ pub fn solve_bodies(
         (0..problems.len()).map(|b| body_operator(b, pairs, &normal_ops, &offsets)).collect();
     let initial_gap: Vec<f64> =
         found.iter().flat_map(|f| f.candidates.initial_gap.iter().copied()).collect();
+    // The candidates a step's obstacle motion or force moves: those of the pairs against
+    // rigid obstacles, which move together (docs/method.md §4.6).
+    let moved: Vec<bool> = pairs
+        .iter()
+        .zip(&found)
+        .flat_map(|(p, f)| std::iter::repeat_n(p.target_body.is_none(), f.candidates.len()))
+        .collect();
     let held =
         held_body(&problems, &models, pairs, &found, &operators).map_err(lcp::LcpError::from)?;
     // `contact[k].solver = "active_set"` on any pair (validated: none says "lemke"): the
     // sparse system of all bodies and pairs, no M (docs/method.md §5.1).
     let active_set = pairs.iter().any(|p| p.spec.solver == ContactSolver::ActiveSet);
-    let mut frictions = Vec::new();
+    let (mut frictions, mut load_driven) = (Vec::new(), None);
     let mut fallback_from = None;
     let solved = if on_path {
         let scene = path::Scene {
@@ -258,18 +265,19 @@ pub fn solve_bodies(
             offsets: &offsets,
             operators: &operators,
             initial_gap: &initial_gap,
+            moved: &moved,
             steps: &steps,
         };
         // The sparse system when a pair asks for the active set, or "auto" on every pair
         // from the two-body threshold of all candidates on.
         let sparse = active_set
             || pairs.iter().all(|p| p.spec.solver.is_active_set_frictional_pair(initial_gap.len()));
-        let (solved, f) = if sparse {
+        let (solved, f, l) = if sparse {
             sparse_path::solve(&scene, &models, held.as_ref(), &mut clock)?
         } else {
             path::solve(&scene, &models, held.as_ref(), &mut clock)?
         };
-        frictions = f;
+        (frictions, load_driven) = (f, l);
         solved
     } else if active_set {
         solve_active_set(&models, pairs, &found, &initial_gap, held.as_ref(), &mut clock)?
@@ -373,12 +381,22 @@ pub fn solve_bodies(
     let tolerance =
         (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&free_gap)).max(f64::MIN_POSITIVE);
     let mut frictions = frictions.into_iter();
+    // Where the last step left the rigid obstacles (or the force search put them).
+    let obstacle = load_driven
+        .as_ref()
+        .map_or(problem.steps.last().map_or([0.0, 0.0], |s| s.obstacle_displacement), |l| {
+            l.displacement
+        });
     let contacts: Vec<ContactSolution> = found
         .into_iter()
         .zip(pairs)
         .enumerate()
-        .map(|(k, (f, pair))| {
+        .map(|(k, (mut f, pair))| {
             let range = offsets[k]..offsets[k + 1];
+            let rigid = pair.target_body.is_none();
+            if rigid {
+                super::friction::move_obstacle(&mut f.candidates, obstacle);
+            }
             let target = pair.target_body.zip(f.target.as_ref());
             let gap = final_gaps(
                 models[pair.body],
@@ -409,6 +427,7 @@ pub fn solve_bodies(
             );
             c.unpaired = f.unpaired;
             c.friction = frictions.next();
+            c.load_driven = load_driven.clone().filter(|_| rigid);
             c
         })
         .collect();
@@ -607,6 +626,7 @@ fn solve_active_set(
             iterations: 0,
             rescues: Vec::new(),
             round_off: Vec::new(),
+            outer: (&[], 0.0),
         };
         let base = trials.base_gap()?;
         let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, *load)?;
@@ -702,6 +722,10 @@ struct BodiesTrials<'s, 'a> {
     rescues: Vec<usize>,
     /// The round-off of the last trial's forces ([`lcp::active_set::Bodies::force_round_off`]).
     round_off: Vec<f64>,
+    /// Inside a force-driven obstacle's search ([`lcp::load_driven::nested::HeldWithin`]):
+    /// the obstacle's `a_c` and its trial displacement `s`, which move the gaps by `−a s` as
+    /// well (empty and 0 otherwise).
+    outer: (&'s [f64], f64),
 }
 
 impl BodiesTrials<'_, '_> {
@@ -721,11 +745,16 @@ impl lcp::load_driven::Trials for BodiesTrials<'_, '_> {
     type Answer = lcp::active_set::FrictionStepSolution;
     type Error = lcp::LcpError;
     fn solve(&mut self, t: f64, _q: &[f64]) -> Result<Self::Answer, lcp::LcpError> {
-        if t == 0.0 {
+        let (outer, s) = self.outer;
+        if t == 0.0 && s == 0.0 {
             self.system.set_initial_gap(self.initial_gap);
-        } else {
+        } else if s == 0.0 {
             let g0 = self.initial_gap.iter().zip(self.along);
             let shifted: Vec<f64> = g0.map(|(g, a)| g - a * t).collect();
+            self.system.set_initial_gap(&shifted);
+        } else {
+            let g0 = self.initial_gap.iter().zip(self.along).zip(outer);
+            let shifted: Vec<f64> = g0.map(|((g, b), a)| g - b * t - a * s).collect();
             self.system.set_initial_gap(&shifted);
         }
         let answer = lcp::active_set::solve_friction_step(
@@ -749,6 +778,9 @@ impl lcp::load_driven::Trials for BodiesTrials<'_, '_> {
     /// `Σ_c |a_c| δP_c` over the last trial's round-off `δP`.
     fn force_round_off(&self, _answer: &Self::Answer, along: &[f64]) -> f64 {
         self.round_off.iter().zip(along).map(|(d, a)| d * a.abs()).sum()
+    }
+    fn set_outer(&mut self, s: f64, _q: &[f64]) {
+        self.outer.1 = s;
     }
     fn slope(
         &mut self,

@@ -584,6 +584,20 @@ pub struct LoadDrivenSummary {
     pub lcp_solves_all_increments: usize,
 }
 
+impl LoadDrivenSummary {
+    /// The summary of `l`.
+    fn new(l: &crate::solution::LoadDriven) -> Self {
+        Self {
+            obstacle_force: l.force,
+            obstacle_displacement: l.displacement,
+            displacement_along_force: l.displacement_along,
+            carried_force: l.carried,
+            lcp_solves: l.evaluations,
+            lcp_solves_all_increments: l.total_evaluations,
+        }
+    }
+}
+
 /// One contact pair of a problem with several bodies or pairs.
 #[derive(Clone, Debug, Serialize)]
 pub struct PairSummary {
@@ -621,6 +635,10 @@ pub struct PairSummary {
     /// frictionless summaries are unchanged).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction: Option<PairFriction>,
+    /// The rigid obstacles pressed by a force (`[[step]] obstacle_force`, pairs against rigid
+    /// obstacles only; the same record on each: the obstacles move together).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_driven: Option<LoadDrivenSummary>,
 }
 
 /// One pair's frictional answer at the end of the load path (docs/method.md §8).
@@ -806,14 +824,7 @@ impl Summary {
                     .friction
                     .as_ref()
                     .and_then(|f| f.step.lemke_failure.clone()),
-                load_driven: c.load_driven.as_ref().map(|l| LoadDrivenSummary {
-                    obstacle_force: l.force,
-                    obstacle_displacement: l.displacement,
-                    displacement_along_force: l.displacement_along,
-                    carried_force: l.carried,
-                    lcp_solves: l.evaluations,
-                    lcp_solves_all_increments: l.total_evaluations,
-                }),
+                load_driven: c.load_driven.as_ref().map(LoadDrivenSummary::new),
                 rigid_mode: c.rigid_mode.as_ref().map(RigidModeSummary::new),
             }),
             second_body: solution.second_body.as_deref().map(|s2| SecondBody {
@@ -937,6 +948,7 @@ fn multibody_pairs(problem: &Problem, solution: &Solution) -> Option<Vec<PairSum
                     residual: f.step.residuals.max(),
                     increments: f.increments.len(),
                 }),
+                load_driven: c.load_driven.as_ref().map(LoadDrivenSummary::new),
             })
             .collect(),
     )

@@ -1735,7 +1735,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     // One body given as a `[[body]]` table: its steps may name it.
     let one_table = file.body.len() == 1;
     // Several contact pairs (`multibody`): each pair keeps its own coefficient unless a step
-    // sets `friction`; the obstacles of rigid pairs do not move.
+    // sets `friction`.
     let pairs = problem.multibody.is_some();
     let body_force = all.iter().any(|p| p.body_force.is_some());
     let why = match &problem.contact {
@@ -1766,6 +1766,12 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     for (_, prefix, declared, body) in &bodies {
         starts_unloaded(prefix, declared, body)?;
     }
+    // A step's obstacle motion or force moves every rigid obstacle of every pair together
+    // (docs/method.md §4.6): it needs a pair against rigid obstacles.
+    let movable = match &problem.multibody {
+        Some(several) => several.pairs.iter().any(|p| p.target_body.is_none()),
+        None => second.is_none(),
+    };
     let mut states: Vec<(Vec<EdgeCondition>, Vec<LoadStep>)> =
         bodies.iter().map(|b| (b.3.boundary.clone(), Vec::new())).collect();
     let mut obstacle = [0.0, 0.0];
@@ -1786,11 +1792,11 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
             return Err(invalid(&field("increments"), increments, "must be 1–100000"));
         }
         if let Some(d) = step.obstacle_displacement {
-            if second.is_some() || pairs {
+            if !movable {
                 return Err(invalid(
                     &field("obstacle_displacement"),
                     format!("{d:?}"),
-                    "only with one body against rigid obstacles in one [contact]; between bodies, or with several contact pairs, a step moves a body through its `boundary` values",
+                    NO_OBSTACLE,
                 ));
             }
             let key = field("obstacle_displacement");
@@ -1816,12 +1822,8 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
         };
         if let Some(f) = step.obstacle_force {
             let key = field("obstacle_force");
-            if second.is_some() || pairs {
-                return Err(invalid(
-                    &key,
-                    format!("{f:?}"),
-                    "only with one body against rigid obstacles in one [contact]; between bodies, or with several contact pairs, a step moves a body through its `boundary` values",
-                ));
+            if !movable {
+                return Err(invalid(&key, format!("{f:?}"), NO_OBSTACLE));
             }
             check_finite(&key, f[0])?;
             check_finite(&key, f[1])?;
@@ -1922,7 +1924,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
             return Err(invalid(
                 &field("boundary"),
                 "(missing)",
-                if second.is_some() {
+                if !movable {
                     "a step needs `boundary` values"
                 } else {
                     "a step needs `boundary` values, `obstacle_displacement` or `obstacle_force`"
@@ -1942,6 +1944,9 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     }
     Ok(states.into_iter().map(|s| s.1).collect())
 }
+
+/// Why a step may not move an obstacle in a scene without one.
+const NO_OBSTACLE: &str = "no contact pair is against rigid obstacles: between bodies a step moves a body through its `boundary` values";
 
 /// Refuses a non-zero value among a body's declared conditions `declared` (key paths under
 /// `prefix`): with steps the path starts from the unloaded body.

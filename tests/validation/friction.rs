@@ -315,7 +315,7 @@ fn two_body_steps_are_validated() {
         (
             format!("{ok}[[step]]\nobstacle_displacement = [0.1, 0.0]\n"),
             "step[1].obstacle_displacement",
-            "only with one body against rigid obstacles",
+            "no contact pair is against rigid obstacles",
         ),
         (format!("{ok}[[step]]\nincrements = 3\n"), "step[1].boundary", "needs `boundary` values"),
         (

@@ -171,8 +171,11 @@ pub struct Bodies<'a> {
     tangential: Option<Vec<PairTangential<'a>>>,
     /// `μ_c` (empty: frictionless).
     friction: Vec<f64>,
-    /// The right-hand sides `s_prev,c` of the stick rows (before the scale `s`).
+    /// The right-hand sides `s_prev,c + o_c` of the stick rows (before the scale `s`).
     tangential_target: Vec<f64>,
+    /// `o_c = d·t_c`: a rigid obstacle's tangential displacement at candidate `c` (0 against a
+    /// body, or an obstacle that has not moved): the slip is `t·u^h(x_c) − o_c`.
+    tangential_offset: Vec<f64>,
     /// Work counters (the same as a rigid obstacle's).
     pub stats: RigidObstacleStats,
 }
@@ -416,6 +419,7 @@ impl<'a> Bodies<'a> {
             tangential: None,
             friction: Vec::new(),
             tangential_target: vec![0.0; m],
+            tangential_offset: vec![0.0; m],
             stats: RigidObstacleStats::default(),
         })
     }
@@ -575,6 +579,19 @@ impl<'a> Bodies<'a> {
     pub fn set_initial_gap(&mut self, initial_gap: &[f64]) {
         self.initial_gap.copy_from_slice(initial_gap);
         self.last = None;
+    }
+
+    /// Sets the obstacles' tangential displacement `o_c = d·t_c` per candidate (0 on the
+    /// candidates of pairs between bodies; docs/method.md §8).
+    pub fn set_tangential_offset(&mut self, offset: &[f64]) {
+        self.tangential_offset.copy_from_slice(offset);
+        self.last = None;
+    }
+
+    /// The stick rows' targets `s_prev,c + o_c`.
+    fn set_targets(&mut self, previous: &[f64]) {
+        let targets = previous.iter().zip(&self.tangential_offset);
+        self.tangential_target.iter_mut().zip(targets).for_each(|(t, (p, o))| *t = p + o);
     }
 
     /// The rows of body `b` in the combined unknowns.
@@ -1052,6 +1069,13 @@ impl<'a> Bodies<'a> {
         self.gap_change(u).iter().zip(&self.initial_gap).map(|(g, g0)| g0 + g).collect()
     }
 
+    /// The slips of displacements `u` relative to the obstacles: `t·u^h(x_c) − o_c`.
+    fn offset_slips(&self, u: &[f64]) -> Vec<f64> {
+        let mut s = self.slips(u);
+        s.iter_mut().zip(&self.tangential_offset).for_each(|(s, o)| *s -= o);
+        s
+    }
+
     /// The relative tangential displacements `t·u₁^h(x_c) − t·u₂^h(y_c)` (zero without the
     /// tangential operators).
     fn slips(&self, u: &[f64]) -> Vec<f64> {
@@ -1189,7 +1213,7 @@ impl FrictionSystem for Bodies<'_> {
                 Err(_) => return Ok(None),
             }
         }
-        Ok(Some((self.gaps(&u), self.slips(&u))))
+        Ok(Some((self.gaps(&u), self.offset_slips(&u))))
     }
     fn initial_gap(&self) -> Vec<f64> {
         self.initial_gap.to_vec()
@@ -1199,11 +1223,11 @@ impl FrictionSystem for Bodies<'_> {
         states: &[ContactState],
         previous: &[f64],
     ) -> Result<StateResponse, ActiveSetError> {
-        self.tangential_target.copy_from_slice(previous);
+        self.set_targets(previous);
         let modes = self.modes_of(states);
         let u = self.displacements_of(&modes)?;
         let (normal, tangential) = self.forces(&modes, &u);
-        let (gap, tangential_displacement) = (self.gaps(&u), self.slips(&u));
+        let (gap, tangential_displacement) = (self.gaps(&u), self.offset_slips(&u));
         self.last = Some((modes, u));
         Ok(StateResponse { normal, tangential, gap, tangential_displacement })
     }
@@ -1213,7 +1237,7 @@ impl FrictionSystem for Bodies<'_> {
         free: &[usize],
         previous: &[f64],
     ) -> Result<FrictionProblem, ActiveSetError> {
-        self.tangential_target.copy_from_slice(previous);
+        self.set_targets(previous);
         let mut held = self.modes_of(states);
         for &c in free {
             held[c] = OPEN;
@@ -1237,7 +1261,7 @@ impl FrictionSystem for Bodies<'_> {
             normal: Vec::new(),
             tangential: Vec::new(),
             gap: self.gaps(x.col_as_slice(0)),
-            tangential_displacement: self.slips(x.col_as_slice(0)),
+            tangential_displacement: self.offset_slips(x.col_as_slice(0)),
         };
         // The responses to unit forces: no g0.
         let columns: Vec<StateResponse> = (1..=2 * k)

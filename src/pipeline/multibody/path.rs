@@ -80,6 +80,9 @@ pub(super) struct Scene<'s> {
     pub(super) offsets: &'s [usize],
     pub(super) operators: &'s [Option<(BodyOperator, Vec<usize>)>],
     pub(super) initial_gap: &'s [f64],
+    /// Whether each candidate's pair is against rigid obstacles: the candidates a step's
+    /// obstacle motion or force moves (all rigid obstacles together; docs/method.md §4.6).
+    pub(super) moved: &'s [bool],
     /// Each body's step ends (the same steps and increments for every body).
     pub(super) steps: &'s [Vec<StepEnd>],
 }
@@ -127,6 +130,17 @@ pub(super) fn refuse_slanted(
     }
 }
 
+/// Refuses a force-driven obstacle with friction on a moved candidate whose tangent has a
+/// component along the force ([`super::super::friction::refuse_slanted_force_on`]).
+pub(super) fn refuse_force(
+    scene: &Scene<'_>,
+    friction: &[Vec<f64>],
+    normals: &[crate::geometry::Point],
+) -> Result<(), Error> {
+    let mu = |k: usize, c: usize| if scene.moved[c] { friction[k][c] } else { 0.0 };
+    super::super::friction::refuse_slanted_force_on(&scene.steps[0], normals, mu)
+}
+
 /// The held body's search on the path (docs/method.md §4.7), with friction only as
 /// [`refuse_slanted`] allows.
 fn held_on_path(
@@ -141,6 +155,10 @@ fn held_on_path(
     Ok(Some(Held::Among { term, pin: *pin, along: along.clone() }))
 }
 
+/// What the load path gives the scene: the answer, one frictional record per pair, and the
+/// force-driven obstacle's record.
+pub(super) type OnPath = (Solved, Vec<FrictionContact>, Option<crate::solution::LoadDriven>);
+
 /// Friction and load steps for several bodies and pairs: the condensed blocks of every body
 /// over all candidates, the load path, one frictional record per pair.
 ///
@@ -151,7 +169,7 @@ pub(super) fn solve(
     models: &[&Model],
     held_body: Option<&HeldBody>,
     clock: &mut Clock<'_>,
-) -> Result<(Solved, Vec<FrictionContact>), Error> {
+) -> Result<OnPath, Error> {
     let pairs = scene.pairs;
     let tangential = pair_tangential(scene, models);
     let tangential_by_body = tangential_by_body(scene, &tangential, models.len());
@@ -171,6 +189,7 @@ pub(super) fn solve(
     }
     let normals = normals(scene);
     let friction = friction_per_step(scene, &tangential);
+    refuse_force(scene, &friction, &normals)?;
     let held = held_on_path(held_body, &term_of, &friction, &normals)?;
     let load_path::Condensed { blocks, compliance } =
         clock.run("condensation", || load_path::condense(&terms, scene.initial_gap))?;
@@ -180,6 +199,7 @@ pub(super) fn solve(
         normals: &normals,
         steps: &scene.steps[0],
         friction,
+        moved: Some(scene.moved),
         held,
         groups: (0..pairs.len()).map(|k| scene.offsets[k]..scene.offsets[k + 1]).collect(),
         write_steps: scene.problem.write_steps,
@@ -212,5 +232,5 @@ pub(super) fn solve(
         displacements: Some(u),
         record: None,
     };
-    Ok((solved, frictions))
+    Ok((solved, frictions, answer.load_driven))
 }

@@ -5,9 +5,12 @@
 //! columns carry over the increments; per increment each body's right-hand side, per step
 //! the coefficients `μ_c`, and the increment's frictional step solved from the previous
 //! increment's states (the held body's translation by the search of
-//! [`lcp::load_driven::find_translation_with`] over warm-started solves).
+//! [`lcp::load_driven::find_translation_with`], a force-driven obstacle's displacement by
+//! [`lcp::load_driven::find_displacement_with`], over warm-started solves). A step's
+//! obstacle motion moves the gaps and the stick targets of the pairs against rigid
+//! obstacles (docs/method.md §4.6, §8).
 
-use super::super::friction::{History, StepEnd, lerp};
+use super::super::friction::{History, StepEnd, force_along, lerp};
 use super::path::{self, Scene};
 use super::{BodiesTrials, Held as HeldBody, Solved};
 use crate::contact::BodyOperator;
@@ -15,7 +18,7 @@ use crate::error::Error;
 use crate::lcp;
 use crate::model::Model;
 use crate::progress::Clock;
-use crate::solution::{self, FrictionContact};
+use crate::solution;
 
 /// One increment's answer: the step, every body's displacements and, for a held body, its
 /// translation, the search's LCP solves and the gaps without contact forces at `t = 0`.
@@ -23,7 +26,34 @@ struct Increment {
     answer: lcp::active_set::FrictionStepSolution,
     u: Vec<Vec<f64>>,
     held: Option<(f64, usize, Vec<f64>)>,
+    /// A force-driven obstacle's record (its `total_evaluations` this increment's).
+    load_driven: Option<solution::LoadDriven>,
 }
+
+/// The gaps `g0 − d·ν_c` and the stick offsets `d·t_c` of the moved candidates
+/// (`scene.moved`) with the obstacles at `d`; `None` when no step moves them.
+fn obstacle_at(scene: &Scene<'_>, normals: &[crate::geometry::Point], d: [f64; 2]) -> Option<Gaps> {
+    if scene.steps[0].iter().all(|e| e.obstacle == [0.0, 0.0]) {
+        return None;
+    }
+    let moved = |c: usize| scene.moved[c] && d != [0.0, 0.0];
+    Some(
+        (0..normals.len())
+            .map(|c| {
+                let (nu, t) = (normals[c], crate::contact::tangent(normals[c]));
+                let g0 = scene.initial_gap[c];
+                if moved(c) {
+                    (g0 - (d[0] * nu[0] + d[1] * nu[1]), d[0] * t[0] + d[1] * t[1])
+                } else {
+                    (g0, 0.0)
+                }
+            })
+            .unzip(),
+    )
+}
+
+/// Initial gaps and stick offsets per candidate.
+type Gaps = (Vec<f64>, Vec<f64>);
 
 /// Friction and load steps for several bodies and pairs on the sparse system: the path of
 /// [`path::solve`] with each increment an active-set step instead of the step LCP on
@@ -37,13 +67,15 @@ pub(super) fn solve(
     models: &[&Model],
     held_body: Option<&HeldBody>,
     clock: &mut Clock<'_>,
-) -> Result<(Solved, Vec<FrictionContact>), Error> {
+) -> Result<path::OnPath, Error> {
     let tangential = path::pair_tangential(scene, models);
     let by_body = path::tangential_by_body(scene, &tangential, models.len());
     let friction = path::friction_per_step(scene, &tangential);
+    let normals = path::normals(scene);
     if let Some((_, pin, _, _)) = held_body {
-        path::refuse_slanted(pin, &friction, &path::normals(scene))?;
+        path::refuse_slanted(pin, &friction, &normals)?;
     }
+    path::refuse_force(scene, &friction, &normals)?;
     let mut system = super::bodies_system(models, scene.pairs, scene.found, scene.initial_gap)?;
     let pair_tangential: Vec<lcp::active_set::PairTangential<'_>> =
         tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
@@ -60,6 +92,9 @@ pub(super) fn solve(
         (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
     let mut last: Option<Increment> = None;
     let params = lcp::active_set::ActiveSetParams::default();
+    // The obstacles' position at the previous step's end, the force pressing them there and
+    // the force search's solves so far.
+    let (mut d0, mut force0, mut evaluations) = ([0.0, 0.0], 0.0, 0);
     let work = clock.run("friction", || -> Result<_, Error> {
         for (k, end) in scene.steps[0].iter().enumerate() {
             system
@@ -93,10 +128,36 @@ pub(super) fn solve(
                 for (b, rhs) in rhss.iter().enumerate() {
                     system.set_body_load(b, rhs);
                 }
-                let state = Warm { previous: &previous, warm: warm.as_deref(), params };
-                let solved =
-                    solve_increment(&mut system, scene, models, held_body, (&loads, &rhss), state)
+                let end = &scene.steps[0][k];
+                let d = std::array::from_fn(|a| (1.0 - lambda) * d0[a] + lambda * end.obstacle[a]);
+                let moved = obstacle_at(scene, &normals, d);
+                if let Some((g, o)) = &moved {
+                    system.set_initial_gap(g);
+                    system.set_tangential_offset(o);
+                }
+                let force = end.force.map(|f| {
+                    let (e, size, mut along) = force_along(f, &normals);
+                    along
+                        .iter_mut()
+                        .zip(scene.moved)
+                        .filter(|(_, m)| !**m)
+                        .for_each(|(a, _)| *a = 0.0);
+                    (e, (1.0 - lambda) * force0 + lambda * size, along)
+                });
+                let state = Warm {
+                    previous: &previous,
+                    warm: warm.as_deref(),
+                    params,
+                    initial_gap: moved.as_ref().map_or(scene.initial_gap, |(g, _)| g),
+                    force,
+                };
+                let mut solved =
+                    solve_increment(&mut system, models, held_body, (&loads, &rhss), state)
                         .map_err(at_step)?;
+                if let Some(l) = &mut solved.load_driven {
+                    evaluations += l.evaluations;
+                    l.total_evaluations = evaluations;
+                }
                 let step = &solved.answer.step;
                 let equilibrium = models
                     .iter()
@@ -133,10 +194,12 @@ pub(super) fn solve(
                 loads0[b].clone_from(&ends[k].load);
                 rhss0[b].clone_from(&ends[k].rhs);
             }
+            d0 = scene.steps[0][k].obstacle;
+            force0 = scene.steps[0][k].force.map_or(0.0, |f| f[0].hypot(f[1]));
         }
         Ok(system.stats)
     })?;
-    let Some(Increment { answer, u, held }) = last else {
+    let Some(Increment { answer, u, held, load_driven }) = last else {
         unreachable!("validated: at least one step with at least one increment")
     };
     let last_friction = friction.last().cloned().unwrap_or_default();
@@ -168,29 +231,36 @@ pub(super) fn solve(
         displacements: Some(u),
         record: Some(record),
     };
-    Ok((solved, frictions))
+    Ok((solved, frictions, load_driven))
 }
 
 /// Where an increment starts: the accumulated tangential displacements and the states of
-/// the previous increment.
+/// the previous increment, the initial gaps with the obstacles where the increment puts them,
+/// and a force pressing them (`e`, the increment's force, `a_c = ν_c·e` on the moved
+/// candidates).
 struct Warm<'w> {
     previous: &'w [f64],
     warm: Option<&'w [lcp::ContactState]>,
     params: lcp::active_set::ActiveSetParams,
+    initial_gap: &'w [f64],
+    force: Option<([f64; 2], f64, Vec<f64>)>,
 }
 
-/// One increment on the system whose bodies' right-hand sides are set: the active-set step,
-/// or for a held body the search for its translation (the pin then set to it and the gaps
-/// back to `g0`, so that the displacements answer the system reported).
+/// One increment on the system whose bodies' right-hand sides and gaps are set: the
+/// active-set step, or the search for a force-driven obstacle's displacement
+/// ([`force_search`]) or a held body's translation (the pin then set to it and the gaps back
+/// to the increment's `g0`, so that the displacements answer the system reported).
 fn solve_increment(
     system: &mut lcp::active_set::Bodies<'_>,
-    scene: &Scene<'_>,
     models: &[&Model],
     held_body: Option<&HeldBody>,
     (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
     let Some((b, pin, along, _)) = held_body else {
+        if start.force.is_some() {
+            return force_search(system, start);
+        }
         let answer = lcp::active_set::solve_friction_step(
             system,
             start.previous,
@@ -198,12 +268,15 @@ fn solve_increment(
             &start.params,
         )?;
         let u = system.final_body_friction_displacements(&answer.states)?;
-        return Ok(Increment { answer, u, held: None });
+        return Ok(Increment { answer, u, held: None, load_driven: None });
     };
     let along_load: f64 = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum();
+    if start.force.is_some() {
+        return held_force_search(system, models, (*b, *pin, along, along_load), &rhss[*b], start);
+    }
     let mut trials = BodiesTrials {
         system: &mut *system,
-        initial_gap: scene.initial_gap,
+        initial_gap: start.initial_gap,
         along,
         previous: start.previous.to_vec(),
         warm: start.warm.map(<[_]>::to_vec),
@@ -211,6 +284,7 @@ fn solve_increment(
         iterations: 0,
         rescues: Vec::new(),
         round_off: Vec::new(),
+        outer: (&[], 0.0),
     };
     let base = trials.base_gap()?;
     let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, along_load)?;
@@ -223,9 +297,109 @@ fn solve_increment(
     rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
         model.system.collocation_scale * search.displacement;
     system.set_body_load(*b, &rhs);
-    system.set_initial_gap(scene.initial_gap);
+    system.set_initial_gap(start.initial_gap);
+    let held = Some((search.displacement, search.evaluations, base));
     let u = system.final_body_friction_displacements(&answer.states)?;
-    Ok(Increment { answer, u, held: Some((search.displacement, search.evaluations, base)) })
+    Ok(Increment { answer, u, held, load_driven: None })
+}
+
+/// A force-driven obstacle's increment with a body held by the contact (docs/method.md
+/// §4.6–4.7): the obstacle's search whose every trial is the held body's search
+/// ([`lcp::load_driven::nested::HeldWithin`]); then the pin set to the translation found and
+/// the gaps to the obstacle's displacement alone.
+fn held_force_search(
+    system: &mut lcp::active_set::Bodies<'_>,
+    models: &[&Model],
+    (b, pin, held_along, held_load): (usize, crate::assembly::PinnedMode, &[f64], f64),
+    rhs: &[f64],
+    start: Warm<'_>,
+) -> Result<Increment, lcp::LcpError> {
+    let (e, target, along) = start.force.clone().expect("a force");
+    let mut inner = BodiesTrials {
+        system: &mut *system,
+        initial_gap: start.initial_gap,
+        along: held_along,
+        previous: start.previous.to_vec(),
+        warm: start.warm.map(<[_]>::to_vec),
+        params: lcp::active_set::ActiveSetParams {
+            force_scale: target.abs().max(held_load.abs()),
+            ..start.params
+        },
+        iterations: 0,
+        rescues: Vec::new(),
+        round_off: Vec::new(),
+        outer: (&along, 0.0),
+    };
+    let base = inner.base_gap()?;
+    let mut trials = lcp::load_driven::nested::HeldWithin {
+        inner: &mut inner,
+        held_along,
+        held_load,
+        translation: 0.0,
+        evaluations: 0,
+    };
+    let search = lcp::load_driven::find_displacement_with(&mut trials, &base, &along, e, target)?;
+    let (translation, evaluations) = (trials.translation, trials.evaluations);
+    let (iterations, rescues) = (inner.iterations, inner.rescues);
+    let mut answer = search.answer;
+    answer.step.iterations = iterations;
+    answer.rescues = rescues;
+    let mut rhs = rhs.to_vec();
+    rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
+        models[b].system.collocation_scale * translation;
+    system.set_body_load(b, &rhs);
+    let s = search.displacement;
+    let moved: Vec<f64> = start.initial_gap.iter().zip(&along).map(|(g, a)| g - a * s).collect();
+    system.set_initial_gap(&moved);
+    let u = system.final_body_friction_displacements(&answer.states)?;
+    let load_driven = Some(solution::LoadDriven {
+        force: [target * e[0], target * e[1]],
+        displacement_along: s,
+        displacement: [s * e[0], s * e[1]],
+        carried: search.force,
+        evaluations,
+        total_evaluations: evaluations,
+    });
+    Ok(Increment { answer, u, held: Some((translation, evaluations, base)), load_driven })
+}
+
+/// A force-driven obstacle's increment (docs/method.md §4.6): the displacement `s` along `e`
+/// whose answer carries the increment's force, over warm-started solves with the moved
+/// candidates' gaps at `g0 − a s` (the system is left at the last trial, the answer's).
+fn force_search(
+    system: &mut lcp::active_set::Bodies<'_>,
+    start: Warm<'_>,
+) -> Result<Increment, lcp::LcpError> {
+    let (e, target, along) = start.force.expect("a force");
+    let mut trials = BodiesTrials {
+        system: &mut *system,
+        initial_gap: start.initial_gap,
+        along: &along,
+        previous: start.previous.to_vec(),
+        warm: start.warm.map(<[_]>::to_vec),
+        params: lcp::active_set::ActiveSetParams { force_scale: target.abs(), ..start.params },
+        iterations: 0,
+        rescues: Vec::new(),
+        round_off: Vec::new(),
+        outer: (&[], 0.0),
+    };
+    let base = trials.base_gap()?;
+    let search = lcp::load_driven::find_displacement_with(&mut trials, &base, &along, e, target)?;
+    let (iterations, rescues) = (trials.iterations, trials.rescues);
+    let mut answer = search.answer;
+    answer.step.iterations = iterations;
+    answer.rescues = rescues;
+    let u = system.final_body_friction_displacements(&answer.states)?;
+    let s = search.displacement;
+    let load_driven = Some(solution::LoadDriven {
+        force: [target * e[0], target * e[1]],
+        displacement_along: s,
+        displacement: [s * e[0], s * e[1]],
+        carried: search.force,
+        evaluations: search.evaluations,
+        total_evaluations: search.evaluations,
+    });
+    Ok(Increment { answer, u, held: None, load_driven })
 }
 
 /// A body's operator over the candidates that touch it, with their global indices.
