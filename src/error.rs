@@ -12,28 +12,29 @@ pub enum Error {
     /// The problem description is invalid.
     #[error(transparent)]
     Problem(#[from] ProblemError),
-    /// Node generation or boundary tagging failed (stage 1).
+    /// The geometry, node generation or boundary tagging failed (stage 0: [`crate::geometry`]).
     #[error(transparent)]
     Geometry(#[from] GeometryError),
-    /// An MLS moment matrix could not be factorised (stage 3).
+    /// An MLS moment matrix could not be factorised (stage 4: [`crate::mls`]).
     #[error(transparent)]
     Mls(#[from] MlsError),
-    /// Subdomain cells could not be built (stage 4).
+    /// Subdomain cells could not be built (stage 5: [`crate::weak_form`]).
     #[error(transparent)]
     Cells(#[from] CellError),
-    /// Assembly of the global system failed (stage 5).
+    /// Assembly of the global system failed (stage 6: [`crate::assembly`]).
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
-    /// The finite element discretisation failed (stages 1–5 with `method = "fem"`).
+    /// The finite element discretisation failed (stage 6: [`crate::fem`], `method = "fem"`).
     #[error(transparent)]
     Fem(#[from] FemError),
-    /// Factorisation or solve failed (stage 6).
+    /// Factorisation or solve failed (stage 7: [`crate::linear_solve`]).
     #[error(transparent)]
     Solve(#[from] SolveError),
-    /// Contact candidates or condensation failed (stage 7).
+    /// Contact candidates or condensation failed (stage 9: [`crate::contact`]).
     #[error(transparent)]
     Contact(#[from] ContactError),
-    /// The LCP has no solution or Lemke failed (stage 8).
+    /// The LCP, its frictional step, a load-driven search or the active set failed (stage 10:
+    /// [`crate::lcp`]).
     #[error(transparent)]
     Lcp(#[from] LcpError),
     /// Lemke's method failed numerically on the condensed contact problem (a terminated run
@@ -83,10 +84,10 @@ pub enum Error {
         /// double precision, else empty (the advice is already taken).
         precision_hint: &'static str,
     },
-    /// Writing outputs failed (stage 9).
+    /// Writing outputs failed (stage 12: [`crate::post`]).
     #[error(transparent)]
     Output(#[from] OutputError),
-    /// The time stepping failed (stage 11).
+    /// The time stepping failed (stage 11: [`crate::dynamics`]).
     #[error(transparent)]
     Dynamics(#[from] DynamicsError),
 }

@@ -9,7 +9,8 @@
 //! g p = 0` on `Γ_c`) of a body with rigid obstacles (lines, circles, rounded polylines) or
 //! between several elastic bodies is posed as the linear complementarity problem
 //! `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` and solved by Lemke's method on the condensed `M`, or
-//! by a primal–dual active-set method on the sparse system without forming `M` (stage 10);
+//! by a primal–dual active-set method on the sparse system without forming `M` (stage 10:
+//! [`lcp`]);
 //! Coulomb friction and load steps follow the load path increment by increment
 //! (docs/method.md §8).
 //!
@@ -31,7 +32,7 @@
 //! | 7 | [`linear_solve`] | [`linear_solve::Factorisation`] (sparse LU) |
 //! | 8 | [`model`] | [`model::Model`]: the discretised body, MFVM or FE ([`model::Scheme`]) |
 //! | 9 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E` |
-//! | 10 | [`lcp`] | the LCP solver (Lemke) |
+//! | 10 | [`lcp`] | the contact solvers: Lemke's method, the frictional step LCP, the load-driven searches, the primal–dual active set |
 //! | 11 | [`solution`], [`dynamics`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks; Moreau–Jean time stepping with contact (mass, `M̂`, one LCP per step, history) |
 //! | 12 | [`post`] | outputs: CSV, VTU, plots, `summary.json` |
 //! | 13 | [`error`] | [`Error`], one variant per stage |

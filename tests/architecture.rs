@@ -203,6 +203,70 @@ fn module_docs_name_their_stage() {
     assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }
 
+/// Every `stage N: [`module`]` (or `[`crate::module`]`) cited in a doc comment of `src/`,
+/// with the file: the citations that the stage table must agree with.
+fn cited_stages(src: &Path) -> Vec<(PathBuf, u32, String)> {
+    let mut files = Vec::new();
+    rust_files(src, &mut files);
+    let mut out = Vec::new();
+    for file in files {
+        let text = fs::read_to_string(&file).expect("read a source file");
+        // Doc comments joined, so that a citation may wrap over two lines.
+        let docs: String = text
+            .lines()
+            .filter_map(|l| {
+                let l = l.trim_start();
+                l.strip_prefix("//!").or_else(|| l.strip_prefix("///"))
+            })
+            .collect::<Vec<_>>()
+            .join(" ");
+        let mut rest = docs.as_str();
+        while let Some(k) = rest.find("stage ") {
+            rest = &rest[k + "stage ".len()..];
+            let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+            let Some(after) = rest[digits.len()..].strip_prefix(":") else { continue };
+            let Some(link) = after.trim_start().strip_prefix("[`") else { continue };
+            let name: String =
+                link.trim_start_matches("crate::").chars().take_while(|c| *c != '`').collect();
+            if let Ok(n) = digits.parse() {
+                out.push((file.clone(), n, name));
+            }
+        }
+    }
+    out
+}
+
+/// The citations of [`cited_stages`] that disagree with the stage table of `src/lib.rs`.
+fn wrong_citations(src: &Path) -> Vec<String> {
+    let lib = fs::read_to_string(src.join("lib.rs")).expect("read lib.rs");
+    let stage = stages(&lib).expect("the stage table");
+    cited_stages(src)
+        .iter()
+        .filter(|(_, n, module)| stage.get(module.as_str()) != Some(n))
+        .map(|(file, n, module)| {
+            let table = stage.get(module.as_str());
+            format!("{}: cites stage {n} for `{module}`, the table says {table:?}", file.display())
+        })
+        .collect()
+}
+
+#[test]
+fn cited_stages_agree_with_the_table() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let cited = cited_stages(&src);
+    assert!(cited.len() >= 10, "the citations of error.rs are found: {cited:?}");
+    let wrong = wrong_citations(&src);
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn a_wrong_stage_citation_is_caught() {
+    let dir = scratch("citation", "/// Failed (stage 1: [`crate::early`]).\npub struct A;\n");
+    let wrong = wrong_citations(&dir);
+    assert_eq!(wrong.len(), 1, "{wrong:?}");
+    assert!(wrong[0].contains("cites stage 1 for `early`, the table says Some(0)"), "{wrong:?}");
+}
+
 #[test]
 fn modules_import_only_earlier_stages() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");

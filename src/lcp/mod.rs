@@ -1,5 +1,8 @@
-//! Stage 10 of the pipeline: the linear complementarity problem (LCP) of frictionless contact,
-//! solved by Lemke's complementary pivot method.
+//! Stage 10 of the pipeline: the contact solvers. The linear complementarity problem (LCP) of
+//! frictionless contact solved by Lemke's complementary pivot method; the frictional step LCP
+//! of a load increment ([`friction`], docs/method.md §8); the searches of a force-driven
+//! obstacle and a body held by contact ([`load_driven`], §4.6–4.7); the primal–dual active-set
+//! method on the sparse system ([`active_set`], §5.1).
 //!
 //! Given a dense, generally non-symmetric matrix M ∈ ℝⁿˣⁿ and a vector q ∈ ℝⁿ, the LCP(q, M) asks
 //! for z ∈ ℝⁿ with
@@ -19,8 +22,8 @@
 //! ray; by [CPS92, §4.4] the latter proves that no solution exists when M is
 //! copositive-plus (for instance positive semidefinite), and it cannot happen for P-matrices.
 //! [`enumerate_solutions`] is an exponential brute-force reference used by the tests.
-//! [`load_driven`] finds the displacement of a rigid obstacle pressed by a prescribed force,
-//! one LCP per trial displacement.
+//! [`load_driven`] finds the displacement of a rigid obstacle pressed by a prescribed force
+//! and the translation of a body held by the contact, one LCP per trial.
 
 pub mod active_set;
 mod enumerate;
