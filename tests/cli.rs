@@ -830,6 +830,7 @@ fn every_shipped_problem_runs() {
         .collect();
     names.sort();
     assert!(names.len() >= 3, "problems/: {names:?}");
+    let mut layout = std::collections::BTreeMap::<String, usize>::new();
     for file in names {
         let stem = file.file_stem().unwrap().to_string_lossy().into_owned();
         let out_dir = scratch(&format!("shipped-{stem}")).join("out");
@@ -841,7 +842,67 @@ fn every_shipped_problem_runs() {
             .output()
             .unwrap();
         assert!(out.status.success(), "{stem}: {}", String::from_utf8_lossy(&out.stderr));
-        assert!(out_dir.join("summary.json").is_file(), "{stem}: no summary.json");
+        let text = std::fs::read_to_string(out_dir.join("summary.json"))
+            .unwrap_or_else(|e| panic!("{stem}: summary.json: {e}"));
+        let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let version = mlpg_contact::post::summary::SCHEMA_VERSION;
+        assert_eq!(summary["schema_version"], version, "{stem}: schema_version");
+        let mut paths = std::collections::BTreeSet::new();
+        key_paths(&summary, "", &mut paths);
+        for path in paths {
+            *layout.entry(path).or_default() += 1;
+        }
+    }
+    assert_summary_layout(&layout);
+}
+
+/// The key paths of `value` under `prefix` (`a.b`, arrays as `a[]`); the echo of the problem
+/// file (`input`) and the stages under `timings` are the problems', not the layout's.
+fn key_paths(
+    value: &serde_json::Value,
+    prefix: &str,
+    out: &mut std::collections::BTreeSet<String>,
+) {
+    match value {
+        serde_json::Value::Object(map) => {
+            for (k, v) in map {
+                let path = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+                out.insert(path.clone());
+                if !["input", "timings"].contains(&path.as_str()) {
+                    key_paths(v, &path, out);
+                }
+            }
+        }
+        serde_json::Value::Array(items) => {
+            for v in items {
+                key_paths(v, &format!("{prefix}[]"), out);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// `summary.json`'s layout over the shipped problems (each key path and in how many problems'
+/// summaries it appears) against `tests/data/summary_layout.txt`, so that a change of the
+/// layout is always deliberate: on a difference the new layout is written to
+/// `target/summary_layout.txt`; copy it over the snapshot when the change is meant, and raise
+/// `post::summary::SCHEMA_VERSION` when a key was removed, renamed or changed its meaning.
+fn assert_summary_layout(layout: &std::collections::BTreeMap<String, usize>) {
+    let text: String = layout.iter().map(|(path, n)| format!("{path}\t{n}\n")).collect();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let snapshot =
+        std::fs::read_to_string(root.join("tests/data/summary_layout.txt")).unwrap_or_default();
+    if text != snapshot {
+        let new = root.join("target/summary_layout.txt");
+        std::fs::write(&new, &text).unwrap();
+        let old: std::collections::BTreeSet<&str> = snapshot.lines().collect();
+        let now: std::collections::BTreeSet<&str> = text.lines().collect();
+        let gone: Vec<&&str> = old.difference(&now).collect();
+        let added: Vec<&&str> = now.difference(&old).collect();
+        panic!(
+            "summary.json's layout changed (path, problems): gone {gone:?}, new {added:?}; the new layout is in {}",
+            new.display()
+        );
     }
 }
 

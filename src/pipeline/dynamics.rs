@@ -263,6 +263,7 @@ pub fn run(
     let h = outcome.dynamics.time_step;
     let figures = outcome.simulation.figures(h);
     let summary = DynamicSummary {
+        schema_version: post::summary::SCHEMA_VERSION,
         warnings: post::history::warnings(&figures, outcome.dynamics.theta),
         name: problem.name.clone(),
         nodes: outcome.nodes(),

@@ -12,6 +12,8 @@ use std::path::{Path, PathBuf};
 /// The contents of a dynamic run's `summary.json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct DynamicSummary {
+    /// The layout's version ([`super::summary::SCHEMA_VERSION`]).
+    pub schema_version: u32,
     /// The problem's name.
     pub name: String,
     /// Nodes of the body.

@@ -19,9 +19,16 @@ pub const RING_NOTE: &str = "axisymmetric: each candidate is a ring; force (cont
 /// How `summary.json` explains the onset fields.
 pub const ONSET_NOTE: &str = "distances along the contact edge from its first vertex; onset_x: gap^(2/3) extrapolated from the last two open candidates, clipped to [last_open_x, first_closed_x]; onset_x_from_pressure: p^2 extrapolated from the first two closed candidates";
 
+/// The version of `summary.json`'s layout (static and dynamic runs): raised when a key is
+/// removed, renamed or changes meaning; keys added keep it (docs/guide: outputs).
+/// `tests/summary_layout.rs` holds the layout it names.
+pub const SCHEMA_VERSION: u32 = 1;
+
 /// The summary of a run (`summary.json`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {
+    /// The layout's version ([`SCHEMA_VERSION`]).
+    pub schema_version: u32,
     /// The program's name and version.
     pub program: Program,
     /// The problem file as read (raw form, before validation).
@@ -691,6 +698,7 @@ impl Summary {
         let mixed = is_static && f.precision == FactorPrecision::Mixed;
         let matrix = &model.system.matrix;
         Self {
+            schema_version: SCHEMA_VERSION,
             program: Program { name: env!("CARGO_PKG_NAME"), version: env!("CARGO_PKG_VERSION") },
             input,
             problem: ProblemEcho {
