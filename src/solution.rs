@@ -275,6 +275,27 @@ pub struct LoadDriven {
     pub total_evaluations: usize,
 }
 
+impl LoadDriven {
+    /// The record of a search that found the displacement `s` along `e` carrying `carried` of
+    /// the force `target` (its magnitude) in `evaluations` LCP solves (`total`: over all
+    /// increments).
+    pub fn found(
+        (e, target): (geometry::Point, f64),
+        s: f64,
+        carried: f64,
+        (evaluations, total): (usize, usize),
+    ) -> Self {
+        Self {
+            force: [target * e[0], target * e[1]],
+            displacement_along: s,
+            displacement: [s * e[0], s * e[1]],
+            carried,
+            evaluations,
+            total_evaluations: total,
+        }
+    }
+}
+
 /// What the active-set solver did (docs/method.md §5.1).
 #[derive(Clone, Debug)]
 pub struct ActiveSetRecord {

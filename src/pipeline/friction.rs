@@ -710,14 +710,12 @@ pub(super) fn solve_frictional_active_set(
                                     .map(|search| {
                                         total_evaluations += search.evaluations;
                                         let s = search.displacement;
-                                        load_driven = Some(solution::LoadDriven {
-                                            force: [target * e[0], target * e[1]],
-                                            displacement_along: s,
-                                            displacement: [s * e[0], s * e[1]],
-                                            carried: search.force,
-                                            evaluations: search.evaluations,
-                                            total_evaluations,
-                                        });
+                                        load_driven = Some(solution::LoadDriven::found(
+                                            (e, target),
+                                            s,
+                                            search.force,
+                                            (search.evaluations, total_evaluations),
+                                        ));
                                         (search.answer, None)
                                     })
                                 })

@@ -320,14 +320,12 @@ fn solve_increment(
         };
         searches.total_evaluations += search.evaluations;
         let s = search.displacement;
-        searches.load_driven = Some(solution::LoadDriven {
-            force: [target * e[0], target * e[1]],
-            displacement_along: s,
-            displacement: [s * e[0], s * e[1]],
-            carried: search.force,
-            evaluations: search.evaluations,
-            total_evaluations: searches.total_evaluations,
-        });
+        searches.load_driven = Some(solution::LoadDriven::found(
+            (e, target),
+            s,
+            search.force,
+            (search.evaluations, searches.total_evaluations),
+        ));
         return Ok(search.answer);
     }
     let held = path.held.as_ref().expect("the compliance is kept for a force or a pin");

@@ -352,14 +352,8 @@ fn held_force_search(
     let moved: Vec<f64> = start.initial_gap.iter().zip(&along).map(|(g, a)| g - a * s).collect();
     system.set_initial_gap(&moved);
     let u = system.final_body_friction_displacements(&answer.states)?;
-    let load_driven = Some(solution::LoadDriven {
-        force: [target * e[0], target * e[1]],
-        displacement_along: s,
-        displacement: [s * e[0], s * e[1]],
-        carried: search.force,
-        evaluations,
-        total_evaluations: evaluations,
-    });
+    let found = (evaluations, evaluations);
+    let load_driven = Some(solution::LoadDriven::found((e, target), s, search.force, found));
     Ok(Increment { answer, u, held: Some((translation, evaluations, base)), load_driven })
 }
 
@@ -391,14 +385,8 @@ fn force_search(
     answer.rescues = rescues;
     let u = system.final_body_friction_displacements(&answer.states)?;
     let s = search.displacement;
-    let load_driven = Some(solution::LoadDriven {
-        force: [target * e[0], target * e[1]],
-        displacement_along: s,
-        displacement: [s * e[0], s * e[1]],
-        carried: search.force,
-        evaluations: search.evaluations,
-        total_evaluations: search.evaluations,
-    });
+    let found = (search.evaluations, search.evaluations);
+    let load_driven = Some(solution::LoadDriven::found((e, target), s, search.force, found));
     Ok(Increment { answer, u, held: None, load_driven })
 }
 
