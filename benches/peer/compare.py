@@ -11,6 +11,10 @@ system of the child), then the ratios peer / ours.
 
     python3 benches/peer/compare.py [--rounds 3] [--ny 16] [--binary target/release/mlpg-contact]
         [--python target/peer-venv/bin/python] [--problem problems/beam_on_foundation_adaptive.toml]
+        [--baseline /path/to/another/mlpg-contact]
+
+``--baseline`` also runs a second build of ours in each round (before and after a change, in
+the same minutes).
 
 The peer runs with one BLAS thread (OPENBLAS_NUM_THREADS=1 etc.): a multi-threaded BLAS
 oversubscribed on a shared 2-core machine made its condensation 20x slower, which would
@@ -102,12 +106,19 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--ny", type=int, default=16, help="the peer's elements through the depth")
     ap.add_argument("--binary", default=str(ROOT / "target/release/mlpg-contact"))
+    ap.add_argument("--baseline", help="a second mlpg-contact binary, run alternately too (A/B)")
     ap.add_argument("--python", default=str(ROOT / "target/peer-venv/bin/python"))
     ap.add_argument("--problem", default="problems/beam_on_foundation_adaptive.toml")
     a = ap.parse_args()
     loads = [pathlib.Path("/proc/loadavg").read_text().split()[:3]]
     runs = {"ours": [], "peer": []}
+    if a.baseline:
+        runs["baseline"] = []
     for k in range(a.rounds):
+        if a.baseline:
+            runs["baseline"].append(ours(a.baseline, a.problem))
+            b = runs["baseline"][-1]
+            print(f"round {k + 1}: baseline stage {b['stage']:.2f} s wall {b['wall']:.2f} s cpu {b['cpu']:.2f} s", flush=True)
         runs["ours"].append(ours(a.binary, a.problem))
         runs["peer"].append(peer(a.python, a.ny, a.problem))
         o, q = runs["ours"][-1], runs["peer"][-1]
@@ -127,8 +138,9 @@ def main():
         print(f"| {name} | {rs[-1]['size']} | {accuracy(rs[-1])} | {' | '.join(row)} |")
     print()
     for key in ("stage", "wall", "cpu"):
-        (omin, omed), (pmin, pmed) = med[("ours", key)], med[("peer", key)]
-        print(f"peer / ours, {key}: min {pmin / omin:.2f}x, median {pmed / omed:.2f}x")
+        for name in [n for n in runs if n != "peer"]:
+            (omin, omed), (pmin, pmed) = med[(name, key)], med[("peer", key)]
+            print(f"peer / {name}, {key}: min {pmin / omin:.2f}x, median {pmed / omed:.2f}x")
     print("\nwhere the time goes (median over the rounds, s):")
     for name, rs in runs.items():
         keys = sorted(rs[0]["stages"], key=lambda k: -statistics.median(r["stages"].get(k, 0) for r in rs))

@@ -179,7 +179,8 @@ fn mfvm_parts(
 }
 
 /// Whether `problem`'s contact will be condensed for Lemke's method with at least
-/// [`contact::SPARSE_CONDENSATION_MIN_CANDIDATES`] candidates on this body (one body or the
+/// [`contact::SPARSE_CONDENSATION_MIN_CANDIDATES`] candidates on this body (on a graded node
+/// set, one with refinement regions: [`contact::GRADED_SPARSE_CONDENSATION_MIN_CANDIDATES`]) (one body or the
 /// first of two; frictionless, one step, no translation held by the contact, double
 /// precision, `contact.solver` resolving to Lemke), counted as the nodes on the contact edge
 /// (the candidates are these, less constrained ones). Then the body's own factorisation is
@@ -199,7 +200,12 @@ fn condensed_sparsely(problem: &Problem, nodes: &nodes::Nodes, pinned: bool) -> 
         return false;
     }
     let on_edge = nodes.edges.iter().filter(|e| e.contains(spec.edge)).count();
-    on_edge >= contact::SPARSE_CONDENSATION_MIN_CANDIDATES && !spec.solver.is_active_set(on_edge)
+    let least = if problem.refinement.boxes.is_empty() {
+        contact::SPARSE_CONDENSATION_MIN_CANDIDATES
+    } else {
+        contact::GRADED_SPARSE_CONDENSATION_MIN_CANDIDATES
+    };
+    on_edge >= least && !spec.solver.is_active_set(on_edge)
 }
 
 /// The options of the factorisation of `problem`'s MFVM matrix: the defaults, or with
