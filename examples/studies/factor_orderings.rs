@@ -17,7 +17,8 @@
 //! = bit-identical solutions). The last line is the peak resident memory of the process
 //! (`VmHWM`): run one variant per process to measure its memory. `--beta 1` and
 //! `--support-factor 1.5` override the problem's `discretisation.beta` and
-//! `discretisation.support_factor`.
+//! `discretisation.support_factor`; `--graded` keeps the file's refinement regions (its
+//! graded node set, e.g. `problems/beam_on_foundation_refined.toml 0.25 --graded`).
 
 mod args;
 
@@ -44,9 +45,13 @@ fn peak_rss_mib() -> Option<f64> {
 struct Cli {
     /// Problem file (TOML)
     problem: PathBuf,
-    /// Node spacing h (overrides the file's)
+    /// Node spacing h (overrides the file's; with `--graded` the file's spacing and
+    /// refinement regions are kept and this must equal the file's spacing)
     #[arg(value_parser = args::positive)]
     spacing: f64,
+    /// Use the file's graded node set (`nodes::for_problem`: its `[[nodes.refine]]` regions)
+    #[arg(long)]
+    graded: bool,
     /// `nd` or `colamd`, each followed by optional `:key=value` settings (see the file header)
     #[arg(default_values = ["nd", "colamd"])]
     variants: Vec<String>,
@@ -68,7 +73,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let t = Instant::now();
     let disc = &problem.discretisation;
-    let nodes = nodes::generate(&problem.domain, problem.node_spacing, problem.layout)?;
+    let nodes = if cli.graded {
+        nodes::for_problem(&problem)?
+    } else {
+        nodes::generate(&problem.domain, problem.node_spacing, problem.layout)?
+    };
     let supports = Supports::new(&nodes, disc.mls.support_factor);
     let cells = weak_form::build_cells(&problem.domain, &nodes)?;
     let faces = weak_form::collect_faces(&cells);

@@ -21,11 +21,11 @@ pub mod spectrum;
 pub use crate::problem::{
     Closest, Condensation, ContactSpec, ContactTarget, Obstacle, RigidLine, Shape, closest_obstacle,
 };
-pub use condense::SPARSE_CONDENSATION_MIN_CANDIDATES;
 pub use condense::{
     CondensedBlocks, CondensedContact, CondensedPart, condense, condense_blocked, condense_blocks,
     condense_model_observed, condense_observed, sparse_compliance,
 };
+pub use condense::{GRADED_SPARSE_CONDENSATION_MIN_CANDIDATES, SPARSE_CONDENSATION_MIN_CANDIDATES};
 pub use spectrum::EigenvalueMethod;
 
 use crate::assembly::GlobalSystem;
