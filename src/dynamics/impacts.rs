@@ -105,19 +105,30 @@ impl<'a> Impacts<'a> {
         }
         let (u_free, u) = (self.normal_velocities(v_free), self.normal_velocities(v));
         let q: Vec<f64> = active.iter().map(|&c| u_free[c] + restitution * u[c]).collect();
-        let w: Vec<f64> = active
-            .iter()
-            .flat_map(|&r| active.iter().map(move |&c| (r, c)))
-            .map(|(r, c)| self.compliance[r * m + c])
-            .collect();
-        let lcp =
-            Lcp::new(active.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
-        let answer = lemke(&lcp, &LemkeParams::default())
-            .map_err(|e| DynamicsError::Lcp { step, source: e })?;
-        for (&c, z) in active.iter().zip(&answer.z) {
+        let (z, pivots) = self.solve_on(active, q, step)?;
+        for (&c, z) in active.iter().zip(&z) {
             impulses[c] = *z;
         }
-        Ok(StepImpulses { impulses, active: active.len(), pivots: answer.pivots })
+        Ok(StepImpulses { impulses, active: active.len(), pivots })
+    }
+
+    /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set`, with its pivots.
+    fn solve_on(
+        &self,
+        set: &[usize],
+        q: Vec<f64>,
+        step: usize,
+    ) -> Result<(Vec<f64>, usize), DynamicsError> {
+        let m = self.len();
+        let w: Vec<f64> = set
+            .iter()
+            .flat_map(|&r| set.iter().map(move |&c| (r, c)))
+            .map(|(r, c)| self.compliance[r * m + c])
+            .collect();
+        let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        let answer = lemke(&lcp, &LemkeParams::default())
+            .map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        Ok((answer.z, answer.pivots))
     }
 
     /// `v_free + M̂⁻¹ E Π`.
