@@ -26,7 +26,7 @@ pub mod mass;
 
 pub use history::{Figures, History, Record};
 
-pub use impacts::Impacts;
+pub use impacts::{Friction, Impacts};
 pub use iteration::Iteration;
 
 use crate::assembly::{BlockRows, GlobalSystem};
@@ -103,6 +103,8 @@ pub struct Contact<'a> {
     pub operator: &'a BodyOperator,
     /// `g0`.
     pub initial_gap: &'a [f64],
+    /// Coulomb friction at the velocity level (`None`: frictionless).
+    pub friction: Option<Friction<'a>>,
 }
 
 /// A finished run.
@@ -188,8 +190,8 @@ pub fn simulate(
     let clock = Instant::now();
     let mass = &body.mass;
     let iteration = Iteration::new(body.system, mass, body.node_shapes, h, theta, body.points)?;
-    let impacts = match &contact {
-        Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, n)?),
+    let impacts = match contact {
+        Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, c.friction, n)?),
         None => None,
     };
     seconds.setup = clock.elapsed().as_secs_f64();
@@ -215,7 +217,7 @@ pub fn simulate(
                 let answer =
                     impacts.impulses(&active, &v_free, &state.v, params.restitution, step)?;
                 seconds.lcp += clock.elapsed().as_secs_f64();
-                (impacts.apply(&v_free, &answer.impulses), Some(answer))
+                (impacts.apply(&v_free, &answer.impulses, &answer.tangential), Some(answer))
             }
             None => (v_free, None),
         };
@@ -232,7 +234,7 @@ pub fn simulate(
         rec.contact_loss = loss;
         if let (Some(impacts), Some(answer)) = (&impacts, &answer) {
             rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
-            rec.contact_loss -= impacts.work(&answer.impulses, &dq) / h;
+            rec.contact_loss -= impacts.work(&answer.impulses, &answer.tangential, &dq) / h;
             rec.active = answer.active;
             rec.pivots = answer.pivots;
         }

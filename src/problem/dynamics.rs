@@ -148,14 +148,14 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 }
 
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
-/// axisymmetric), frictionless, against rigid obstacles, from rest at its prescribed
+/// axisymmetric; friction on plane bodies only), against rigid obstacles, from rest at its prescribed
 /// displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let spec = problem.contact.as_ref();
     let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
         Some(("body", "several bodies"))
-    } else if spec.is_some_and(|c| c.friction > 0.0) {
-        Some(("contact.friction", "friction"))
+    } else if spec.is_some_and(|c| c.friction > 0.0) && problem.material.is_axisymmetric() {
+        Some(("contact.friction", "friction on an axisymmetric body"))
     } else if spec.is_some_and(|c| c.solver == ContactSolver::ActiveSet) {
         Some((
             "contact.solver",
@@ -177,7 +177,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),
