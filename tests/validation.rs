@@ -54,6 +54,8 @@ mod validation {
     mod adaptive_hertz_two_bodies;
     // Elastodynamics: lumped mass, free flight, the bar impact against the 1-D wave solution.
     mod dynamics;
+    // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
+    mod quasi_static;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.

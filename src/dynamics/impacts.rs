@@ -4,7 +4,7 @@
 
 use super::{DynamicsError, Iteration};
 use crate::contact::BodyOperator;
-use crate::lcp::{Lcp, LemkeParams, lemke};
+use crate::lcp::{FrictionProblem, Lcp, LemkeParams, lemke, solve_step};
 
 /// The candidates of one body against rigid obstacles, condensed with `M̂`.
 pub struct Impacts<'a> {
@@ -14,12 +14,38 @@ pub struct Impacts<'a> {
     columns: Vec<Vec<f64>>,
     /// `W = G Y`, row-major `m × m`.
     compliance: Vec<f64>,
+    /// Coulomb friction at the velocity level (`None`: frictionless).
+    friction: Option<Tangential<'a>>,
+}
+
+/// The tangential side of the candidates, condensed with `M̂`.
+struct Tangential<'a> {
+    /// `G_t`, `E_t` (direction `t` per candidate).
+    operator: &'a BodyOperator,
+    /// `μ_c` per candidate.
+    coefficients: Vec<f64>,
+    /// `Y_t = M̂⁻¹ E_t`, one column per candidate.
+    columns: Vec<Vec<f64>>,
+    /// `W_nt = G Y_t`, `W_tn = G_t Y`, `W_tt = G_t Y_t`, row-major `m × m`.
+    nt: Vec<f64>,
+    tn: Vec<f64>,
+    tt: Vec<f64>,
+}
+
+/// Coulomb friction for [`Impacts::new`]: the tangential operator and `μ` per candidate.
+pub struct Friction<'a> {
+    /// `G_t`, `E_t`.
+    pub operator: &'a BodyOperator,
+    /// `μ_c ≥ 0` (0: frictionless candidate).
+    pub coefficients: Vec<f64>,
 }
 
 /// One step's contact answer.
 pub struct StepImpulses {
     /// The impulse `Π_c ≥ 0` of every candidate over the step (0 off the index set).
     pub impulses: Vec<f64>,
+    /// The tangential impulse `Π_t,c` (along `t`; empty when frictionless).
+    pub tangential: Vec<f64>,
     /// Candidates in the index set.
     pub active: usize,
     /// Lemke's pivots.
@@ -27,7 +53,8 @@ pub struct StepImpulses {
 }
 
 impl<'a> Impacts<'a> {
-    /// Condenses `operator` (the candidates' `G` and `E`) with the iteration matrix.
+    /// Condenses `operator` (the candidates' `G` and `E`), and the tangential operator of
+    /// `friction`, with the iteration matrix.
     ///
     /// # Errors
     /// [`DynamicsError::Solve`] when a solve fails.
@@ -35,24 +62,26 @@ impl<'a> Impacts<'a> {
         iteration: &Iteration<'_>,
         operator: &'a BodyOperator,
         initial_gap: &'a [f64],
+        friction: Option<Friction<'a>>,
         dofs: usize,
     ) -> Result<Self, DynamicsError> {
-        let m = operator.len();
-        let mut columns = Vec::with_capacity(m);
-        for c in 0..m {
-            let mut unit = vec![0.0; m];
-            unit[c] = 1.0;
-            let mut e = vec![0.0; dofs];
-            operator.add_forces(&unit, &mut e);
-            columns.push(iteration.solve(&e)?);
-        }
-        let mut compliance = vec![0.0; m * m];
-        for (c, y) in columns.iter().enumerate() {
-            for (r, g) in operator.gap_contribution(y).into_iter().enumerate() {
-                compliance[r * m + c] = g;
+        let columns = condensed_columns(iteration, operator, dofs)?;
+        let compliance = block(operator, &columns);
+        let friction = match friction {
+            Some(f) => {
+                let t = condensed_columns(iteration, f.operator, dofs)?;
+                Some(Tangential {
+                    nt: block(operator, &t),
+                    tn: block(f.operator, &columns),
+                    tt: block(f.operator, &t),
+                    operator: f.operator,
+                    coefficients: f.coefficients,
+                    columns: t,
+                })
             }
-        }
-        Ok(Self { operator, initial_gap, columns, compliance })
+            None => None,
+        };
+        Ok(Self { operator, initial_gap, columns, compliance, friction })
     }
 
     /// Number of candidates.
@@ -101,29 +130,84 @@ impl<'a> Impacts<'a> {
         let m = self.len();
         let mut impulses = vec![0.0; m];
         if active.is_empty() {
-            return Ok(StepImpulses { impulses, active: 0, pivots: 0 });
+            return Ok(StepImpulses { impulses, tangential: Vec::new(), active: 0, pivots: 0 });
         }
         let (u_free, u) = (self.normal_velocities(v_free), self.normal_velocities(v));
         let q: Vec<f64> = active.iter().map(|&c| u_free[c] + restitution * u[c]).collect();
-        let w: Vec<f64> = active
-            .iter()
-            .flat_map(|&r| active.iter().map(move |&c| (r, c)))
-            .map(|(r, c)| self.compliance[r * m + c])
-            .collect();
-        let lcp =
-            Lcp::new(active.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
-        let answer = lemke(&lcp, &LemkeParams::default())
-            .map_err(|e| DynamicsError::Lcp { step, source: e })?;
-        for (&c, z) in active.iter().zip(&answer.z) {
+        if let Some(f) =
+            self.friction.as_ref().filter(|f| active.iter().any(|&c| f.coefficients[c] > 0.0))
+        {
+            return self.frictional(f, active, q, v_free, step);
+        }
+        let (z, pivots) = self.solve_on(active, q, step)?;
+        for (&c, z) in active.iter().zip(&z) {
             impulses[c] = *z;
         }
-        Ok(StepImpulses { impulses, active: active.len(), pivots: answer.pivots })
+        Ok(StepImpulses { impulses, tangential: Vec::new(), active: active.len(), pivots })
     }
 
-    /// `v_free + M̂⁻¹ E Π`.
-    pub fn apply(&self, v_free: &[f64], impulses: &[f64]) -> Vec<f64> {
+    /// Moreau's frictional law on the index set: the normal law of [`Self::impulses`]
+    /// (`q_n = U_free + e U`) and Coulomb's on the tangential velocities
+    /// `U_t = G_t v_free + W_tn Π + W_tt Π_t`: stick (`U_t = 0`, `|Π_t| ≤ μ Π`) or slide
+    /// (`Π_t = −μ Π sign U_t`) — the step LCP of the static friction ([`solve_step`]) with the
+    /// velocities in place of the displacement increments (`s_prev = 0`).
+    fn frictional(
+        &self,
+        f: &Tangential<'_>,
+        active: &[usize],
+        q_n: Vec<f64>,
+        v_free: &[f64],
+        step: usize,
+    ) -> Result<StepImpulses, DynamicsError> {
+        let m = self.len();
+        let u_t = f.operator.gap_contribution(v_free);
+        let sub = |b: &[f64]| -> Vec<f64> {
+            active.iter().flat_map(|&r| active.iter().map(move |&c| b[r * m + c])).collect()
+        };
+        let problem = FrictionProblem {
+            nn: sub(&self.compliance),
+            nt: sub(&f.nt),
+            tn: sub(&f.tn),
+            tt: sub(&f.tt),
+            free_gap: q_n,
+            free_tangential: active.iter().map(|&c| u_t[c]).collect(),
+            previous_tangential: vec![0.0; active.len()],
+            friction: active.iter().map(|&c| f.coefficients[c]).collect(),
+        };
+        let answer = solve_step(&problem).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        let (mut impulses, mut tangential) = (vec![0.0; m], vec![0.0; m]);
+        for (k, &c) in active.iter().enumerate() {
+            impulses[c] = answer.normal[k];
+            tangential[c] = answer.tangential[k];
+        }
+        Ok(StepImpulses { impulses, tangential, active: active.len(), pivots: answer.pivots })
+    }
+
+    /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set`, with its pivots.
+    fn solve_on(
+        &self,
+        set: &[usize],
+        q: Vec<f64>,
+        step: usize,
+    ) -> Result<(Vec<f64>, usize), DynamicsError> {
+        let m = self.len();
+        let w: Vec<f64> = set
+            .iter()
+            .flat_map(|&r| set.iter().map(move |&c| (r, c)))
+            .map(|(r, c)| self.compliance[r * m + c])
+            .collect();
+        let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        let answer = lemke(&lcp, &LemkeParams::default())
+            .map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        Ok((answer.z, answer.pivots))
+    }
+
+    /// `v_free + M̂⁻¹ (E Π + E_t Π_t)` (`tangential` empty: no friction).
+    pub fn apply(&self, v_free: &[f64], impulses: &[f64], tangential: &[f64]) -> Vec<f64> {
         let mut v = v_free.to_vec();
-        for (y, &p) in self.columns.iter().zip(impulses) {
+        let t_columns = self.friction.as_ref().map_or(&[][..], |f| &f.columns[..]);
+        let pairs = self.columns.iter().zip(impulses).chain(t_columns.iter().zip(tangential));
+        for (y, &p) in pairs {
             if p != 0.0 {
                 for (v, y) in v.iter_mut().zip(y) {
                     *v += p * y;
@@ -133,10 +217,43 @@ impl<'a> Impacts<'a> {
         v
     }
 
-    /// The work of the impulses on the velocity `v`: `Πᵀ Eᵀ v`.
-    pub fn work(&self, impulses: &[f64], v: &[f64]) -> f64 {
+    /// The work of the impulses on the velocity `v`: `(E Π + E_t Π_t)ᵀ v`.
+    pub fn work(&self, impulses: &[f64], tangential: &[f64], v: &[f64]) -> f64 {
         let mut e = vec![0.0; v.len()];
         self.operator.add_forces(impulses, &mut e);
+        if let (Some(f), false) = (&self.friction, tangential.is_empty()) {
+            f.operator.add_forces(tangential, &mut e);
+        }
         e.iter().zip(v).map(|(e, v)| e * v).sum()
     }
+}
+
+/// `M̂⁻¹ E_c` for every candidate `c` of `operator`.
+fn condensed_columns(
+    iteration: &Iteration<'_>,
+    operator: &BodyOperator,
+    dofs: usize,
+) -> Result<Vec<Vec<f64>>, DynamicsError> {
+    let m = operator.len();
+    (0..m)
+        .map(|c| {
+            let mut unit = vec![0.0; m];
+            unit[c] = 1.0;
+            let mut e = vec![0.0; dofs];
+            operator.add_forces(&unit, &mut e);
+            iteration.solve(&e)
+        })
+        .collect()
+}
+
+/// `G Y` for the rows of `operator` and the columns `Y`, row-major `m × m`.
+fn block(operator: &BodyOperator, columns: &[Vec<f64>]) -> Vec<f64> {
+    let m = columns.len();
+    let mut w = vec![0.0; m * m];
+    for (c, y) in columns.iter().enumerate() {
+        for (r, g) in operator.gap_contribution(y).into_iter().enumerate() {
+            w[r * m + c] = g;
+        }
+    }
+    w
 }

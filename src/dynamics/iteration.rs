@@ -65,15 +65,26 @@ impl<'a> Iteration<'a> {
     }
 
     /// The velocity at the end of the step without contact impulses:
-    /// `v_free = v + M̂⁻¹ h (f − K (q + hθ v))` (a collocation row's `f` is its prescribed value).
+    /// `v_free = v + M̂⁻¹ h (s f − K (q + hθ v))`, `s = load_factor` (the applied loads' factor
+    /// at `t_{n+θ}`; a collocation row's `f` is its prescribed value and is not scaled).
     ///
     /// # Errors
     /// [`DynamicsError::Solve`] when the solve is not finite.
-    pub fn free_velocity(&self, q: &[f64], v: &[f64]) -> Result<Vec<f64>, DynamicsError> {
-        let (h, theta) = (self.h, self.theta);
+    pub fn free_velocity(
+        &self,
+        q: &[f64],
+        v: &[f64],
+        load_factor: f64,
+    ) -> Result<Vec<f64>, DynamicsError> {
+        let (h, theta, system) = (self.h, self.theta, self.system);
         let ahead: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + h * theta * v).collect();
-        let k_ahead = mul(&self.system.matrix, &ahead);
-        let rhs: Vec<f64> = (0..q.len()).map(|d| h * (self.system.rhs[d] - k_ahead[d])).collect();
+        let k_ahead = mul(&system.matrix, &ahead);
+        let rhs: Vec<f64> = (0..q.len())
+            .map(|d| {
+                let s = if system.is_constrained(d) { 1.0 } else { load_factor };
+                h * (s * system.rhs[d] - k_ahead[d])
+            })
+            .collect();
         let dv = self.factorisation.solve(&rhs)?;
         Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
     }

@@ -4,7 +4,8 @@
 //! Per step `n → n + 1` (step `h`, `θ ∈ [½, 1]`, restitution `e`):
 //!
 //! ```text
-//! v_free = v + M̂⁻¹ h (f − K (q + hθ v))            M̂ = M Φ + h²θ² K, factorised once
+//! v_free = v + M̂⁻¹ h (s f − K (q + hθ v))          M̂ = M Φ + h²θ² K, factorised once;
+//!                                                    s = min(t_{n+θ} / T_r, 1) (load ramp)
 //! A      = { c : g_c(q + h/2 v) ≤ 0 }                 index set from the predicted gap
 //! Π_A    : 0 ≤ Π ⊥ G v_free + W Π + e G v ≥ 0         W = G M̂⁻¹ E, condensed once
 //! v⁺     = v_free + M̂⁻¹ E Π
@@ -25,7 +26,7 @@ pub mod mass;
 
 pub use history::{Figures, History, Record};
 
-pub use impacts::Impacts;
+pub use impacts::{Friction, Impacts};
 pub use iteration::Iteration;
 
 use crate::assembly::{BlockRows, GlobalSystem};
@@ -102,6 +103,8 @@ pub struct Contact<'a> {
     pub operator: &'a BodyOperator,
     /// `g0`.
     pub initial_gap: &'a [f64],
+    /// Coulomb friction at the velocity level (`None`: frictionless).
+    pub friction: Option<Friction<'a>>,
 }
 
 /// A finished run.
@@ -118,6 +121,9 @@ pub struct Simulation {
     pub mass: Vec<f64>,
     /// Each candidate's gap at the end.
     pub final_gap: Vec<f64>,
+    /// Each candidate's impulse `Π_c` over the last step (`Π_c / h` is its force; empty
+    /// without contact).
+    pub final_impulses: Vec<f64>,
     /// Wall time of the set-up (`M̂`'s factorisation and `W`) and of the steps' LCPs.
     pub seconds: Seconds,
 }
@@ -184,8 +190,8 @@ pub fn simulate(
     let clock = Instant::now();
     let mass = &body.mass;
     let iteration = Iteration::new(body.system, mass, body.node_shapes, h, theta, body.points)?;
-    let impacts = match &contact {
-        Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, n)?),
+    let impacts = match contact {
+        Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, c.friction, n)?),
         None => None,
     };
     seconds.setup = clock.elapsed().as_secs_f64();
@@ -197,11 +203,13 @@ pub fn simulate(
     let snapshot =
         |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
     let mut frames = Vec::new();
+    let mut final_impulses = Vec::new();
     if snapshot(0) {
         frames.push(Frame::of(body, &state, 0, 0.0));
     }
     for step in 1..=steps {
-        let v_free = iteration.free_velocity(&state.q, &state.v)?;
+        let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
+        let v_free = iteration.free_velocity(&state.q, &state.v, factor)?;
         let (v_next, answer) = match &impacts {
             Some(impacts) => {
                 let clock = Instant::now();
@@ -209,7 +217,7 @@ pub fn simulate(
                 let answer =
                     impacts.impulses(&active, &v_free, &state.v, params.restitution, step)?;
                 seconds.lcp += clock.elapsed().as_secs_f64();
-                (impacts.apply(&v_free, &answer.impulses), Some(answer))
+                (impacts.apply(&v_free, &answer.impulses, &answer.tangential), Some(answer))
             }
             None => (v_free, None),
         };
@@ -221,13 +229,17 @@ pub fn simulate(
         let (external, loss) = (previous.external_work, previous.contact_loss);
         state = State { q: q_next, v: v_next };
         let mut rec = record(body, &state, step as f64 * h);
-        rec.external_work = external + load.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
+        rec.external_work =
+            external + factor * load.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
         rec.contact_loss = loss;
         if let (Some(impacts), Some(answer)) = (&impacts, &answer) {
             rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
-            rec.contact_loss -= impacts.work(&answer.impulses, &dq) / h;
+            rec.contact_loss -= impacts.work(&answer.impulses, &answer.tangential, &dq) / h;
             rec.active = answer.active;
             rec.pivots = answer.pivots;
+        }
+        if let Some(answer) = answer {
+            final_impulses = answer.impulses;
         }
         history.records.push(rec);
         if snapshot(step) {
@@ -243,6 +255,7 @@ pub fn simulate(
         velocity: state.v,
         mass: body.mass.clone(),
         final_gap,
+        final_impulses,
         seconds,
     })
 }

@@ -182,8 +182,20 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         None => None,
     };
     let stepped = stepped_body(problem, &body, dynamics.density);
-    let contact =
-        candidates.as_ref().map(|c| Contact { operator: &c.operator, initial_gap: &c.initial_gap });
+    // Coulomb friction: the tangential operator (a candidate whose owner is held along `t`
+    // is frictionless, as in the static solve).
+    let mu = problem.contact.as_ref().map_or(0.0, |c| c.friction);
+    let system = stepped.system;
+    let tangential =
+        candidates.as_ref().filter(|_| mu > 0.0).map(|c| c.tangential_operator(system));
+    let contact = candidates.as_ref().map(|c| Contact {
+        operator: &c.operator,
+        initial_gap: &c.initial_gap,
+        friction: tangential.as_ref().map(|(operator, free)| dynamics::Friction {
+            operator,
+            coefficients: free.iter().map(|&f| if f { mu } else { 0.0 }).collect(),
+        }),
+    });
     let simulation = clock.run_counted("time steps", |advance| {
         dynamics::simulate(&stepped, contact, &dynamics, advance)
     })?;

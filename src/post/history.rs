@@ -46,6 +46,9 @@ pub struct DynamicsEcho {
     pub restitution: f64,
     /// Initial velocity.
     pub initial_velocity: [f64; 2],
+    /// The loads' ramp time (absent without).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub load_ramp: Option<f64>,
 }
 
 impl From<&Dynamics> for DynamicsEcho {
@@ -56,6 +59,7 @@ impl From<&Dynamics> for DynamicsEcho {
             theta: d.theta,
             restitution: d.restitution,
             initial_velocity: d.initial_velocity,
+            load_ramp: d.load_ramp,
         }
     }
 }

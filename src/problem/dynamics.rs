@@ -22,6 +22,9 @@ pub struct Dynamics {
     pub restitution: f64,
     /// Uniform velocity at time 0.
     pub initial_velocity: [f64; 2],
+    /// The applied loads rise linearly from 0 to their value over this time, then hold
+    /// (`None`: applied in full from time 0).
+    pub load_ramp: Option<f64>,
     /// A VTP snapshot of the body every this many steps (the first and last always;
     /// `None`: no snapshots).
     pub snapshot_every: Option<usize>,
@@ -38,6 +41,11 @@ impl Dynamics {
         } else {
             ratio.ceil() as usize
         }
+    }
+
+    /// The factor on the applied loads at time `t`: `min(t / T_r, 1)` with a ramp `T_r`, else 1.
+    pub fn load_factor(&self, t: f64) -> f64 {
+        self.load_ramp.map_or(1.0, |ramp| (t / ramp).clamp(0.0, 1.0))
     }
 }
 
@@ -83,6 +91,16 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
             return Err(invalid("dynamics.initial_velocity", v, "must be finite numbers"));
         }
     }
+    let load_ramp = match d.load_ramp {
+        Some(r) if !(r.is_finite() && r > 0.0 && r <= end_time) => {
+            return Err(invalid(
+                "dynamics.load_ramp",
+                r,
+                format!("must be a positive time at most dynamics.end_time = {end_time}"),
+            ));
+        }
+        r => r,
+    };
     let snapshot_every = d.output.as_ref().and_then(|o| o.every);
     if snapshot_every == Some(0) {
         return Err(invalid("dynamics.output.every", 0, "must be at least 1"));
@@ -95,6 +113,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         theta,
         restitution,
         initial_velocity,
+        load_ramp,
         snapshot_every,
     };
     if dynamics.steps() > MAX_STEPS {
@@ -129,14 +148,14 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 }
 
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
-/// axisymmetric), frictionless, against rigid obstacles, from rest at its prescribed
+/// axisymmetric; friction on plane bodies only), against rigid obstacles, from rest at its prescribed
 /// displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let spec = problem.contact.as_ref();
     let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
         Some(("body", "several bodies"))
-    } else if spec.is_some_and(|c| c.friction > 0.0) {
-        Some(("contact.friction", "friction"))
+    } else if spec.is_some_and(|c| c.friction > 0.0) && problem.material.is_axisymmetric() {
+        Some(("contact.friction", "friction on an axisymmetric body"))
     } else if spec.is_some_and(|c| c.solver == ContactSolver::ActiveSet) {
         Some((
             "contact.solver",
@@ -158,7 +177,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),

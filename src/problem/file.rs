@@ -74,6 +74,11 @@ pub struct DynamicsFile {
     /// Newton's coefficient of restitution `e ∈ [0, 1]` at the contacts (default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub restitution: Option<f64>,
+    /// Ramp the applied loads (tractions, body force) from 0 at time 0 to their full value at
+    /// this time, then hold them (`> 0`, at most `end_time`; default: the full loads from time
+    /// 0). A slow ramp approaches the static solution (the quasi-static limit).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub load_ramp: Option<f64>,
     /// The body's uniform velocity `[vx, vy]` at time 0 (default `[0, 0]`).
     #[serde(
         default,

@@ -247,7 +247,7 @@ fn bodies_and_control(defs: &mut Map<String, Value>) {
         table(
             json!({
                 "end_time": number(), "time_step": number(), "theta": number(),
-                "restitution": number(), "initial_velocity": pair(),
+                "restitution": number(), "load_ramp": number(), "initial_velocity": pair(),
                 "output": def("DynamicsOutputFile"),
             }),
             &["end_time", "time_step"],
