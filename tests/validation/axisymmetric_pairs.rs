@@ -13,7 +13,8 @@
 //!    `2π` and the `r` weighting of the target's share (an unweighted share moves the load
 //!    inwards and breaks the uniform state on non-matching layouts). A two-body `[contact]`
 //!    (MFVM structured and jittered, FE) and the same pair as a `[[contact]]` scene (the
-//!    lower body's top against the upper body's bottom); Lemke and the active set.
+//!    lower body's top against the upper body's bottom); Lemke and the active set. Along a
+//!    load path (`[[step]]`, `μ = 1e-12`) the same pair equals its one-step answer.
 //! 2. **Hertz: an elastic sphere on an elastic block** (Hertz 1882; Johnson, *Contact
 //!    Mechanics* (1985), §4.2, eqs. 4.22–4.24, with the combined modulus
 //!    `1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂` and `1/R = 1/R₁ + 1/R₂`, here `R₂ = ∞`): the
@@ -42,6 +43,11 @@ const E2: f64 = 2.0;
 /// The two cylinders of case 1: `layout` of both node sets, `method`, `solver`; `scene`
 /// gives the contact as a `[[contact]]` table on the lower body (the multibody path).
 fn cylinders(layout: &str, method: &str, solver: &str, scene: bool) -> Problem {
+    Problem::from_toml(&cylinders_text(layout, method, solver, scene)).unwrap()
+}
+
+/// The TOML of [`cylinders`] (the contact table last).
+fn cylinders_text(layout: &str, method: &str, solver: &str, scene: bool) -> String {
     let contact = match scene {
         false => {
             format!("[contact]\nedge = \"bottom\"\ntarget_edge = \"top\"\nsolver = \"{solver}\"")
@@ -50,7 +56,7 @@ fn cylinders(layout: &str, method: &str, solver: &str, scene: bool) -> Problem {
             "[[contact]]\nbody = \"lower\"\nedge = \"top\"\ntarget_body = \"upper\"\ntarget_edge = \"bottom\"\nsolver = \"{solver}\""
         ),
     };
-    Problem::from_toml(&format!(
+    format!(
         r#"
         [discretisation]
         method = "{method}"
@@ -68,8 +74,7 @@ fn cylinders(layout: &str, method: &str, solver: &str, scene: bool) -> Problem {
         boundary = [ {{ edge = "bottom", displacement = {{ y = 0.0 }} }} ]
         {contact}
         "#
-    ))
-    .unwrap()
+    )
 }
 
 /// The contact solution of a pair, whether a two-body `[contact]` or a scene's only pair, and
@@ -118,6 +123,34 @@ fn two_cylinders_end_to_end_carry_the_uniaxial_pressure_over_rings() {
         }
         let d = forces[0].iter().zip(&forces[1]).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         assert!(d < 1e-8 * PI * p, "{layout} {method}: active set against Lemke {d:.2e}");
+    }
+}
+
+/// The cylinder pair along a load path (docs/method.md §8): the upper top pushed down in one
+/// `[[step]]` of 3 increments with `μ = 1e-12` equals the frictionless one-step answer (the
+/// frictionless problem has no path; `μ → 0` is frictionless), to 1e-9 of the ring force, on
+/// the two-body `[contact]` and the `[[contact]]` scene, each body's per-radian balance
+/// checked at the end (observed 3.8e-13 and 4.1e-13). The path's condensed blocks take the
+/// rings' weights on both bodies; `μ = 1e-12` checks the frictional path's machinery, not the
+/// size of the tangential forces.
+#[test]
+fn the_cylinder_pair_along_a_path_with_vanishing_friction_is_frictionless() {
+    for scene in [false, true] {
+        let one = mlpg_contact::solve(&cylinders("structured", "mfvm", "lemke", scene)).unwrap();
+        let text = cylinders_text("structured", "mfvm", "lemke", scene)
+            .replace("y = -0.01", "y = 0.0")
+            + "friction = 1e-12\n[[step]]\nincrements = 3\nboundary = [{ body = \"upper\", edge = \"top\", displacement = { y = -0.01 } }]\n";
+        let path = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+        let (a, b) = (&pair(&one).0.lcp.z, &pair(&path).0.lcp.z);
+        let scale = a.iter().copied().fold(0.0, f64::max);
+        let d = a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale;
+        println!("cylinder pair path (scene {scene}): against one step {d:.2e}");
+        assert!(d < 1e-9, "scene {scene}: {d:.3e}");
+        let (c, upper, lower) = pair(&path);
+        assert!(c.friction.is_some(), "scene {scene}: not on the frictional path");
+        for body in [upper, lower] {
+            assert!(body.equilibrium_error < 1e-9, "scene {scene}: {}", body.equilibrium_error);
+        }
     }
 }
 
