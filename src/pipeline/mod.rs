@@ -45,8 +45,8 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
 /// [`discretise`], with `held_by_contact` telling assembly that a contact pair touches the
 /// body, so that it may hold one free translation (`assembly::Body::contact_may_hold`; the
 /// second and later bodies of several, whose own `contact` is `None`; docs/method.md §4.7).
-/// Not an axisymmetric body: its only rigid motion is axial and validation asks for it to be
-/// held (`problem::axisymmetric::refuse_unsupported`); a uniform `u_r` is no rigid motion.
+/// An axisymmetric body may hold its axial translation only (a uniform `u_r` is no rigid
+/// motion; `assembly::with_pin`).
 fn discretise_held(
     problem: &Problem,
     held_by_contact: bool,
@@ -154,7 +154,7 @@ fn mfvm_parts(
     let system = clock.run("assembly", || {
         assembly::assemble(&AssemblyInput {
             body: assembly::Body {
-                contact_may_hold: (held_by_contact && !problem.material.is_axisymmetric())
+                contact_may_hold: held_by_contact
                     || assembly::Body::new(problem, &nodes, &d).contact_may_hold,
                 ..assembly::Body::new(problem, &nodes, &d)
             },
@@ -229,7 +229,7 @@ fn discretise_fem(
     let system = clock.run("assembly", || {
         fem::system::assemble(&fem::system::FemInput {
             body: assembly::Body {
-                contact_may_hold: (held_by_contact && !problem.material.is_axisymmetric())
+                contact_may_hold: held_by_contact
                     || assembly::Body::new(problem, &nodes, &d).contact_may_hold,
                 ..assembly::Body::new(problem, &nodes, &d)
             },

@@ -76,9 +76,9 @@ pub fn axis_conditions(
 /// Refuses what an axisymmetric problem cannot do yet. Axisymmetric bodies against rigid
 /// obstacles (a line: a flat or a cone; a circle: a sphere or a torus) and against each other
 /// (a two-body `[contact]`, `[[body]]`/`[[contact]]` scenes), with friction and load steps,
-/// are solved: their contact candidates are rings (`contact::rings`). Refused: a scene mixing
-/// axisymmetric and plane bodies, a body of several that no axial displacement condition
-/// holds (held by contact alone), adaptive refinement; the obstacles are surfaces of
+/// are solved: their contact candidates are rings (`contact::rings`); a body of several may be
+/// held along the axis by contact alone. Refused: a scene mixing axisymmetric and plane
+/// bodies, adaptive refinement; the obstacles are surfaces of
 /// revolution and move (or are pressed) along the axis only, and each step's conditions on
 /// the axis obey [`axis_conditions`].
 ///
@@ -97,13 +97,6 @@ pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
             &format!("{}material.plane", prefix(k)),
             format!("body `{}` is not axisymmetric", bodies[k].name),
             "bodies in contact with an axisymmetric body must be axisymmetric too (a body of revolution cannot touch a prism): give every body plane = \"axisymmetric\", or none",
-        ));
-    }
-    if several && let Some(k) = bodies.iter().position(|p| !holds_axially(p)) {
-        return Err(invalid(
-            &format!("{}boundary", prefix(k)),
-            format!("body `{}` has no displacement condition on y", bodies[k].name),
-            "an axisymmetric body held by contact alone is not implemented yet (its translation along the axis must be fixed): give one of its edges a y displacement",
         ));
     }
     if problem.adaptive.is_some() {
@@ -128,14 +121,6 @@ pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
         }
     }
     Ok(())
-}
-
-/// Whether some edge of `body` prescribes its axial (`y`) displacement: its translation along
-/// the axis, its only rigid-body motion, is held (docs/method.md §9.3).
-fn holds_axially(body: &Problem) -> bool {
-    body.boundary
-        .iter()
-        .any(|c| matches!(c, EdgeCondition::Components([_, ComponentCondition::Displacement(_)])))
 }
 
 /// Refuses a radial component of an obstacle's motion or force: a rigid surface of revolution
@@ -258,15 +243,14 @@ mod tests {
     }
 
     #[test]
-    fn elastic_pairs_are_accepted_mixed_or_unheld_bodies_refused() {
+    fn elastic_pairs_are_accepted_mixed_bodies_refused() {
         let held = "{ edge = \"bottom\", displacement = { y = 0.0 } }";
         let p = Problem::from_toml(&pair("axisymmetric", held)).expect("valid");
         assert!(p.second_body.is_some());
         let e = refusal(&pair("strain", held));
         assert!(e.contains("body[0].material.plane") && e.contains("axisymmetric too"), "{e}");
         let free = "{ edge = \"bottom\", traction = { y = 0.0 } }";
-        let e = refusal(&pair("axisymmetric", free));
-        assert!(e.contains("body[1].boundary") && e.contains("held by contact alone"), "{e}");
+        assert!(Problem::from_toml(&pair("axisymmetric", free)).is_ok());
     }
 
     #[test]

@@ -154,6 +154,77 @@ fn the_cylinder_pair_along_a_path_with_vanishing_friction_is_frictionless() {
     }
 }
 
+/// Three solid cylinders stacked (`R = 1`, heights 1, `E` = 1, 2, 1 from the bottom, `ν = 0.3`),
+/// the top one's top pushed down by `δ = 0.01`, the bottom one's bottom on a roller, the middle
+/// one held along the axis by its two contacts alone (docs/method.md §4.7, §9.6: its search
+/// balances `2π` times its per-radian load against the rings' forces; here the load is 0).
+/// Exactly, each interface carries `p = δ / (1/E₁ + 1/E₂ + 1/E₃)` at every ring, and the middle
+/// body's axial translation puts its bottom at `−p/E₁` (the bottom cylinder's shortening).
+/// MFVM and FE, Lemke and the active set.
+#[test]
+fn a_middle_cylinder_held_by_contact_alone_carries_the_uniaxial_pressure() {
+    let delta = 0.01;
+    let p = delta / (1.0 + 0.5 + 1.0);
+    for method in ["mfvm", "fem"] {
+        for solver in ["lemke", "active_set"] {
+            let label = format!("stack {method} {solver}");
+            let text = format!(
+                r#"
+                [discretisation]
+                method = "{method}"
+                [[body]]
+                name = "bottom"
+                geometry = {{ kind = "rectangle", x = [0.0, 1.0], y = [0.0, 1.0] }}
+                nodes = {{ spacing = 0.125 }}
+                material = {{ young = 1.0, poisson = 0.3, plane = "axisymmetric" }}
+                boundary = [ {{ edge = "bottom", displacement = {{ y = 0.0 }} }} ]
+                [[body]]
+                name = "middle"
+                geometry = {{ kind = "rectangle", x = [0.0, 1.0], y = [1.0, 2.0] }}
+                nodes = {{ spacing = 0.1 }}
+                material = {{ young = 2.0, poisson = 0.3, plane = "axisymmetric" }}
+                [[body]]
+                name = "top"
+                geometry = {{ kind = "rectangle", x = [0.0, 1.0], y = [2.0, 3.0] }}
+                nodes = {{ spacing = 0.125 }}
+                material = {{ young = 1.0, poisson = 0.3, plane = "axisymmetric" }}
+                boundary = [ {{ edge = "top", displacement = {{ y = -0.01 }} }} ]
+                [[contact]]
+                body = "middle"
+                edge = "bottom"
+                target_body = "bottom"
+                target_edge = "top"
+                solver = "{solver}"
+                [[contact]]
+                body = "top"
+                edge = "bottom"
+                target_body = "middle"
+                target_edge = "top"
+                solver = "{solver}"
+                "#
+            );
+            let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+            let m = s.multibody.as_ref().unwrap();
+            for c in &m.pairs {
+                let worst = c.pressure.iter().map(|q| (q - p).abs() / p).fold(0.0, f64::max);
+                println!("{label}: pressure off by {worst:.2e}");
+                assert!(worst < 1e-8, "{label}: pressure off by {worst:.2e}");
+            }
+            for body in std::iter::once(&s).chain(&m.bodies) {
+                assert!(body.equilibrium_error < 1e-8, "{label}: {}", body.equilibrium_error);
+            }
+            let (held, rigid) = m.held.as_ref().expect("the middle body is held");
+            assert_eq!(*held, 1, "{label}: the held body");
+            // The pin's displacement: the bottom's shortening plus the middle's own strain.
+            let z = rigid.pin_point[1];
+            let exact = -p / 1.0 - p / 2.0 * (z - 1.0);
+            let found = rigid.translation[1];
+            println!("{label}: pin at z = {z}: {found:.6e} against {exact:.6e}");
+            assert!((found - exact).abs() < 1e-8 * delta, "{label}: {found} against {exact}");
+        }
+    }
+}
+
 /// The Hertz pair's lower body, the block `[0, 1] × [−1, 0]` (a `[[body]]` table): MFVM with
 /// spacing 0.05 and a box `[0, 0.2] × [−0.05, 0]` at `h`; FE on a uniform grid of spacing `h`.
 fn block(method: &str, h: f64) -> String {
