@@ -662,7 +662,12 @@ pub(crate) fn with_pin(
     body: &Body<'_>,
 ) -> (Vec<Constraint>, Option<PinnedMode>) {
     let mut out = constraints;
-    let pinned = if body.contact_may_hold { free_translation(&out, body.nodes) } else { None };
+    let pinned = match (body.contact_may_hold, body.hoop.is_some()) {
+        (false, _) => None,
+        (true, false) => free_translation(&out, body.nodes),
+        // In axisymmetry the axial translation is the only rigid motion (docs/method.md §9.3).
+        (true, true) => free_axial_translation(&out, body.nodes),
+    };
     if let Some(p) = pinned {
         let pin = Constraint { node: p.node, axis: p.axis, value: 0.0 };
         let at =
@@ -672,18 +677,19 @@ pub(crate) fn with_pin(
     (out, pinned)
 }
 
-/// The one rigid-body translation `constraints` leave free, pinned at the node nearest the
-/// centre of the nodes' bounding box among those on no edge (any node when every node is on one), provided
-/// that the other translation and the rotation are restrained once it is pinned; `None`
-/// otherwise (no translation free, or more than one mode free: refused by
-/// [`check_rigid_body_restraint`]).
-fn free_translation(constraints: &[Constraint], nodes: &Nodes) -> Option<PinnedMode> {
-    let has = |a: Axis| constraints.iter().any(|c| c.axis == a);
-    let axis = match (has(Axis::X), has(Axis::Y)) {
-        (false, true) => Axis::X,
-        (true, false) => Axis::Y,
-        _ => return None,
-    };
+/// An axisymmetric body's axial translation when `constraints` leave it free (no `y`
+/// condition), pinned as [`free_translation`] pins; `None` otherwise.
+fn free_axial_translation(constraints: &[Constraint], nodes: &Nodes) -> Option<PinnedMode> {
+    if constraints.iter().any(|c| c.axis == Axis::Y) {
+        return None;
+    }
+    let node = central_node(nodes)?;
+    Some(PinnedMode { axis: Axis::Y, node })
+}
+
+/// The node nearest the centre of `nodes`' bounding box among those on no edge (any node when
+/// every node is on one).
+fn central_node(nodes: &Nodes) -> Option<u32> {
     // The centre of the nodes' bounding box (not their centroid, which graded node sets
     // pull towards their refined regions: the pinned point stays put under refinement).
     let (lo, hi) =
@@ -700,7 +706,22 @@ fn free_translation(constraints: &[Constraint], nodes: &Nodes) -> Option<PinnedM
             .filter(|&i| !interior || nodes.edges[i].is_empty())
             .min_by(|&a, &b| distance(a).total_cmp(&distance(b)))
     };
-    let node = nearest(true).or_else(|| nearest(false))? as u32;
+    nearest(true).or_else(|| nearest(false)).map(|i| i as u32)
+}
+
+/// The one rigid-body translation `constraints` leave free, pinned at the node nearest the
+/// centre of the nodes' bounding box among those on no edge (any node when every node is on one), provided
+/// that the other translation and the rotation are restrained once it is pinned; `None`
+/// otherwise (no translation free, or more than one mode free: refused by
+/// [`check_rigid_body_restraint`]).
+fn free_translation(constraints: &[Constraint], nodes: &Nodes) -> Option<PinnedMode> {
+    let has = |a: Axis| constraints.iter().any(|c| c.axis == a);
+    let axis = match (has(Axis::X), has(Axis::Y)) {
+        (false, true) => Axis::X,
+        (true, false) => Axis::Y,
+        _ => return None,
+    };
+    let node = central_node(nodes)?;
     let mut with = constraints.to_vec();
     with.push(Constraint { node, axis, value: 0.0 });
     check_rigid_body_restraint(&with, nodes).ok()?;

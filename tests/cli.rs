@@ -752,6 +752,47 @@ fn sphere_on_flat_axisymmetric_problem() {
     assert!((rows[0][8] / p0 - 1.0).abs() < 0.01, "p(0) = {} against p0 = {p0}", rows[0][8]);
 }
 
+/// problems/sphere_on_block_axisymmetric.toml: Hertz's sphere on an elastic cylinder block
+/// (Johnson 1985 §4.2, `1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂`). The rings' forces are axial on the
+/// flat block, each body's reaction per radian balances them over 2π (the sphere's in
+/// `checks`, the block's in `second_body`), and Hertz's `a` for the computed
+/// force lies between the last closed and the first open candidate (observed 0.12404 <
+/// 0.12546 < 0.13021); `tests/validation/axisymmetric_pairs.rs` has the fitted `a`, `p₀`.
+#[test]
+fn sphere_on_block_axisymmetric_problem() {
+    let name = "sphere_on_block_axisymmetric";
+    let s = summary_of("sphere_on_block_axisymmetric.toml", name);
+    assert_eq!(s["checks"]["passed"], true);
+    let c = &s["contact"];
+    assert!(c["units_note"].as_str().unwrap().contains("ring"), "{c}");
+    let force = c["total_force"].as_f64().unwrap();
+    let axial = c["axial_force"].as_f64().unwrap();
+    assert!((axial - force).abs() < 1e-12 * force, "{axial} against {force}");
+    let per_radian = force / std::f64::consts::TAU;
+    let out = scratch(name).join("out");
+    let sphere = &s["checks"]["reaction_force"];
+    let block = &s["second_body"]["reaction_force"];
+    assert_eq!(s["second_body"]["name"], "block");
+    for (reaction, sign) in [(sphere, -1.0), (block, 1.0)] {
+        let reaction = reaction[1].as_f64().unwrap();
+        assert!((reaction - sign * per_radian).abs() < 1e-8 * per_radian, "{reaction}, {force}");
+    }
+    let e_star = 1.0 / ((1.0 - 0.3f64 * 0.3) / 1.0 + (1.0 - 0.25f64 * 0.25) / 2.0);
+    let a = (3.0 * force / (4.0 * e_star)).cbrt();
+    let csv = std::fs::read_to_string(out.join("contact.csv")).unwrap();
+    // candidate, node, r, z, arc_length, initial_gap, gap, force, pressure, in_contact
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
+        .collect();
+    let last_closed = rows.iter().filter(|r| r[9] == 1.0).map(|r| r[2]).fold(0.0, f64::max);
+    let first_open =
+        rows.iter().filter(|r| r[9] == 0.0).map(|r| r[2]).fold(f64::INFINITY, f64::min);
+    println!("{last_closed} < {a} < {first_open}");
+    assert!(last_closed < a && a < first_open, "a = {a} not in [{last_closed}, {first_open}]");
+}
+
 /// problems/bar_impact.toml: a free bar hits a rigid wall; exact 1-D wave solution in the
 /// file's comments (contact from 0.1 for 2, force 0.01, rebound at +0.1). The shipped file is
 /// coarse (spacing L/40, for the CLI's time budget): observed +1.9 %, −3.6 %, −3.5 %; bound

@@ -19,7 +19,9 @@ use crate::nodes::{Axis, Nodes, dof};
 /// `l` on the edge, `l/6` goes to each end node and `4l/6` to the middle node (the nodal forces
 /// of a uniform pressure are `p` times these), so `P_c / segment_length_c` is a pressure
 /// comparable with the MFVM's. `segment_ends` are the matching sub-intervals (`l/6` on each
-/// side of an end node, `l/3` on each side of a middle node); they tile the edge.
+/// side of an end node, `l/3` on each side of a middle node); they tile the edge. An
+/// axisymmetric body's sub-intervals have the nodes' consistent ring moments `∫ N_a r ds`
+/// instead ([`ring_cuts`]; its areas are `super::rings::fem_areas`).
 ///
 /// # Errors
 /// [`ContactError::NoCandidates`] when no node of the edge is free along the normal.
@@ -45,8 +47,14 @@ pub fn candidates(
             Some(_) => [l / 6.0, 4.0 * l / 6.0, l / 6.0],
             None => side_weights(ids.map(|i| nodes.points[i as usize])),
         };
-        let pieces =
-            [(w[0], t[0], t[0] + dt), (w[1], t[0] + dt, t[2] - dt), (w[2], t[2] - dt, t[2])];
+        let (ta, tb) = match system.axisymmetric {
+            false => (t[0] + dt, t[2] - dt),
+            true => {
+                let f = ring_cuts(ids.map(|i| nodes.points[i as usize]));
+                (t[0] + f[0] * (t[2] - t[0]), t[0] + f[1] * (t[2] - t[0]))
+            }
+        };
+        let pieces = [(w[0], t[0], ta), (w[1], ta, tb), (w[2], tb, t[2])];
         for (&i, (w, lo, hi)) in ids.iter().zip(pieces) {
             let i = i as usize;
             tributary[i] += w;
@@ -96,7 +104,9 @@ pub fn candidates(
 /// Since `P_c / |seg_c|` is the pressure and the segments tile the edge, a uniform pressure
 /// on body 1 gives body 2 its consistent load, so non-matching meshes pass the contact patch
 /// test (`E_2 ≠ G_2ᵀ`: `M` is slightly non-symmetric there, as for the MFVM). Where no side
-/// overlaps, the reaction acts at `y_c` through the point values.
+/// overlaps, the reaction acts at `y_c` through the point values. An axisymmetric target
+/// (docs/method.md §9.6) takes the ring's total force per radian:
+/// `E_2[a, c] = ∫_{seg_c} N_a r ds / (2π ∫_{seg_c} r ds)`.
 ///
 /// Returns the operator (`d = −ν`), the initial gaps and the paired points.
 ///
@@ -128,6 +138,13 @@ pub fn target_operator(
         return Err(ContactError::NoCandidates { edge: name() });
     }
     let (xs, ws) = crate::weak_form::gauss_legendre(3);
+    // An axisymmetric target: `N_a r` over the overlap (cubic: 3-point Gauss is exact), the
+    // row summing to `1/2π` (the ring's total force per radian, `super::rings`).
+    let radius = |t: f64| match system.axisymmetric {
+        true => a[0] + t * (b[0] - a[0]),
+        false => 1.0,
+    };
+    let per_radian = if system.axisymmetric { super::rings::REVOLUTION } else { 1.0 };
     let mut rows = Vec::with_capacity(candidates.len());
     let mut owners = Vec::with_capacity(candidates.len());
     let mut gaps = Vec::with_capacity(candidates.len());
@@ -152,17 +169,18 @@ pub fn target_operator(
             if hi <= lo {
                 continue;
             }
-            total += hi - lo;
+            total += (hi - lo) * 0.5 * (radius(lo) + radius(hi));
             for (&r, &w) in xs.iter().zip(ws) {
                 let tq = 0.5 * (lo + hi) + 0.5 * r * (hi - lo);
                 let n = element::lagrange(2.0 * (tq - t0) / (t1 - t0) - 1.0);
-                spread.extend(ids.iter().zip(n).map(|(&i, n)| (i, 0.5 * w * (hi - lo) * n)));
+                let weight = 0.5 * w * (hi - lo) * radius(tq);
+                spread.extend(ids.iter().zip(n).map(|(&i, n)| (i, weight * n)));
             }
         }
         let owner_row = if total > 0.0 {
-            sorted_row(spread.into_iter().map(|(i, w)| (i, w / total)))
+            sorted_row(spread.into_iter().map(|(i, w)| (i, w / (total * per_radian))))
         } else {
-            point_row.clone()
+            sorted_row(point_row.iter().map(|&(i, w)| (i, w / per_radian)))
         };
         for &(i, _) in &owner_row {
             if Axis::BOTH
@@ -183,6 +201,44 @@ pub fn target_operator(
         owners,
     };
     Ok((operator, gaps, paired))
+}
+
+/// Where an axisymmetric side's sub-intervals end (fractions of the side's parameter): the
+/// cuts `s_A`, `s_B` with `∫_{−1}^{s_A} r ds = ∫ N_0 r ds` and `∫_{s_B}^{1} r ds = ∫ N_2 r ds`,
+/// so that each node's sub-interval has its consistent ring moment and a uniform pressure
+/// spread over the sub-intervals is the consistent load (docs/method.md §9.6; an elastic
+/// target reads them, [`target_operator`]). `∫ r ds` of a piece by 5-point Gauss, the cuts by
+/// bisection. A node on the axis gets an empty sub-interval (its moment is 0).
+fn ring_cuts(x: [Point; 3]) -> [f64; 2] {
+    let (xs, ws) = crate::weak_form::gauss_legendre(5);
+    // ∫ r ds from −1 to s, and ∫ N_a r ds over the side.
+    let moment = |s: f64| -> f64 {
+        let half = 0.5 * (s + 1.0);
+        xs.iter()
+            .zip(ws)
+            .map(|(&q, &w)| {
+                let (p, t, _) = crate::fem::side_map(x, -1.0 + half * (q + 1.0));
+                w * half * p[0] * t[0].hypot(t[1])
+            })
+            .sum()
+    };
+    let mut nodal = [0.0; 3];
+    for (&q, &w) in xs.iter().zip(ws) {
+        let (p, t, n) = crate::fem::side_map(x, q);
+        for a in 0..3 {
+            nodal[a] += w * p[0] * t[0].hypot(t[1]) * n[a];
+        }
+    }
+    let total = moment(1.0);
+    let cut = |target: f64| {
+        let (mut lo, mut hi) = (-1.0_f64, 1.0_f64);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if moment(mid) < target { lo = mid } else { hi = mid }
+        }
+        0.25 * (lo + hi) + 0.5
+    };
+    [cut(nodal[0]), cut(total - nodal[2])]
 }
 
 /// `∫ N_a ds` over the quadratic side through `x` (end, middle, end), 5-point Gauss.

@@ -474,6 +474,8 @@ pub fn candidates(
 /// edge, in proportion to the overlap (a uniform pressure over the segment), so that
 /// non-matching layouts pass the uniform-pressure patch test; where nothing overlaps, it goes
 /// to the cell holding `y_c` (docs/method.md §4.3 describes the closest-point pairing).
+/// An axisymmetric target (docs/method.md §9.6) takes the candidate ring's total force per
+/// radian: the shares are in proportion to the overlap's `∫ r ds` and sum to `1/2π`.
 ///
 /// Returns the operator (`d = −ν`), the initial gaps and the paired points.
 ///
@@ -505,6 +507,9 @@ pub fn target_operator(
     if faces.is_empty() {
         return Err(ContactError::NoCandidates { edge: name() });
     }
+    // An axisymmetric target receives a ring's total force per radian (`rings`): `1/2π`.
+    let per_radian = if body.system.axisymmetric { rings::REVOLUTION } else { 1.0 };
+    let radius = |t: f64| a[0] + t * (b[0] - a[0]);
     let mut paired = Vec::with_capacity(candidates.len());
     let mut owners = Vec::with_capacity(candidates.len());
     let mut gaps = Vec::with_capacity(candidates.len());
@@ -518,8 +523,13 @@ pub fn target_operator(
         };
         let mut share: Vec<(u32, f64)> = Vec::new();
         for &(f0, f1, owner, _) in &faces {
-            let overlap = s1.min(f1) - s0.max(f0);
-            if overlap > 0.0 {
+            let (lo, hi) = (s0.max(f0), s1.min(f1));
+            if hi > lo {
+                // Axisymmetric: the overlap's `∫ r ds` (r linear along the straight edge).
+                let overlap = match body.system.axisymmetric {
+                    true => (hi - lo) * 0.5 * (radius(lo) + radius(hi)),
+                    false => hi - lo,
+                };
                 match share.iter_mut().find(|(o, _)| *o == owner) {
                     Some(entry) => entry.1 += overlap,
                     None => share.push((owner, overlap)),
@@ -529,7 +539,7 @@ pub fn target_operator(
         let total: f64 = share.iter().map(|s| s.1).sum();
         if total > 0.0 {
             for s in share.iter_mut() {
-                s.1 /= total;
+                s.1 /= total * per_radian;
             }
         } else {
             // No overlap (a candidate past the end of the edge): the cell holding y_c.
@@ -539,7 +549,7 @@ pub fn target_operator(
                 .min_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)))
                 .map(|(_, o)| o)
                 .ok_or_else(|| ContactError::NoCandidates { edge: name() })?;
-            share = vec![(owner, 1.0)];
+            share = vec![(owner, 1.0 / per_radian)];
         }
         for &(owner, _) in &share {
             if Axis::BOTH.iter().any(|&ax| {

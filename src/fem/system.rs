@@ -68,13 +68,9 @@ pub fn load_and_rhs(input: &FemInput<'_>, stiffness: &BlockRows) -> (Vec<f64>, V
 }
 
 /// The constraints of `input`'s conditions and, when the contact may hold a free rigid-body
-/// translation (not in axisymmetry), its pin among them (docs/method.md §4.7).
+/// translation (in axisymmetry the axial one only), its pin among them (docs/method.md §4.7).
 fn constraints_and_pin(input: &FemInput<'_>) -> (Vec<Constraint>, Option<assembly::PinnedMode>) {
-    let constraints = constraints(input);
-    if input.body.hoop.is_some() {
-        return (constraints, None);
-    }
-    assembly::with_pin(constraints, &input.body)
+    assembly::with_pin(constraints(input), &input.body)
 }
 
 /// The right-hand side after symmetric elimination of `constraints` (`scale · ū_c` on a

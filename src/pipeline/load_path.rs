@@ -93,6 +93,17 @@ impl Held {
     }
 }
 
+/// The factor from a body's loads to the contact forces' units: `2π` for an axisymmetric body
+/// (its loads are per radian, the rings' forces totals over the circumference, so a held
+/// body's search balances `2π` times its load along the translation; `contact::rings`), 1
+/// otherwise.
+pub(super) fn ring_units(model: &crate::model::Model) -> f64 {
+    match model.system.axisymmetric {
+        true => crate::contact::rings::REVOLUTION,
+        false => 1.0,
+    }
+}
+
 /// Refuses the answer of a held body's search when nothing determines the body's position
 /// (docs/method.md §4.7): no load along the translation, no force carried along it, and the
 /// touching gaps do not block it both ways (every translation of an interval answers).
@@ -293,7 +304,8 @@ fn solve_increment(
             // A body held by the contact as well: its search inside each trial (§4.7).
             Some(Held::Among { term, pin, along: held_along }) => {
                 let load = lerp(&loads0[*term], &terms[*term].steps[k].load, lambda);
-                let held_load: f64 = load.iter().skip(pin.axis as usize).step_by(2).sum();
+                let held_load = load.iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
+                    * ring_units(terms[*term].model);
                 let (search, translation, evaluations) = lcp::load_driven::find_displacement_held(
                     compliance,
                     &base,
@@ -356,7 +368,8 @@ fn solve_increment(
             (sign * search.displacement, along_load, search.evaluations, search.answer)
         }
         Held::Among { along, .. } => {
-            let along_load: f64 = load.iter().skip(a).step_by(2).sum();
+            let along_load: f64 =
+                load.iter().skip(a).step_by(2).sum::<f64>() * ring_units(terms[b].model);
             let search = lcp::load_driven::find_translation(
                 compliance,
                 &base,

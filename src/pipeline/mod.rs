@@ -45,6 +45,8 @@ pub fn discretise(problem: &Problem, progress: &mut dyn Progress) -> Result<Mode
 /// [`discretise`], with `held_by_contact` telling assembly that a contact pair touches the
 /// body, so that it may hold one free translation (`assembly::Body::contact_may_hold`; the
 /// second and later bodies of several, whose own `contact` is `None`; docs/method.md §4.7).
+/// An axisymmetric body may hold its axial translation only (a uniform `u_r` is no rigid
+/// motion; `assembly::with_pin`).
 fn discretise_held(
     problem: &Problem,
     held_by_contact: bool,

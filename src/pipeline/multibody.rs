@@ -164,7 +164,7 @@ fn held_body(
         return Err(LoadDrivenError::NotRestrained { mode: pin.name() });
     }
     let load: f64 = models[b].system.load.iter().skip(axis).step_by(2).sum();
-    Ok(Some((b, pin, along, load)))
+    Ok(Some((b, pin, along, load * super::load_path::ring_units(models[b]))))
 }
 
 /// One pair's candidates and target operator.

@@ -73,45 +73,52 @@ pub fn axis_conditions(
     Ok(())
 }
 
-/// Refuses what an axisymmetric problem cannot do yet: several bodies (an elastic pair or
-/// more) and adaptive refinement. One axisymmetric body against rigid obstacles (a line: a
-/// flat or a cone; a circle: a sphere or a torus), with friction and load steps, is solved:
-/// its contact candidates are rings (`contact::rings`). The obstacles of such a body are
-/// surfaces of revolution and may move (or be pressed) along the axis only, and each step's
-/// conditions on the axis obey [`axis_conditions`].
+/// Refuses what an axisymmetric problem cannot do yet. Axisymmetric bodies against rigid
+/// obstacles (a line: a flat or a cone; a circle: a sphere or a torus) and against each other
+/// (a two-body `[contact]`, `[[body]]`/`[[contact]]` scenes), with friction and load steps,
+/// are solved: their contact candidates are rings (`contact::rings`); a body of several may be
+/// held along the axis by contact alone. Refused: a scene mixing axisymmetric and plane
+/// bodies, adaptive refinement; the obstacles are surfaces of
+/// revolution and move (or are pressed) along the axis only, and each step's conditions on
+/// the axis obey [`axis_conditions`].
 ///
 /// # Errors
 /// [`ProblemError::Invalid`] naming the key of the first such feature.
 pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
-    let axisymmetric = std::iter::once(problem)
-        .chain(problem.second_body.as_deref())
-        .chain(problem.multibody.iter().flat_map(|m| m.bodies.iter()))
-        .any(|p| p.material.is_axisymmetric());
-    if !axisymmetric {
+    let bodies: Vec<&Problem> = (0..problem.body_count()).filter_map(|k| problem.body(k)).collect();
+    if !bodies.iter().any(|p| p.material.is_axisymmetric()) {
         return Ok(());
     }
-    let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
-        Some(("body", "contact between bodies (an elastic pair or more bodies)"))
-    } else if problem.adaptive.is_some() {
-        Some(("refinement", "adaptive refinement"))
-    } else {
-        None
-    };
-    if let Some((key, what)) = refused {
+    let several = bodies.len() > 1;
+    // The key prefix of body k: `body[k].` when there are several.
+    let prefix = |k: usize| if several { format!("body[{k}].") } else { String::new() };
+    if let Some(k) = bodies.iter().position(|p| !p.material.is_axisymmetric()) {
         return Err(invalid(
-            key,
-            "(given)",
-            format!(
-                "{what} is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves one body under displacement conditions and loads, with contact against rigid obstacles, friction and load steps); remove it or use plane = \"strain\" or \"stress\""
-            ),
+            &format!("{}material.plane", prefix(k)),
+            format!("body `{}` is not axisymmetric", bodies[k].name),
+            "bodies in contact with an axisymmetric body must be axisymmetric too (a body of revolution cannot touch a prism): give every body plane = \"axisymmetric\", or none",
         ));
     }
-    for (k, step) in problem.steps.iter().enumerate() {
-        axial_motion(&format!("step[{k}].obstacle_displacement"), step.obstacle_displacement)?;
-        if let Some(f) = step.obstacle_force {
-            axial_motion(&format!("step[{k}].obstacle_force"), f)?;
+    if problem.adaptive.is_some() {
+        return Err(invalid(
+            "refinement",
+            "(given)",
+            "adaptive refinement is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves bodies under displacement conditions and loads, in contact with rigid obstacles or each other, with friction and load steps); remove it or use plane = \"strain\" or \"stress\"",
+        ));
+    }
+    for (b, body) in bodies.iter().enumerate() {
+        for (k, step) in body.steps.iter().enumerate() {
+            axial_motion(&format!("step[{k}].obstacle_displacement"), step.obstacle_displacement)?;
+            if let Some(f) = step.obstacle_force {
+                axial_motion(&format!("step[{k}].obstacle_force"), f)?;
+            }
+            axis_conditions(&body.domain, &mut step.boundary.clone()).map_err(|e| match e {
+                ProblemError::Invalid { field, value, reason } => {
+                    ProblemError::Invalid { field: format!("{}{field}", prefix(b)), value, reason }
+                }
+                other => other,
+            })?;
         }
-        axis_conditions(&problem.domain, &mut step.boundary.clone())?;
     }
     Ok(())
 }
@@ -211,8 +218,43 @@ mod tests {
         assert!(e.contains("step[0].obstacle_force"), "{e}");
     }
 
+    /// Two cylinders, the upper's plane `plane`, the lower's bottom `lower` (a `boundary`
+    /// entry).
+    fn pair(plane: &str, lower: &str) -> String {
+        format!(
+            r#"
+            [[body]]
+            name = "upper"
+            geometry = {{ kind = "rectangle", x = [0.0, 1.0], y = [1.0, 2.0] }}
+            nodes = {{ spacing = 0.25 }}
+            material = {{ young = 1.0, poisson = 0.3, plane = "{plane}" }}
+            boundary = [ {{ edge = "top", displacement = {{ y = -0.01 }} }} ]
+            [[body]]
+            name = "lower"
+            geometry = {{ kind = "rectangle", x = [0.0, 1.0], y = [0.0, 1.0] }}
+            nodes = {{ spacing = 0.25 }}
+            material = {{ young = 1.0, poisson = 0.3, plane = "axisymmetric" }}
+            boundary = [ {lower} ]
+            [contact]
+            edge = "bottom"
+            target_edge = "top"
+            "#
+        )
+    }
+
     #[test]
-    fn several_bodies_and_refinement_are_refused_with_a_remedy() {
+    fn elastic_pairs_are_accepted_mixed_bodies_refused() {
+        let held = "{ edge = \"bottom\", displacement = { y = 0.0 } }";
+        let p = Problem::from_toml(&pair("axisymmetric", held)).expect("valid");
+        assert!(p.second_body.is_some());
+        let e = refusal(&pair("strain", held));
+        assert!(e.contains("body[0].material.plane") && e.contains("axisymmetric too"), "{e}");
+        let free = "{ edge = \"bottom\", traction = { y = 0.0 } }";
+        assert!(Problem::from_toml(&pair("axisymmetric", free)).is_ok());
+    }
+
+    #[test]
+    fn refinement_is_refused_with_a_remedy() {
         let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
         let adaptive = format!("{contact}\n[refinement]\nsteps = 2");
         let e = refusal(&file("[0.0, 1.0]", &adaptive));

@@ -170,15 +170,15 @@ fn sphere_fem(level: usize, solver: &str) -> Problem {
 /// with their relative errors against Hertz for that force.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Sphere {
-    force: f64,
-    radius: f64,
-    peak: f64,
+    pub(super) force: f64,
+    pub(super) radius: f64,
+    pub(super) peak: f64,
     pub(super) radius_error: f64,
     pub(super) peak_error: f64,
 }
 
 impl Sphere {
-    fn values(&self) -> [f64; 3] {
+    pub(super) fn values(&self) -> [f64; 3] {
         [self.force, self.radius, self.peak]
     }
 }
@@ -187,6 +187,12 @@ impl Sphere {
 /// `p² = α + β r²` over its closed candidates; Hertz's force is the rings' axial resultant
 /// `|Σ ν_z F_c|` (a curved obstacle's normals are not axial; on a flat it is `Σ F_c`).
 pub(super) fn measure(label: &str, s: &Solution) -> Sphere {
+    measure_with(label, s, YOUNG / (1.0 - POISSON * POISSON))
+}
+
+/// [`measure`] against Hertz with the contact modulus `e_star` (`1/E* = Σ (1 − ν_i²)/E_i`
+/// for two elastic bodies).
+pub(super) fn measure_with(label: &str, s: &Solution, e_star: f64) -> Sphere {
     let c = s.contact.as_ref().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
@@ -196,7 +202,6 @@ pub(super) fn measure(label: &str, s: &Solution) -> Sphere {
     let balance = s.reaction_force[1] + axial / TAU;
     assert!(balance.abs() < 1e-8 * axial.abs() / TAU, "{label}: balance {balance}");
     let force = axial.abs();
-    let e_star = YOUNG / (1.0 - POISSON * POISSON);
     let a = (3.0 * force * RADIUS / (4.0 * e_star)).cbrt();
     let p0 = 3.0 * force / (TAU * a * a);
     let pts: Vec<(f64, f64)> = (0..c.closed.len())

@@ -270,7 +270,8 @@ fn solve_increment(
         let u = system.final_body_friction_displacements(&answer.states)?;
         return Ok(Increment { answer, u, held: None, load_driven: None });
     };
-    let along_load: f64 = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum();
+    let along_load: f64 = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
+        * super::super::load_path::ring_units(models[*b]);
     if start.force.is_some() {
         return held_force_search(system, models, (*b, *pin, along, along_load), &rhss[*b], start);
     }
