@@ -21,7 +21,7 @@ use crate::nodes::{Axis, Nodes, dof};
 /// comparable with the MFVM's. `segment_ends` are the matching sub-intervals (`l/6` on each
 /// side of an end node, `l/3` on each side of a middle node); they tile the edge. An
 /// axisymmetric body's sub-intervals have the nodes' consistent ring moments `∫ N_a r ds`
-/// instead ([`ring_cuts`]; its areas are `super::rings::fem_areas`).
+/// instead (`ring_cuts`; its areas are `super::rings::fem_areas`).
 ///
 /// # Errors
 /// [`ContactError::NoCandidates`] when no node of the edge is free along the normal.

@@ -78,6 +78,20 @@ pub(super) fn step_ends(problem: &Problem, model: &Model) -> Result<Vec<StepEnd>
         .collect()
 }
 
+/// `e` as the failure of increment `i` of step `k` (0-based) of `increments` when the problem
+/// has `[[step]]` tables (`named`; the message then names them), else `e` itself.
+pub(super) fn at_increment(
+    named: bool,
+    (k, i, increments): (usize, usize, usize),
+    e: lcp::LcpError,
+) -> Error {
+    if named {
+        Error::Increment { step: k + 1, increment: i, increments, cause: Box::new(e.into()) }
+    } else {
+        Error::from(e)
+    }
+}
+
 /// `(1 − λ) a + λ b`, exactly `b` at `λ = 1` (and `a` at `λ = 0`).
 pub(super) fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
@@ -648,18 +662,8 @@ pub(super) fn solve_frictional_active_set(
                 let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
                 let rhs = lerp(&rhs0, &end.rhs, lambda);
-                let at_step = |e: lcp::LcpError| {
-                    if problem.steps.is_empty() {
-                        Error::from(e)
-                    } else {
-                        Error::Increment {
-                            step: k + 1,
-                            increment: i,
-                            increments: end.increments,
-                            cause: Box::new(e.into()),
-                        }
-                    }
-                };
+                let named = !problem.steps.is_empty();
+                let at_step = |e| at_increment(named, (k, i, end.increments), e);
                 let (answer, u, u2, step_iterations, step_rescues) = match &mut system {
                     SparseFriction::Rigid(system) => {
                         let d = [

@@ -8,7 +8,7 @@
 //! searches of docs/method.md §4.6–4.7 around it (a force-driven obstacle, a translation held
 //! by the contact), then one solve per body with the contact forces of its candidates.
 
-use super::friction::{History, StepEnd, force_along, lerp, pin_along};
+use super::friction::{History, StepEnd, at_increment, force_along, lerp, pin_along};
 use super::*;
 use std::ops::Range;
 
@@ -464,18 +464,8 @@ pub(super) fn run_condensed(
                     &mut searches,
                 );
                 // With [[step]] tables, a failure names the step and the increment.
-                let step = solved.map_err(|e| {
-                    if path.named_steps {
-                        Error::Increment {
-                            step: k + 1,
-                            increment: i,
-                            increments: end.increments,
-                            cause: Box::new(e.into()),
-                        }
-                    } else {
-                        Error::from(e)
-                    }
-                })?;
+                let step = solved
+                    .map_err(|e| at_increment(path.named_steps, (k, i, end.increments), e))?;
                 let mut u = Vec::with_capacity(terms.len());
                 let mut equilibrium: f64 = 0.0;
                 for (b, term) in terms.iter().enumerate() {

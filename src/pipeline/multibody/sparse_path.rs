@@ -10,7 +10,7 @@
 //! obstacle motion moves the gaps and the stick targets of the pairs against rigid
 //! obstacles (docs/method.md §4.6, §8).
 
-use super::super::friction::{History, StepEnd, force_along, lerp};
+use super::super::friction::{History, StepEnd, at_increment, force_along, lerp};
 use super::path::{self, Scene};
 use super::{BodiesTrials, Held as HeldBody, Solved};
 use crate::contact::BodyOperator;
@@ -51,6 +51,28 @@ fn obstacle_at(scene: &Scene<'_>, normals: &[crate::geometry::Point], d: [f64; 2
             .unzip(),
     )
 }
+
+/// The rigid obstacles at load factor `lambda` of step `k`, from where the previous step left
+/// them (`d0`, pressed by `force0`): the moved gaps and stick offsets ([`obstacle_at`]), and
+/// a force's direction `e`, the increment's force and `a_c = ν_c·e` on the moved candidates.
+fn obstacle_increment(
+    scene: &Scene<'_>,
+    normals: &[crate::geometry::Point],
+    (k, lambda): (usize, f64),
+    (d0, force0): ([f64; 2], f64),
+) -> (Option<Gaps>, Option<Force>) {
+    let end = &scene.steps[0][k];
+    let d = std::array::from_fn(|a| (1.0 - lambda) * d0[a] + lambda * end.obstacle[a]);
+    let force = end.force.map(|f| {
+        let (e, size, mut along) = force_along(f, normals);
+        along.iter_mut().zip(scene.moved).filter(|(_, m)| !**m).for_each(|(a, _)| *a = 0.0);
+        (e, (1.0 - lambda) * force0 + lambda * size, along)
+    });
+    (obstacle_at(scene, normals, d), force)
+}
+
+/// A force pressing the obstacles: its direction `e`, the increment's magnitude and `a_c`.
+type Force = ([f64; 2], f64, Vec<f64>);
 
 /// Initial gaps and stick offsets per candidate.
 type Gaps = (Vec<f64>, Vec<f64>);
@@ -103,19 +125,8 @@ pub(super) fn solve(
             for i in 1..=end.increments {
                 let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
-                let at_step = |e: lcp::LcpError| {
-                    if scene.problem.steps.is_empty() {
-                        Error::from(e)
-                    } else {
-                        let (step, increments) = (k + 1, end.increments);
-                        Error::Increment {
-                            step,
-                            increment: i,
-                            increments,
-                            cause: Box::new(e.into()),
-                        }
-                    }
-                };
+                let named = !scene.problem.steps.is_empty();
+                let at_step = |e| at_increment(named, (k, i, end.increments), e);
                 let at = |ends: &[Vec<f64>], which: fn(&StepEnd) -> &Vec<f64>| -> Vec<Vec<f64>> {
                     scene
                         .steps
@@ -128,22 +139,11 @@ pub(super) fn solve(
                 for (b, rhs) in rhss.iter().enumerate() {
                     system.set_body_load(b, rhs);
                 }
-                let end = &scene.steps[0][k];
-                let d = std::array::from_fn(|a| (1.0 - lambda) * d0[a] + lambda * end.obstacle[a]);
-                let moved = obstacle_at(scene, &normals, d);
+                let (moved, force) = obstacle_increment(scene, &normals, (k, lambda), (d0, force0));
                 if let Some((g, o)) = &moved {
                     system.set_initial_gap(g);
                     system.set_tangential_offset(o);
                 }
-                let force = end.force.map(|f| {
-                    let (e, size, mut along) = force_along(f, &normals);
-                    along
-                        .iter_mut()
-                        .zip(scene.moved)
-                        .filter(|(_, m)| !**m)
-                        .for_each(|(a, _)| *a = 0.0);
-                    (e, (1.0 - lambda) * force0 + lambda * size, along)
-                });
                 let state = Warm {
                     previous: &previous,
                     warm: warm.as_deref(),
@@ -243,7 +243,7 @@ struct Warm<'w> {
     warm: Option<&'w [lcp::ContactState]>,
     params: lcp::active_set::ActiveSetParams,
     initial_gap: &'w [f64],
-    force: Option<([f64; 2], f64, Vec<f64>)>,
+    force: Option<Force>,
 }
 
 /// One increment on the system whose bodies' right-hand sides and gaps are set: the
