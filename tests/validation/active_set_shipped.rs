@@ -4,10 +4,12 @@
 //! read twice, with `solver = "lemke"` and with `solver = "active_set"` set in its contact
 //! table(s); both answers are checked on their own (scaled complementarity, equilibrium) and
 //! against each other as `active_set::compare_solutions` does, the same closed set, and here
-//! strictly: forces and gaps within 1e-10 of the largest force resp. gap, without the looser
+//! strictly: forces and gaps within 5e-10 of the largest force resp. gap, without the looser
 //! bound `compare_solutions` allows for ill-conditioned `M` (the same LCP solved two ways;
 //! Lemke's answer is polished on its closed set, `lcp::polish`, so what is left is the
-//! round-off of the two routes to `M`: at most 6.7e-11, on the refined beam, κ(M) = 2.9e5).
+//! round-off of the two routes to `M`: at most 1.8e-10, on the refined beam, κ(M) = 2.9e5,
+//! whose graded node set `K` is factorised by the static-pivoting LU in the banded order
+//! since that became the cheaper choice there; 6.7e-11 with the earlier ordering).
 //! With friction the tangential forces are compared too, and for a load-driven obstacle or a
 //! translation held by the contact (docs/method.md §4.6–4.7) the displacement found.
 //!
@@ -27,7 +29,7 @@ use mlpg_contact::solution::Solution;
 
 /// Agreement of forces, gaps, displacements found by the searches and tangential forces
 /// (relative to the largest).
-const AGREEMENT: f64 = 1e-10;
+const AGREEMENT: f64 = 5e-10;
 
 /// Shipped files the active-set solver refuses, with the reason.
 const REFUSED: &[(&str, &str)] = &[];
