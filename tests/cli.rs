@@ -733,13 +733,18 @@ fn sphere_on_flat_axisymmetric_problem() {
     let e_star = 1.0 / (1.0 - 0.3f64 * 0.3);
     let a = (3.0 * force / (4.0 * e_star)).cbrt();
     let p0 = 3.0 * force / (std::f64::consts::TAU * a * a);
-    let csv = std::fs::read_to_string(
-        scratch("sphere_on_flat_axisymmetric").join("out").join("contact.csv"),
-    )
-    .unwrap();
-    // candidate, node, r, z, arc_length, initial_gap, gap, force, pressure, in_contact
     let out = scratch("sphere_on_flat_axisymmetric").join("out");
     assert_r_z_labels(&out, &["contact.csv", "displacement.csv", "reactions.csv"]);
+    let (rows, last_closed, first_open) = ring_bracket(&out);
+    assert!(last_closed < a && a < first_open, "a = {a} not in [{last_closed}, {first_open}]");
+    assert!((rows[0][8] / p0 - 1.0).abs() < 0.01, "p(0) = {} against p0 = {p0}", rows[0][8]);
+}
+
+/// The rows of an axisymmetric run's `contact.csv` in `out` (candidate, node, r, z,
+/// arc_length, initial_gap, gap, force, pressure, in_contact), the largest radius of a closed
+/// ring and the smallest of an open one.
+fn ring_bracket(out: &Path) -> (Vec<Vec<f64>>, f64, f64) {
+    let csv = std::fs::read_to_string(out.join("contact.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv
         .lines()
         .skip(1)
@@ -748,8 +753,7 @@ fn sphere_on_flat_axisymmetric_problem() {
     let last_closed = rows.iter().filter(|r| r[9] == 1.0).map(|r| r[2]).fold(0.0, f64::max);
     let first_open =
         rows.iter().filter(|r| r[9] == 0.0).map(|r| r[2]).fold(f64::INFINITY, f64::min);
-    assert!(last_closed < a && a < first_open, "a = {a} not in [{last_closed}, {first_open}]");
-    assert!((rows[0][8] / p0 - 1.0).abs() < 0.01, "p(0) = {} against p0 = {p0}", rows[0][8]);
+    (rows, last_closed, first_open)
 }
 
 /// problems/sphere_on_block_axisymmetric.toml: Hertz's sphere on an elastic cylinder block
@@ -779,16 +783,7 @@ fn sphere_on_block_axisymmetric_problem() {
     }
     let e_star = 1.0 / ((1.0 - 0.3f64 * 0.3) / 1.0 + (1.0 - 0.25f64 * 0.25) / 2.0);
     let a = (3.0 * force / (4.0 * e_star)).cbrt();
-    let csv = std::fs::read_to_string(out.join("contact.csv")).unwrap();
-    // candidate, node, r, z, arc_length, initial_gap, gap, force, pressure, in_contact
-    let rows: Vec<Vec<f64>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
-        .collect();
-    let last_closed = rows.iter().filter(|r| r[9] == 1.0).map(|r| r[2]).fold(0.0, f64::max);
-    let first_open =
-        rows.iter().filter(|r| r[9] == 0.0).map(|r| r[2]).fold(f64::INFINITY, f64::min);
+    let (_, last_closed, first_open) = ring_bracket(&out);
     println!("{last_closed} < {a} < {first_open}");
     assert!(last_closed < a && a < first_open, "a = {a} not in [{last_closed}, {first_open}]");
 }

@@ -616,18 +616,12 @@ fn solve_active_set(
                 result: answer.lcp,
             });
         };
-        let mut trials = BodiesTrials {
-            system: &mut system,
-            initial_gap,
-            along,
-            previous: vec![0.0; initial_gap.len()],
-            warm: None,
-            params: lcp::active_set::ActiveSetParams { force_scale: load.abs(), ..params },
-            iterations: 0,
-            rescues: Vec::new(),
-            round_off: Vec::new(),
-            outer: (&[], 0.0),
-        };
+        let mut trials = BodiesTrials::new(
+            &mut system,
+            (initial_gap, along),
+            (vec![0.0; initial_gap.len()], None),
+            (params, load.abs()),
+        );
         let base = trials.base_gap()?;
         let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, *load)?;
         let (iterations, rescues) = (trials.iterations, trials.rescues);
@@ -728,7 +722,30 @@ struct BodiesTrials<'s, 'a> {
     outer: (&'s [f64], f64),
 }
 
-impl BodiesTrials<'_, '_> {
+impl<'s, 'a> BodiesTrials<'s, 'a> {
+    /// The trials of a search along `along` from the gaps `initial_gap`, starting from the
+    /// accumulated slips `previous` and the states `warm`, each trial's residuals measured
+    /// against `force_scale` (`ActiveSetParams::force_scale`); not inside another search.
+    fn new(
+        system: &'s mut lcp::active_set::Bodies<'a>,
+        (initial_gap, along): (&'s [f64], &'s [f64]),
+        (previous, warm): (Vec<f64>, Option<Vec<lcp::ContactState>>),
+        (params, force_scale): (lcp::active_set::ActiveSetParams, f64),
+    ) -> Self {
+        Self {
+            system,
+            initial_gap,
+            along,
+            previous,
+            warm,
+            params: lcp::active_set::ActiveSetParams { force_scale, ..params },
+            iterations: 0,
+            rescues: Vec::new(),
+            round_off: Vec::new(),
+            outer: (&[], 0.0),
+        }
+    }
+
     /// `q_b`, the gaps without contact forces at `t = 0` (one solve per body; `g0` when a
     /// body's solve fails its accuracy check).
     fn base_gap(&mut self) -> Result<Vec<f64>, lcp::LcpError> {

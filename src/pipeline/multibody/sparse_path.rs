@@ -275,18 +275,12 @@ fn solve_increment(
     if start.force.is_some() {
         return held_force_search(system, models, (*b, *pin, along, along_load), &rhss[*b], start);
     }
-    let mut trials = BodiesTrials {
-        system: &mut *system,
-        initial_gap: start.initial_gap,
-        along,
-        previous: start.previous.to_vec(),
-        warm: start.warm.map(<[_]>::to_vec),
-        params: lcp::active_set::ActiveSetParams { force_scale: along_load.abs(), ..start.params },
-        iterations: 0,
-        rescues: Vec::new(),
-        round_off: Vec::new(),
-        outer: (&[], 0.0),
-    };
+    let mut trials = BodiesTrials::new(
+        &mut *system,
+        (start.initial_gap, along),
+        (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
+        (start.params, along_load.abs()),
+    );
     let base = trials.base_gap()?;
     let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, along_load)?;
     let (iterations, rescues) = (trials.iterations, trials.rescues);
@@ -316,21 +310,13 @@ fn held_force_search(
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
     let (e, target, along) = start.force.clone().expect("a force");
-    let mut inner = BodiesTrials {
-        system: &mut *system,
-        initial_gap: start.initial_gap,
-        along: held_along,
-        previous: start.previous.to_vec(),
-        warm: start.warm.map(<[_]>::to_vec),
-        params: lcp::active_set::ActiveSetParams {
-            force_scale: target.abs().max(held_load.abs()),
-            ..start.params
-        },
-        iterations: 0,
-        rescues: Vec::new(),
-        round_off: Vec::new(),
-        outer: (&along, 0.0),
-    };
+    let mut inner = BodiesTrials::new(
+        &mut *system,
+        (start.initial_gap, held_along),
+        (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
+        (start.params, target.abs().max(held_load.abs())),
+    );
+    inner.outer = (&along, 0.0);
     let base = inner.base_gap()?;
     let mut trials = lcp::load_driven::nested::HeldWithin {
         inner: &mut inner,
@@ -366,18 +352,12 @@ fn force_search(
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
     let (e, target, along) = start.force.expect("a force");
-    let mut trials = BodiesTrials {
-        system: &mut *system,
-        initial_gap: start.initial_gap,
-        along: &along,
-        previous: start.previous.to_vec(),
-        warm: start.warm.map(<[_]>::to_vec),
-        params: lcp::active_set::ActiveSetParams { force_scale: target.abs(), ..start.params },
-        iterations: 0,
-        rescues: Vec::new(),
-        round_off: Vec::new(),
-        outer: (&[], 0.0),
-    };
+    let mut trials = BodiesTrials::new(
+        &mut *system,
+        (start.initial_gap, &along),
+        (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
+        (start.params, target.abs()),
+    );
     let base = trials.base_gap()?;
     let search = lcp::load_driven::find_displacement_with(&mut trials, &base, &along, e, target)?;
     let (iterations, rescues) = (trials.iterations, trials.rescues);
