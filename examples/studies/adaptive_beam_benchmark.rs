@@ -11,7 +11,7 @@
 //! printed with the least CPU time (user + system, all threads), and the step table of the
 //! last repetition (cumulative seconds).
 //!
-//! `cargo run --release --example adaptive_beam_benchmark [-- --repeat 5]`
+//! `cargo run --release --features studies --example adaptive_beam_benchmark [-- --repeat 5]`
 
 use mlpg_contact::pipeline::adaptive;
 use mlpg_contact::problem::Problem;

@@ -11,7 +11,7 @@
 //! how many nodes each adaptive run reaches the finest uniform error (`max_nodes` = the
 //! finest uniform count).
 //!
-//! `cargo run --release --example adaptive_cantilever -- [--quick] [--uniform 2,1,0.5,0.25]
+//! `cargo run --release --features studies --example adaptive_cantilever -- [--quick] [--uniform 2,1,0.5,0.25]
 //! [--start 2] [--fraction 0.5,0.7]` (the defaults; the validation test's row is
 //! `--uniform 1,0.5,0.25,0.125 --start 0.25 --fraction 0.5`).
 

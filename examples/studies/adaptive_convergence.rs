@@ -15,7 +15,7 @@
 //!   `clamped_cantilever.rs`), uniform `h` = 2 … 0.125 and four adaptive variants (the test's,
 //!   from `h₀ = 0.25`, and three from coarse starts).
 //!
-//! `cargo run --release --example adaptive_convergence -- [--only kirsch|cantilever]
+//! `cargo run --release --features studies --example adaptive_convergence -- [--only kirsch|cantilever]
 //! [--kirsch-uniform 0.4,0.2,0.1,0.05,0.025] [--kirsch-start 0.4,0.2] [--fraction 0.3,0.5,0.7]
 //! [--no-write] [--plot-only]` (the defaults; about 4 minutes for Kirsch and 5.5 GB peak
 //! memory, under 2 minutes and 3 GB for the cantilever, on the shared 2-core machine). Without

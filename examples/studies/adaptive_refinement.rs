@@ -12,7 +12,7 @@
 //!    step against the FE reference, and the wall-clock time of the adaptive run (all steps)
 //!    against uniform spacings of the same blend, in one run.
 //!
-//! `cargo run --release --example adaptive_refinement` (about two minutes; `--quick` leaves
+//! `cargo run --release --features studies --example adaptive_refinement` (about two minutes; `--quick` leaves
 //! out the jittered cantilever and the uniform beam at h = 0.0625).
 
 #[path = "../../tests/validation/end_shear_exact.rs"]

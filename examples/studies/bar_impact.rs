@@ -3,7 +3,7 @@
 //! solution, the energy lost at the impact, the force oscillation, and the long-time energy
 //! of the free flight after the impact for several θ. Prints CSV blocks.
 //!
-//! `cargo run --release --example bar_impact`
+//! `cargo run --release --features studies --example bar_impact`
 
 use mlpg_contact::pipeline::dynamics::solve;
 use mlpg_contact::problem::{Problem, ProblemFile};

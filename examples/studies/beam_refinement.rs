@@ -3,7 +3,7 @@
 //! (the user guide's, docs/guide/src/validation.md) and the successive differences of the headline values.
 //!
 //! ```text
-//! cargo run --release --example beam_refinement -- [--finest 0.0625]
+//! cargo run --release --features studies --example beam_refinement -- [--finest 0.0625]
 //! ```
 //!
 //! `--finest h`: the finest spacing of the ladder 0.5, 0.25, … (default 0.0625).

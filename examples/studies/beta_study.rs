@@ -8,7 +8,7 @@
 //! tests/validation/beam_on_foundation.rs).
 //!
 //! ```text
-//! cargo run --release --example beta_study -- [--finest 0.0625] [--only 2]
+//! cargo run --release --features studies --example beta_study -- [--finest 0.0625] [--only 2]
 //! ```
 //!
 //! `--finest h`: the finest spacing of the ladder 1, 0.5, … (default 0.125); `--only k`: just

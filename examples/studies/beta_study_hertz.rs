@@ -14,7 +14,7 @@
 //! row saying why.
 //!
 //! ```text
-//! cargo run --release --example beta_study_hertz -- [--finest 0.01] [--only 2]
+//! cargo run --release --features studies --example beta_study_hertz -- [--finest 0.01] [--only 2]
 //! ```
 //!
 //! `--finest h`: the finest spacing of the ladder 0.04, 0.02, … (default 0.005); `--only k`:

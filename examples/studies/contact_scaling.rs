@@ -11,8 +11,8 @@
 //!   instead of the rigid foundation: two bodies (`examples/studies/strip.rs`).
 //!
 //! ```text
-//! cargo run --release --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver active_set
-//! cargo run --release --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver lemke --friction 0.3
+//! cargo run --release --features studies --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver active_set
+//! cargo run --release --features studies --example contact_scaling -- --case strip --length 100 --spacing 0.05 --solver lemke --friction 0.3
 //! ```
 //!
 //! `--friction μ` makes the contact frictional (one load step; docs/method.md §8).

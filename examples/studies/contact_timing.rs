@@ -6,7 +6,7 @@
 //! Run with
 //!
 //! ```text
-//! cargo run --release --example contact_timing -- [--spacing h] [--length L] [--repeats r] [--blocks 32,64,...] [--sparse n [--compare-static]]
+//! cargo run --release --features studies --example contact_timing -- [--spacing h] [--length L] [--repeats r] [--blocks 32,64,...] [--sparse n [--compare-static]]
 //! ```
 //!
 //! (defaults `--spacing 0.05 --length 100`: 42 021 nodes and 2 000 candidates; `--repeats 3`;

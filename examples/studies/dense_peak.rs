@@ -2,7 +2,7 @@
 //! large fronts of the sparse LU), for the flop-count floor of a factorisation. Run with
 //!
 //! ```text
-//! cargo run --release --example dense_peak -- [size ...]
+//! cargo run --release --features studies --example dense_peak -- [size ...]
 //! ```
 //!
 //! For each size `n` (default 512 1024 2048 4096) it times `C −= A B` with `n × n`

@@ -5,7 +5,7 @@
 //! (`M Φ`). A complex `λ` gives `ω = √λ` with `Im ω ≠ 0`: the θ = ½ scheme then grows at
 //! about `|Im ω|` per unit time.
 //!
-//! `cargo run --release --example dynamics_spectrum`
+//! `cargo run --release --features studies --example dynamics_spectrum`
 
 use faer::Mat;
 use faer::prelude::Solve;

@@ -2,7 +2,7 @@
 //! system of a problem file with its node spacing overridden. Run with
 //!
 //! ```text
-//! cargo run --release --example factor_orderings -- <problem.toml> <spacing> [variant ...] [--beta 1]
+//! cargo run --release --features studies --example factor_orderings -- <problem.toml> <spacing> [variant ...] [--beta 1]
 //! ```
 //!
 //! A variant is `nd` or `colamd` followed by optional `:key=value` settings: `void=1e-14`

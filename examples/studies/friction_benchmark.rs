@@ -4,7 +4,7 @@
 //! increments (the frictionless LCP per increment). Run with
 //!
 //! ```text
-//! cargo run --release --example friction_benchmark -- [--spacing h] [--mu μ] [--increments n] [--repeats r] [--fem]
+//! cargo run --release --features studies --example friction_benchmark -- [--spacing h] [--mu μ] [--increments n] [--repeats r] [--fem]
 //! ```
 //!
 //! (defaults `--spacing 0.25 --mu 0.3 --increments 10 --repeats 3`; `--fem` also runs the Q2

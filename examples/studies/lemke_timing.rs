@@ -5,7 +5,7 @@
 //! and q uniform in [−1, 1]ⁿ (about half negative). Run with
 //!
 //! ```text
-//! cargo run --release --example lemke_timing -- [n1 n2 ...]
+//! cargo run --release --features studies --example lemke_timing -- [n1 n2 ...]
 //! ```
 //!
 //! (default sizes 250, 500, 1000, 2000). Prints n, pivots, seconds and the scaled residuals.

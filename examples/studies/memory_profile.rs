@@ -7,7 +7,7 @@
 //! peak is this run's.
 //!
 //! ```text
-//! cargo run --release --example memory_profile -- problems/large/strip_million.toml
+//! cargo run --release --features studies --example memory_profile -- problems/large/strip_million.toml
 //! ```
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};

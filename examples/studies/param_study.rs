@@ -23,8 +23,8 @@
 //! `docs/param_study.md`.
 //!
 //! ```text
-//! cargo run --release --example param_study [-- --fe-fine]   # full run
-//! cargo run --release --example param_study -- --quick       # a check that it runs
+//! cargo run --release --features studies --example param_study [-- --fe-fine]   # full run
+//! cargo run --release --features studies --example param_study -- --quick       # a check that it runs
 //! ```
 //!
 //! `--quick`: coarser spacings, FE reference at h = 0.25, writes nothing into `docs/`;
@@ -433,7 +433,7 @@ fn write_fe_cache(path: &Path, rows: &[(f64, BeamRow)]) {
     let mut text = format!(
         "# Q2 FE reference of examples/studies/param_study.rs: problems/beam_on_foundation.toml with\n\
          # method = \"fem\" (element size h); u_y at (48, 0); seconds: wall time of that run.\n\
-         # Written by `cargo run --release --example param_study` (full run, cache missing or\n\
+         # Written by `cargo run --release --features studies --example param_study` (full run, cache missing or\n\
          # stale, or `-- --fe-fine`) at commit {commit} plus uncommitted changes, if any. Every\n\
          # full run recomputes the coarser rows and ignores this file unless they agree to 1e-9.\n\
          h,nodes,force,onset_raw,onset,tip,m_ok,intervals,seconds\n"

@@ -3,7 +3,7 @@
 //! list of node counts. Run with
 //!
 //! ```text
-//! cargo run --release --example scaling -- [N1 N2 ...] [--beta 1] [--support-factor 1.5]
+//! cargo run --release --features studies --example scaling -- [N1 N2 ...] [--beta 1] [--support-factor 1.5]
 //! ```
 //!
 //! `--beta 1` runs the sparser stabilised operator (`discretisation.beta`, default 0: the

@@ -5,7 +5,7 @@
 //! value (the accuracy targets set for the method), in one run.
 //!
 //! ```text
-//! cargo run --release --example time_to_accuracy -- [--finest 0.0625] [--only k] [--fe-reference h]
+//! cargo run --release --features studies --example time_to_accuracy -- [--finest 0.0625] [--only k] [--fe-reference h]
 //! ```
 //!
 //! * **Converged value**: computed in the same run with the FE discretisation at element size

@@ -122,7 +122,7 @@ fn beam_on_foundation_kkt_equilibrium_and_convergence() {
 /// The paper's literal stiffness form (eqs. 22–27) reads nodal parameters as displacements.
 /// On the beam it stays close to the default compliance form (F_c within 5.3e-4 at h = 0.25,
 /// observed), but its LCP gaps are not the MLS gaps: they differ by 1.4e-5 (0.14 % of δ0) at
-/// h = 0.25, shrinking with h (`cargo run --release --example beam_refinement`).
+/// h = 0.25, shrinking with h (`cargo run --release --features studies --example beam_refinement`).
 #[test]
 fn stiffness_form_is_close_but_not_mls_exact() {
     use mlpg_contact::contact::Condensation;
