@@ -111,9 +111,9 @@ pub struct MultibodySolution {
     pub active_set: Option<ActiveSetRecord>,
     /// The compliance checks that failed but were overridden (`allow_indefinite`).
     pub warning: Option<String>,
-    /// The body (0 the first) whose rigid translation the contact holds, and that
-    /// translation (docs/method.md §4.7); `None` when every body is restrained.
-    pub held: Option<(usize, RigidMode)>,
+    /// The bodies (0 the first) whose rigid translation the contact holds, each with that
+    /// translation (docs/method.md §4.7), in body order; empty when every body is restrained.
+    pub held: Vec<(usize, RigidMode)>,
     /// Why Lemke failed before the active-set method answered instead (`"auto"` on every
     /// pair; `None` when the answering solver was the first one tried).
     pub fallback_from: Option<String>,

@@ -957,17 +957,22 @@ fn two_blocks_problem_total_force() {
 
 /// problems/three_block_stack.toml with the middle block's roller removed: it could then slide
 /// in x as well, and contact holds one free translation only — refused naming the body and
-/// the mode (docs/method.md §4.7); with the bottom block's roller removed too, two bodies
-/// would be held by contact in y — refused naming both.
+/// the mode (docs/method.md §4.7); with the bottom block's roller removed instead, the middle
+/// and the bottom block are both left to the contacts in y, and nothing holds the bottom one
+/// from below — refused naming it (its position is not determined); both blocks of
+/// problems/two_blocks.toml left free in y — refused naming both (the pair floats).
 #[test]
 fn stack_with_a_body_free_in_two_directions_is_refused() {
     let path =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/three_block_stack.toml");
-    let stack = std::fs::read_to_string(path).unwrap();
+    let stack = std::fs::read_to_string(&path).unwrap();
     let roller = "boundary = [{ edge = \"left\", displacement = { x = 0.0 } }]";
     assert!(stack.contains(roller));
     let bottom_roller = "  { edge = \"bottom\", displacement = { y = 0.0 } },\n";
     assert!(stack.contains(bottom_roller));
+    let path = path.with_file_name("two_blocks.toml");
+    let two_blocks = std::fs::read_to_string(path).unwrap();
+    assert!(two_blocks.contains(bottom_roller));
     let cases: &[(&str, String, &str)] = &[
         (
             "stack_middle_free_in_x",
@@ -975,9 +980,9 @@ fn stack_with_a_body_free_in_two_directions_is_refused() {
             "body `middle`: no displacement is prescribed on any of its edges, so both translations and the rotation are free; contact between bodies may hold one free rigid-body translation of one body",
         ),
         (
-            "stack_two_bodies_held",
+            "stack_bottom_free",
             stack.replace(bottom_roller, ""),
-            "bodies `bottom` (translation in y), `middle` (translation in y) each have a rigid-body translation that no displacement condition restrains",
+            "body `bottom`: its translation in y is left to the contact, but no load acts along it and its contacts carry no force, so its position is not determined",
         ),
         (
             // The top block lifted instead of pressed: the middle block rests on the bottom
@@ -985,6 +990,18 @@ fn stack_with_a_body_free_in_two_directions_is_refused() {
             "stack_middle_undetermined",
             stack.replace("displacement = { y = -0.01 }", "displacement = { y = 0.01 }"),
             "body `middle`: its translation in y is left to the contact, but no load acts along it and its contacts carry no force, so its position is not determined",
+        ),
+        (
+            // Both blocks of a two-body pair free in y, squeezed by equal pressures: in
+            // balance, but nothing holds the pair as a whole.
+            "two_blocks_both_free",
+            two_blocks
+                .replace(
+                    "{ edge = \"top\", displacement = { y = -0.01 } }",
+                    "{ edge = \"top\", pressure = 1.0 }",
+                )
+                .replace(bottom_roller, "  { edge = \"bottom\", pressure = 1.0 },\n"),
+            "bodies `upper` (translation in y), `lower` (translation in y) each have a rigid-body translation that no displacement condition restrains, and they touch only each other",
         ),
     ];
     expect_refusals(cases);

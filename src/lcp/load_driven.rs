@@ -99,10 +99,10 @@ pub enum LoadDrivenError {
         /// What is not supported.
         why: String,
     },
-    /// Several bodies of a problem each leave a rigid translation to the contact: one such
-    /// body per problem is solved (docs/method.md §4.7).
+    /// Both bodies of a two-body pair leave a rigid translation to the contact: nothing
+    /// holds the pair as a whole (docs/method.md §4.7).
     #[error(
-        "bodies {bodies} each have a rigid-body translation that no displacement condition restrains; contact may hold such a translation of one body per problem (add displacement conditions to all but one of them)"
+        "bodies {bodies} each have a rigid-body translation that no displacement condition restrains, and they touch only each other: no contact holds the pair as a whole (add a displacement condition to one of them, or the obstacle or body they rest on)"
     )]
     SeveralHeld {
         /// The bodies' names with their free modes, e.g. "`a` (translation in y), `b` (…)".
@@ -204,10 +204,18 @@ pub trait Trials {
     fn force_round_off(&self, _answer: &Self::Answer, _along: &[f64]) -> f64 {
         0.0
     }
-    /// Places the trials inside an outer search ([`nested::HeldWithin`]) at its displacement
-    /// `s`, whose gaps are `q`: trials that answer from `q` need nothing (the default); trials
-    /// that move their own gaps add the outer shift.
-    fn set_outer(&mut self, _s: f64, _q: &[f64]) {}
+    /// A force scale of the whole problem (the largest load or force a search of it aims
+    /// at): a search whose own target is smaller, inside a search for a larger force
+    /// ([`nested::HeldWithin`]), accepts a residual at [`FORCE_TOLERANCE`] of it as met
+    /// (default 0: the search's own target and forces set the tolerance).
+    fn force_scale(&self) -> f64 {
+        0.0
+    }
+    /// Places the trials inside outer searches ([`nested::HeldWithin`]): the search `level`
+    /// levels out (0 the nearest) is at its displacement `s`. Trials that answer from the
+    /// gaps `q` they are given need nothing (the default); trials that move their own gaps
+    /// add each outer level's shift.
+    fn set_outer(&mut self, _level: usize, _s: f64) {}
 }
 
 /// Lemke's trials: `solve(q)` answers the LCP, `forces` reads `z`, and the gaps and slopes
@@ -370,31 +378,23 @@ pub fn find_translation<S, E: From<LoadDrivenError>>(
     find_translation_with(&mut trials, base_gap, along, target)
 }
 
-/// [`find_displacement`] with a body held by the contact (docs/method.md §4.6–4.7;
-/// [`nested::HeldWithin`]): `held_along` are its `b_c`, `held_load` the load along its
-/// translation. Returns the obstacle's search, the body's translation and the LCP solves of
-/// all inner searches.
+/// The nested searches of [`nested::search`] on the dense `M` by Lemke's method: the
+/// translations of the bodies held by contact and a force-driven obstacle's displacement
+/// (docs/method.md §4.6–4.7). `compliance`, `base_gap`, `solve` and `forces` as
+/// [`find_displacement`].
 ///
 /// # Errors
 /// As [`find_displacement`] and [`find_translation`].
-pub fn find_displacement_held<S, E: From<LoadDrivenError>>(
+pub fn search_condensed<S, E: From<LoadDrivenError>>(
     compliance: &[f64],
     base_gap: &[f64],
-    (along, direction, target): (&[f64], [f64; 2], f64),
-    (held_along, held_load): (&[f64], f64),
+    unknowns: nested::Unknowns<'_>,
     solve: impl FnMut(&[f64]) -> Result<S, E>,
     forces: impl Fn(&S) -> &[f64],
-) -> Result<(ForceSearch<S>, f64, usize), E> {
-    let mut inner = Condensed { compliance, solve, forces, answer: std::marker::PhantomData };
-    let mut trials = nested::HeldWithin {
-        inner: &mut inner,
-        held_along,
-        held_load,
-        translation: 0.0,
-        evaluations: 0,
-    };
-    let search = find_displacement_with(&mut trials, base_gap, along, direction, target)?;
-    Ok((search, trials.translation, trials.evaluations))
+) -> Result<nested::Found<S>, E> {
+    debug_assert_eq!(compliance.len(), base_gap.len() * base_gap.len());
+    let mut trials = Condensed { compliance, solve, forces, answer: std::marker::PhantomData };
+    nested::search(&mut trials, base_gap, unknowns)
 }
 
 /// [`find_translation`] whatever answers the LCP at each trial (`trials`, as
@@ -408,12 +408,28 @@ pub fn find_translation_with<T: Trials + ?Sized>(
     along: &[f64],
     target: f64,
 ) -> Result<ForceSearch<T::Answer>, T::Error> {
+    find_translation_from(trials, base_gap, along, target, 0.0)
+}
+
+/// [`find_translation_with`] from the trial translation `start` instead of 0: a search
+/// inside another ([`nested::HeldWithin`]) starts where the last one ended, usually on the
+/// piece of the answer, so that Newton's first step lands on it.
+///
+/// # Errors
+/// As [`find_translation`].
+pub fn find_translation_from<T: Trials + ?Sized>(
+    trials: &mut T,
+    base_gap: &[f64],
+    along: &[f64],
+    target: f64,
+    start: f64,
+) -> Result<ForceSearch<T::Answer>, T::Error> {
     let m = base_gap.len();
     debug_assert_eq!(along.len(), m);
     if !target.is_finite() {
         return Err(LoadDrivenError::BadForce { force: target }.into());
     }
-    let mut t = 0.0;
+    let mut t = if start.is_finite() { start } else { 0.0 };
     let mut bracket = Bracket::default();
     let mut last_step: f64 = 0.0;
     let mut tried = (t, 0.0);
@@ -426,7 +442,7 @@ pub fn find_translation_with<T: Trials + ?Sized>(
         let residual = force - target;
         tried = (t, force);
         let carried = z.iter().zip(along).fold(0.0f64, |s, (z, a)| s.max((z * a).abs()));
-        let mut tolerance = FORCE_TOLERANCE * target.abs().max(carried);
+        let mut tolerance = FORCE_TOLERANCE * target.abs().max(carried).max(trials.force_scale());
         let round_off = trials.force_round_off(&answer, along);
         if round_off > tolerance {
             tolerance = round_off;
@@ -620,6 +636,52 @@ mod tests {
         assert!((t + 1.0).abs() < 1e-14, "{t}");
         assert!((out.answer[0] - 1.0).abs() < 1e-14 && (out.answer[1] - 1.0).abs() < 1e-14);
         assert!(out.evaluations <= 4, "{} evaluations", out.evaluations);
+    }
+
+    /// Lemke's answer to `M z + q` as a search's trial.
+    fn lemke_z(m: &[f64], q: &[f64]) -> Result<Vec<f64>, LcpError> {
+        Ok(lemke(&Lcp::new(q.len(), m.to_vec(), q.to_vec())?, &LemkeParams::default())?.z)
+    }
+
+    /// Two bodies stacked on a wall, each held by contact alone (`b₁ = (1, −1)`: body 1
+    /// moving down closes the wall's gap and opens the gap to body 2; `b₂ = (0, 1)`), loads
+    /// `L₁ = 1`, `L₂ = 2`: the balances give `z = (3, 2)` whatever `M`, and `w = 0` the
+    /// translations `t₁ = (Mz)₀ + q₀ = 4`, `t₂ = (Mz)₁ + q₁ + t₁ = 9.75`.
+    #[test]
+    fn two_held_bodies_stacked_on_a_wall() {
+        let m = [1.0, 0.25, 0.25, 2.0];
+        let q = [0.5, 1.0];
+        let (b1, b2) = ([1.0, -1.0], [0.0, 1.0]);
+        let held = [(&b1[..], 1.0), (&b2[..], 2.0)];
+        let unknowns = nested::Unknowns { held: &held, force: None };
+        let found =
+            search_condensed(&m, &q, unknowns, |q| lemke_z(&m, q), |z| z.as_slice()).unwrap();
+        let z = &found.outer.answer;
+        assert!((z[0] - 3.0).abs() < 1e-12 && (z[1] - 2.0).abs() < 1e-12, "{z:?}");
+        let t = &found.translations;
+        assert!((t[0] - 4.0).abs() < 1e-12 && (t[1] - 9.75).abs() < 1e-12, "{t:?}");
+        assert_eq!(found.outer.displacement, t[1]);
+        assert!(found.evaluations >= found.outer.evaluations, "{found:?}");
+    }
+
+    /// A force-driven obstacle under the same stack of two held bodies against a fixed top
+    /// wall (`a = (1, 0, 0)`, `b₁ = (−1, 1, 0)`, `b₂ = (0, −1, 1)`, no loads on the bodies,
+    /// `M = I`, `q = (0.1, 0.2, 0.3)`, `|F| = 2`): every contact carries 2 and `w = 0` gives
+    /// `t₂ = F + 0.3`, `t₁ = F + 0.2 + t₂`, `s = F + 0.1 + t₁`.
+    #[test]
+    fn force_through_two_held_bodies() {
+        let m = [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0];
+        let q = [0.1, 0.2, 0.3];
+        let (a, b1, b2) = ([1.0, 0.0, 0.0], [-1.0, 1.0, 0.0], [0.0, -1.0, 1.0]);
+        let held = [(&b1[..], 0.0), (&b2[..], 0.0)];
+        let unknowns = nested::Unknowns { held: &held, force: Some((&a, [0.0, 1.0], 2.0)) };
+        let found =
+            search_condensed(&m, &q, unknowns, |q| lemke_z(&m, q), |z| z.as_slice()).unwrap();
+        let z = &found.outer.answer;
+        assert!(z.iter().all(|z| (z - 2.0).abs() < 1e-12), "{z:?}");
+        let (t, s) = (&found.translations, found.outer.displacement);
+        assert!((t[1] - 2.3).abs() < 1e-12 && (t[0] - 4.5).abs() < 1e-12, "{t:?}");
+        assert!((s - 6.6).abs() < 1e-12, "{s}");
     }
 
     /// A force the contact cannot carry (every `a_c ≤ 0`) and a force that is not positive

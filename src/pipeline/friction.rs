@@ -289,7 +289,7 @@ pub(super) fn solve_frictional(
         steps,
         friction,
         moved: None,
-        held,
+        held: held.into_iter().collect(),
         groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
@@ -302,14 +302,16 @@ pub(super) fn solve_frictional(
         problem: step_problem,
         histories,
         load_driven,
-        rigid_mode,
+        rigid_modes,
     } = answer;
+    let rigid_mode = rigid_modes.into_iter().next();
     let u2 = (u.len() == 2).then(|| u.pop()).flatten();
     let u = u.pop().expect("the first body's displacements");
     let result = load_path::normal_lcp(&step_problem, &step)?;
     // Either body of a pair held with no load along its translation: determined only where
     // the contact carries a force along it or blocks it both ways (docs/method.md §4.7).
-    if let (Some(load_path::Held::Among { term, pin, along }), Some(r)) = (&path.held, &rigid_mode)
+    if let (Some(load_path::Held::Among { term, pin, along }), Some(r)) =
+        (path.held.first(), &rigid_mode)
     {
         let name = match term {
             0 => problem.name.as_str(),

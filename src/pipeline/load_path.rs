@@ -136,7 +136,8 @@ pub(super) struct Path<'a> {
     /// The candidates the obstacle's motion or force moves (`None`: all): with several pairs,
     /// those of the pairs against rigid obstacles, which move together (docs/method.md §4.6).
     pub(super) moved: Option<&'a [bool]>,
-    pub(super) held: Option<Held>,
+    /// The bodies held by contact alone: one `Alone`, or any number `Among` several.
+    pub(super) held: Vec<Held>,
     pub(super) groups: Vec<Range<usize>>,
     pub(super) write_steps: bool,
     /// Whether the problem has `[[step]]` tables (a failure then names the step).
@@ -216,7 +217,8 @@ pub(super) struct PathAnswer {
     pub(super) problem: lcp::FrictionProblem,
     pub(super) histories: Vec<History>,
     pub(super) load_driven: Option<solution::LoadDriven>,
-    pub(super) rigid_mode: Option<solution::RigidMode>,
+    /// The held bodies' records, in the order of [`Path::held`].
+    pub(super) rigid_modes: Vec<solution::RigidMode>,
 }
 
 /// The gaps `q_n` and tangential displacements `q_t` without contact forces.
@@ -267,7 +269,7 @@ fn step_end_gaps(
 struct Searches {
     force0: f64,
     load_driven: Option<solution::LoadDriven>,
-    rigid_mode: Option<solution::RigidMode>,
+    rigid_modes: Vec<solution::RigidMode>,
     total_evaluations: usize,
 }
 
@@ -285,114 +287,111 @@ fn solve_increment(
     let end = &path.steps[k];
     let Some(compliance) = compliance else { return lcp::solve_step(step_problem) };
     let base = step_problem.free_gap.clone();
-    if let Some(f) = end.force {
+    let solve = |q: &[f64]| {
+        step_problem.free_gap = q.to_vec();
+        lcp::solve_step(step_problem)
+    };
+    fn forces(answer: &lcp::FrictionSolution) -> &[f64] {
+        answer.normal.as_slice()
+    }
+    if let ([held @ Held::Alone { projection, .. }], None) = (path.held.as_slice(), end.force) {
+        // The only body, against rigid obstacles: t = σ s along r with σ the sign of the load
+        // along r; the gaps move by (ν_c·r) t = −a_c s, a_c = −σ ν_c·r, and the pin's
+        // reaction vanishes when aᵀz = |F·r|.
+        let pin = held.pin();
+        let load = lerp(&loads0[0], &terms[0].steps[k].load, lambda);
+        let (along_load, sign, along) = pin_along(pin, projection, &load)?;
+        let mut r = [0.0; 2];
+        r[pin.axis as usize] = sign;
+        let search = lcp::load_driven::find_displacement(
+            compliance,
+            &base,
+            &along,
+            r,
+            along_load.abs(),
+            solve,
+            forces,
+        )?;
+        let found = (vec![sign * search.displacement], search.evaluations);
+        searches.record_held(path, terms, (&[along_load], found));
+        return Ok(search.answer);
+    }
+    // The bodies held among several (their loads along r in the contact's units) and a
+    // force-driven obstacle, searched at once (docs/method.md §4.6–4.7).
+    let mut held = Vec::with_capacity(path.held.len());
+    for h in &path.held {
+        let Held::Among { term, pin, along } = h else {
+            // Refused by validation: a body alone against obstacles pressed by a force.
+            let why = "the obstacle is pressed by a force as well".to_string();
+            return Err(lcp::load_driven::LoadDrivenError::Unsupported {
+                mode: h.pin().name(),
+                why,
+            }
+            .into());
+        };
+        let load = lerp(&loads0[*term], &terms[*term].steps[k].load, lambda);
+        let along_load = load.iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
+            * ring_units(terms[*term].model);
+        held.push((along.as_slice(), along_load));
+    }
+    let force = end.force.map(|f| {
         let (e, size, mut along) = force_along(f, path.normals);
         for (c, a) in along.iter_mut().enumerate() {
             if !path.moves(c) {
                 *a = 0.0;
             }
         }
-        let target = (1.0 - lambda) * searches.force0 + lambda * size;
-        let solve = |q: &[f64]| {
-            step_problem.free_gap = q.to_vec();
-            lcp::solve_step(step_problem)
-        };
-        fn forces(answer: &lcp::FrictionSolution) -> &[f64] {
-            answer.normal.as_slice()
-        }
-        let search = match &path.held {
-            // A body held by the contact as well: its search inside each trial (§4.7).
-            Some(Held::Among { term, pin, along: held_along }) => {
-                let load = lerp(&loads0[*term], &terms[*term].steps[k].load, lambda);
-                let held_load = load.iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
-                    * ring_units(terms[*term].model);
-                let (search, translation, evaluations) = lcp::load_driven::find_displacement_held(
-                    compliance,
-                    &base,
-                    (&along, e, target),
-                    (held_along, held_load),
-                    solve,
-                    forces,
-                )?;
-                let mut t = [0.0; 2];
-                t[pin.axis as usize] = translation;
-                searches.rigid_mode = Some(solution::RigidMode {
-                    mode: pin.name(),
-                    pin_point: terms[*term].model.nodes.points[pin.node as usize],
-                    translation: t,
-                    load: held_load,
-                    evaluations,
-                    total_evaluations: searches.total_evaluations + evaluations,
-                });
-                lcp::load_driven::ForceSearch { evaluations, ..search }
-            }
-            _ => lcp::load_driven::find_displacement(
-                compliance, &base, &along, e, target, solve, forces,
-            )?,
-        };
-        searches.total_evaluations += search.evaluations;
-        let s = search.displacement;
+        (along, e, (1.0 - lambda) * searches.force0 + lambda * size)
+    });
+    let unknowns = lcp::load_driven::nested::Unknowns {
+        held: &held,
+        force: force.as_ref().map(|(along, e, target)| (along.as_slice(), *e, *target)),
+    };
+    let found = lcp::load_driven::search_condensed(compliance, &base, unknowns, solve, forces)?;
+    let loads: Vec<f64> = held.iter().map(|h| h.1).collect();
+    searches.record_held(path, terms, (&loads, (found.translations, found.evaluations)));
+    if let Some((_, e, target)) = force {
+        let search = &found.outer;
         searches.load_driven = Some(solution::LoadDriven::found(
             (e, target),
-            s,
+            search.displacement,
             search.force,
-            (search.evaluations, searches.total_evaluations),
+            (found.evaluations, searches.total_evaluations),
         ));
-        return Ok(search.answer);
     }
-    let held = path.held.as_ref().expect("the compliance is kept for a force or a pin");
-    let (pin, b) = (held.pin(), held.term());
-    let a = pin.axis as usize;
-    let load = lerp(&loads0[b], &terms[b].steps[k].load, lambda);
-    let solve = |q: &[f64]| {
-        step_problem.free_gap = q.to_vec();
-        lcp::solve_step(step_problem)
-    };
-    let (translation, along_load, evaluations, answer) = match held {
-        Held::Alone { projection, .. } => {
-            // t = σ s along r with σ the sign of the load along r; the gaps move by
-            // (ν_c·r) t = −a_c s, a_c = −σ ν_c·r, and the pin's reaction vanishes when
-            // aᵀz = |F·r|.
-            let (along_load, sign, along) = pin_along(pin, projection, &load)?;
-            let mut r = [0.0; 2];
-            r[a] = sign;
-            let search = lcp::load_driven::find_displacement(
-                compliance,
-                &base,
-                &along,
-                r,
-                along_load.abs(),
-                solve,
-                |answer| answer.normal.as_slice(),
-            )?;
-            (sign * search.displacement, along_load, search.evaluations, search.answer)
-        }
-        Held::Among { along, .. } => {
-            let along_load: f64 =
-                load.iter().skip(a).step_by(2).sum::<f64>() * ring_units(terms[b].model);
-            let search = lcp::load_driven::find_translation(
-                compliance,
-                &base,
-                along,
-                along_load,
-                solve,
-                |answer| answer.normal.as_slice(),
-            )?;
-            (search.displacement, along_load, search.evaluations, search.answer)
-        }
-    };
-    searches.total_evaluations += evaluations;
-    let mut t = [0.0; 2];
-    t[a] = translation;
-    searches.rigid_mode = Some(solution::RigidMode {
-        mode: pin.name(),
-        pin_point: terms[b].model.nodes.points[pin.node as usize],
-        translation: t,
-        load: along_load,
-        evaluations,
-        total_evaluations: searches.total_evaluations,
-    });
-    Ok(answer)
+    Ok(found.outer.answer)
+}
+
+impl Searches {
+    /// Counts a search's LCP solves and records each held body's translation: `loads` along
+    /// their translations, `translations` in the order of [`Path::held`].
+    fn record_held(
+        &mut self,
+        path: &Path<'_>,
+        terms: &[Term<'_>],
+        (loads, (translations, evaluations)): (&[f64], (Vec<f64>, usize)),
+    ) {
+        self.total_evaluations += evaluations;
+        self.rigid_modes = path
+            .held
+            .iter()
+            .zip(translations)
+            .zip(loads)
+            .map(|((held, translation), &load)| {
+                let pin = held.pin();
+                let mut t = [0.0; 2];
+                t[pin.axis as usize] = translation;
+                solution::RigidMode {
+                    mode: pin.name(),
+                    pin_point: terms[held.term()].model.nodes.points[pin.node as usize],
+                    translation: t,
+                    load,
+                    evaluations,
+                    total_evaluations: self.total_evaluations,
+                }
+            })
+            .collect();
+    }
 }
 
 /// The step answer's rows `range` (the residuals, method and counts are the whole step's).
@@ -442,7 +441,7 @@ pub(super) fn run_condensed(
     let (mut qn0, mut qt0) = (path.initial_gap.to_vec(), vec![0.0; m]);
     let mut histories: Vec<History> =
         path.groups.iter().map(|g| History::new(g.len(), path.write_steps)).collect();
-    let compliance = (path.steps.iter().any(|s| s.force.is_some()) || path.held.is_some())
+    let compliance = (path.steps.iter().any(|s| s.force.is_some()) || !path.held.is_empty())
         .then(|| step_problem.nn.clone());
     let mut searches = Searches::default();
     let mut last = None;
@@ -477,13 +476,13 @@ pub(super) fn run_condensed(
                     // The body's free translation found above: the pin's value (the solve
                     // adds the rigid translation, which K_int does not see, to the pinned
                     // answer).
-                    if let (Some(held), Some(r)) = (&path.held, &searches.rigid_mode)
-                        && held.term() == b
-                    {
-                        let pin = held.pin();
-                        let d = crate::nodes::dof(pin.node as usize, pin.axis);
-                        rhs[d] =
-                            term.model.system.collocation_scale * r.translation[pin.axis as usize];
+                    for (held, r) in path.held.iter().zip(&searches.rigid_modes) {
+                        if held.term() == b {
+                            let pin = held.pin();
+                            let d = crate::nodes::dof(pin.node as usize, pin.axis);
+                            rhs[d] = term.model.system.collocation_scale
+                                * r.translation[pin.axis as usize];
+                        }
                     }
                     let u_b = term.model.factorisation.solve(&rhs)?;
                     let load = lerp(&loads0[b], &term.steps[k].load, lambda);
@@ -527,7 +526,7 @@ pub(super) fn run_condensed(
         problem: step_problem,
         histories,
         load_driven: searches.load_driven,
-        rigid_mode: searches.rigid_mode,
+        rigid_modes: searches.rigid_modes,
     })
 }
 

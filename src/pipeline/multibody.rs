@@ -104,67 +104,62 @@ pub(super) fn named(problem: &Problem, held: bool, err: Error) -> Error {
 /// A body held by contact: its index, pin, `a` over all candidates and the load along `r`.
 type Held = (usize, PinnedMode, Vec<f64>, f64);
 
-/// The body of several whose free translation the contact holds (docs/method.md §4.7): its
-/// index, pin, the `a_c = −s_c ν_c·r` over all candidates (`s_c = +1` on the candidate's
-/// body, `−1` on its target body) and the applied load along `r`. `None` when no body is
-/// pinned.
+/// The bodies of several whose free translation the contact holds (docs/method.md §4.7),
+/// in body order: each one's index, pin, the `a_c = −s_c ν_c·r` over all candidates
+/// (`s_c = +1` on the candidate's body, `−1` on its target body) and the applied load along
+/// `r`. Empty when no body is pinned.
 ///
 /// # Errors
-/// [`LoadDrivenError::SeveralHeld`] for more than one pinned body,
-/// [`LoadDrivenError::NotRestrained`] when every `ν_c·r` vanishes,
-/// [`LoadDrivenError::Unsupported`] when the pinned node carries contact forces.
-fn held_body(
+/// [`LoadDrivenError::NotRestrained`] when every `ν_c·r` of a pinned body vanishes,
+/// [`LoadDrivenError::Unsupported`] when a pinned node carries contact forces.
+fn held_bodies(
     problems: &[&Problem],
     models: &[&Model],
     pairs: &[ContactPair],
     found: &[PairCandidates],
     operators: &[Option<(BodyOperator, Vec<usize>)>],
-) -> Result<Option<Held>, LoadDrivenError> {
-    let pinned: Vec<(usize, PinnedMode)> =
-        models.iter().enumerate().filter_map(|(b, m)| m.system.pinned.map(|p| (b, p))).collect();
-    let (b, pin) = match pinned.as_slice() {
-        [] => return Ok(None),
-        [one] => *one,
-        several => {
-            let bodies = several
-                .iter()
-                .map(|(b, p)| format!("`{}` ({})", problems[*b].name, p.name()))
-                .collect::<Vec<_>>()
-                .join(", ");
-            return Err(LoadDrivenError::SeveralHeld { bodies });
+) -> Result<Vec<Held>, LoadDrivenError> {
+    let pinned = models.iter().enumerate().filter_map(|(b, m)| m.system.pinned.map(|p| (b, p)));
+    let mut held = Vec::new();
+    for (b, pin) in pinned {
+        if let Some((op, _)) = &operators[b]
+            && op.owners.iter().flatten().any(|&(i, _)| i == pin.node)
+        {
+            return Err(LoadDrivenError::Unsupported {
+                mode: pin.name(),
+                why: format!(
+                    "the pinned node {} of body `{}` carries contact forces",
+                    pin.node, problems[b].name
+                ),
+            });
         }
-    };
-    if let Some((op, _)) = &operators[b]
-        && op.owners.iter().flatten().any(|&(i, _)| i == pin.node)
-    {
-        return Err(LoadDrivenError::Unsupported {
-            mode: pin.name(),
-            why: format!(
-                "the pinned node {} of body `{}` carries contact forces",
-                pin.node, problems[b].name
-            ),
-        });
+        let axis = pin.axis as usize;
+        let along: Vec<f64> = pairs
+            .iter()
+            .zip(found)
+            .flat_map(|(pair, f)| {
+                let side = if pair.body == b {
+                    1.0
+                } else if pair.target_body == Some(b) {
+                    -1.0
+                } else {
+                    0.0
+                };
+                (0..f.candidates.len()).map(move |c| -side * f.candidates.normal(c)[axis])
+            })
+            .collect();
+        if along.iter().all(|a| a.abs() <= 1e-12) {
+            return Err(LoadDrivenError::NotRestrained { mode: pin.name() });
+        }
+        let load: f64 = models[b].system.load.iter().skip(axis).step_by(2).sum();
+        held.push((b, pin, along, load * super::load_path::ring_units(models[b])));
     }
-    let axis = pin.axis as usize;
-    let along: Vec<f64> = pairs
-        .iter()
-        .zip(found)
-        .flat_map(|(pair, f)| {
-            let side = if pair.body == b {
-                1.0
-            } else if pair.target_body == Some(b) {
-                -1.0
-            } else {
-                0.0
-            };
-            (0..f.candidates.len()).map(move |c| -side * f.candidates.normal(c)[axis])
-        })
-        .collect();
-    if along.iter().all(|a| a.abs() <= 1e-12) {
-        return Err(LoadDrivenError::NotRestrained { mode: pin.name() });
-    }
-    let load: f64 = models[b].system.load.iter().skip(axis).step_by(2).sum();
-    Ok(Some((b, pin, along, load * super::load_path::ring_units(models[b]))))
+    Ok(held)
+}
+
+/// The `(b_c, L)` of each held body, for [`lcp::load_driven::nested::search`].
+fn held_unknowns(held: &[Held]) -> Vec<(&[f64], f64)> {
+    held.iter().map(|(_, _, along, load)| (along.as_slice(), *load)).collect()
 }
 
 /// One pair's candidates and target operator.
@@ -251,7 +246,7 @@ pub fn solve_bodies(
         .flat_map(|(p, f)| std::iter::repeat_n(p.target_body.is_none(), f.candidates.len()))
         .collect();
     let held =
-        held_body(&problems, &models, pairs, &found, &operators).map_err(lcp::LcpError::from)?;
+        held_bodies(&problems, &models, pairs, &found, &operators).map_err(lcp::LcpError::from)?;
     // `contact[k].solver = "active_set"` on any pair (validated: none says "lemke"): the
     // sparse system of all bodies and pairs, no M (docs/method.md §5.1).
     let active_set = pairs.iter().any(|p| p.spec.solver == ContactSolver::ActiveSet);
@@ -273,14 +268,14 @@ pub fn solve_bodies(
         let sparse = active_set
             || pairs.iter().all(|p| p.spec.solver.is_active_set_frictional_pair(initial_gap.len()));
         let (solved, f, l) = if sparse {
-            sparse_path::solve(&scene, &models, held.as_ref(), &mut clock)?
+            sparse_path::solve(&scene, &models, &held, &mut clock)?
         } else {
-            path::solve(&scene, &models, held.as_ref(), &mut clock)?
+            path::solve(&scene, &models, &held, &mut clock)?
         };
         (frictions, load_driven) = (f, l);
         solved
     } else if active_set {
-        solve_active_set(&models, pairs, &found, &initial_gap, held.as_ref(), &mut clock)?
+        solve_active_set(&models, pairs, &found, &initial_gap, &held, &mut clock)?
     } else {
         let answer = solve_lemke(
             problem,
@@ -288,7 +283,7 @@ pub fn solve_bodies(
             pairs,
             &operators,
             &initial_gap,
-            held.as_ref(),
+            &held,
             lemke,
             &mut clock,
         );
@@ -297,14 +292,7 @@ pub fn solve_bodies(
         let auto = pairs.iter().all(|p| p.spec.solver == ContactSolver::Auto);
         match answer {
             Err(Error::LemkeRefused(mut refusal)) if auto => {
-                match solve_active_set(
-                    &models,
-                    pairs,
-                    &found,
-                    &initial_gap,
-                    held.as_ref(),
-                    &mut clock,
-                ) {
+                match solve_active_set(&models, pairs, &found, &initial_gap, &held, &mut clock) {
                     Ok(solved) => {
                         fallback_from = Some(refusal.diagnosis_text());
                         solved
@@ -319,34 +307,32 @@ pub fn solve_bodies(
         }
     };
     let Solved { result, free_gap, condensed, warning, search, displacements, record } = solved;
-    // A body held by the contact alone (docs/method.md §4.7): its translation found.
-    let rigid = match (&held, search) {
-        (Some((b, pin, along, load)), Some((displacement, evaluations))) => {
-            super::load_path::check_determined(
-                (&problems[*b].name, pin.name()),
-                *load,
-                along,
-                &result,
-                &free_gap,
-            )?;
-            let mut translation = [0.0; 2];
-            translation[pin.axis as usize] = displacement;
-            let mode = solution::RigidMode {
-                mode: pin.name(),
-                pin_point: models[*b].nodes.points[pin.node as usize],
-                translation,
-                load: *load,
-                evaluations,
-                total_evaluations: evaluations,
-            };
-            Some((*b, *pin, mode))
-        }
-        _ => None,
-    };
+    // The bodies held by the contact alone (docs/method.md §4.7): their translations found.
+    let mut rigid = Vec::with_capacity(held.len());
+    for ((b, pin, along, load), &(displacement, evaluations)) in held.iter().zip(&search) {
+        super::load_path::check_determined(
+            (&problems[*b].name, pin.name()),
+            *load,
+            along,
+            &result,
+            &free_gap,
+        )?;
+        let mut translation = [0.0; 2];
+        translation[pin.axis as usize] = displacement;
+        let mode = solution::RigidMode {
+            mode: pin.name(),
+            pin_point: models[*b].nodes.points[pin.node as usize],
+            translation,
+            load: *load,
+            evaluations,
+            total_evaluations: evaluations,
+        };
+        rigid.push((*b, *pin, mode));
+    }
     // The pin's value is the translation found, so that the system each solution answers
     // (its residual, its reactions) is the one solved.
     drop(models);
-    if let Some((b, pin, r)) = &rigid {
+    for (b, pin, r) in &rigid {
         let target = if *b == 0 { &mut model } else { &mut others[*b - 1] };
         let value = r.translation[pin.axis as usize];
         let d = crate::nodes::dof(pin.node as usize, pin.axis);
@@ -468,7 +454,7 @@ pub fn solve_bodies(
         lcp: result,
         active_set: record,
         warning,
-        held: rigid.map(|(b, _, r)| (b, r)),
+        held: rigid.into_iter().map(|(b, _, r)| (b, r)).collect(),
         fallback_from,
     }));
     solution.timings = clock.timings.clone();
@@ -485,7 +471,8 @@ struct Solved {
     free_gap: Vec<f64>,
     condensed: Option<contact::CondensedContact>,
     warning: Option<String>,
-    search: Option<(f64, usize)>,
+    /// Each held body's translation and the LCP solves of the search (empty: none held).
+    search: Vec<(f64, usize)>,
     displacements: Option<Vec<Vec<f64>>>,
     record: Option<solution::ActiveSetRecord>,
 }
@@ -514,7 +501,7 @@ fn solve_lemke(
     pairs: &[ContactPair],
     operators: &[Option<(BodyOperator, Vec<usize>)>],
     initial_gap: &[f64],
-    held: Option<&Held>,
+    held: &[Held],
     lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<Solved, Error> {
@@ -556,19 +543,20 @@ fn solve_lemke(
     };
     // A body held by the contact alone (docs/method.md §4.7): its translation t along r
     // moves the gaps by −a t, and its pin's reaction vanishes when aᵀz = F_r.
-    let (result, search) = match held {
-        None => (lemke_on(&condensed.free_gap, clock)?, None),
-        Some((_, _, along, load)) => {
-            let search = lcp::load_driven::find_translation(
-                &condensed.compliance,
-                &condensed.free_gap,
-                along,
-                *load,
-                |q| lemke_on(q, clock),
-                |r| r.z.as_slice(),
-            )?;
-            (search.answer, Some((search.displacement, search.evaluations)))
-        }
+    let (result, search) = if held.is_empty() {
+        (lemke_on(&condensed.free_gap, clock)?, Vec::new())
+    } else {
+        let unknowns = held_unknowns(held);
+        let unknowns = lcp::load_driven::nested::Unknowns { held: &unknowns, force: None };
+        let found = lcp::load_driven::search_condensed(
+            &condensed.compliance,
+            &condensed.free_gap,
+            unknowns,
+            |q| lemke_on(q, clock),
+            |r| r.z.as_slice(),
+        )?;
+        let search = found.translations.iter().map(|&t| (t, found.evaluations)).collect();
+        (found.outer.answer, search)
     };
     Ok(Solved {
         result,
@@ -590,13 +578,13 @@ fn solve_active_set(
     pairs: &[ContactPair],
     found: &[PairCandidates],
     initial_gap: &[f64],
-    held: Option<&Held>,
+    held: &[Held],
     clock: &mut Clock<'_>,
 ) -> Result<Solved, Error> {
     let params = lcp::active_set::ActiveSetParams::default();
     clock.run("active_set", || -> Result<Solved, Error> {
         let mut system = bodies_system(models, pairs, found, initial_gap)?;
-        let Some((b, pin, along, load)) = held else {
+        let Some((_, _, along, load)) = held.first() else {
             let answer =
                 lcp::active_set::solve(&mut system, &params).map_err(lcp::LcpError::from)?;
             let u = system.final_body_displacements(&answer.active).map_err(lcp::LcpError::from)?;
@@ -604,7 +592,7 @@ fn solve_active_set(
                 free_gap: answer.free_gap,
                 condensed: None,
                 warning: None,
-                search: None,
+                search: Vec::new(),
                 displacements: Some(u),
                 record: Some(solution::ActiveSetRecord {
                     iterations: answer.iterations,
@@ -616,23 +604,29 @@ fn solve_active_set(
                 result: answer.lcp,
             });
         };
+        let scale = held.iter().fold(load.abs(), |s, h| s.max(h.3.abs()));
         let mut trials = BodiesTrials::new(
             &mut system,
             (initial_gap, along),
             (vec![0.0; initial_gap.len()], None),
-            (params, load.abs()),
+            (params, scale),
         );
+        trials.outer = held[1..].iter().map(|h| (h.2.as_slice(), 0.0)).collect();
         let base = trials.base_gap()?;
-        let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, *load)?;
+        let unknowns = held_unknowns(held);
+        let unknowns = lcp::load_driven::nested::Unknowns { held: &unknowns, force: None };
+        let found = lcp::load_driven::nested::search(&mut trials, &base, unknowns)?;
         let (iterations, rescues) = (trials.iterations, trials.rescues);
-        let answer = search.answer;
-        // The translation found: the pin's value, the gaps without the shift (the system the
-        // displacements answer is the one reported, as on Lemke's path).
-        let model = models[*b];
-        let mut rhs = model.system.rhs.clone();
-        rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
-            model.system.collocation_scale * search.displacement;
-        system.set_body_load(*b, &rhs);
+        let answer = found.outer.answer;
+        // The translations found: the pins' values, the gaps without the shifts (the system
+        // the displacements answer is the one reported, as on Lemke's path).
+        for ((b, pin, _, _), t) in held.iter().zip(&found.translations) {
+            let model = models[*b];
+            let mut rhs = model.system.rhs.clone();
+            rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
+                model.system.collocation_scale * t;
+            system.set_body_load(*b, &rhs);
+        }
         system.set_initial_gap(initial_gap);
         let active: Vec<bool> =
             answer.states.iter().map(|&s| s != lcp::ContactState::Open).collect();
@@ -649,7 +643,7 @@ fn solve_active_set(
             free_gap: base,
             condensed: None,
             warning: None,
-            search: Some((search.displacement, search.evaluations)),
+            search: found.translations.iter().map(|&t| (t, found.evaluations)).collect(),
             displacements: Some(u),
             record: Some(solution::ActiveSetRecord {
                 iterations,
@@ -716,10 +710,10 @@ struct BodiesTrials<'s, 'a> {
     rescues: Vec<usize>,
     /// The round-off of the last trial's forces ([`lcp::active_set::Bodies::force_round_off`]).
     round_off: Vec<f64>,
-    /// Inside a force-driven obstacle's search ([`lcp::load_driven::nested::HeldWithin`]):
-    /// the obstacle's `a_c` and its trial displacement `s`, which move the gaps by `−a s` as
-    /// well (empty and 0 otherwise).
-    outer: (&'s [f64], f64),
+    /// Inside outer searches ([`lcp::load_driven::nested::HeldWithin`]; other held bodies,
+    /// a force-driven obstacle), nearest first: each one's `a_c` and trial displacement `s`,
+    /// which move the gaps by `−a s` as well (empty when the search is the only one).
+    outer: Vec<(&'s [f64], f64)>,
 }
 
 impl<'s, 'a> BodiesTrials<'s, 'a> {
@@ -742,7 +736,7 @@ impl<'s, 'a> BodiesTrials<'s, 'a> {
             iterations: 0,
             rescues: Vec::new(),
             round_off: Vec::new(),
-            outer: (&[], 0.0),
+            outer: Vec::new(),
         }
     }
 
@@ -762,16 +756,14 @@ impl lcp::load_driven::Trials for BodiesTrials<'_, '_> {
     type Answer = lcp::active_set::FrictionStepSolution;
     type Error = lcp::LcpError;
     fn solve(&mut self, t: f64, _q: &[f64]) -> Result<Self::Answer, lcp::LcpError> {
-        let (outer, s) = self.outer;
-        if t == 0.0 && s == 0.0 {
+        if t == 0.0 && self.outer.iter().all(|&(_, s)| s == 0.0) {
             self.system.set_initial_gap(self.initial_gap);
-        } else if s == 0.0 {
-            let g0 = self.initial_gap.iter().zip(self.along);
-            let shifted: Vec<f64> = g0.map(|(g, a)| g - a * t).collect();
-            self.system.set_initial_gap(&shifted);
         } else {
-            let g0 = self.initial_gap.iter().zip(self.along).zip(outer);
-            let shifted: Vec<f64> = g0.map(|((g, b), a)| g - b * t - a * s).collect();
+            let g0 = self.initial_gap.iter().zip(self.along);
+            let mut shifted: Vec<f64> = g0.map(|(g, a)| g - a * t).collect();
+            for &(along, s) in self.outer.iter().filter(|&&(_, s)| s != 0.0) {
+                shifted.iter_mut().zip(along).for_each(|(g, a)| *g -= a * s);
+            }
             self.system.set_initial_gap(&shifted);
         }
         let answer = lcp::active_set::solve_friction_step(
@@ -796,8 +788,13 @@ impl lcp::load_driven::Trials for BodiesTrials<'_, '_> {
     fn force_round_off(&self, _answer: &Self::Answer, along: &[f64]) -> f64 {
         self.round_off.iter().zip(along).map(|(d, a)| d * a.abs()).sum()
     }
-    fn set_outer(&mut self, s: f64, _q: &[f64]) {
-        self.outer.1 = s;
+    /// The scale the trials' residuals are measured against
+    /// ([`lcp::active_set::ActiveSetParams::force_scale`]).
+    fn force_scale(&self) -> f64 {
+        self.params.force_scale
+    }
+    fn set_outer(&mut self, level: usize, s: f64) {
+        self.outer[level].1 = s;
     }
     fn slope(
         &mut self,

@@ -896,8 +896,8 @@ fn multibody_bodies(problem: &Problem, solution: &Solution) -> Option<Vec<Second
                 contact_force: s.contact_force,
                 rigid_mode: ms
                     .held
-                    .as_ref()
-                    .filter(|(b, _)| *b == k)
+                    .iter()
+                    .find(|(b, _)| *b == k)
                     .map(|(_, r)| RigidModeSummary::new(r)),
             })
             .collect(),

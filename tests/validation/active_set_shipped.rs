@@ -144,7 +144,7 @@ fn every_shipped_contact_problem_equals_lemke_or_is_refused() {
             let (force, gap, t) = compare_multibody(file, &lemke, &active);
             let ms = active.multibody.as_deref().unwrap();
             let solves = ms.active_set.as_ref().map_or(0, |r| r.iterations);
-            let held = ms.held.as_ref().map_or(String::new(), |(_, r)| {
+            let held = ms.held.first().map_or(String::new(), |(_, r)| {
                 format!(
                     ", translation {t:.1e} ({} LCP solves, {solves} linear solves)",
                     r.evaluations

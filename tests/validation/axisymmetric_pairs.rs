@@ -213,7 +213,7 @@ fn a_middle_cylinder_held_by_contact_alone_carries_the_uniaxial_pressure() {
             for body in std::iter::once(&s).chain(&m.bodies) {
                 assert!(body.equilibrium_error < 1e-8, "{label}: {}", body.equilibrium_error);
             }
-            let (held, rigid) = m.held.as_ref().expect("the middle body is held");
+            let (held, rigid) = m.held.first().expect("the middle body is held");
             assert_eq!(*held, 1, "{label}: the held body");
             // The pin's displacement: the bottom's shortening plus the middle's own strain.
             let z = rigid.pin_point[1];

@@ -29,13 +29,14 @@
 //! the stack of 1–3 blocks driven by a prescribed push, by a rigid flat under the bottom
 //! block pressed by a force (`obstacle_force`), or by a pressure on the top block whose
 //! vertical translation only the contact holds, by the MFVM and by Q2 elements, × friction ×
-//! steps × refinement × solver: 288 combinations, 168 solve with every check passing (forces
+//! steps × refinement × solver: 288 combinations, 216 solve with every check passing (forces
 //! exact to 1e-8 where the answer is known with friction too: a force-driven or held stack
 //! carries its load 20 through every interface; Lemke = active set to 1e-8; two increments
-//! equal one without friction), 120 are refused naming the key, each listed with its reason
-//! in `expected_refusal` (limitations of the code, none excluded by the mechanics). With a
-//! force-driven flat, the bottom block of two is held by its contacts alone (the force search
-//! and the held search at once); of three, two blocks are, which is refused.
+//! equal one without friction), 72 are refused naming the key, each listed with its reason
+//! in `expected_refusal` (limitations of the code, none excluded by the mechanics: adaptive
+//! refinement of FE meshes). With a force-driven flat, the bottom block of two is held by its
+//! contacts alone (the force search and the held search at once); of three, two blocks are
+//! (three nested searches); a pressure on the top block of three leaves the top two held.
 
 use mlpg_contact::Silent;
 use mlpg_contact::pipeline::Outcome;
@@ -235,7 +236,13 @@ enum Driving {
 /// `[contact]` table (against a rigid flat, or two bodies), more are `[[contact]]` tables.
 fn driven_scene(bodies: usize, f: Features, driving: Driving, fem: bool) -> (String, f64) {
     let youngs = [1000.0, 300.0, 3000.0];
-    let spacings = [0.1, 0.125, 0.0833];
+    // FE: twice the other matrix's element sizes (still non-matching meshes; the uniaxial
+    // answer is exact on any). The three-block stack pressed from below by a force nests
+    // three searches whose LCP solves multiply, and the FE active set with friction
+    // refactorises per trial: ~5x the cost at the finer sizes (docs/dev/contact_core.md).
+    // The MFVM keeps them: coarser seeds give the adaptive loop patchy graded sets on this
+    // round-off estimate (a Lemke rescue ends on a ray; contact_core.md).
+    let spacings = if fem { [0.2, 0.25, 0.1667] } else { [0.1, 0.125, 0.0833] };
     let top = bodies - 1;
     let on_flat = bodies == 1 || driving == Driving::Force;
     let (edge, value) = match driving {
@@ -307,20 +314,9 @@ fn driven_scene(bodies: usize, f: Features, driving: Driving, fem: bool) -> (Str
 
 /// The combinations refused today, with what the message names and why: none is excluded by
 /// the mechanics, each is a limitation of the code (docs/dev/contact_core.md).
-fn expected_refusal(
-    bodies: usize,
-    f: Features,
-    driving: Driving,
-    fem: bool,
-) -> Option<(&'static str, &'static str)> {
+fn expected_refusal(f: Features, fem: bool) -> Option<(&'static str, &'static str)> {
     if fem && f.refinement {
         return Some(("`refinement`", "adaptive refinement of FE meshes"));
-    }
-    if driving == Driving::Held && bodies == 3 {
-        return Some(("`b1` (translation in y), `b2`", "two bodies held by contact"));
-    }
-    if driving == Driving::Force && bodies == 3 {
-        return Some(("`b0` (translation in y), `b1`", "two bodies held by contact"));
     }
     None
 }
@@ -346,7 +342,8 @@ fn every_driving_and_method_solves_or_is_refused_naming_its_key() {
                     let (text, exact) = driven_scene(bodies, f, driving, fem);
                     let method = if fem { "fem" } else { "mfvm" };
                     let label = format!("{method}, {driving:?}, {bodies} bodies, {f:?}");
-                    let expected = expected_refusal(bodies, f, driving, fem);
+                    let expected = expected_refusal(f, fem);
+                    let started = std::time::Instant::now();
                     let forces = match (outcome(&text), expected) {
                         (Ok((forces, passed)), None) => {
                             assert!(passed, "{label}: a check failed");
@@ -382,7 +379,8 @@ fn every_driving_and_method_solves_or_is_refused_naming_its_key() {
                     ) {
                         assert_close(&label, "one increment's", &forces, one, 1e-8);
                     }
-                    rows.push(format!("{label}: solves, forces {forces:.6?}"));
+                    let seconds = started.elapsed().as_secs_f64();
+                    rows.push(format!("{label}: solves in {seconds:.2} s, forces {forces:.6?}"));
                 }
             }
         }
@@ -391,5 +389,5 @@ fn every_driving_and_method_solves_or_is_refused_naming_its_key() {
         println!("{row}");
     }
     println!("{solved} solve, {refused} refused");
-    assert_eq!((solved, refused), (168, 120), "the matrix's counts changed: update the docs");
+    assert_eq!((solved, refused), (216, 72), "the matrix's counts changed: update the docs");
 }

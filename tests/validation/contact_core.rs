@@ -1,5 +1,6 @@
 //! The contact core's load path (docs/dev/contact_core.md): friction, load steps and a body
-//! held by contact combine for several bodies and pairs, and for either body of a pair.
+//! held by contact combine for several bodies and pairs, and for either body of a pair; two
+//! bodies held at once.
 //!
 //! **Problems.** `problems/three_block_stack.toml` (three blocks, two pairs, the middle block
 //! held in y by the contacts alone) with `friction = 0.3` on both pairs, pressed in one
@@ -93,7 +94,7 @@ fn assert_frictional_checks(label: &str, s: &Solution, mu: f64) {
     let balance = (forces[0] - forces[1]).abs() / forces[0];
     println!("{label}: pair forces {forces:?}, middle block balance {balance:.1e}");
     assert!(balance <= 1e-9, "{label}: the middle block's y balance {balance:e}");
-    let held = ms.held.as_ref().expect("the middle block is held by the contacts");
+    let held = ms.held.first().expect("the middle block is held by the contacts");
     assert_eq!(held.0, 1);
 }
 
@@ -119,7 +120,7 @@ fn stack_in_two_increments_equals_one_step() {
     for (a, b) in f1.iter().zip(&f2) {
         assert!((a - b).abs() <= 1e-9 * a.abs(), "one step {f1:?}, two increments {f2:?}");
     }
-    let t = |s: &Solution| s.multibody.as_deref().unwrap().held.as_ref().unwrap().1.translation[1];
+    let t = |s: &Solution| s.multibody.as_deref().unwrap().held.first().unwrap().1.translation[1];
     let (t1, t2) = (t(&one), t(&two));
     println!("held translation: one step {t1:.15e}, two increments {t2:.15e}");
     assert!((t1 - t2).abs() <= 1e-9 * t1.abs());
@@ -211,7 +212,7 @@ fn several_pairs_with_friction_and_steps_on_the_active_set_equal_lemkes_path() {
             assert_eq!(fl.increments.len(), fs.increments.len(), "{label}");
         }
         let t = |m: &mlpg_contact::solution::MultibodySolution| {
-            m.held.as_ref().unwrap().1.translation[1]
+            m.held.first().unwrap().1.translation[1]
         };
         let (tl, ts) = (t(ml), t(ms));
         println!(
@@ -348,5 +349,83 @@ fn a_pair_refines_on_the_several_pairs_path_as_on_the_two_body_path() {
         println!("Hertz, step {}: several-pairs loop against two-body loop {error:.1e}", a.step);
         assert!(error <= 1e-9, "step {}: {f} against {}", a.step, pairs[0].total_contact_force);
         assert_eq!(a.nodes, b.nodes);
+    }
+}
+
+/// Two bodies held by contact alone (docs/method.md §4.7, nested searches): the stack with a
+/// pressure `p = 10` on the top block's top edge instead of its push, so that the middle and
+/// the top block are both free in y. Uniaxial stress: each interface carries `2 p = 20`
+/// (1e-8), and each held block's translation is the exact `u_y` at its pin,
+/// `−p (1/E_bottom + (y − 1)/E_middle)` in the middle block and
+/// `−p (1/E_bottom + 1/E_middle + (y − 2)/E_top)` in the top one (1e-8 relative: the MFVM
+/// reproduces linear fields); frictionless on both solvers. With `friction = 0.3` in two
+/// increments the interfaces' tangential forces are horizontal, so each interface still
+/// carries 20, but sticking restrains the blocks' different lateral strains and the
+/// translations differ from the uniaxial ones (by ~1 %); there Lemke's forces and
+/// translations equal the active set's to 1e-9.
+#[test]
+fn two_bodies_held_by_contact_carry_their_load() {
+    let p = 10.0;
+    let exact = |y: f64| {
+        if y <= 2.0 {
+            -p * (1.0 / 1000.0 + (y - 1.0) / 300.0)
+        } else {
+            -p * (1.0 / 1000.0 + 1.0 / 300.0 + (y - 2.0) / 3000.0)
+        }
+    };
+    for (mu, increments) in [(0.0, None), (0.3, Some(2))] {
+        let mut answers = Vec::new();
+        for solver in ["lemke", "active_set"] {
+            let label = format!("{solver}, μ = {mu}, increments {increments:?}");
+            // The top edge's push (or the step's, after a zero first value) becomes the
+            // pressure; the bottom block keeps its support.
+            let push = "edge = \"top\", displacement = { y = -0.01 }";
+            let text = stack_text(mu, increments)
+                .replace(push, &format!("edge = \"top\", pressure = {p}"))
+                .replace(
+                    "edge = \"top\", displacement = { y = 0.0 }",
+                    "edge = \"top\", pressure = 0.0",
+                )
+                .replace(
+                    "target_edge = \"top\"\n",
+                    &format!("target_edge = \"top\"\nsolver = \"{solver}\"\n"),
+                );
+            let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap())
+                .unwrap_or_else(|e| panic!("{label}: {e}"));
+            let ms = s.multibody.as_deref().unwrap();
+            let forces = pair_forces(&s);
+            println!("{label}: pair forces {forces:?}");
+            for f in &forces {
+                assert!((f - 2.0 * p).abs() <= 1e-8 * 2.0 * p, "{label}: {forces:?}");
+            }
+            assert_eq!(ms.held.iter().map(|h| h.0).collect::<Vec<_>>(), [1, 2], "{label}");
+            for (b, r) in &ms.held {
+                let u = exact(r.pin_point[1]);
+                println!(
+                    "{label}: body {b} translation {:.15e} (frictionless {u:.15e})",
+                    r.translation[1]
+                );
+                if mu == 0.0 {
+                    assert!((r.translation[1] - u).abs() <= 1e-8 * u.abs(), "{label}: body {b}");
+                }
+            }
+            let bodies = std::iter::once(&s).chain(ms.bodies.iter());
+            for (b, body) in bodies.enumerate() {
+                assert!(body.equilibrium_error <= 1e-8, "{label}: body {b}");
+            }
+            let r = &ms.lcp.residuals;
+            assert!(r.max_complementarity <= 1e-9, "{label}: {r:?}");
+            assert!(r.min_z >= -1e-12 && r.min_w >= -1e-9, "{label}: {r:?}");
+            let forces = ms.pairs.iter().flat_map(|c| c.lcp.z.clone()).collect::<Vec<f64>>();
+            let translations: Vec<f64> = ms.held.iter().map(|h| h.1.translation[1]).collect();
+            answers.push((forces, translations));
+        }
+        let scale = answers[0].0.iter().fold(0.0f64, |m, z| m.max(z.abs()));
+        for (a, b) in answers[0].0.iter().zip(&answers[1].0) {
+            assert!((a - b).abs() <= 1e-9 * scale, "μ = {mu}: Lemke {a} against {b}");
+        }
+        for (a, b) in answers[0].1.iter().zip(&answers[1].1) {
+            assert!((a - b).abs() <= 1e-9 * a.abs(), "μ = {mu}: translation {a} against {b}");
+        }
     }
 }

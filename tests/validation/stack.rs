@@ -162,7 +162,7 @@ fn three_block_stack_is_uniaxial_to_round_off() {
     println!("middle block: pin reaction {pin_reaction:.2e} (contact force {force})");
     assert!(pin_reaction.abs() < 1e-8 * force, "pin reaction {pin_reaction:.3e}");
     assert!(middle.reactions.iter().all(|r| r.2.abs() < 1e-8 * force), "middle reactions");
-    let (held, mode) = ms.held.as_ref().expect("the middle block is held by contact");
+    let (held, mode) = ms.held.first().expect("the middle block is held by contact");
     assert_eq!((*held, mode.mode), (1, "translation in y"));
     let x_pin = models[1].nodes.points[pin.node as usize];
     assert_eq!(mode.pin_point, x_pin);
@@ -335,7 +335,7 @@ fn block_pressed_between_floor_and_wall_is_held_by_them() {
         .zip(&s.displacement)
         .map(|(x, u)| u[0].abs().max((u[1] + strain * x[1]).abs()))
         .fold(0.0, f64::max);
-    let (held, mode) = ms.held.as_ref().expect("held by the contacts");
+    let (held, mode) = ms.held.first().expect("held by the contacts");
     let x_pin = model.nodes.points[pin.node as usize];
     let pin_reaction =
         s.reactions.iter().find(|r| r.0 == pin.node && r.1 == pin.axis).expect("pin").2;
@@ -440,7 +440,7 @@ fn several_pairs_on_the_active_set_equal_lemke() {
                 let worst = c.pressure.iter().map(|v| (v / p - 1.0).abs()).fold(0.0, f64::max);
                 assert!(worst < 1e-8, "pair {k}: max |p/p_exact − 1| = {worst:.3e}");
             }
-            let (held, mode) = ms.held.as_ref().expect("the middle block is held");
+            let (held, mode) = ms.held.first().expect("the middle block is held");
             assert_eq!(*held, 1);
             let exact_t = exact(1, mode.pin_point)[1];
             assert!((mode.translation[1] - exact_t).abs() < 1e-8 * DELTA, "{mode:?}");

@@ -141,18 +141,21 @@ pub(super) fn refuse_force(
     super::super::friction::refuse_slanted_force_on(&scene.steps[0], normals, mu)
 }
 
-/// The held body's search on the path (docs/method.md §4.7), with friction only as
+/// The held bodies' searches on the path (docs/method.md §4.7), with friction only as
 /// [`refuse_slanted`] allows.
 fn held_on_path(
-    held: Option<&HeldBody>,
+    held: &[HeldBody],
     term_of: &[Option<usize>],
     friction: &[Vec<f64>],
     normals: &[crate::geometry::Point],
-) -> Result<Option<Held>, Error> {
-    let Some((b, pin, along, _)) = held else { return Ok(None) };
-    refuse_slanted(pin, friction, normals)?;
-    let term = term_of[*b].expect("a held body is touched by a pair");
-    Ok(Some(Held::Among { term, pin: *pin, along: along.clone() }))
+) -> Result<Vec<Held>, Error> {
+    let mut on_path = Vec::with_capacity(held.len());
+    for (b, pin, along, _) in held {
+        refuse_slanted(pin, friction, normals)?;
+        let term = term_of[*b].expect("a held body is touched by a pair");
+        on_path.push(Held::Among { term, pin: *pin, along: along.clone() });
+    }
+    Ok(on_path)
 }
 
 /// What the load path gives the scene: the answer, one frictional record per pair, and the
@@ -167,7 +170,7 @@ pub(super) type OnPath = (Solved, Vec<FrictionContact>, Option<crate::solution::
 pub(super) fn solve(
     scene: &Scene<'_>,
     models: &[&Model],
-    held_body: Option<&HeldBody>,
+    held_bodies: &[HeldBody],
     clock: &mut Clock<'_>,
 ) -> Result<OnPath, Error> {
     let pairs = scene.pairs;
@@ -190,7 +193,7 @@ pub(super) fn solve(
     let normals = normals(scene);
     let friction = friction_per_step(scene, &tangential);
     refuse_force(scene, &friction, &normals)?;
-    let held = held_on_path(held_body, &term_of, &friction, &normals)?;
+    let held = held_on_path(held_bodies, &term_of, &friction, &normals)?;
     let load_path::Condensed { blocks, compliance } =
         clock.run("condensation", || load_path::condense(&terms, scene.initial_gap))?;
     let warning = super::compliance_warning(scene.problem, pairs, &compliance)?;
@@ -219,10 +222,9 @@ pub(super) fn solve(
         }
     }
     let frictions = pair_records(scene, tangential, &answer.step, &last_friction, answer.histories);
-    let search = answer.rigid_mode.as_ref().map(|r| {
-        let a = held_body.map_or(0, |(_, pin, _, _)| pin.axis as usize);
-        (r.translation[a], r.evaluations)
-    });
+    let search = (answer.rigid_modes.iter().zip(held_bodies))
+        .map(|(r, (_, pin, _, _))| (r.translation[pin.axis as usize], r.evaluations))
+        .collect();
     let solved = Solved {
         result,
         free_gap: compliance.free_gap.clone(),

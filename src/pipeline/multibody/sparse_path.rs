@@ -20,12 +20,12 @@ use crate::model::Model;
 use crate::progress::Clock;
 use crate::solution;
 
-/// One increment's answer: the step, every body's displacements and, for a held body, its
-/// translation, the search's LCP solves and the gaps without contact forces at `t = 0`.
+/// One increment's answer: the step, every body's displacements and, with held bodies, their
+/// translations, the search's LCP solves and the gaps without contact forces at `t = 0`.
 struct Increment {
     answer: lcp::active_set::FrictionStepSolution,
     u: Vec<Vec<f64>>,
-    held: Option<(f64, usize, Vec<f64>)>,
+    held: Option<(Vec<f64>, usize, Vec<f64>)>,
     /// A force-driven obstacle's record (its `total_evaluations` this increment's).
     load_driven: Option<solution::LoadDriven>,
 }
@@ -87,14 +87,14 @@ type Gaps = (Vec<f64>, Vec<f64>);
 pub(super) fn solve(
     scene: &Scene<'_>,
     models: &[&Model],
-    held_body: Option<&HeldBody>,
+    held_bodies: &[HeldBody],
     clock: &mut Clock<'_>,
 ) -> Result<path::OnPath, Error> {
     let tangential = path::pair_tangential(scene, models);
     let by_body = path::tangential_by_body(scene, &tangential, models.len());
     let friction = path::friction_per_step(scene, &tangential);
     let normals = path::normals(scene);
-    if let Some((_, pin, _, _)) = held_body {
+    for (_, pin, _, _) in held_bodies {
         path::refuse_slanted(pin, &friction, &normals)?;
     }
     path::refuse_force(scene, &friction, &normals)?;
@@ -152,7 +152,7 @@ pub(super) fn solve(
                     force,
                 };
                 let mut solved =
-                    solve_increment(&mut system, models, held_body, (&loads, &rhss), state)
+                    solve_increment(&mut system, models, held_bodies, (&loads, &rhss), state)
                         .map_err(at_step)?;
                 if let Some(l) = &mut solved.load_driven {
                     evaluations += l.evaluations;
@@ -205,8 +205,8 @@ pub(super) fn solve(
     let last_friction = friction.last().cloned().unwrap_or_default();
     let step = answer.step;
     let (search, free_gap) = match held {
-        Some((t, evaluations, base)) => (Some((t, evaluations)), base),
-        None => (None, answer.free_gap),
+        Some((t, evaluations, base)) => (t.iter().map(|&t| (t, evaluations)).collect(), base),
+        None => (Vec::new(), answer.free_gap),
     };
     let result = lcp::LcpSolution {
         residuals: lcp::active_set::residuals(&free_gap, &step.normal, &step.gap),
@@ -248,16 +248,15 @@ struct Warm<'w> {
 
 /// One increment on the system whose bodies' right-hand sides and gaps are set: the
 /// active-set step, or the search for a force-driven obstacle's displacement
-/// ([`force_search`]) or a held body's translation (the pin then set to it and the gaps back
-/// to the increment's `g0`, so that the displacements answer the system reported).
+/// ([`force_search`]) or the held bodies' translations ([`held_search`]).
 fn solve_increment(
     system: &mut lcp::active_set::Bodies<'_>,
     models: &[&Model],
-    held_body: Option<&HeldBody>,
+    held_bodies: &[HeldBody],
     (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
-    let Some((b, pin, along, _)) = held_body else {
+    if held_bodies.is_empty() {
         if start.force.is_some() {
             return force_search(system, start);
         }
@@ -269,79 +268,75 @@ fn solve_increment(
         )?;
         let u = system.final_body_friction_displacements(&answer.states)?;
         return Ok(Increment { answer, u, held: None, load_driven: None });
-    };
-    let along_load: f64 = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
-        * super::super::load_path::ring_units(models[*b]);
-    if start.force.is_some() {
-        return held_force_search(system, models, (*b, *pin, along, along_load), &rhss[*b], start);
     }
-    let mut trials = BodiesTrials::new(
-        &mut *system,
-        (start.initial_gap, along),
-        (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
-        (start.params, along_load.abs()),
-    );
-    let base = trials.base_gap()?;
-    let search = lcp::load_driven::find_translation_with(&mut trials, &base, along, along_load)?;
-    let (iterations, rescues) = (trials.iterations, trials.rescues);
-    let mut answer = search.answer;
-    answer.step.iterations = iterations;
-    answer.rescues = rescues;
-    let model = models[*b];
-    let mut rhs = rhss[*b].clone();
-    rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
-        model.system.collocation_scale * search.displacement;
-    system.set_body_load(*b, &rhs);
-    system.set_initial_gap(start.initial_gap);
-    let held = Some((search.displacement, search.evaluations, base));
-    let u = system.final_body_friction_displacements(&answer.states)?;
-    Ok(Increment { answer, u, held, load_driven: None })
+    let held: Vec<(&[f64], f64)> = held_bodies
+        .iter()
+        .map(|(b, pin, along, _)| {
+            let load = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
+                * super::super::load_path::ring_units(models[*b]);
+            (along.as_slice(), load)
+        })
+        .collect();
+    held_search(system, models, (held_bodies, &held), rhss, start)
 }
 
-/// A force-driven obstacle's increment with a body held by the contact (docs/method.md
-/// §4.6–4.7): the obstacle's search whose every trial is the held body's search
-/// ([`lcp::load_driven::nested::HeldWithin`]); then the pin set to the translation found and
-/// the gaps to the obstacle's displacement alone.
-fn held_force_search(
+/// An increment with bodies held by the contact (docs/method.md §4.6–4.7): their
+/// translations (`held`: each one's `b_c` and load along its translation, in the order of
+/// `held_bodies`), and a force-driven obstacle's displacement, by nested searches
+/// ([`lcp::load_driven::nested::search`]); then each pin set to the translation found and the
+/// gaps to the obstacle's displacement alone, so that the displacements answer the system
+/// reported.
+fn held_search(
     system: &mut lcp::active_set::Bodies<'_>,
     models: &[&Model],
-    (b, pin, held_along, held_load): (usize, crate::assembly::PinnedMode, &[f64], f64),
-    rhs: &[f64],
+    (held_bodies, held): (&[HeldBody], &[(&[f64], f64)]),
+    rhss: &[Vec<f64>],
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
-    let (e, target, along) = start.force.clone().expect("a force");
-    let mut inner = BodiesTrials::new(
+    let force = start.force.clone();
+    let scale =
+        held.iter().fold(force.as_ref().map_or(0.0, |f| f.1.abs()), |s, h| s.max(h.1.abs()));
+    let mut trials = BodiesTrials::new(
         &mut *system,
-        (start.initial_gap, held_along),
+        (start.initial_gap, held[0].0),
         (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
-        (start.params, target.abs().max(held_load.abs())),
+        (start.params, scale),
     );
-    inner.outer = (&along, 0.0);
-    let base = inner.base_gap()?;
-    let mut trials = lcp::load_driven::nested::HeldWithin {
-        inner: &mut inner,
-        held_along,
-        held_load,
-        translation: 0.0,
-        evaluations: 0,
+    let force_along = force.as_ref().map(|(_, _, along)| (along.as_slice(), 0.0));
+    trials.outer = held[1..].iter().map(|&(along, _)| (along, 0.0)).chain(force_along).collect();
+    let base = trials.base_gap()?;
+    let unknowns = lcp::load_driven::nested::Unknowns {
+        held,
+        force: force.as_ref().map(|(e, target, along)| (along.as_slice(), *e, *target)),
     };
-    let search = lcp::load_driven::find_displacement_with(&mut trials, &base, &along, e, target)?;
-    let (translation, evaluations) = (trials.translation, trials.evaluations);
-    let (iterations, rescues) = (inner.iterations, inner.rescues);
-    let mut answer = search.answer;
+    let found = lcp::load_driven::nested::search(&mut trials, &base, unknowns)?;
+    let (iterations, rescues) = (trials.iterations, trials.rescues);
+    let mut answer = found.outer.answer;
     answer.step.iterations = iterations;
     answer.rescues = rescues;
-    let mut rhs = rhs.to_vec();
-    rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
-        models[b].system.collocation_scale * translation;
-    system.set_body_load(b, &rhs);
-    let s = search.displacement;
-    let moved: Vec<f64> = start.initial_gap.iter().zip(&along).map(|(g, a)| g - a * s).collect();
-    system.set_initial_gap(&moved);
+    for ((b, pin, _, _), t) in held_bodies.iter().zip(&found.translations) {
+        let mut rhs = rhss[*b].clone();
+        rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
+            models[*b].system.collocation_scale * t;
+        system.set_body_load(*b, &rhs);
+    }
+    let s = found.outer.displacement;
+    let load_driven = match &force {
+        Some((e, target, along)) => {
+            let g0 = start.initial_gap.iter().zip(along);
+            let moved: Vec<f64> = g0.map(|(g, a)| g - a * s).collect();
+            system.set_initial_gap(&moved);
+            let solves = (found.evaluations, found.evaluations);
+            Some(solution::LoadDriven::found((*e, *target), s, found.outer.force, solves))
+        }
+        None => {
+            system.set_initial_gap(start.initial_gap);
+            None
+        }
+    };
     let u = system.final_body_friction_displacements(&answer.states)?;
-    let found = (evaluations, evaluations);
-    let load_driven = Some(solution::LoadDriven::found((e, target), s, search.force, found));
-    Ok(Increment { answer, u, held: Some((translation, evaluations, base)), load_driven })
+    let held = Some((found.translations, found.evaluations, base));
+    Ok(Increment { answer, u, held, load_driven })
 }
 
 /// A force-driven obstacle's increment (docs/method.md §4.6): the displacement `s` along `e`
