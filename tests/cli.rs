@@ -50,6 +50,21 @@ fn run_text(name: &str, text: &str) -> (Option<i32>, String) {
     (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
+/// `problems/beam_on_block_adaptive.toml` without its `[refinement]`, the beam at spacing
+/// 0.125 over the block at 0.25, the block's Young's modulus 300 (the beam's 30 000).
+fn soft_coarse_target() -> String {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("problems/beam_on_block_adaptive.toml"),
+    )
+    .unwrap();
+    let (head, tail) = text.split_at(text.find("[refinement]").unwrap());
+    let text = format!("{head}{}", &tail[tail.find("[output]").unwrap()..]);
+    let (beam, block) = text.split_at(text.find("name = \"block\"").unwrap());
+    let soft = block.replacen("young = 30000.0", "young = 300.0", 1);
+    format!("{}{soft}", beam.replacen("spacing = 0.25", "spacing = 0.125", 1))
+}
+
 /// Runs every `(name, file text, expected message part)` case and asserts, for all of them at
 /// once, exit code 2, the message, and no panic.
 fn expect_refusals(cases: &[(&str, String, &str)]) {
@@ -296,6 +311,14 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
                 .replace("edge = \"bottom\"\nobstacle_point = [0.0, -1.01]\nobstacle_normal = [0.0, 1.0]", "edge = \"cut\"\nobstacle_point = [-0.5, 1.5]\nobstacle_normal = [1.0, -1.0]")
                 .replace("[[boundary]]\nedge = \"left\"", "[[boundary]]\nedge = \"top\"\ndisplacement = { x = 0.0, y = 0.0 }\n[[boundary]]\nedge = \"left\""),
             "has no contact candidates",
+        ),
+        (
+            // Two bodies, the candidates (beam, 0.125) finer than a 100× softer target (block,
+            // 0.25): M's symmetric part is indefinite whatever beta (docs/dev/beta_study.md);
+            // beta = 0.5 is in effect, so the refusal names the target's refinement instead.
+            "soft_coarse_target",
+            soft_coarse_target(),
+            "refine the second body along contact.target_edge",
         ),
     ];
     expect_refusals(cases);

@@ -838,7 +838,9 @@ fn compliance_warning(
     spec: &ContactSpec,
     condensed: &contact::CondensedContact,
 ) -> Result<Option<String>, Error> {
-    match contact::check_compliance(condensed, problem.discretisation.mls.support_factor) {
+    let two_body = matches!(spec.target, contact::ContactTarget::Body { .. });
+    let context = contact::ComplianceContext::of(problem, two_body);
+    match contact::check_compliance(condensed, &context) {
         Ok(()) => Ok(None),
         Err(err) if spec.allow_indefinite => Ok(Some(err.to_string())),
         Err(err) => Err(err.into()),
