@@ -2012,3 +2012,42 @@ fn holes_run_and_bad_holes_name_the_key() {
     ];
     expect_refusals(cases);
 }
+
+/// `beta = "auto"`: the beam with `support_factor = 3` is refused at `beta = 0` (its `M` is
+/// not trustworthy) and solved again at 0.5, with exactly the outputs of `beta = 0.5` written
+/// by hand and the warning said once; the unmodified beam (trustworthy at `beta = 0`) gives
+/// exactly the outputs of `beta = 0`.
+#[test]
+fn beta_auto_repeats_only_an_untrustworthy_run() {
+    let with = |beta: &str| {
+        CONTACT.replace(
+            "[nodes]",
+            &format!(
+                "[discretisation]\nsupport_factor = 3.0\nallow_unstable = true\nbeta = {beta}\n[nodes]"
+            ),
+        )
+    };
+    let contact = |name: &str| std::fs::read(scratch_dir_out(name).join("contact.csv")).unwrap();
+    let (code, stderr) = run_text("beta_auto_wide", &with("\"auto\""));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(stderr.matches("discretisation.beta = \"auto\"").count(), 1, "{stderr}");
+    assert!(stderr.contains("not trustworthy") && stderr.contains("beta = 0.5"), "{stderr}");
+    let (code, stderr) = run_text("beta_half_wide", &with("0.5"));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(contact("beta_auto_wide"), contact("beta_half_wide"));
+    let summary = std::fs::read_to_string(scratch_dir_out("beta_auto_wide").join("summary.json"));
+    let summary: serde_json::Value = serde_json::from_str(&summary.unwrap()).unwrap();
+    assert_eq!(summary["problem"]["discretisation"]["beta"], 0.5, "{summary}");
+    let auto = CONTACT.replace("[nodes]", "[discretisation]\nbeta = \"auto\"\n[nodes]");
+    let (code, stderr) = run_text("beta_auto_plain", &auto);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(!stderr.contains("auto"), "{stderr}");
+    let (code, stderr) = run_text("beta_zero_plain", CONTACT);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(contact("beta_auto_plain"), contact("beta_zero_plain"));
+}
+
+/// The output directory [`run_text`] wrote case `name` into.
+fn scratch_dir_out(name: &str) -> PathBuf {
+    scratch(name).join("out")
+}
