@@ -33,7 +33,7 @@ fn strip_on_foundation() -> ProblemFile {
         // [material]: Young's modulus, Poisson's ratio, plane stress.
         material: Some(MaterialFile::new(1000.0, 0.3, PlaneState::Stress)),
         // [discretisation]: everything at its default (the paper's mixed MFVM: linear basis,
-        // support factor 2, β = 0). `DiscretisationFile { beta: Some(1.0), ..Default::default() }`
+        // support factor 2, β = 0). `DiscretisationFile { beta: Some(BetaChoice::Value(1.0)), ..Default::default() }`
         // would choose the stabilised variant.
         discretisation: DiscretisationFile::default(),
         // [[boundary]]: one entry per edge with a condition; the others are traction-free.

@@ -50,6 +50,21 @@ fn run_text(name: &str, text: &str) -> (Option<i32>, String) {
     (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
 }
 
+/// `problems/beam_on_block_adaptive.toml` without its `[refinement]`, the beam at spacing
+/// 0.125 over the block at 0.25, the block's Young's modulus 300 (the beam's 30 000).
+fn soft_coarse_target() -> String {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("problems/beam_on_block_adaptive.toml"),
+    )
+    .unwrap();
+    let (head, tail) = text.split_at(text.find("[refinement]").unwrap());
+    let text = format!("{head}{}", &tail[tail.find("[output]").unwrap()..]);
+    let (beam, block) = text.split_at(text.find("name = \"block\"").unwrap());
+    let soft = block.replacen("young = 30000.0", "young = 300.0", 1);
+    format!("{}{soft}", beam.replacen("spacing = 0.25", "spacing = 0.125", 1))
+}
+
 /// Runs every `(name, file text, expected message part)` case and asserts, for all of them at
 /// once, exit code 2, the message, and no panic.
 fn expect_refusals(cases: &[(&str, String, &str)]) {
@@ -296,6 +311,14 @@ fn bad_contact_input_gives_a_clear_error_and_exit_code_2() {
                 .replace("edge = \"bottom\"\nobstacle_point = [0.0, -1.01]\nobstacle_normal = [0.0, 1.0]", "edge = \"cut\"\nobstacle_point = [-0.5, 1.5]\nobstacle_normal = [1.0, -1.0]")
                 .replace("[[boundary]]\nedge = \"left\"", "[[boundary]]\nedge = \"top\"\ndisplacement = { x = 0.0, y = 0.0 }\n[[boundary]]\nedge = \"left\""),
             "has no contact candidates",
+        ),
+        (
+            // Two bodies, the candidates (beam, 0.125) finer than a 100× softer target (block,
+            // 0.25): M's symmetric part is indefinite whatever beta (docs/dev/beta_study.md);
+            // beta = 0.5 is in effect, so the refusal names the target's refinement instead.
+            "soft_coarse_target",
+            soft_coarse_target(),
+            "refine the second body along contact.target_edge",
         ),
     ];
     expect_refusals(cases);
@@ -2005,4 +2028,43 @@ fn holes_run_and_bad_holes_name_the_key() {
         ("holes_with_fem", format!("{HOLES}[discretisation]\nmethod = \"fem\"\n"), "no holes"),
     ];
     expect_refusals(cases);
+}
+
+/// `beta = "auto"`: the beam with `support_factor = 3` is refused at `beta = 0` (its `M` is
+/// not trustworthy) and solved again at 0.5, with exactly the outputs of `beta = 0.5` written
+/// by hand and the warning said once; the unmodified beam (trustworthy at `beta = 0`) gives
+/// exactly the outputs of `beta = 0`.
+#[test]
+fn beta_auto_repeats_only_an_untrustworthy_run() {
+    let with = |beta: &str| {
+        CONTACT.replace(
+            "[nodes]",
+            &format!(
+                "[discretisation]\nsupport_factor = 3.0\nallow_unstable = true\nbeta = {beta}\n[nodes]"
+            ),
+        )
+    };
+    let contact = |name: &str| std::fs::read(scratch_dir_out(name).join("contact.csv")).unwrap();
+    let (code, stderr) = run_text("beta_auto_wide", &with("\"auto\""));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(stderr.matches("discretisation.beta = \"auto\"").count(), 1, "{stderr}");
+    assert!(stderr.contains("not trustworthy") && stderr.contains("beta = 0.5"), "{stderr}");
+    let (code, stderr) = run_text("beta_half_wide", &with("0.5"));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(contact("beta_auto_wide"), contact("beta_half_wide"));
+    let summary = std::fs::read_to_string(scratch_dir_out("beta_auto_wide").join("summary.json"));
+    let summary: serde_json::Value = serde_json::from_str(&summary.unwrap()).unwrap();
+    assert_eq!(summary["problem"]["discretisation"]["beta"], 0.5, "{summary}");
+    let auto = CONTACT.replace("[nodes]", "[discretisation]\nbeta = \"auto\"\n[nodes]");
+    let (code, stderr) = run_text("beta_auto_plain", &auto);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(!stderr.contains("auto"), "{stderr}");
+    let (code, stderr) = run_text("beta_zero_plain", CONTACT);
+    assert_eq!(code, Some(0), "{stderr}");
+    assert_eq!(contact("beta_auto_plain"), contact("beta_zero_plain"));
+}
+
+/// The output directory [`run_text`] wrote case `name` into.
+fn scratch_dir_out(name: &str) -> PathBuf {
+    scratch(name).join("out")
 }

@@ -18,7 +18,7 @@ fn bar(spacing: f64, beta: f64) -> Problem {
         ProblemFile::from_toml(&std::fs::read_to_string(path).expect("read")).expect("parse");
     file.contact = None;
     file.nodes.as_mut().expect("nodes").spacing = Some(spacing);
-    file.discretisation.beta = Some(beta);
+    file.discretisation.beta = Some(mlpg_contact::problem::BetaChoice::Value(beta));
     Problem::try_from(file).expect("valid")
 }
 

@@ -51,7 +51,7 @@ pub enum ContactError {
     },
     /// The condensed compliance fails the run-time checks (docs/method.md §4.1).
     #[error(
-        "the condensed contact compliance M is not trustworthy: {what} = {value:.3e} (at support factor α_s = {support_factor}); mixed MFVM supports above α_s ≈ 2.25 admit near-free checkerboard modes — use support_factor = 2 or the stabilised discretisation.beta = 0.5 (docs/method.md §3.9), or set contact.allow_indefinite = true to proceed anyway"
+        "the condensed contact compliance M is not trustworthy: {what} = {value:.3e} (at support factor α_s = {support_factor}, beta = {beta}); {remedy}, or set contact.allow_indefinite = true to proceed anyway"
     )]
     IndefiniteCompliance {
         /// Which check failed.
@@ -60,6 +60,10 @@ pub enum ContactError {
         value: f64,
         /// The support factor in use.
         support_factor: f64,
+        /// The blend `β` in use.
+        beta: f64,
+        /// The remedies not already in effect ([`ComplianceContext::remedy`]).
+        remedy: String,
     },
     /// A target cell's normal rows are Dirichlet rows: the contact force would be lost.
     #[error(
@@ -174,15 +178,74 @@ pub fn target_operator_on(
     }
 }
 
+/// What the refusal of an untrustworthy `M` needs to name a remedy not already in effect.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ComplianceContext {
+    /// The support factor `α_s` in use.
+    pub support_factor: f64,
+    /// The blend `β` in use.
+    pub beta: f64,
+    /// The largest support factor of the pure mixed method with this basis
+    /// ([`crate::problem::MIXED_LINEAR_MAX_SUPPORT_FACTOR`] or its quadratic counterpart).
+    pub support_limit: f64,
+    /// Whether a contact pairs with a second elastic body (its target side's force and gap
+    /// pairing is indefinite when the candidates are finer than a softer target).
+    pub two_body: bool,
+}
+
+impl ComplianceContext {
+    /// The context of `problem`'s discretisation; `two_body` as given.
+    pub fn of(problem: &Problem, two_body: bool) -> Self {
+        let d = &problem.discretisation;
+        let support_limit = match d.mls.basis {
+            mls::Basis::Linear => crate::problem::MIXED_LINEAR_MAX_SUPPORT_FACTOR,
+            mls::Basis::Quadratic => crate::problem::MIXED_QUADRATIC_MAX_SUPPORT_FACTOR,
+        };
+        Self { support_factor: d.mls.support_factor, beta: d.beta, support_limit, two_body }
+    }
+
+    /// The remedies for an untrustworthy `M` that are not already in effect: a support factor
+    /// at most the mixed method's limit and the stabilised `β = 0.5` only while `β` is below
+    /// [`crate::problem::MIN_STABILISING_BETA`] (they remove the checkerboard modes of §3.8,
+    /// nothing else); a finer or stiffer target for a two-body contact
+    /// (docs/dev/beta_study.md: a target coarser than the candidate edge and softer than the
+    /// candidate body is indefinite whatever `β`); otherwise a finer, more evenly graded node
+    /// set along the contact edge.
+    pub fn remedy(&self) -> String {
+        let mut remedies = Vec::new();
+        if self.beta < crate::problem::MIN_STABILISING_BETA {
+            if self.support_factor > self.support_limit {
+                remedies.push(format!(
+                    "use support_factor <= {} (mixed MFVM supports above it admit near-free checkerboard modes)",
+                    self.support_limit
+                ));
+            }
+            remedies.push(
+                "use the stabilised discretisation.beta = 0.5 (docs/method.md §3.9)".to_string(),
+            );
+        }
+        if self.two_body {
+            remedies.push(
+                "refine the second body along contact.target_edge at least as finely as contact.edge, or make the second body the stiffer one (a target coarser than the candidates and softer than their body makes M's symmetric part indefinite whatever beta)".to_string(),
+            );
+        }
+        if remedies.is_empty() {
+            remedies
+                .push("use a finer, more evenly graded node set along contact.edge".to_string());
+        }
+        remedies.join("; or ")
+    }
+}
+
 /// The run-time checks of the condensed compliance before an LCP answer is trusted
 /// (docs/method.md §4.1): a positive diagonal and a positive definite symmetric part
-/// (`λ_min((M + Mᵀ)/2) > 10⁻¹² λ_max`). `support_factor` is quoted in the error.
+/// (`λ_min((M + Mᵀ)/2) > 10⁻¹² λ_max`). The error quotes `context`'s values and remedies.
 ///
 /// # Errors
 /// [`ContactError::IndefiniteCompliance`] naming the failed check and its value.
 pub fn check_compliance(
     condensed: &CondensedContact,
-    support_factor: f64,
+    context: &ComplianceContext,
 ) -> Result<(), ContactError> {
     let scale = condensed.max_symmetric_eigenvalue.abs().max(f64::MIN_POSITIVE);
     let failed = if condensed.min_diagonal <= 0.0 {
@@ -193,9 +256,13 @@ pub fn check_compliance(
         None
     };
     match failed {
-        Some((what, value)) => {
-            Err(ContactError::IndefiniteCompliance { what, value, support_factor })
-        }
+        Some((what, value)) => Err(ContactError::IndefiniteCompliance {
+            what,
+            value,
+            support_factor: context.support_factor,
+            beta: context.beta,
+            remedy: context.remedy(),
+        }),
         None => Ok(()),
     }
 }
@@ -629,4 +696,30 @@ pub fn onset(arc: &[f64], gap: &[f64], pressure: &[f64], closed: &[bool]) -> Con
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ComplianceContext;
+
+    fn context(support_factor: f64, beta: f64, two_body: bool) -> ComplianceContext {
+        ComplianceContext { support_factor, beta, support_limit: 2.25, two_body }
+    }
+
+    /// The refusal names only remedies not already in effect (it read "use support_factor =
+    /// 2 or beta = 0.5" whatever the current values were).
+    #[test]
+    fn remedies_are_not_already_in_effect() {
+        let wide = context(3.0, 0.0, false).remedy();
+        assert!(wide.contains("support_factor <= 2.25") && wide.contains("beta = 0.5"), "{wide}");
+        let paper = context(2.0, 0.0, false).remedy();
+        assert!(!paper.contains("support_factor") && paper.contains("beta = 0.5"), "{paper}");
+        let soft_target = context(2.0, 0.5, true).remedy();
+        assert!(!soft_target.contains("support_factor"), "{soft_target}");
+        assert!(!soft_target.contains("beta = 0.5"), "{soft_target}");
+        assert!(soft_target.contains("contact.target_edge"), "{soft_target}");
+        let stabilised = context(3.0, 0.5, false).remedy();
+        assert!(!stabilised.contains("support_factor") && !stabilised.contains("beta ="));
+        assert!(stabilised.contains("node set"), "{stabilised}");
+    }
 }

@@ -838,7 +838,9 @@ fn compliance_warning(
     spec: &ContactSpec,
     condensed: &contact::CondensedContact,
 ) -> Result<Option<String>, Error> {
-    match contact::check_compliance(condensed, problem.discretisation.mls.support_factor) {
+    let two_body = matches!(spec.target, contact::ContactTarget::Body { .. });
+    let context = contact::ComplianceContext::of(problem, two_body);
+    match contact::check_compliance(condensed, &context) {
         Ok(()) => Ok(None),
         Err(err) if spec.allow_indefinite => Ok(Some(err.to_string())),
         Err(err) => Err(err.into()),
@@ -1163,11 +1165,46 @@ pub struct Outcome {
 
 impl Outcome {
     /// Solves `problem` without writing anything; `input` (the problem file as read) is echoed
-    /// into the summary, as by [`run`].
+    /// into the summary, as by [`run`]. With `discretisation.beta = "auto"` a run whose
+    /// condensed compliance at `β = 0` fails its run-time checks is repeated once, from the
+    /// start, at [`crate::problem::AUTO_BETA`]; the warnings (`summary.json` and the terminal) say so,
+    /// and the summary's discretisation records the `β` used.
     ///
     /// # Errors
     /// Any stage's error.
     pub fn solve(
+        problem: Problem,
+        input: serde_json::Value,
+        progress: &mut dyn Progress,
+    ) -> Result<Self, Error> {
+        let d = problem.discretisation;
+        if !d.beta_auto || d.beta >= crate::problem::MIN_STABILISING_BETA {
+            return Self::solve_once(problem, input, progress);
+        }
+        match Self::solve_once(problem.clone(), input.clone(), progress) {
+            Err(Error::Contact(contact::ContactError::IndefiniteCompliance {
+                what,
+                value,
+                ..
+            })) => {
+                let mut stabilised = problem;
+                stabilised.discretisation.beta = crate::problem::AUTO_BETA;
+                let mut outcome = Self::solve_once(stabilised, input, progress)?;
+                outcome.summary.warnings.insert(
+                    0,
+                    format!(
+                        "discretisation.beta = \"auto\": at beta = {} the condensed contact compliance was not trustworthy ({what} = {value:.3e}); solved again with beta = {}",
+                        d.beta,
+                        crate::problem::AUTO_BETA
+                    ),
+                );
+                Ok(outcome)
+            }
+            other => other,
+        }
+    }
+
+    fn solve_once(
         problem: Problem,
         input: serde_json::Value,
         progress: &mut dyn Progress,

@@ -485,7 +485,10 @@ fn compliance_warning(
     condensed: &contact::CondensedContact,
 ) -> Result<Option<String>, Error> {
     let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
-    match contact::check_compliance(condensed, problem.discretisation.mls.support_factor) {
+    let two_body =
+        pairs.iter().any(|p| matches!(p.spec.target, contact::ContactTarget::Body { .. }));
+    let context = contact::ComplianceContext::of(problem, two_body);
+    match contact::check_compliance(condensed, &context) {
         Ok(()) => Ok(None),
         Err(err) if allow => Ok(Some(err.to_string())),
         Err(err) => Err(err.into()),

@@ -93,6 +93,11 @@ pub struct Discretisation {
     /// `β = 0` (default) is the paper's mixed method; `β = 1` a primal finite-volume scheme
     /// that never uses the collocated strains `S`.
     pub beta: f64,
+    /// `beta = "auto"`: `β = 0` (the paper's method), and when the condensed contact
+    /// compliance at `β = 0` fails its run-time checks the run is repeated once at
+    /// [`AUTO_BETA`] (docs/dev/beta_study.md). Not echoed when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub beta_auto: bool,
     /// Accept a combination outside the stability limits of [`Discretisation::stability_warning`]
     /// (the refusal becomes a warning recorded in `summary.json`).
     pub allow_unstable: bool,
@@ -110,6 +115,7 @@ impl Default for Discretisation {
             quadrature_points: 2,
             load_quadrature_points: 5,
             beta: 0.0,
+            beta_auto: false,
             allow_unstable: false,
             precision: Precision::Double,
         }
@@ -128,6 +134,27 @@ pub const MIXED_QUADRATIC_MAX_SUPPORT_FACTOR: f64 = 2.5;
 /// 3.4e-4 at 0.01, 2.4e-3 at 0.1, 1.9e-2 at 1; tests/validation/free_body.rs), so a tiny `β`
 /// is as unstable as `β = 0`; docs/method.md §3.9 measured `β ≥ 0.1` sufficient for α_s 2–4.
 pub const MIN_STABILISING_BETA: f64 = 0.1;
+/// The blend a `beta = "auto"` run repeats with when `M` at `β = 0` is not trustworthy: the
+/// stabilised blend the refusal has always advised (docs/method.md §3.9).
+pub const AUTO_BETA: f64 = 0.5;
+
+/// `discretisation.beta` as written: a number in `[0, 1]` or `"auto"`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum BetaChoice {
+    /// A fixed blend.
+    Value(f64),
+    /// `"auto"` ([`Discretisation::beta_auto`]).
+    Auto(AutoKeyword),
+}
+
+/// The keyword `"auto"`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AutoKeyword {
+    /// `"auto"`.
+    Auto,
+}
 
 impl Discretisation {
     /// Why this combination is outside the measured stability limits of the pure mixed method,

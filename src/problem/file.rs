@@ -812,9 +812,10 @@ pub struct DiscretisationFile {
     /// Gauss points per segment for applied tractions (default 5; 3–8).
     #[serde(default)]
     pub load_quadrature_points: Option<usize>,
-    /// Stabilisation blend `β ∈ [0, 1]` (default 0, the paper's mixed method; docs/method.md §3.9).
+    /// Stabilisation blend `β ∈ [0, 1]` (default 0, the paper's mixed method; docs/method.md
+    /// §3.9), or `"auto"` ([`super::Discretisation::beta_auto`]).
     #[serde(default)]
-    pub beta: Option<f64>,
+    pub beta: Option<super::BetaChoice>,
     /// Turn the refusal of an unstable `support_factor`/`basis`/`beta` combination into a
     /// warning (default false).
     #[serde(default)]

@@ -25,8 +25,9 @@ pub use contact::{
     RigidLine, Shape, closest_obstacle,
 };
 pub use discretisation::{
-    Basis, Discretisation, Layout, MIN_STABILISING_BETA, MIXED_LINEAR_MAX_SUPPORT_FACTOR,
-    MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams, Precision, Preset,
+    AUTO_BETA, AutoKeyword, Basis, BetaChoice, Discretisation, Layout, MIN_STABILISING_BETA,
+    MIXED_LINEAR_MAX_SUPPORT_FACTOR, MIXED_QUADRATIC_MAX_SUPPORT_FACTOR, Method, MlsParams,
+    Precision, Preset,
 };
 pub use file::*;
 pub use refine::{Adaptive, Indicator, NestedQuery, RefineBox, Refinement, SpacingIndex};

@@ -154,7 +154,7 @@ fn material_and_loads(defs: &mut Map<String, Value>) {
                 "preset": one_of(&["paper", "stabilised"]), "method": one_of(&["mfvm", "fem"]),
                 "basis": one_of(&["linear", "quadratic"]), "support_factor": number(),
                 "quadrature_points": integer(), "load_quadrature_points": integer(),
-                "beta": number(), "allow_unstable": boolean(),
+                "beta": { "anyOf": [number(), one_of(&["auto"])] }, "allow_unstable": boolean(),
                 "precision": one_of(&["double", "mixed", "auto"]),
             }),
             &[],

@@ -300,7 +300,11 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
             "must be 3–8",
         ));
     }
-    let beta = d.beta.unwrap_or(preset_beta);
+    let (beta, beta_auto) = match d.beta {
+        None => (preset_beta, false),
+        Some(super::BetaChoice::Value(beta)) => (beta, false),
+        Some(super::BetaChoice::Auto(_)) => (0.0, true),
+    };
     if !(beta.is_finite() && (0.0..=1.0).contains(&beta)) {
         return Err(invalid(
             "discretisation.beta",
@@ -315,6 +319,7 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         quadrature_points,
         load_quadrature_points,
         beta,
+        beta_auto,
         allow_unstable: d.allow_unstable.unwrap_or(false),
         precision: d.precision.unwrap_or_default(),
     };
