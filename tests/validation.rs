@@ -66,6 +66,8 @@ mod validation {
     mod axisymmetric_contact_paths;
     // Axisymmetric elastic pairs: two cylinders end to end (exact), Hertz's sphere on a block.
     mod axisymmetric_pairs;
+    // Lamé's thick sphere under internal pressure: a curved section (quarter annulus, two arcs).
+    mod axisymmetric_sphere;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.
