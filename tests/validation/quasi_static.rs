@@ -184,3 +184,34 @@ fn load_ramp_is_checked_naming_the_key() {
         assert!(err.contains("dynamics.load_ramp"), "{ramp}: {err}");
     }
 }
+
+/// Without an impact there is no floor: started in contact (gap 1e-9, every candidate
+/// touching at rest, so nothing closes by an impact) the displacements and the candidates'
+/// forces converge to the static ones at rate 1 with the ramp time, like the total force —
+/// the penetration is `O(h v)` with the closing speed `v ∝ 1/T_r`. Measured at T_r = 280,
+/// 560, 1120: displacement 0.285, 0.143, 0.071 (÷ 2.00 per doubling), candidate force
+/// 9.7e-5, 4.8e-5, 2.4e-5, total force 2.2e-3, 1.1e-3, 5.4e-4; the pushing set is the static
+/// one. The tolerance (÷ 1.8 per doubling) asks for first order; the static displacement here
+/// is the beam's small compression, so the relative error is large at these ramps (1e-3 needs
+/// T_r ≈ 8e4: `examples/studies/quasi_static_limit.rs`, docs/dev/dynamics.md).
+#[test]
+fn ramp_started_in_contact_converges_without_a_floor() {
+    let ramps = [280.0, 560.0, 1120.0];
+    let limits: Vec<Limit> = ramps.iter().map(|&r| limit(r, 0.7, 0.6, 1e-9, 1.0)).collect();
+    for (ramp, l) in ramps.iter().zip(&limits) {
+        println!("T_r = {ramp}: {l:?}");
+        assert!(l.same_contact_set, "T_r = {ramp}: the pushing set differs from the static one");
+        assert!(l.least_impulse >= 0.0, "T_r = {ramp}: impulse {}", l.least_impulse);
+        assert!(l.pressure < 2e-4, "T_r = {ramp}: candidate force error {}", l.pressure);
+    }
+    for pair in limits.windows(2) {
+        for (what, a, b) in [
+            ("displacement", pair[0].displacement, pair[1].displacement),
+            ("candidate force", pair[0].pressure, pair[1].pressure),
+            ("total force", pair[0].force, pair[1].force),
+        ] {
+            println!("{what}: {a:.3e} → {b:.3e} (÷ {:.2})", a / b);
+            assert!(a / b > 1.8, "{what} error {a} → {b}: not first order");
+        }
+    }
+}
