@@ -6,7 +6,7 @@
 //! (the analytic Euler–Bernoulli period 0.217 is used for the step, `T / 40`, and the end;
 //! the measured period from the kinetic energy's peaks is printed too).
 //!
-//! `cargo run --release --example cantilever_energy [spacing]`
+//! `cargo run --release --features studies --example cantilever_energy [spacing]`
 
 use mlpg_contact::pipeline::dynamics::solve;
 use mlpg_contact::problem::{Problem, ProblemFile, file::DynamicsFile};

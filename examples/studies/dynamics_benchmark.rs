@@ -5,7 +5,7 @@
 //! steps' LCPs, the whole stage), the time per step and the LCPs' share, and the load average
 //! (the machine may be shared).
 //!
-//! `cargo run --release --example dynamics_benchmark [spacing_divisor steps]`
+//! `cargo run --release --features studies --example dynamics_benchmark [spacing_divisor steps]`
 
 use mlpg_contact::pipeline::dynamics::solve;
 use mlpg_contact::problem::{Problem, ProblemFile};

@@ -5,7 +5,7 @@
 //! the largest candidate force errors (relative to the total force), the displacement error
 //! (`max_I |Δu(x_I)| / max_I |u_static(x_I)|`), the least final gap, and the seconds.
 //!
-//! `cargo run --release --example quasi_static_limit -- GAP T_r...`
+//! `cargo run --release --features studies --example quasi_static_limit -- GAP T_r...`
 
 use mlpg_contact::pipeline::dynamics::{DynamicBody, solve};
 use mlpg_contact::problem::{Problem, ProblemFile, file::DynamicsFile};

@@ -8,7 +8,7 @@
 //! contact zone (one interval ending at the tip), the run-time checks of `M`, and that the
 //! total contact force and the onset converge under refinement (successive differences
 //! shrink). The same checks for the stabilised blend (docs/method.md §3.9) at `α_s = 3`,
-//! `β = 0.5`, which must agree with the default variant. The converged values are established by `cargo run --release --example
+//! `β = 0.5`, which must agree with the default variant. The converged values are established by `cargo run --release --features studies --example
 //! beam_refinement` (docs/guide/src/validation.md).
 
 use mlpg_contact::problem::Problem;
