@@ -136,7 +136,7 @@ impl Error {
                 | D::SeveralHeld { .. }
                 | D::FreeBody { .. },
             )) => "boundary[*].displacement, contact",
-            Error::Lcp(L::LoadDriven(D::Undetermined { .. })) => {
+            Error::Lcp(L::LoadDriven(D::Undetermined { .. } | D::HeldNotConverged { .. })) => {
                 "boundary[*] of the body named, body_force, contact"
             }
             Error::Lcp(L::LoadDriven(D::SlantedFriction { .. })) => {

@@ -982,7 +982,8 @@ fn two_blocks_problem_total_force() {
 /// in x as well, and contact holds one free translation only — refused naming the body and
 /// the mode (docs/method.md §4.7); with the bottom block's roller removed instead, the middle
 /// and the bottom block are both left to the contacts in y, and nothing holds the bottom one
-/// from below — refused naming it (its position is not determined); both blocks of
+/// from below — refused naming it (its position is not determined), and pressed from above
+/// the three blocks run away below (refused saying nothing holds them); both blocks of
 /// problems/two_blocks.toml left free in y — refused naming both (the pair floats).
 #[test]
 fn stack_with_a_body_free_in_two_directions_is_refused() {
@@ -1013,6 +1014,16 @@ fn stack_with_a_body_free_in_two_directions_is_refused() {
             "stack_middle_undetermined",
             stack.replace("displacement = { y = -0.01 }", "displacement = { y = 0.01 }"),
             "body `middle`: its translation in y is left to the contact, but no load acts along it and its contacts carry no force, so its position is not determined",
+        ),
+        (
+            // The whole stack free in y and pressed from above: nothing below the bottom
+            // block, so the nested searches push the three blocks down without end.
+            "stack_pressed_free_below",
+            stack.replace(bottom_roller, "").replace(
+                "{ edge = \"top\", displacement = { y = -0.01 } }",
+                "{ edge = \"top\", pressure = 10.0 }",
+            ),
+            "the translation of a body held by contact alone that balances its load -2.000000e1 was not found after",
         ),
         (
             // Both blocks of a two-body pair free in y, squeezed by equal pressures: in

@@ -151,6 +151,25 @@ pub enum LoadDrivenError {
         /// The smallest displacement known to carry more.
         high: Option<f64>,
     },
+    /// No translation of a body held by contact balancing its load was found: the
+    /// translation's search ([`find_translation`]) ran out of solves.
+    #[error(
+        "the translation of a body held by contact alone that balances its load {target:.6e} was not found after {evaluations} LCP solves: the last, at t = {translation:.6e}, carried {force:.6e} (bracket {low:?} to {high:?}); a translation that grows without bound means nothing holds the body on the side its load pushes it to (add the body or obstacle it rests on, or a displacement condition that prevents the translation)"
+    )]
+    HeldNotConverged {
+        /// LCP solves made.
+        evaluations: usize,
+        /// The last translation tried.
+        translation: f64,
+        /// The force carried there along the translation.
+        force: f64,
+        /// The load along the translation.
+        target: f64,
+        /// The largest translation known to carry less than the load.
+        low: Option<f64>,
+        /// The smallest translation known to carry more.
+        high: Option<f64>,
+    },
 }
 
 /// What [`find_displacement`] found: the displacement `s` along `e`, the LCP's answer there
@@ -364,7 +383,8 @@ pub fn find_displacement_with<T: Trials + ?Sized>(
 ///
 /// # Errors
 /// [`LoadDrivenError::BadForce`] for a target that is not finite,
-/// [`LoadDrivenError::NotConverged`] after [`MAX_EVALUATIONS`] solves; `solve`'s own errors.
+/// [`LoadDrivenError::HeldNotConverged`] after [`MAX_EVALUATIONS`] solves; `solve`'s own
+/// errors.
 pub fn find_translation<S, E: From<LoadDrivenError>>(
     compliance: &[f64],
     base_gap: &[f64],
@@ -453,7 +473,7 @@ pub fn find_translation_from<T: Trials + ?Sized>(
         bracket.record(t, residual);
         let scale = gap_scale.max(t.abs()).max(f64::MIN_POSITIVE);
         if bracket.collapsed(scale) {
-            return Err(bracket.not_converged(evaluation, (t, force), target).into());
+            return Err(bracket.held_not_converged(evaluation, (t, force), target).into());
         }
         let w = trials.gaps(&q, &answer);
         let active: Vec<usize> = (0..m).filter(|&c| z[c] > 0.0).collect();
@@ -485,7 +505,7 @@ pub fn find_translation_from<T: Trials + ?Sized>(
         last_step = next - t;
         t = next;
     }
-    Err(bracket.not_converged(MAX_EVALUATIONS, tried, target).into())
+    Err(bracket.held_not_converged(MAX_EVALUATIONS, tried, target).into())
 }
 
 /// The trial displacements of a search known to carry less (`low`) and more (`high`) than
@@ -520,6 +540,25 @@ impl Bracket {
     /// The midpoint, once both sides are known.
     fn midpoint(&self) -> Option<f64> {
         Some(0.5 * (self.low? + self.high?))
+    }
+
+    /// A held body's search's failure after `evaluations` solves, the last trial
+    /// `(t, force)`.
+    fn held_not_converged(
+        &self,
+        evaluations: usize,
+        tried: (f64, f64),
+        target: f64,
+    ) -> LoadDrivenError {
+        let (low, high) = (self.low, self.high);
+        LoadDrivenError::HeldNotConverged {
+            evaluations,
+            translation: tried.0,
+            force: tried.1,
+            target,
+            low,
+            high,
+        }
     }
 
     /// The search's failure after `evaluations` solves, the last trial `(x, force)`.
