@@ -1001,7 +1001,7 @@ fn stack_with_a_body_free_in_two_directions_is_refused() {
         (
             "stack_middle_free_in_x",
             stack.replace(roller, "boundary = []"),
-            "body `middle`: no displacement is prescribed on any of its edges, so both translations and the rotation are free; contact between bodies may hold one free rigid-body translation of one body",
+            "body `middle`: no displacement is prescribed on any of its edges, so both translations and the rotation are free; contact between bodies may hold one free rigid-body translation of each body",
         ),
         (
             "stack_bottom_free",

@@ -111,7 +111,7 @@ pub enum LoadDrivenError {
     /// A body of several whose displacement conditions leave it free to move in more ways
     /// than one translation, which is all the contact may hold (docs/method.md §4.7).
     #[error(
-        "body `{body}`: {detail}; contact between bodies may hold one free rigid-body translation of one body (the other translation and the rotation restrained by displacement conditions), so add a displacement condition to body `{body}` that prevents the {mode}"
+        "body `{body}`: {detail}; contact between bodies may hold one free rigid-body translation of each body (the other translation and the rotation restrained by displacement conditions), so add a displacement condition to body `{body}` that prevents the {mode}"
     )]
     FreeBody {
         /// The body's name.
