@@ -774,8 +774,7 @@ pub(super) fn solve_frictional_active_set(
                         // on Lemke's path).
                         if let Some((pin, t)) = held {
                             let mut rhs = rhs.clone();
-                            let d = crate::nodes::dof(pin.node as usize, pin.axis);
-                            rhs[d] = model.system.collocation_scale * t;
+                            load_path::set_pin_value(&mut rhs, model, pin, t);
                             system.set_load(&rhs, &g0, &offset);
                         }
                         let u = system

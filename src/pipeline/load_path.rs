@@ -104,6 +104,28 @@ pub(super) fn ring_units(model: &crate::model::Model) -> f64 {
     }
 }
 
+/// A held body's load `load` along its pinned translation, in the contact forces' units
+/// ([`ring_units`]): the target of its search (docs/method.md §4.7).
+pub(super) fn load_along(
+    model: &crate::model::Model,
+    pin: assembly::PinnedMode,
+    load: &[f64],
+) -> f64 {
+    load.iter().skip(pin.axis as usize).step_by(2).sum::<f64>() * ring_units(model)
+}
+
+/// Sets the pin's collocation row of `rhs` (body `model`) to the translation `t` found
+/// (docs/method.md §4.7): the solve then adds the rigid translation, which `K_int` does not
+/// see, to the pinned answer.
+pub(super) fn set_pin_value(
+    rhs: &mut [f64],
+    model: &crate::model::Model,
+    pin: assembly::PinnedMode,
+    t: f64,
+) {
+    rhs[crate::nodes::dof(pin.node as usize, pin.axis)] = model.system.collocation_scale * t;
+}
+
 /// Refuses the answer of a held body's search when nothing determines the body's position
 /// (docs/method.md §4.7): no load along the translation, no force carried along it, and the
 /// touching gaps do not block it both ways (every translation of an interval answers).
@@ -330,9 +352,7 @@ fn solve_increment(
             .into());
         };
         let load = lerp(&loads0[*term], &terms[*term].steps[k].load, lambda);
-        let along_load = load.iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
-            * ring_units(terms[*term].model);
-        held.push((along.as_slice(), along_load));
+        held.push((along.as_slice(), load_along(terms[*term].model, *pin, &load)));
     }
     let force = end.force.map(|f| {
         let (e, size, mut along) = force_along(f, path.normals);
@@ -479,9 +499,8 @@ pub(super) fn run_condensed(
                     for (held, r) in path.held.iter().zip(&searches.rigid_modes) {
                         if held.term() == b {
                             let pin = held.pin();
-                            let d = crate::nodes::dof(pin.node as usize, pin.axis);
-                            rhs[d] = term.model.system.collocation_scale
-                                * r.translation[pin.axis as usize];
+                            let t = r.translation[pin.axis as usize];
+                            set_pin_value(&mut rhs, term.model, pin, t);
                         }
                     }
                     let u_b = term.model.factorisation.solve(&rhs)?;

@@ -151,8 +151,8 @@ fn held_bodies(
         if along.iter().all(|a| a.abs() <= 1e-12) {
             return Err(LoadDrivenError::NotRestrained { mode: pin.name() });
         }
-        let load: f64 = models[b].system.load.iter().skip(axis).step_by(2).sum();
-        held.push((b, pin, along, load * super::load_path::ring_units(models[b])));
+        let load = super::load_path::load_along(models[b], pin, &models[b].system.load);
+        held.push((b, pin, along, load));
     }
     Ok(held)
 }
@@ -327,21 +327,13 @@ pub fn solve_bodies(
             evaluations,
             total_evaluations: evaluations,
         };
-        rigid.push((*b, *pin, mode));
+        rigid.push((*b, mode));
     }
     // The pin's value is the translation found, so that the system each solution answers
     // (its residual, its reactions) is the one solved.
     drop(models);
-    for (b, pin, r) in &rigid {
-        let target = if *b == 0 { &mut model } else { &mut others[*b - 1] };
-        let value = r.translation[pin.axis as usize];
-        let d = crate::nodes::dof(pin.node as usize, pin.axis);
-        target.system.rhs[d] = target.system.collocation_scale * value;
-        if let Some(c) =
-            target.system.constraints.iter_mut().find(|c| c.node == pin.node && c.axis == pin.axis)
-        {
-            c.value = value;
-        }
+    for (b, r) in &rigid {
+        super::set_pin(if *b == 0 { &mut model } else { &mut others[*b - 1] }, r);
     }
     let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
     // Lemke: one solve per body with the forces of the pairs that touch it; the active set:
@@ -454,7 +446,7 @@ pub fn solve_bodies(
         lcp: result,
         active_set: record,
         warning,
-        held: rigid.into_iter().map(|(b, _, r)| (b, r)).collect(),
+        held: rigid,
         fallback_from,
     }));
     solution.timings = clock.timings.clone();
@@ -626,8 +618,7 @@ fn solve_active_set(
         for ((b, pin, _, _), t) in held.iter().zip(&found.translations) {
             let model = models[*b];
             let mut rhs = model.system.rhs.clone();
-            rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
-                model.system.collocation_scale * t;
+            super::load_path::set_pin_value(&mut rhs, model, *pin, *t);
             system.set_body_load(*b, &rhs);
         }
         system.set_initial_gap(initial_gap);

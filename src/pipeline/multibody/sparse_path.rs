@@ -272,9 +272,7 @@ fn solve_increment(
     let held: Vec<(&[f64], f64)> = held_bodies
         .iter()
         .map(|(b, pin, along, _)| {
-            let load = loads[*b].iter().skip(pin.axis as usize).step_by(2).sum::<f64>()
-                * super::super::load_path::ring_units(models[*b]);
-            (along.as_slice(), load)
+            (along.as_slice(), super::super::load_path::load_along(models[*b], *pin, &loads[*b]))
         })
         .collect();
     held_search(system, models, (held_bodies, &held), rhss, start)
@@ -316,8 +314,7 @@ fn held_search(
     answer.rescues = rescues;
     for ((b, pin, _, _), t) in held_bodies.iter().zip(&found.translations) {
         let mut rhs = rhss[*b].clone();
-        rhs[crate::nodes::dof(pin.node as usize, pin.axis)] =
-            models[*b].system.collocation_scale * t;
+        super::super::load_path::set_pin_value(&mut rhs, models[*b], *pin, *t);
         system.set_body_load(*b, &rhs);
     }
     let s = found.outer.displacement;
