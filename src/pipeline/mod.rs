@@ -1178,7 +1178,10 @@ impl Outcome {
         progress: &mut dyn Progress,
     ) -> Result<Self, Error> {
         let d = problem.discretisation;
-        if !d.beta_auto || d.beta >= crate::problem::MIN_STABILISING_BETA {
+        if !d.beta_auto
+            || d.beta >= crate::problem::MIN_STABILISING_BETA
+            || d.method == crate::problem::Method::Fem
+        {
             return Self::solve_once(problem, input, progress);
         }
         match Self::solve_once(problem.clone(), input.clone(), progress) {
@@ -1189,6 +1192,15 @@ impl Outcome {
             })) => {
                 let mut stabilised = problem;
                 stabilised.discretisation.beta = crate::problem::AUTO_BETA;
+                // Every body shares the problem's discretisation table.
+                for body in stabilised
+                    .second_body
+                    .iter_mut()
+                    .map(|b| &mut **b)
+                    .chain(stabilised.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()))
+                {
+                    body.discretisation.beta = crate::problem::AUTO_BETA;
+                }
                 let mut outcome = Self::solve_once(stabilised, input, progress)?;
                 outcome.summary.warnings.insert(
                     0,

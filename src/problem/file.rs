@@ -812,8 +812,9 @@ pub struct DiscretisationFile {
     /// Gauss points per segment for applied tractions (default 5; 3–8).
     #[serde(default)]
     pub load_quadrature_points: Option<usize>,
-    /// Stabilisation blend `β ∈ [0, 1]` (default 0, the paper's mixed method; docs/method.md
-    /// §3.9), or `"auto"` ([`super::Discretisation::beta_auto`]).
+    /// Stabilisation blend `β ∈ [0, 1]` (0: the paper's mixed method; docs/method.md §3.9), or
+    /// `"auto"` ([`super::Discretisation::beta_auto`]; the default for the MFVM without a
+    /// `preset`, which otherwise sets β).
     #[serde(default)]
     pub beta: Option<super::BetaChoice>,
     /// Turn the refusal of an unstable `support_factor`/`basis`/`beta` combination into a

@@ -415,7 +415,9 @@ plane = "stress"
         let default = discretisation("", "");
         let paper = discretisation("discretisation = \"paper\"", "");
         assert_eq!(paper.preset, Some(Preset::Paper));
-        assert_eq!(Discretisation { preset: None, ..paper }, default);
+        // The same numbers; without a preset β is "auto" (β = 0 first), with "paper" it is 0.
+        assert_eq!(Discretisation { preset: None, beta_auto: true, ..paper }, default);
+        assert!(!paper.beta_auto && paper.beta == 0.0);
         let stabilised = discretisation("discretisation = \"stabilised\"", "");
         let explicit = discretisation(
             "",

@@ -301,6 +301,10 @@ fn validate_discretisation(file: &DiscretisationFile) -> Result<Discretisation, 
         ));
     }
     let (beta, beta_auto) = match d.beta {
+        // Neither `beta` nor `preset`: "auto" (the paper's β = 0 where its compliance is
+        // trustworthy, the stabilised blend where not). A preset keeps its own β; the FE
+        // method has no β.
+        None if preset.is_none() && method == Method::Mfvm => (0.0, true),
         None => (preset_beta, false),
         Some(super::BetaChoice::Value(beta)) => (beta, false),
         Some(super::BetaChoice::Auto(_)) => (0.0, true),
