@@ -14,6 +14,43 @@
 //! Coulomb friction and load steps follow the load path increment by increment
 //! (docs/method.md §8).
 //!
+//! ## Example
+//!
+//! A block pressed onto a rigid line: its top edge moves down by 0.03 and its bottom edge,
+//! 0.01 above the line, touches it.
+//!
+//! ```
+//! let problem = mlpg_contact::problem::Problem::from_toml(r#"
+//!     [geometry]
+//!     kind = "rectangle"
+//!     x = [0.0, 2.0]
+//!     y = [0.0, 1.0]
+//!     [nodes]
+//!     spacing = 0.25
+//!     [material]
+//!     young = 1000.0
+//!     poisson = 0.0
+//!     plane = "stress"
+//!     [[boundary]]
+//!     edge = "top"
+//!     displacement = { x = 0.0, y = -0.03 }
+//!     [contact]
+//!     edge = "bottom"
+//!     obstacle_point = [0.0, -0.01]
+//!     obstacle_normal = [0.0, 1.0]
+//! "#).unwrap();
+//! let solution = mlpg_contact::solve(&problem).unwrap();
+//! let contact = solution.contact.as_ref().unwrap();
+//! // Uniform compression once the gap is closed: strain (0.03 − 0.01) / 1, stress E · 0.02 = 20
+//! // over the width 2, so the line carries 40 and every candidate is closed.
+//! assert!((contact.total_force - 40.0).abs() < 1e-6, "F = {}", contact.total_force);
+//! assert!(contact.closed.iter().all(|&c| c));
+//! assert!(solution.equilibrium_error < 1e-9);
+//! ```
+//!
+//! The user guide (`docs/guide/` in the repository, an mdBook) describes every key of the
+//! problem file; its page "Using the crate from Rust" goes on from this example.
+//!
 //! ## Pipeline
 //!
 //! The modules are the stages, in order; a module imports only modules of its own or an
@@ -55,40 +92,6 @@
 //! | `g`, `p` | gap and contact pressure |
 //!
 //! Spelling is British throughout ("neighbour", "discretisation", "factorisation").
-//!
-//! ## Example
-//!
-//! A block pressed onto a rigid line: its top edge moves down by 0.03 and its bottom edge,
-//! 0.01 above the line, touches it.
-//!
-//! ```
-//! let problem = mlpg_contact::problem::Problem::from_toml(r#"
-//!     [geometry]
-//!     kind = "rectangle"
-//!     x = [0.0, 2.0]
-//!     y = [0.0, 1.0]
-//!     [nodes]
-//!     spacing = 0.25
-//!     [material]
-//!     young = 1000.0
-//!     poisson = 0.0
-//!     plane = "stress"
-//!     [[boundary]]
-//!     edge = "top"
-//!     displacement = { x = 0.0, y = -0.03 }
-//!     [contact]
-//!     edge = "bottom"
-//!     obstacle_point = [0.0, -0.01]
-//!     obstacle_normal = [0.0, 1.0]
-//! "#).unwrap();
-//! let solution = mlpg_contact::solve(&problem).unwrap();
-//! let contact = solution.contact.as_ref().unwrap();
-//! // Uniform compression once the gap is closed: strain (0.03 − 0.01) / 1, stress E · 0.02 = 20
-//! // over the width 2, so the line carries 40 and every candidate is closed.
-//! assert!((contact.total_force - 40.0).abs() < 1e-6, "F = {}", contact.total_force);
-//! assert!(contact.closed.iter().all(|&c| c));
-//! assert!(solution.equilibrium_error < 1e-9);
-//! ```
 //!
 //! # References
 //!

@@ -590,8 +590,13 @@ fn cantilever_problem_tip_deflection() {
 /// `summary.json`'s `warnings`).
 fn warnings_of(file: &Path, name: &str) -> (Option<i32>, String, Vec<String>) {
     let dir = scratch(name).join("out");
-    let out =
-        Command::new(binary()).arg(file).arg("--out").arg(&dir).arg("--quiet").output().unwrap();
+    let out = Command::new(binary())
+        .arg(file)
+        .arg("--out")
+        .arg(&dir)
+        .args(["--quiet", "--report"])
+        .output()
+        .unwrap();
     let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
     let summary: serde_json::Value = serde_json::from_str(&text).unwrap();
     let warnings = summary["warnings"].as_array().unwrap();
@@ -601,8 +606,8 @@ fn warnings_of(file: &Path, name: &str) -> (Option<i32>, String, Vec<String>) {
 
 /// A contact zone closed by fewer than 8 candidates is under-resolved: the cylinder indenter at
 /// a uniform spacing of 0.05 (tests/data/resolution/, 3 candidates closed) runs (exit 0) but
-/// warns on the terminal and in `summary.json`, naming the remedy; the shipped beam (114
-/// closed) and the shipped, refined indenter (15 closed) do not.
+/// warns on the terminal, in `summary.json` and in `report.html`, naming the remedy; the shipped
+/// beam (114 closed) and the shipped, refined indenter (15 closed) do not.
 #[test]
 fn under_resolved_contact_zone_warns() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -613,12 +618,17 @@ fn under_resolved_contact_zone_warns() {
     assert!(stderr.contains(&format!("warning: {expected}")), "{stderr}");
     let warning = warnings.iter().find(|w| w.starts_with(expected));
     assert!(warning.is_some_and(|w| w.contains("[[nodes.refine]]") && w.contains("[refinement]")));
+    let report = scratch("resolution-coarse").join("out/report.html");
+    let report = std::fs::read_to_string(report).unwrap();
+    assert!(report.contains(&format!("<li class=\"warning\">{expected}")), "report.html");
     for shipped in ["beam_on_foundation.toml", "cylinder_indenter.toml"] {
         let file = root.join("problems").join(shipped);
         let (code, stderr, warnings) = warnings_of(&file, &format!("resolution-{shipped}"));
         assert_eq!(code, Some(0), "{stderr}");
         assert!(!stderr.contains("under-resolved"), "{shipped}: {stderr}");
         assert!(warnings.iter().all(|w| !w.contains("under-resolved")), "{shipped}: {warnings:?}");
+        let report = scratch(&format!("resolution-{shipped}")).join("out/report.html");
+        assert!(!std::fs::read_to_string(report).unwrap().contains("under-resolved"), "{shipped}");
     }
 }
 
@@ -879,7 +889,14 @@ fn bad_dynamics_input_is_refused() {
     assert!(stderr.contains("material.density"), "{stderr}");
 }
 
-/// Every shipped problem file runs (the README's main command among them).
+/// Every shipped problem file runs (the README's main command among them), and its headline
+/// figures (the comment block "Headline figures" at its top: `summary.json` key paths and
+/// their values, `#   contact.total_force = 32.35`) are the run's to the digits shown: the
+/// value rounded to them, so the tolerance is half a unit in the last digit written (these are
+/// the figures a user reads first, not a validation: the validation suite and the files'
+/// other comments give the references). A file without the block, a path that is not a number
+/// in the summary, or a figure off by more than its last digit fails, naming the file. The
+/// guide's screenshots (`scripts/guide-images.sh`) are the beam's and the indenter's plots.
 #[test]
 fn every_shipped_problem_runs() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
@@ -891,6 +908,8 @@ fn every_shipped_problem_runs() {
     names.sort();
     assert!(names.len() >= 3, "problems/: {names:?}");
     let mut layout = std::collections::BTreeMap::<String, usize>::new();
+    let mut headline_failures = Vec::new();
+    let mut stale_images = Vec::new();
     for file in names {
         let stem = file.file_stem().unwrap().to_string_lossy().into_owned();
         let out_dir = scratch(&format!("shipped-{stem}")).join("out");
@@ -912,8 +931,110 @@ fn every_shipped_problem_runs() {
         for path in paths {
             *layout.entry(path).or_default() += 1;
         }
+        headline_failures.extend(headline_mismatches(&file, &summary));
+        stale_images.extend(stale_guide_images(&stem, &out_dir));
     }
+    assert!(headline_failures.is_empty(), "{}", headline_failures.join("\n"));
+    assert!(
+        stale_images.is_empty(),
+        "the guide's screenshots differ from this run's plots (rerun scripts/guide-images.sh): {stale_images:?}"
+    );
     assert_summary_layout(&layout);
+}
+
+/// The guide's screenshots of `problem`'s plots (the list of `scripts/guide-images.sh`:
+/// problem, plot, image under `docs/guide/src/img/`) that are not byte for byte the plots of
+/// its run in `out`.
+fn stale_guide_images(problem: &str, out: &Path) -> Vec<String> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let script = std::fs::read_to_string(root.join("scripts/guide-images.sh")).unwrap();
+    let list = script.split("<<'LIST'\n").nth(1).and_then(|s| s.split("\nLIST").next());
+    let list = list.expect("scripts/guide-images.sh: a <<'LIST' ... LIST block");
+    let mut stale = Vec::new();
+    for line in list.lines() {
+        let [name, plot, image] = line.split_whitespace().collect::<Vec<_>>()[..] else {
+            panic!("scripts/guide-images.sh: `{line}` is not `problem plot image`");
+        };
+        let image = root.join("docs/guide/src/img").join(image);
+        let plot = out.join("plots").join(plot);
+        if name == problem && std::fs::read(&image).ok() != std::fs::read(&plot).ok() {
+            stale.push(image.display().to_string());
+        }
+    }
+    stale
+}
+
+/// The headline check reads the block as written and fails on a figure off by more than its
+/// last digit, on a missing key and on a file without the block (no run: a made-up summary).
+#[test]
+fn headline_figures_check_can_fail() {
+    let dir = scratch("headline-check");
+    let file = dir.join("p.toml");
+    let text = "# A problem.\n#\n# Headline figures: ...\n# by ...\n#   contact.total_force = 32.35\n#   pairs[1].total_force = 5.150e-05\nname = \"p\"\n";
+    std::fs::write(&file, text).unwrap();
+    assert_eq!(half_last_digit("32.35"), 0.005);
+    assert!((half_last_digit("5.150e-05") - 5e-9).abs() < 1e-24);
+    assert_eq!(half_last_digit("2339"), 0.5);
+    let summary = |f: f64, g: f64| serde_json::json!({"contact": {"total_force": f}, "pairs": [{}, {"total_force": g}]});
+    assert!(headline_mismatches(&file, &summary(32.3549, 5.1504e-5)).is_empty());
+    assert_eq!(headline_mismatches(&file, &summary(32.3551, 5.1504e-5)).len(), 1);
+    assert_eq!(headline_mismatches(&file, &summary(32.35, 5.1496e-5)).len(), 0);
+    assert_eq!(headline_mismatches(&file, &summary(32.35, 5.1494e-5)).len(), 1);
+    let missing = serde_json::json!({"contact": {"total_force": 32.35}});
+    assert_eq!(headline_mismatches(&file, &missing).len(), 1);
+    std::fs::write(&file, "name = \"p\"\n").unwrap();
+    assert_eq!(headline_mismatches(&file, &missing).len(), 1);
+}
+
+/// The headline figures of a problem file: the `#   <key path> = <number>` lines that follow
+/// its `# Headline figures` comment line, as (key path, number as written).
+fn headline_figures(text: &str) -> Vec<(String, String)> {
+    text.lines()
+        .skip_while(|l| !l.starts_with("# Headline figures"))
+        .skip(1)
+        .skip_while(|l| !l.starts_with("#   "))
+        .take_while(|l| l.starts_with("#   "))
+        .filter_map(|l| l[4..].split_once(" = "))
+        .map(|(k, v)| (k.trim().to_string(), v.trim().to_string()))
+        .collect()
+}
+
+/// Half a unit in the last digit of `written` (`32.35` → 0.005, `5.150e-05` → 5e-9).
+fn half_last_digit(written: &str) -> f64 {
+    let (mantissa, exponent) = match written.split_once(['e', 'E']) {
+        Some((m, e)) => (m, e.parse::<i32>().unwrap()),
+        None => (written, 0),
+    };
+    let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len() as i32);
+    0.5 * 10f64.powi(exponent - decimals)
+}
+
+/// `summary` at a key path such as `pairs[1].friction.total_tangential_force`.
+fn at_key_path<'a>(summary: &'a serde_json::Value, path: &str) -> &'a serde_json::Value {
+    path.split('.').fold(summary, |value, part| match part.split_once('[') {
+        Some((key, index)) => &value[key][index.trim_end_matches(']').parse::<usize>().unwrap()],
+        None => &value[part],
+    })
+}
+
+/// What is wrong with `file`'s headline figures against its run's `summary` (empty: nothing).
+fn headline_mismatches(file: &Path, summary: &serde_json::Value) -> Vec<String> {
+    let name = file.file_name().unwrap().to_string_lossy();
+    let figures = headline_figures(&std::fs::read_to_string(file).unwrap());
+    if figures.is_empty() {
+        return vec![format!(
+            "{name}: no \"# Headline figures\" block with `#   <key> = <value>` lines"
+        )];
+    }
+    let mut wrong = Vec::new();
+    for (path, written) in figures {
+        let expected: f64 = written.parse().unwrap_or(f64::NAN);
+        match at_key_path(summary, &path).as_f64() {
+            Some(got) if (got - expected).abs() <= half_last_digit(&written) * (1.0 + 1e-9) => {}
+            got => wrong.push(format!("{name}: {path} = {written} written, the run gives {got:?}")),
+        }
+    }
+    wrong
 }
 
 /// The key paths of `value` under `prefix` (`a.b`, arrays as `a[]`); the echo of the problem

@@ -1,6 +1,6 @@
 //! Error against nodes, uniform and adaptive refinement (docs/method.md §2.2), for the Kirsch
 //! quarter plate and the clamped cantilever: the table printed, the data written as CSV under
-//! `docs/data/` and the log–log plots as SVG under `docs/img/` (PNG twins beside them).
+//! `docs/data/` and the log–log plots as SVG under `docs/guide/src/img/` (the user guide shows them).
 //! Results and reading: docs/dev/adaptive.md ("Kirsch: adaptive against uniform", "Plots").
 //!
 //! - **Kirsch** (`tests/validation/kirsch.rs`): the quarter `[0, 5]²` outside the hole of
@@ -482,7 +482,7 @@ fn main() {
                 })
                 .collect();
             draw_figure(
-                &root.join("img/adaptive_kirsch.svg"),
+                &root.join("guide/src/img/adaptive_kirsch.svg"),
                 "Kirsch quarter plate: energy-norm error against nodes, uniform and adaptive",
                 &panels,
             );
@@ -505,7 +505,7 @@ fn main() {
                 signed: true,
             };
             draw_figure(
-                &root.join("img/adaptive_cantilever.svg"),
+                &root.join("guide/src/img/adaptive_cantilever.svg"),
                 "Clamped cantilever: compliance error against nodes, uniform and adaptive",
                 &[panel],
             );

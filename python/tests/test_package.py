@@ -27,3 +27,18 @@ def test_licence_files_and_readme_exist():
     assert "Apache License" in (ROOT / "LICENSE-APACHE").read_text(encoding="utf-8")
     assert (ROOT / pyproject["project"]["readme"]).is_file()
     assert (ROOT / crate["package"]["readme"]).is_file()
+
+
+def test_the_installed_wheel_is_abi3_and_under_12_mb():
+    """The package as installed from its wheel (`pip install .`, `pip wheel .`): tagged for the
+    stable ABI from CPython 3.11 on (one wheel for every later CPython), the extension module
+    named for it, and its files under 12 MB uncompressed, so the compressed wheel is too (it was
+    3.6 MB with a 10.1 MB extension, stripped, on 2026-11-28)."""
+    import importlib.metadata
+
+    dist = importlib.metadata.distribution("mlpg-contact")
+    tags = [line.split(": ", 1)[1] for line in (dist.read_text("WHEEL") or "").splitlines() if line.startswith("Tag: ")]
+    assert tags and all(t.startswith("cp311-abi3-") for t in tags), tags
+    assert Path(mc._native.__file__).name.startswith("_native.abi3."), mc._native.__file__
+    size = sum(f.size or 0 for f in dist.files or [])
+    assert 1_000_000 < size < 12_000_000, size
