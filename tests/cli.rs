@@ -1735,11 +1735,6 @@ fn bad_refinement_input_gives_a_clear_error_and_exit_code_2() {
         ("refine_max_nodes", with("max_nodes = 1"), "refinement.max_nodes"),
         ("refine_indicator", with("indicator = \"zz\""), "refinement.indicator"),
         ("refine_unknown", with("levels = 3"), "levels"),
-        (
-            "refine_fem",
-            with("").replace("[nodes]", "[discretisation]\nmethod = \"fem\"\n[nodes]"),
-            "`refinement`",
-        ),
     ];
     expect_refusals(cases);
 }

@@ -52,6 +52,8 @@ mod validation {
     mod adaptive_hertz_cylinder;
     // Adaptive refinement of two bodies, the first curved: Hertz cylinder on a block; Cattaneo–Mindlin.
     mod adaptive_hertz_two_bodies;
+    // Adaptive refinement of FE meshes (graded tensor-product grids): the indenter against Hertz.
+    mod adaptive_fem;
     // Elastodynamics: lumped mass, free flight, the bar impact against the 1-D wave solution.
     mod dynamics;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.

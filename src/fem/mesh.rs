@@ -6,6 +6,7 @@ use super::FemError;
 use super::element::{self, NODES, Shape};
 use crate::geometry::{Domain, Point};
 use crate::nodes::{EdgeSet, Nodes};
+use crate::problem::RefineBox;
 use crate::problem::gmsh;
 use crate::weak_form::gauss_legendre;
 
@@ -69,6 +70,35 @@ impl Mesh {
             element_size: [(x[1] - x[0]) / nx as f64, (y[1] - y[0]) / ny as f64],
         };
         Self { grid: Some(grid), points: Vec::new(), elements, triangles: Vec::new() }
+    }
+
+    /// The graded tensor-product mesh of the rectangle `x × y` for the refinement regions
+    /// `boxes`: the uniform grid of [`Mesh::rectangle`] at element size `h`, then every column
+    /// (row) whose interior overlaps a box's x-range (y-range) halved until it is at most the
+    /// box's spacing wide (tall). Columns and rows run across the whole rectangle, so the mesh
+    /// has no hanging nodes; its straight-sided Q2 elements are a general mesh
+    /// ([`Mesh::general`]), numbered row by row from the lower-left corner like the grid.
+    pub fn graded(x: [f64; 2], y: [f64; 2], h: f64, boxes: &[RefineBox]) -> Self {
+        let cols = breaks(x, h, boxes.iter().map(|b| (b.x, b.spacing)));
+        let rows = breaks(y, h, boxes.iter().map(|b| (b.y, b.spacing)));
+        // The node lines: breaks and the midpoints between them.
+        let lines = |b: &[f64]| -> Vec<f64> {
+            let mut out = vec![b[0]];
+            for w in b.windows(2) {
+                out.extend([0.5 * (w[0] + w[1]), w[1]]);
+            }
+            out
+        };
+        let (xs, ys) = (lines(&cols), lines(&rows));
+        let points = ys.iter().flat_map(|&y| xs.iter().map(move |&x| [x, y])).collect();
+        let (nx, ny, row) = (cols.len() - 1, rows.len() - 1, xs.len());
+        let elements = (0..ny)
+            .flat_map(|ey| (0..nx).map(move |ex| (ex, ey)))
+            .map(|(ex, ey)| {
+                std::array::from_fn(|a| ((2 * ey + a / 3) * row + 2 * ex + a % 3) as u32)
+            })
+            .collect();
+        Self { grid: None, points, elements, triangles: Vec::new() }
     }
 
     /// A general mesh from node coordinates and the quadrilaterals' and triangles' node
@@ -340,6 +370,37 @@ impl Mesh {
     }
 }
 
+/// The element breaks of the interval `[a, b]`: `round((b − a)/h)` equal intervals (at least
+/// one), then every interval whose interior overlaps a region `(range, spacing)` halved until
+/// it is at most `spacing` long. The ends are `a` and `b` exactly.
+fn breaks(
+    [a, b]: [f64; 2],
+    h: f64,
+    regions: impl Iterator<Item = ([f64; 2], f64)> + Clone,
+) -> Vec<f64> {
+    let n = ((b - a) / h).round().max(1.0) as usize;
+    let mut out: Vec<f64> =
+        (0..=n).map(|k| if k == n { b } else { a + (b - a) * k as f64 / n as f64 }).collect();
+    let tol = 1e-9 * (b - a);
+    loop {
+        let mut next = vec![out[0]];
+        for w in out.windows(2) {
+            let (lo, hi) = (w[0], w[1]);
+            let split = regions
+                .clone()
+                .any(|(r, s)| r[0] < hi - tol && r[1] > lo + tol && hi - lo > s * (1.0 + 1e-9));
+            if split {
+                next.push(0.5 * (lo + hi));
+            }
+            next.push(hi);
+        }
+        if next.len() == out.len() {
+            return out;
+        }
+        out = next;
+    }
+}
+
 /// The position, the tangent `dx/ds` and the Lagrange values at `s ∈ [−1, 1]` of the quadratic
 /// side through `x` (end, middle, end).
 pub fn side_map(x: [Point; 3], s: f64) -> (Point, Point, [f64; 3]) {
@@ -382,6 +443,37 @@ mod tests {
             }
         }
         // Bottom edge: 6 element sides, 13 nodes.
+        assert_eq!(mesh.boundary_segments(&domain, &nodes, 0).len(), 6);
+        assert_eq!((0..nodes.len()).filter(|&i| nodes.edges[i].contains(0)).count(), 13);
+    }
+    #[test]
+    fn a_graded_grid_halves_the_columns_and_rows_through_a_box() {
+        // 4 × 2 elements of size 1; a box over element (1, 0) asking for 0.5: column 1 and
+        // row 0 are halved (5 × 3 elements), then a box inside the new column (x ∈ [1, 1.5])
+        // asking for 0.25 halves it again (6 × 4: row 0's lower half too, y ∈ [0, 0.5]).
+        let domain = Domain::rectangle([0.0, 4.0], [0.0, 2.0]).unwrap();
+        let one = RefineBox { x: [1.0, 2.0], y: [0.0, 1.0], spacing: 0.5 };
+        let mesh = Mesh::graded([0.0, 4.0], [0.0, 2.0], 1.0, &[one]);
+        assert_eq!(mesh.element_count(), 5 * 3);
+        assert_eq!(mesh.node_count(), 11 * 7);
+        let two = RefineBox { x: [1.0, 1.5], y: [0.0, 0.5], spacing: 0.25 };
+        let mesh = Mesh::graded([0.0, 4.0], [0.0, 2.0], 1.0, &[one, two]);
+        assert_eq!(mesh.element_count(), 6 * 4);
+        let nodes = mesh.nodes(&domain);
+        // Every element is the rectangle of its corners, its middle nodes centred (no
+        // hanging nodes: each node is shared as the straight-sided Q9's own).
+        let mut area = 0.0;
+        for k in 0..mesh.element_count() {
+            let p: Vec<Point> =
+                mesh.cell(k).nodes.iter().map(|&i| nodes.points[i as usize]).collect();
+            let (w, h) = (p[2][0] - p[0][0], p[6][1] - p[0][1]);
+            assert!(w > 0.0 && h > 0.0);
+            assert!((p[4][0] - p[0][0] - 0.5 * w).abs() < 1e-15);
+            assert!((p[4][1] - p[0][1] - 0.5 * h).abs() < 1e-15);
+            area += w * h;
+        }
+        assert!((area - 8.0).abs() < 1e-12);
+        // Bottom edge: 6 element sides, 13 nodes tagged.
         assert_eq!(mesh.boundary_segments(&domain, &nodes, 0).len(), 6);
         assert_eq!((0..nodes.len()).filter(|&i| nodes.edges[i].contains(0)).count(), 13);
     }

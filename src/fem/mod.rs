@@ -115,8 +115,9 @@ pub enum FemError {
     },
 }
 
-/// The mesh of `problem`'s rectangle at element size `nodes.spacing`, or of its Gmsh body's
-/// elements (`nodes.from = "mesh"`), and its nodes.
+/// The mesh of `problem`'s rectangle at element size `nodes.spacing` (graded by its
+/// refinement regions, [`Mesh::graded`], when it has any: the adaptive loop's), or of its
+/// Gmsh body's elements (`nodes.from = "mesh"`), and its nodes.
 ///
 /// # Errors
 /// [`FemError::NotRectangle`] or [`FemError::NotStructured`] for a problem the FE cannot mesh.
@@ -132,7 +133,10 @@ pub fn mesh(problem: &Problem) -> Result<(Mesh, Nodes), FemError> {
     if problem.layout != Layout::Structured {
         return Err(FemError::NotStructured { layout: format!("{:?}", problem.layout) });
     }
-    let mesh = Mesh::rectangle(x, y, problem.node_spacing);
+    let mesh = match problem.refinement.is_empty() {
+        true => Mesh::rectangle(x, y, problem.node_spacing),
+        false => Mesh::graded(x, y, problem.node_spacing, &problem.refinement.boxes),
+    };
     let nodes = mesh.nodes(&problem.domain);
     Ok((mesh, nodes))
 }

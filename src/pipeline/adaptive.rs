@@ -14,6 +14,11 @@
 //!   set; the contact marks of each pair's transition candidates are carried to an elastic
 //!   target's contact edge at their paired points ([`paired_marks`]), so that the target
 //!   refines where the candidate edge opens and closes. `max_nodes` counts every body.
+//! - **FE bodies** (`method = "fem"`, `adaptive/fem.rs`): the same loop on elements — a
+//!   recovery estimate per element (whatever `indicator`), Dörfler marks on elements, the
+//!   contact marks' nodes carried to the elements that hold them, and each marked element a
+//!   refinement region that the graded tensor-product grid meets by halving its column and
+//!   row (`fem::Mesh::graded`: no hanging nodes). A Gmsh mesh is refused (no remesher).
 
 use crate::error::Error;
 use crate::geometry::{Domain, Point};
@@ -23,17 +28,18 @@ use crate::nodes::{self, Nodes};
 use crate::post::summary::{
     AdaptiveBodyStep, AdaptivePairStep, AdaptiveStep, AdaptiveSummary, OnsetEstimate,
 };
-use crate::problem::{Adaptive, ContactTarget, Indicator, Problem, Refinement};
+use crate::problem::{Adaptive, ContactTarget, Indicator, Method, Problem, Refinement};
 use crate::progress::Progress;
 use crate::solution::{ContactSolution, Solution};
 
+mod fem;
 mod scene;
 use scene::Solved;
 
 /// An error estimate from one solution.
 #[derive(Clone, Debug)]
 pub struct Estimate {
-    /// `η_I²` per node.
+    /// `η_I²` per node (MFVM), or `η_e²` per element (FE).
     pub node: Vec<f64>,
     /// The relative global estimate `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`.
     pub relative: f64,
@@ -231,10 +237,14 @@ fn refuse(problem: &Problem, reason: &str) -> Result<(), Error> {
     .into())
 }
 
-/// What the loop needs of a body: MFVM on a domain without holes.
+/// What the loop needs of a body: a domain without holes; with the FE, not a Gmsh mesh
+/// (the loop regenerates the graded grid of a rectangle and has no remesher).
 fn check_body(problem: &Problem) -> Result<(), Error> {
-    if problem.discretisation.method != crate::problem::Method::Mfvm {
-        return refuse(problem, "adaptive refinement needs method = \"mfvm\"");
+    if problem.discretisation.method == Method::Fem && problem.mesh_nodes.is_some() {
+        return refuse(
+            problem,
+            "adaptive refinement of a Gmsh mesh needs a remesher, which the FE path does not have; refine the mesh in Gmsh, or use method = \"mfvm\"",
+        );
     }
     if problem.domain.has_holes() {
         return refuse(problem, "adaptive refinement is not implemented for domains with holes");
@@ -310,7 +320,7 @@ fn marks(estimate: &Estimate, fraction: f64, contact: Vec<usize>) -> (Vec<usize>
 /// combined `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`, and `max_nodes` counts every node set.
 ///
 /// # Errors
-/// [`Error::Problem`] for the FE method, a domain with holes (what `[refinement]`'s
+/// [`Error::Problem`] for a Gmsh FE body, a domain with holes (what `[refinement]`'s
 /// validation refuses) or a curved target edge of an elastic pair (what the contact's
 /// validation refuses); any stage's error of any solve.
 pub fn solve_adaptive(
@@ -345,7 +355,10 @@ pub fn solve_adaptive(
         let estimates: Vec<Estimate> = (0..solved.len())
             .map(|k| {
                 let (p, m, s) = solved.body(k);
-                estimate(p, m, s, adaptive.indicator)
+                match fem::mesh_of(m) {
+                    Some(mesh) => fem::estimate(p, mesh, s),
+                    None => estimate(p, m, s, adaptive.indicator),
+                }
             })
             .collect();
         observe(&solved.problem, &solved.models[0], &solved.solution, &estimates[0]);
@@ -381,20 +394,27 @@ pub fn solve_adaptive(
         let mut next = solved.problem.clone();
         for (k, part) in parts.iter().enumerate() {
             if let Some(body) = next.body_mut(k) {
-                *body = refined(body, &solved.models[k].nodes, &part.marked);
+                let model = &solved.models[k];
+                *body = match fem::mesh_of(model) {
+                    Some(_) => fem::refined(body, model, &part.marked),
+                    None => refined(body, &model.nodes, &part.marked),
+                };
             }
         }
         // The generator refuses only sets beyond its own size limits: too many as well. One
         // body's set known to exceed `max_nodes` from its quadtree's leaves is not generated,
         // and the set generated to count it is the next step's.
-        let fits = if next.body_count() == 1 {
+        let fits = if next.body_count() == 1 && next.discretisation.method == Method::Mfvm {
             counted = nodes::for_problem_at_most(&next, adaptive.max_nodes)
                 .ok()
                 .flatten()
                 .filter(|n| n.len() <= adaptive.max_nodes);
             counted.is_some()
         } else {
-            let count = |p: &Problem| nodes::for_problem(p).map_or(usize::MAX, |n| n.len());
+            let count = |p: &Problem| match p.discretisation.method {
+                Method::Mfvm => nodes::for_problem(p).map_or(usize::MAX, |n| n.len()),
+                Method::Fem => crate::fem::mesh(p).map_or(usize::MAX, |(m, _)| m.node_count()),
+            };
             let total = (0..next.body_count())
                 .filter_map(|k| next.body(k))
                 .fold(0usize, |sum, p| sum.saturating_add(count(p)));
@@ -503,7 +523,12 @@ fn body_marks(solved: &Solved, estimates: Vec<Estimate>, adaptive: &Adaptive) ->
     estimates
         .into_iter()
         .zip(contact)
-        .map(|(estimate, contact)| {
+        .zip(&solved.models)
+        .map(|((estimate, contact), model)| {
+            let contact = match fem::mesh_of(model) {
+                Some(mesh) => fem::elements_at(mesh, &contact),
+                None => contact,
+            };
             let (marked, marked_contact) = marks(&estimate, adaptive.fraction, contact);
             BodyPart { estimate, marked, marked_contact }
         })
@@ -607,7 +632,7 @@ mod tests {
     }
 
     #[test]
-    fn the_loop_refuses_what_validation_refuses() {
+    fn the_loop_refines_both_methods_and_refuses_a_gmsh_fe_body() {
         let text = |method: &str| {
             format!(
                 "[geometry]\nkind = \"rectangle\"\nx = [0.0, 4.0]\ny = [0.0, 1.0]\n[nodes]\nspacing = 0.25\n[material]\nyoung = 1000.0\npoisson = 0.3\nplane = \"stress\"\n[discretisation]\nmethod = \"{method}\"\n[[boundary]]\nedge = \"left\"\ndisplacement = {{ x = 0.0, y = 0.0 }}\n[[boundary]]\nedge = \"right\"\ntraction = {{ y = 1.0 }}"
@@ -621,17 +646,25 @@ mod tests {
             indicator: Indicator::Gradient,
             contact: true,
         };
-        let fem = Problem::from_toml(&text("fem")).unwrap();
         let mut silent = crate::Silent;
-        let Err(e) = solve_adaptive(&fem, &a, &mut silent, &mut |_, _, _, _| {}) else {
-            panic!("the FE path must be refused");
+        for method in ["mfvm", "fem"] {
+            let p = Problem::from_toml(&text(method)).unwrap();
+            let run = solve_adaptive(&p, &a, &mut silent, &mut |_, _, _, _| {}).unwrap();
+            assert_eq!(run.summary.steps.len(), 2, "{method}");
+            assert!(run.summary.steps[1].nodes > run.summary.steps[0].nodes, "{method}");
+            assert!(run.summary.onset.is_none());
+            assert_eq!(run.summary.stopped_by, "steps");
+        }
+        // A Gmsh FE body: the loop has no remesher.
+        let mut gmsh = Problem::from_toml(&text("fem")).unwrap();
+        gmsh.mesh_nodes = Some(std::sync::Arc::new(crate::problem::MeshNodes {
+            points: Vec::new(),
+            spacing: Vec::new(),
+            elements: Vec::new(),
+        }));
+        let Err(e) = solve_adaptive(&gmsh, &a, &mut silent, &mut |_, _, _, _| {}) else {
+            panic!("a Gmsh FE body must be refused");
         };
-        assert!(e.to_string().contains("`refinement`"), "{e}");
-        let mfvm = Problem::from_toml(&text("mfvm")).unwrap();
-        let run = solve_adaptive(&mfvm, &a, &mut silent, &mut |_, _, _, _| {}).unwrap();
-        assert_eq!(run.summary.steps.len(), 2);
-        assert!(run.summary.steps[1].nodes > run.summary.steps[0].nodes);
-        assert!(run.summary.onset.is_none());
-        assert_eq!(run.summary.stopped_by, "steps");
+        assert!(e.to_string().contains("`refinement`") && e.to_string().contains("remesher"));
     }
 }

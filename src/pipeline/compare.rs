@@ -91,15 +91,23 @@ impl std::fmt::Display for Comparison {
 /// their uniform mesh: without `[refinement]`'s loop, as without `[[nodes.refine]]`).
 fn with_method(problem: &Problem, method: Method) -> Problem {
     let mut p = problem.clone();
-    p.discretisation.method = method;
-    if method == Method::Fem {
+    let fem = method == Method::Fem;
+    if fem {
         p.adaptive = None;
     }
+    // The MFVM's `[[nodes.refine]]` regions would grade the FE's grid (`fem::Mesh::graded`).
+    let set = |body: &mut Problem| {
+        body.discretisation.method = method;
+        if fem {
+            body.refinement = Default::default();
+        }
+    };
+    set(&mut p);
     if let Some(second) = p.second_body.as_deref_mut() {
-        second.discretisation.method = method;
+        set(second);
     }
     for other in p.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()) {
-        other.discretisation.method = method;
+        set(other);
     }
     p
 }

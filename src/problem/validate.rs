@@ -754,7 +754,7 @@ fn node_layout(
 }
 
 /// `[refinement]` → the adaptive loop's parameters (any number of bodies, each without holes
-/// and not from Gmsh; MFVM only).
+/// and not from Gmsh; the MFVM, or the FE's graded grid of a rectangle).
 fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemError> {
     // Each body: a loop without holes, not from Gmsh. The candidates' bodies may be curved;
     // an elastic pair's target edge is straight (refused naming the contact's target edge
@@ -774,13 +774,6 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
                 "refinement",
                 value,
                 "adaptive refinement is implemented for geometry kind = \"rectangle\", \"polygon\", \"curves\" and \"disk\" without holes",
-            ));
-        }
-        if p.discretisation.method == Method::Fem {
-            return Err(invalid(
-                "refinement",
-                "(method = \"fem\")",
-                "the FE path meshes a uniform grid; adaptive refinement needs method = \"mfvm\"",
             ));
         }
     }
