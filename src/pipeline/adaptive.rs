@@ -23,6 +23,7 @@
 use crate::error::Error;
 use crate::geometry::{Domain, Point};
 use crate::lcp::ContactState;
+use crate::material::Hoop;
 use crate::model::Model;
 use crate::nodes::{self, Nodes};
 use crate::post::summary::{
@@ -52,8 +53,47 @@ fn energy(d: &crate::material::Constitutive, a: [f64; 3]) -> f64 {
     (0..3).map(|i| a[i] * (0..3).map(|j| d[i][j] * a[j]).sum::<f64>()).sum()
 }
 
+/// The energy density of a strain-like `(a_xx, a_yy, a_xy, a_θθ)`: `aᵀ D a` of the in-plane
+/// part, and in axisymmetry (`hoop`) the rest of `aᵀ D₄ a`,
+/// `2 λ a_θθ (a_rr + a_zz) + (λ + 2μ) a_θθ²` (docs/method.md §9.1).
+fn energy4(d: &crate::material::Constitutive, hoop: Option<Hoop>, a: [f64; 4]) -> f64 {
+    let plane = energy(d, [a[0], a[1], a[2]]);
+    match hoop {
+        None => plane,
+        Some(h) => plane + a[3] * (2.0 * h.coupling * (a[0] + a[1]) + h.diagonal * a[3]),
+    }
+}
+
+/// The mean radius `∫ r dA / A` of a cell (its centroid's `x`; positive for a cell touching
+/// the axis: a quarter of its width there).
+fn mean_radius(cell: &crate::weak_form::Cell) -> f64 {
+    let v = &cell.vertices;
+    let n = v.len();
+    let (mut moment, mut area) = (0.0, 0.0);
+    for k in 0..n {
+        let (a, b) = (v[k], v[(k + 1) % n]);
+        let cross = a[0] * b[1] - b[0] * a[1];
+        area += 0.5 * cross;
+        moment += (a[0] + b[0]) * cross / 6.0;
+    }
+    if area > 0.0 { moment / area } else { v.iter().map(|p| p[0]).sum::<f64>() / n as f64 }
+}
+
+/// The weight `A_I` of node `i`'s energy: `h_I²`, the cell area's stand-in, and in axisymmetry
+/// `h_I² r̄_I` with the cell's mean radius `r̄_I` (the energy per radian is `∫ σ:ε r dA`).
+fn weights(problem: &Problem, model: &Model) -> Vec<f64> {
+    let h = &model.nodes.spacing;
+    let cells = model.mfvm().map(|m| &m.cells).filter(|_| problem.material.is_axisymmetric());
+    match cells {
+        None => h.iter().map(|h| h * h).collect(),
+        Some(cells) => h.iter().zip(cells).map(|(h, c)| h * h * mean_radius(c)).collect(),
+    }
+}
+
 /// The error indicator of `indicator` at every node of an MFVM solution (docs/method.md
-/// §2.2). Needs the node shape functions with gradients (as the MFVM model has them).
+/// §2.2; in axisymmetry §9.7: the hoop strain `ε̂_θθ` is a fourth component, `D₄` the law and
+/// the cell weight carries the radius). Needs the node shape functions with gradients (as the
+/// MFVM model has them).
 pub fn estimate(
     problem: &Problem,
     model: &Model,
@@ -61,33 +101,42 @@ pub fn estimate(
     indicator: Indicator,
 ) -> Estimate {
     let d = problem.material.constitutive();
-    let (shapes, eps, h) = (&model.node_shapes, &solution.strain, &model.nodes.spacing);
+    let hoop = problem.material.hoop();
+    let (shapes, h) = (&model.node_shapes, &model.nodes.spacing);
+    // The strains with the hoop component (zero in plane stress and strain).
+    let eps: Vec<[f64; 4]> = solution
+        .strain
+        .iter()
+        .enumerate()
+        .map(|(i, e)| [e[0], e[1], e[2], solution.hoop.get(i).map_or(0.0, |t| t[0])])
+        .collect();
+    let weight = weights(problem, model);
     let mut node = Vec::with_capacity(eps.len());
     let mut norm = 0.0;
     for (i, e) in eps.iter().enumerate() {
-        let area = h[i] * h[i];
-        norm += area * energy(&d, *e);
+        let area = weight[i];
+        norm += area * energy4(&d, hoop, *e);
         let support = shapes.support(i);
         let eta2 = match indicator {
             Indicator::Recovery => {
-                let mut s = [0.0; 3];
+                let mut s = [0.0; 4];
                 for (&j, &phi) in support.iter().zip(shapes.phi(i)) {
-                    for c in 0..3 {
+                    for c in 0..4 {
                         s[c] += phi * eps[j as usize][c];
                     }
                 }
-                area * energy(&d, [s[0] - e[0], s[1] - e[1], s[2] - e[2]])
+                area * energy4(&d, hoop, [s[0] - e[0], s[1] - e[1], s[2] - e[2], s[3] - e[3]])
             }
             Indicator::Gradient => {
                 let (dx, dy) = shapes.grad(i);
-                let (mut gx, mut gy) = ([0.0; 3], [0.0; 3]);
+                let (mut gx, mut gy) = ([0.0; 4], [0.0; 4]);
                 for ((&j, &a), &b) in support.iter().zip(dx).zip(dy) {
-                    for c in 0..3 {
+                    for c in 0..4 {
                         gx[c] += a * eps[j as usize][c];
                         gy[c] += b * eps[j as usize][c];
                     }
                 }
-                area * area * (energy(&d, gx) + energy(&d, gy))
+                area * (h[i] * h[i]) * (energy4(&d, hoop, gx) + energy4(&d, hoop, gy))
             }
         };
         node.push(eta2);

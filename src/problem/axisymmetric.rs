@@ -77,9 +77,9 @@ pub fn axis_conditions(
 /// obstacles (a line: a flat or a cone; a circle: a sphere or a torus) and against each other
 /// (a two-body `[contact]`, `[[body]]`/`[[contact]]` scenes), with friction and load steps,
 /// are solved: their contact candidates are rings (`contact::rings`); a body of several may be
-/// held along the axis by contact alone. Refused: a scene mixing axisymmetric and plane
-/// bodies, adaptive refinement; the obstacles are surfaces of
-/// revolution and move (or are pressed) along the axis only, and each step's conditions on
+/// held along the axis by contact alone; `[refinement]` refines them adaptively (the estimate
+/// weighted by the radius, with the hoop strain). Refused: a scene mixing axisymmetric and
+/// plane bodies; the obstacles are surfaces of revolution and move (or are pressed) along the axis only, and each step's conditions on
 /// the axis obey [`axis_conditions`].
 ///
 /// # Errors
@@ -97,13 +97,6 @@ pub fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
             &format!("{}material.plane", prefix(k)),
             format!("body `{}` is not axisymmetric", bodies[k].name),
             "bodies in contact with an axisymmetric body must be axisymmetric too (a body of revolution cannot touch a prism): give every body plane = \"axisymmetric\", or none",
-        ));
-    }
-    if problem.adaptive.is_some() {
-        return Err(invalid(
-            "refinement",
-            "(given)",
-            "adaptive refinement is not implemented for axisymmetric bodies yet (material.plane = \"axisymmetric\" solves bodies under displacement conditions and loads, in contact with rigid obstacles or each other, with friction and load steps); remove it or use plane = \"strain\" or \"stress\"",
         ));
     }
     for (b, body) in bodies.iter().enumerate() {
@@ -254,10 +247,14 @@ mod tests {
     }
 
     #[test]
-    fn refinement_is_refused_with_a_remedy() {
+    fn refinement_is_accepted_for_one_body_and_a_pair() {
         let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
         let adaptive = format!("{contact}\n[refinement]\nsteps = 2");
-        let e = refusal(&file("[0.0, 1.0]", &adaptive));
-        assert!(e.contains("refinement") && e.contains("not implemented for axisymmetric"), "{e}");
+        let p = Problem::from_toml(&file("[0.0, 1.0]", &adaptive)).expect("valid");
+        assert_eq!(p.adaptive.map(|a| a.steps), Some(2));
+        let held = "{ edge = \"bottom\", displacement = { y = 0.0 } }";
+        let p = Problem::from_toml(&format!("{}\n[refinement]\n", pair("axisymmetric", held)))
+            .expect("valid");
+        assert!(p.adaptive.is_some() && p.second_body.is_some());
     }
 }

@@ -129,7 +129,7 @@ fn sphere_mfvm(spacing: f64, solver: &str) -> Problem {
 
 /// The loading, the axis and the contact of the Hertz sphere (the axis edge is made a radial
 /// roller by validation).
-const CONDITIONS: &str = r#"
+pub(super) const CONDITIONS: &str = r#"
     [[boundary]]
     edge = "top"
     displacement = { y = -0.015 }
@@ -141,7 +141,7 @@ const CONDITIONS: &str = r#"
 /// The Hertz sphere by FE on the Gmsh mesh `hertz_cylinder_<level>.msh` (9-node
 /// quadrilaterals and a few 6-node triangles, curved sides; element size 0.04, 0.02, 0.01
 /// along the arc, so node spacing 0.02, 0.01, 0.005 there).
-fn sphere_fem(level: usize, solver: &str) -> Problem {
+pub(super) fn sphere_fem(level: usize, solver: &str) -> Problem {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fem_meshes");
     let file = dir.join(format!("hertz_cylinder_{level}.msh"));
     Problem::from_toml(&format!(

@@ -47,7 +47,7 @@ fn cylinders(layout: &str, method: &str, solver: &str, scene: bool) -> Problem {
 }
 
 /// The TOML of [`cylinders`] (the contact table last).
-fn cylinders_text(layout: &str, method: &str, solver: &str, scene: bool) -> String {
+pub(super) fn cylinders_text(layout: &str, method: &str, solver: &str, scene: bool) -> String {
     let contact = match scene {
         false => {
             format!("[contact]\nedge = \"bottom\"\ntarget_edge = \"top\"\nsolver = \"{solver}\"")
