@@ -186,39 +186,18 @@ pub fn solve_bodies(
     progress: &mut dyn Progress,
     lemke: &lcp::LemkeParams,
 ) -> Result<(Model, Vec<Model>, Solution), Error> {
-    let several: &Multibody = match &problem.multibody {
-        Some(m) if m.bodies.len() == others.len() => m,
-        _ => {
-            return Err(ProblemError::Invalid {
-                field: "body".into(),
-                value: format!("{} models", 1 + others.len()),
-                reason: "solve_bodies needs a problem with several bodies or contact pairs and one model per body".into(),
-            }
-            .into());
-        }
-    };
+    let several = multibody_of(problem, others.len())?;
     let mut clock = Clock::new(progress, std::mem::take(&mut model.timings));
     let problems: Vec<&Problem> = std::iter::once(problem).chain(several.bodies.iter()).collect();
+    let pairs = &several.pairs;
     // Friction or load steps: the load path (docs/method.md §8) with each body's step ends,
     // the models' own load and right-hand side those of the last step.
-    let pairs = &several.pairs;
     let on_path = !problem.steps.is_empty() || pairs.iter().any(|p| p.spec.friction > 0.0);
-    let mut steps: Vec<Vec<StepEnd>> = Vec::new();
-    if on_path {
-        for (p, m) in problems.iter().zip(std::iter::once(&mut model).chain(others.iter_mut())) {
-            let ends = if p.steps.is_empty() {
-                // μ per pair is read from the pairs (`path::friction_per_step`).
-                vec![StepEnd::whole(m, 0.0)]
-            } else {
-                clock.run("load_steps", || step_ends(p, m))?
-            };
-            if let Some(last) = ends.last() {
-                m.system.load.clone_from(&last.load);
-                m.system.rhs.clone_from(&last.rhs);
-            }
-            steps.push(ends);
-        }
-    }
+    let steps = if on_path {
+        path_steps(&problems, &mut model, &mut others, &mut clock)?
+    } else {
+        Vec::new()
+    };
     let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
     let found = clock.run("contact_candidates", || {
         pairs
@@ -226,96 +205,198 @@ pub fn solve_bodies(
             .map(|pair| pair_candidates(pair, &problems, &models))
             .collect::<Result<Vec<_>, contact::ContactError>>()
     })?;
-    // Global candidate numbering: pair k's candidates follow pair k − 1's.
-    let mut offsets = vec![0];
-    for f in &found {
-        offsets.push(offsets.last().copied().unwrap_or(0) + f.candidates.len());
+    let numbering = Numbering::new(pairs, &found, problems.len());
+    let held = held_bodies(&problems, &models, pairs, &found, &numbering.operators)
+        .map_err(lcp::LcpError::from)?;
+    let scene = path::Scene {
+        problem,
+        pairs,
+        found: &found,
+        offsets: &numbering.offsets,
+        operators: &numbering.operators,
+        initial_gap: &numbering.initial_gap,
+        moved: &numbering.moved,
+        steps: &steps,
+    };
+    let ((solved, frictions, load_driven), fallback_from) =
+        solve_scene(&scene, &models, &held, on_path, lemke, &mut clock)?;
+    let Solved { result, free_gap, condensed, warning, search, displacements, record } = solved;
+    let rigid = held_modes(&held, &search, (&problems, &models), &result, &free_gap)?;
+    // The pin's value is the translation found, so that the system each solution answers
+    // (its residual, its reactions) is the one solved.
+    drop(models);
+    for (b, r) in &rigid {
+        super::set_pin(if *b == 0 { &mut model } else { &mut others[*b - 1] }, r);
     }
-    // Each body's operator over the candidates that touch it, and their global indices.
-    let normal_ops: Vec<_> =
-        found.iter().map(|f| (&f.candidates.operator, f.target.as_ref())).collect();
-    let operators: Vec<Option<(BodyOperator, Vec<usize>)>> =
-        (0..problems.len()).map(|b| body_operator(b, pairs, &normal_ops, &offsets)).collect();
-    let initial_gap: Vec<f64> =
-        found.iter().flat_map(|f| f.candidates.initial_gap.iter().copied()).collect();
-    // The candidates a step's obstacle motion or force moves: those of the pairs against
-    // rigid obstacles, which move together (docs/method.md §4.6).
-    let moved: Vec<bool> = pairs
-        .iter()
-        .zip(&found)
-        .flat_map(|(p, f)| std::iter::repeat_n(p.target_body.is_none(), f.candidates.len()))
-        .collect();
-    let held =
-        held_bodies(&problems, &models, pairs, &found, &operators).map_err(lcp::LcpError::from)?;
+    let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
+    // Lemke: one solve per body with the forces of the pairs that touch it; the active set:
+    // the displacements of its final closed set (as for one or two bodies).
+    let u = match displacements {
+        Some(u) => u,
+        None => body_displacements(&models, &numbering.operators, &result, &mut clock)?,
+    };
+    let answer = PairAnswer { result: &result, free_gap: &free_gap, load_driven, frictions };
+    let contacts = pair_solutions(problem, pairs, found, &numbering, (&models, &u), answer);
+    let mut solutions =
+        clock.run("recovery", || recover_bodies(&problems, &models, pairs, &contacts, u));
+    let rest = solutions.split_off(1);
+    let mut solution = solutions.pop().expect("the first body's solution");
+    solution.multibody = Some(Box::new(MultibodySolution {
+        bodies: rest,
+        pairs: contacts,
+        condensed,
+        lcp: result,
+        active_set: record,
+        warning,
+        held: rigid,
+        fallback_from,
+    }));
+    solution.timings = clock.timings.clone();
+    model.timings = clock.timings;
+    finite(solution).map(|s| (model, others, s))
+}
+
+/// `problem`'s several bodies and pairs, when `others` holds one model per further body.
+fn multibody_of(problem: &Problem, others: usize) -> Result<&Multibody, Error> {
+    match &problem.multibody {
+        Some(m) if m.bodies.len() == others => Ok(m),
+        _ => Err(ProblemError::Invalid {
+            field: "body".into(),
+            value: format!("{} models", 1 + others),
+            reason: "solve_bodies needs a problem with several bodies or contact pairs and one model per body".into(),
+        }
+        .into()),
+    }
+}
+
+/// Each body's step ends on the load path; each model's load and right-hand side become those
+/// of its last step.
+fn path_steps(
+    problems: &[&Problem],
+    model: &mut Model,
+    others: &mut [Model],
+    clock: &mut Clock<'_>,
+) -> Result<Vec<Vec<StepEnd>>, Error> {
+    let mut steps = Vec::with_capacity(problems.len());
+    for (p, m) in problems.iter().zip(std::iter::once(model).chain(others.iter_mut())) {
+        let ends = if p.steps.is_empty() {
+            // μ per pair is read from the pairs (`path::friction_per_step`).
+            vec![StepEnd::whole(m, 0.0)]
+        } else {
+            clock.run("load_steps", || step_ends(p, m))?
+        };
+        if let Some(last) = ends.last() {
+            m.system.load.clone_from(&last.load);
+            m.system.rhs.clone_from(&last.rhs);
+        }
+        steps.push(ends);
+    }
+    Ok(steps)
+}
+
+/// The candidates of all pairs in one numbering.
+struct Numbering {
+    /// Pair `k`'s candidates are `offsets[k]..offsets[k + 1]`.
+    offsets: Vec<usize>,
+    /// Each body's operator over the candidates that touch it, and their global indices.
+    operators: Vec<Option<(BodyOperator, Vec<usize>)>>,
+    initial_gap: Vec<f64>,
+    /// The candidates a step's obstacle motion or force moves: those of the pairs against
+    /// rigid obstacles, which move together (docs/method.md §4.6).
+    moved: Vec<bool>,
+}
+
+impl Numbering {
+    fn new(pairs: &[ContactPair], found: &[PairCandidates], bodies: usize) -> Self {
+        // Global candidate numbering: pair k's candidates follow pair k − 1's.
+        let mut offsets = vec![0];
+        for f in found {
+            offsets.push(offsets.last().copied().unwrap_or(0) + f.candidates.len());
+        }
+        let normal_ops: Vec<_> =
+            found.iter().map(|f| (&f.candidates.operator, f.target.as_ref())).collect();
+        let operators =
+            (0..bodies).map(|b| body_operator(b, pairs, &normal_ops, &offsets)).collect();
+        let initial_gap =
+            found.iter().flat_map(|f| f.candidates.initial_gap.iter().copied()).collect();
+        let moved = pairs
+            .iter()
+            .zip(found)
+            .flat_map(|(p, f)| std::iter::repeat_n(p.target_body.is_none(), f.candidates.len()))
+            .collect();
+        Self { offsets, operators, initial_gap, moved }
+    }
+}
+
+/// The LCP over all pairs, by the route the scene takes: the load path (condensed or sparse)
+/// with friction or steps; else the active set when a pair asks for it, or Lemke, with
+/// `"auto"`'s fallback to the active set when Lemke fails numerically. Also the frictional
+/// records, a force-driven obstacle's record and the fallback's reason.
+fn solve_scene(
+    scene: &path::Scene<'_>,
+    models: &[&Model],
+    held: &[Held],
+    on_path: bool,
+    lemke: &lcp::LemkeParams,
+    clock: &mut Clock<'_>,
+) -> Result<(path::OnPath, Option<String>), Error> {
+    let (pairs, initial_gap) = (scene.pairs, scene.initial_gap);
     // `contact[k].solver = "active_set"` on any pair (validated: none says "lemke"): the
     // sparse system of all bodies and pairs, no M (docs/method.md §5.1).
     let active_set = pairs.iter().any(|p| p.spec.solver == ContactSolver::ActiveSet);
-    let (mut frictions, mut load_driven) = (Vec::new(), None);
-    let mut fallback_from = None;
-    let solved = if on_path {
-        let scene = path::Scene {
-            problem,
-            pairs,
-            found: &found,
-            offsets: &offsets,
-            operators: &operators,
-            initial_gap: &initial_gap,
-            moved: &moved,
-            steps: &steps,
-        };
+    if on_path {
         // The sparse system when a pair asks for the active set, or "auto" on every pair
         // from the two-body threshold of all candidates on.
         let sparse = active_set
             || pairs.iter().all(|p| p.spec.solver.is_active_set_frictional_pair(initial_gap.len()));
-        let (solved, f, l) = if sparse {
-            sparse_path::solve(&scene, &models, &held, &mut clock)?
+        let on = if sparse {
+            sparse_path::solve(scene, models, held, clock)?
         } else {
-            path::solve(&scene, &models, &held, &mut clock)?
+            path::solve(scene, models, held, clock)?
         };
-        (frictions, load_driven) = (f, l);
-        solved
-    } else if active_set {
-        solve_active_set(&models, pairs, &found, &initial_gap, &held, &mut clock)?
-    } else {
-        let answer = solve_lemke(
-            problem,
-            &models,
-            pairs,
-            &operators,
-            &initial_gap,
-            &held,
-            lemke,
-            &mut clock,
-        );
-        // Lemke failed numerically: `"auto"` on every pair hands the problem to the
-        // active-set method (docs/method.md §5.1) and records why, as for one pair.
-        let auto = pairs.iter().all(|p| p.spec.solver == ContactSolver::Auto);
-        match answer {
-            Err(Error::LemkeRefused(mut refusal)) if auto => {
-                match solve_active_set(&models, pairs, &found, &initial_gap, &held, &mut clock) {
-                    Ok(solved) => {
-                        fallback_from = Some(refusal.diagnosis_text());
-                        solved
-                    }
-                    Err(e) => {
-                        refusal.active_set_failure = Some(e.to_string());
-                        return Err(Error::LemkeRefused(refusal));
-                    }
+        return Ok((on, None));
+    }
+    let found = scene.found;
+    if active_set {
+        let solved = solve_active_set(models, pairs, found, initial_gap, held, clock)?;
+        return Ok(((solved, Vec::new(), None), None));
+    }
+    let answer =
+        solve_lemke(scene.problem, models, pairs, scene.operators, initial_gap, held, lemke, clock);
+    // Lemke failed numerically: `"auto"` on every pair hands the problem to the
+    // active-set method (docs/method.md §5.1) and records why, as for one pair.
+    let auto = pairs.iter().all(|p| p.spec.solver == ContactSolver::Auto);
+    match answer {
+        Err(Error::LemkeRefused(mut refusal)) if auto => {
+            match solve_active_set(models, pairs, found, initial_gap, held, clock) {
+                Ok(solved) => Ok(((solved, Vec::new(), None), Some(refusal.diagnosis_text()))),
+                Err(e) => {
+                    refusal.active_set_failure = Some(e.to_string());
+                    Err(Error::LemkeRefused(refusal))
                 }
             }
-            other => other?,
         }
-    };
-    let Solved { result, free_gap, condensed, warning, search, displacements, record } = solved;
-    // The bodies held by the contact alone (docs/method.md §4.7): their translations found.
+        other => Ok(((other?, Vec::new(), None), None)),
+    }
+}
+
+/// The bodies held by the contact alone (docs/method.md §4.7): each one's translation found,
+/// after checking that the contact determines it.
+fn held_modes(
+    held: &[Held],
+    search: &[(f64, usize)],
+    (problems, models): (&[&Problem], &[&Model]),
+    result: &lcp::LcpSolution,
+    free_gap: &[f64],
+) -> Result<Vec<(usize, solution::RigidMode)>, Error> {
     let mut rigid = Vec::with_capacity(held.len());
-    for ((b, pin, along, load), &(displacement, evaluations)) in held.iter().zip(&search) {
+    for ((b, pin, along, load), &(displacement, evaluations)) in held.iter().zip(search) {
         super::load_path::check_determined(
             (&problems[*b].name, pin.name()),
             *load,
             along,
-            &result,
-            &free_gap,
+            result,
+            free_gap,
         )?;
         let mut translation = [0.0; 2];
         translation[pin.axis as usize] = displacement;
@@ -329,35 +410,54 @@ pub fn solve_bodies(
         };
         rigid.push((*b, mode));
     }
-    // The pin's value is the translation found, so that the system each solution answers
-    // (its residual, its reactions) is the one solved.
-    drop(models);
-    for (b, r) in &rigid {
-        super::set_pin(if *b == 0 { &mut model } else { &mut others[*b - 1] }, r);
-    }
-    let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
-    // Lemke: one solve per body with the forces of the pairs that touch it; the active set:
-    // the displacements of its final closed set (as for one or two bodies).
-    let u = match displacements {
-        Some(u) => u,
-        None => {
-            let mut u = Vec::with_capacity(problems.len());
-            for (b, op) in operators.iter().enumerate() {
-                let mut rhs = models[b].system.rhs.clone();
-                if let Some((op, index)) = op {
-                    let forces: Vec<f64> = index.iter().map(|&g| result.z[g]).collect();
-                    op.add_forces(&forces, &mut rhs);
-                }
-                u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
-            }
-            u
+    Ok(rigid)
+}
+
+/// Each body's displacements from one solve with the contact forces of the pairs that touch
+/// it (Lemke's answer).
+fn body_displacements(
+    models: &[&Model],
+    operators: &[Option<(BodyOperator, Vec<usize>)>],
+    result: &lcp::LcpSolution,
+    clock: &mut Clock<'_>,
+) -> Result<Vec<Vec<f64>>, Error> {
+    let mut u = Vec::with_capacity(models.len());
+    for (b, op) in operators.iter().enumerate() {
+        let mut rhs = models[b].system.rhs.clone();
+        if let Some((op, index)) = op {
+            let forces: Vec<f64> = index.iter().map(|&g| result.z[g]).collect();
+            op.add_forces(&forces, &mut rhs);
         }
-    };
+        u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
+    }
+    Ok(u)
+}
+
+/// What the LCP gave that every pair's record shares.
+struct PairAnswer<'a> {
+    result: &'a lcp::LcpSolution,
+    free_gap: &'a [f64],
+    load_driven: Option<solution::LoadDriven>,
+    /// One frictional record per pair (empty when frictionless).
+    frictions: Vec<solution::FrictionContact>,
+}
+
+/// Each pair's contact solution: its share of the answer, its gaps from the final
+/// displacements (the rigid obstacles where the last step or the force search left them).
+fn pair_solutions(
+    problem: &Problem,
+    pairs: &[ContactPair],
+    found: Vec<PairCandidates>,
+    numbering: &Numbering,
+    (models, u): (&[&Model], &[Vec<f64>]),
+    answer: PairAnswer<'_>,
+) -> Vec<ContactSolution> {
+    let PairAnswer { result, free_gap, load_driven, frictions } = answer;
     // The default gap tolerance (docs/method.md §6) from all pairs' gaps: one pair's own
     // contact-free gaps may all vanish (an edge that a rigid motion keeps in place).
     let max_abs = |v: &[f64]| v.iter().fold(0.0f64, |m, g| m.max(g.abs()));
     let tolerance =
-        (1e-5 * max_abs(&initial_gap) + 1e-12 * max_abs(&free_gap)).max(f64::MIN_POSITIVE);
+        (1e-5 * max_abs(&numbering.initial_gap) + 1e-12 * max_abs(free_gap)).max(f64::MIN_POSITIVE);
     let mut frictions = frictions.into_iter();
     // Where the last step left the rigid obstacles (or the force search put them).
     let obstacle = load_driven
@@ -365,7 +465,8 @@ pub fn solve_bodies(
         .map_or(problem.steps.last().map_or([0.0, 0.0], |s| s.obstacle_displacement), |l| {
             l.displacement
         });
-    let contacts: Vec<ContactSolution> = found
+    let offsets = &numbering.offsets;
+    found
         .into_iter()
         .zip(pairs)
         .enumerate()
@@ -408,50 +509,41 @@ pub fn solve_bodies(
             c.load_driven = load_driven.clone().filter(|_| rigid);
             c
         })
-        .collect();
-    let mut solutions = clock.run("recovery", || {
-        u.into_iter()
-            .enumerate()
-            .map(|(b, u_b)| {
-                let ops: Vec<(&BodyOperator, &[f64])> = pairs
-                    .iter()
-                    .zip(&contacts)
-                    .flat_map(|(pair, c)| {
-                        let own = (pair.body == b).then_some(&c.candidates.operator);
-                        let target = c.target.as_ref().filter(|_| pair.target_body == Some(b));
-                        let normal =
-                            own.into_iter().chain(target).map(|op| (op, c.lcp.z.as_slice()));
-                        // The tangential forces of a frictional pair on either body.
-                        let tangential = c.friction.iter().flat_map(move |f| {
-                            let own = (pair.body == b).then_some(&f.operator);
-                            let target =
-                                f.target_operator.as_ref().filter(|_| pair.target_body == Some(b));
-                            own.into_iter()
-                                .chain(target)
-                                .map(|op| (op, f.step.tangential.as_slice()))
-                        });
-                        normal.chain(tangential)
-                    })
-                    .collect();
-                solution::recover(problems[b], models[b], u_b, &ops)
-            })
-            .collect::<Vec<Solution>>()
-    });
-    let rest = solutions.split_off(1);
-    let mut solution = solutions.pop().expect("the first body's solution");
-    solution.multibody = Some(Box::new(MultibodySolution {
-        bodies: rest,
-        pairs: contacts,
-        condensed,
-        lcp: result,
-        active_set: record,
-        warning,
-        held: rigid,
-        fallback_from,
-    }));
-    solution.timings = clock.timings.clone();
-    model.timings = clock.timings;
-    finite(solution).map(|s| (model, others, s))
+        .collect()
+}
+
+/// Every body's solution from its displacements and the normal and tangential forces of the
+/// pairs that touch it (as candidate body or as target).
+fn recover_bodies(
+    problems: &[&Problem],
+    models: &[&Model],
+    pairs: &[ContactPair],
+    contacts: &[ContactSolution],
+    u: Vec<Vec<f64>>,
+) -> Vec<Solution> {
+    u.into_iter()
+        .enumerate()
+        .map(|(b, u_b)| {
+            let ops: Vec<(&BodyOperator, &[f64])> = pairs
+                .iter()
+                .zip(contacts)
+                .flat_map(|(pair, c)| {
+                    let own = (pair.body == b).then_some(&c.candidates.operator);
+                    let target = c.target.as_ref().filter(|_| pair.target_body == Some(b));
+                    let normal = own.into_iter().chain(target).map(|op| (op, c.lcp.z.as_slice()));
+                    // The tangential forces of a frictional pair on either body.
+                    let tangential = c.friction.iter().flat_map(move |f| {
+                        let own = (pair.body == b).then_some(&f.operator);
+                        let target =
+                            f.target_operator.as_ref().filter(|_| pair.target_body == Some(b));
+                        own.into_iter().chain(target).map(|op| (op, f.step.tangential.as_slice()))
+                    });
+                    normal.chain(tangential)
+                })
+                .collect();
+            solution::recover(problems[b], models[b], u_b, &ops)
+        })
+        .collect()
 }
 
 /// What the LCP over all pairs gave: the answer `z, w` over all candidates, the gaps without

@@ -4,6 +4,7 @@
 //! Every file is deterministic (fixed float formatting, sorted keys) except the `timings`
 //! field of `summary.json`.
 
+pub mod console;
 mod deformed;
 pub mod frames;
 pub mod history;
