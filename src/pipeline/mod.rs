@@ -554,66 +554,116 @@ fn solve_contact(
     lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let (candidates, target, paired_points, unpaired) =
-        clock.run("contact_candidates", || match (&spec.target, second) {
-            (ContactTarget::Obstacles, _) if problem.obstacles.is_empty() => {
-                // A library-built problem may name obstacles it does not have.
-                Err(contact::ContactError::MissingTarget)
-            }
-            (ContactTarget::Rigid(_) | ContactTarget::Obstacles, _) => {
-                let target = |x| {
-                    contact::rigid_target(problem, spec, x).expect("a rigid target has obstacles")
-                };
-                let c =
-                    contact::candidates_on(problem, model, spec.edge, &target, spec.condensation)?;
-                Ok((c, None, Vec::new(), 0))
-            }
-            (ContactTarget::Body { edge }, Some((p2, m2))) => {
-                let (c, op, paired, unpaired) =
-                    multibody::body_pair(problem, model, spec, (p2, m2, *edge))?;
-                Ok((c, Some(op), paired, unpaired))
-            }
-            (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
-        })?;
+    let found =
+        clock.run("contact_candidates", || find_candidates(problem, spec, model, second))?;
     // A rigid translation held by the contact alone takes the incremental path too: its
     // search (docs/method.md §4.7) lives there.
     let held =
         model.system.pinned.is_some() || second.is_some_and(|(_, m2)| m2.system.pinned.is_some());
     if spec.friction > 0.0 || steps.is_some() || held {
-        // MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
-        // models' loads in one increment.
-        let one = |m: &Model| vec![StepEnd::whole(m, spec.friction)];
-        let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
-        let target = match (target, second) {
-            (Some(op), Some((_, m2))) => Some(Target {
-                model: m2,
-                operator: op,
-                steps: steps.and_then(|s| s.get(1)).map_or_else(|| one(m2), Clone::clone),
-            }),
-            _ => None,
-        };
-        let active_set = match &target {
-            None => spec.solver.is_active_set_frictional(candidates.len()),
-            Some(_) => !held && spec.solver.is_active_set_frictional_pair(candidates.len()),
-        };
-        let (u1, u2, mut contact) = if active_set {
-            solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)?
-        } else {
-            solve_frictional(problem, spec, model, candidates, target, &steps1, clock)?
-        };
+        let Found { candidates, target, paired_points, unpaired } = found;
+        let on_path = (candidates, target, held);
+        let (u1, u2, mut contact) =
+            solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
         contact.paired_points = paired_points;
         contact.unpaired = unpaired;
         let second_gap = contact.target.as_ref().zip(u2.as_deref());
         contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
-    if spec.solver.is_active_set(candidates.len()) {
+    if spec.solver.is_active_set(found.candidates.len()) {
+        let Found { candidates, target, paired_points, unpaired } = found;
         let second = target.zip(second.map(|(_, m2)| m2));
         let (u1, u2, mut contact) = solve_active_set(spec, model, candidates, second, clock)?;
         contact.paired_points = paired_points;
         contact.unpaired = unpaired;
         return Ok((u1, u2, contact));
     }
+    solve_condensed_once(problem, spec, model, second, found, lemke, clock)
+}
+
+/// One pair's candidates before any solve: the target body's operator, the paired points
+/// and the number of candidates without a partner (two bodies).
+struct Found {
+    candidates: contact::Candidates,
+    target: Option<contact::BodyOperator>,
+    paired_points: Vec<geometry::Point>,
+    unpaired: usize,
+}
+
+/// The candidates of `spec`'s edge against its rigid obstacles or the second body's edge.
+fn find_candidates(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    second: Option<(&Problem, &Model)>,
+) -> Result<Found, contact::ContactError> {
+    match (&spec.target, second) {
+        (ContactTarget::Obstacles, _) if problem.obstacles.is_empty() => {
+            // A library-built problem may name obstacles it does not have.
+            Err(contact::ContactError::MissingTarget)
+        }
+        (ContactTarget::Rigid(_) | ContactTarget::Obstacles, _) => {
+            let target =
+                |x| contact::rigid_target(problem, spec, x).expect("a rigid target has obstacles");
+            let c = contact::candidates_on(problem, model, spec.edge, &target, spec.condensation)?;
+            Ok(Found { candidates: c, target: None, paired_points: Vec::new(), unpaired: 0 })
+        }
+        (ContactTarget::Body { edge }, Some((p2, m2))) => {
+            let (c, op, paired, unpaired) =
+                multibody::body_pair(problem, model, spec, (p2, m2, *edge))?;
+            Ok(Found { candidates: c, target: Some(op), paired_points: paired, unpaired })
+        }
+        (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
+    }
+}
+
+/// Friction, load steps or a held translation: the load path (docs/method.md §8), condensed
+/// or sparse, MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
+/// models' loads in one increment.
+fn solve_on_load_path(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    second: Option<(&Problem, &Model)>,
+    steps: Option<&[Vec<StepEnd>]>,
+    (candidates, target, held): (contact::Candidates, Option<contact::BodyOperator>, bool),
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let one = |m: &Model| vec![StepEnd::whole(m, spec.friction)];
+    let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
+    let target = match (target, second) {
+        (Some(op), Some((_, m2))) => Some(Target {
+            model: m2,
+            operator: op,
+            steps: steps.and_then(|s| s.get(1)).map_or_else(|| one(m2), Clone::clone),
+        }),
+        _ => None,
+    };
+    let active_set = match &target {
+        None => spec.solver.is_active_set_frictional(candidates.len()),
+        Some(_) => !held && spec.solver.is_active_set_frictional_pair(candidates.len()),
+    };
+    if active_set {
+        solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)
+    } else {
+        solve_frictional(problem, spec, model, candidates, target, &steps1, clock)
+    }
+}
+
+/// Frictionless contact in one step by Lemke on the condensed `M` (polished; a mixed-precision
+/// factorisation's gaps corrected), with `"auto"`'s fallback to the active set when Lemke
+/// fails numerically.
+fn solve_condensed_once(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &mut Model,
+    second: Option<(&Problem, &Model)>,
+    found: Found,
+    lemke: &lcp::LemkeParams,
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let Found { candidates, target, paired_points, unpaired } = found;
     let condensed = clock.run_counted("condensation", |progress| {
         let op = &candidates.operator;
         let mut parts = vec![contact::condense_model_observed(model, op, progress)?];
