@@ -1,7 +1,9 @@
 //! The result block the command line prints after its stage list, read from the run's
 //! summary (the numbers of `summary.json`, formatted for a terminal).
 
-use super::summary::{AdaptiveSummary, ContactSummary, LcpSummary, LoadDrivenSummary, Summary};
+use super::summary::{
+    AdaptiveSummary, ContactSummary, LcpSummary, LoadDrivenSummary, RigidModeSummary, Summary,
+};
 use std::fmt::{Formatter, Result};
 
 /// `summary` as the command line's result block, one line per fact (the caller adds the line
@@ -59,17 +61,7 @@ fn bodies(f: &mut Formatter<'_>, s: &Summary) -> Result {
             b.equilibrium_error
         )?;
         if let Some(r) = &b.rigid_mode {
-            writeln!(
-                f,
-                "    {} held by contact alone: the body translates by ({:.9e}, {:.9e}) (the point ({:.6}, {:.6})), load along it {:.6e} ({} LCP solves)",
-                r.mode,
-                r.translation[0],
-                r.translation[1],
-                r.pin_point[0],
-                r.pin_point[1],
-                r.load_along_mode,
-                r.lcp_solves
-            )?;
+            write_rigid_mode(f, "    ", "held by contact alone", r)?;
         }
     }
     Ok(())
@@ -151,17 +143,7 @@ fn contact(f: &mut Formatter<'_>, c: &ContactSummary, l: &LcpSummary) -> Result 
         write_load_driven(f, "  ", l)?;
     }
     if let Some(r) = &c.rigid_mode {
-        writeln!(
-            f,
-            "  {} held by the contact: the body translates by ({:.9e}, {:.9e}) (the point ({:.6}, {:.6})), load along it {:.6e} ({} LCP solves)",
-            r.mode,
-            r.translation[0],
-            r.translation[1],
-            r.pin_point[0],
-            r.pin_point[1],
-            r.load_along_mode,
-            r.lcp_solves
-        )?;
+        write_rigid_mode(f, "  ", "held by the contact", r)?;
     }
     if let (Some(mu), Some(tangential), Some([stick, slip])) =
         (c.friction_coefficient, c.total_tangential_force, c.stick_slip_counts)
@@ -251,5 +233,25 @@ fn write_load_driven(f: &mut Formatter<'_>, indent: &str, l: &LoadDrivenSummary)
         l.displacement_along_force,
         l.carried_force,
         l.lcp_solves
+    )
+}
+
+/// The console line of a translation held by the contact (docs/method.md §4.7).
+fn write_rigid_mode(
+    f: &mut Formatter<'_>,
+    indent: &str,
+    held: &str,
+    r: &RigidModeSummary,
+) -> Result {
+    writeln!(
+        f,
+        "{indent}{} {held}: the body translates by ({:.9e}, {:.9e}) (the point ({:.6}, {:.6})), load along it {:.6e} ({} LCP solves)",
+        r.mode,
+        r.translation[0],
+        r.translation[1],
+        r.pin_point[0],
+        r.pin_point[1],
+        r.load_along_mode,
+        r.lcp_solves
     )
 }
