@@ -242,167 +242,21 @@ impl<'a> Bodies<'a> {
         contact: Vec<PairParts<'a>>,
         initial_gap: &[f64],
     ) -> Result<Self, ActiveSetError> {
-        let mut offsets = vec![0];
-        for b in &bodies {
-            offsets.push(offsets.last().copied().unwrap_or(0) + b.matrix.n);
-        }
-        let mut starts = vec![0];
-        for pair in &contact {
-            let m = starts.last().copied().unwrap_or(0);
-            let bad = pair.body >= bodies.len()
-                || pair.target.is_some_and(|(t, op)| {
-                    t >= bodies.len() || t == pair.body || op.len() != pair.operator.len()
-                });
-            if bad {
-                return Err(ActiveSetError::Unsupported { candidate: m });
-            }
-            starts.push(m + pair.operator.len());
-        }
-        let m = starts.last().copied().unwrap_or(0);
-        if initial_gap.len() != m {
-            return Err(ActiveSetError::Unsupported { candidate: m.min(initial_gap.len()) });
-        }
-        // Each candidate's owner: one node of its body with a non-zero weight, no node
-        // owning two candidates (of any pair).
-        let mut owner_of = Vec::with_capacity(m);
-        let mut used: HashMap<(usize, u32), usize> = HashMap::new();
-        for (k, pair) in contact.iter().enumerate() {
-            for (c, owners) in pair.operator.owners.iter().enumerate() {
-                match owners.as_slice() {
-                    [(i, w)] if *w != 0.0 => match used.insert((pair.body, *i), k) {
-                        None => owner_of.push((*i as usize, *w)),
-                        // A corner node of two contact edges.
-                        Some(first) if first != k => {
-                            return Err(ActiveSetError::OwnerConflict {
-                                body: pair.body,
-                                node: *i as usize,
-                                pair: first,
-                                other: k,
-                                what: "owns a candidate of each (a corner node shared by two contact edges)",
-                            });
-                        }
-                        Some(_) => {
-                            return Err(ActiveSetError::Unsupported { candidate: starts[k] + c });
-                        }
-                    },
-                    _ => return Err(ActiveSetError::Unsupported { candidate: starts[k] + c }),
-                }
-            }
-        }
-        let mut wanted: HashMap<usize, Row> = HashMap::new();
-        for (k, pair) in contact.iter().enumerate() {
-            for &(i, _) in &owner_of[starts[k]..starts[k + 1]] {
-                let o = offsets[pair.body];
-                wanted.insert(o + dof(i, Axis::X), Vec::new());
-                wanted.insert(o + dof(i, Axis::Y), Vec::new());
-            }
-        }
-        for (b, body) in bodies.iter().enumerate() {
-            let (k, o) = (body.matrix, offsets[b]);
-            for col in 0..k.n {
-                for e in k.col_ptr[col]..k.col_ptr[col + 1] {
-                    if let Some(row) = wanted.get_mut(&(o + k.row_idx[e])) {
-                        row.push((o + col, k.values[e]));
-                    }
-                }
-            }
-        }
+        let (offsets, starts) = numbering(&bodies, &contact, initial_gap)?;
+        let m = initial_gap.len();
+        let owner_of = candidate_owners(&contact, &starts)?;
+        let wanted = owner_rows(&bodies, &contact, &offsets, &starts, &owner_of);
         let mut pairs = Vec::with_capacity(m);
         for (k, pair) in contact.iter().enumerate() {
-            let (op1, ob) = (pair.operator, offsets[pair.body]);
-            let mut sides = vec![(op1, ob)];
-            if let Some((t, op2)) = pair.target {
-                sides.push((op2, offsets[t]));
-            }
-            for c in 0..op1.len() {
-                let (i, w) = owner_of[starts[k] + c];
-                // The replaced row: the candidate's own larger normal component (the normals
-                // are the target edge's, the same for all on a straight edge).
-                let d1 = op1.direction(c);
-                let (a, b) = if d1[0].abs() >= d1[1].abs() {
-                    (Axis::X, Axis::Y)
-                } else {
-                    (Axis::Y, Axis::X)
-                };
-                let (na, ratio) = (d1[a as usize], d1[b as usize] / d1[a as usize]);
-                let (ra, rb) = (ob + dof(i, a), ob + dof(i, b));
-                let old_a = wanted[&ra].clone();
-                let old_b = wanted[&rb].clone();
-                let gap_row = pair_row(pair.scale, &sides, c);
-                let minus_old: Row = old_a.iter().map(|&(j, v)| (j, -v)).collect();
-                // Row a: the gap row instead of K_a. Row b and the target's force rows:
-                // multiples of K_a, one rank-one term `u K_aᵀ` (and `u f_a` on the right).
-                let wn = w * na;
-                let mut u: Vec<(usize, f64)> = Vec::new();
-                if ratio != 0.0 {
-                    u.push((rb, -ratio));
-                }
-                if let Some((t, op2)) = pair.target {
-                    let d2 = op2.direction(c);
-                    for &(j, w2) in &op2.owners[c] {
-                        for ax in Axis::BOTH {
-                            let v = -d2[ax as usize] * w2 / wn;
-                            if v != 0.0 {
-                                u.push((offsets[t] + dof(j as usize, ax), v));
-                            }
-                        }
-                    }
-                }
-                let mut us = vec![vec![(ra, 1.0)]];
-                let mut terms =
-                    vec![Term { u: 0, d: sum_rows(&gap_row, &minus_old), rhs: TermRhs::Gap }];
-                if !u.is_empty() {
-                    us.push(u);
-                    terms.push(Term { u: 1, d: old_a.clone(), rhs: TermRhs::Row(1.0, ra) });
-                }
-                let closed: Vec<usize> = (0..terms.len()).collect();
-                pairs.push(Pair {
-                    frictionless: (us.len(), terms.len()),
-                    us,
-                    terms,
-                    modes: vec![closed],
-                    rows: [old_a, old_b],
-                    dofs: [ra, rb],
-                    axes: [a, b],
-                    weight: w,
-                    wn,
-                    contact: (k, c),
-                    scale: pair.scale,
-                });
+            for c in 0..pair.operator.len() {
+                let owner = owner_of[starts[k] + c];
+                pairs.push(replaced_rows(pair, (k, c), owner, &offsets, &wanted));
             }
         }
-        // A node that owns a candidate and receives another pair's target forces: its
-        // removed row would hold two unknown forces.
-        let owned: HashMap<usize, usize> = pairs
-            .iter()
-            .enumerate()
-            .flat_map(|(c, p)| p.dofs.iter().map(move |&r| (r, c)))
-            .collect();
-        for p in &pairs {
-            let Some(targets) = p.us.get(1) else { continue };
-            for &(r, _) in targets.iter().filter(|&&(r, _)| r != p.dofs[1]) {
-                if let Some(&c) = owned.get(&r) {
-                    let body = offsets.partition_point(|&o| o <= r) - 1;
-                    return Err(ActiveSetError::OwnerConflict {
-                        body,
-                        node: (r - offsets[body]) / 2,
-                        pair: pairs[c].contact.0,
-                        other: p.contact.0,
-                        what: "owns a candidate of the first and receives the target forces of the second on the same rows (a body one node thick, or a corner node of the two edges)",
-                    });
-                }
-            }
-        }
-        let row_norm = |matrix: &SystemMatrix| {
-            let mut rows = vec![0.0_f64; matrix.n];
-            for (k, &r) in matrix.row_idx.iter().enumerate() {
-                rows[r] += matrix.values[k].abs();
-            }
-            rows.into_iter().fold(0.0, f64::max)
-        };
+        check_target_rows(&pairs, &offsets)?;
         let points =
             bodies.iter().map(|b| b.points).collect::<Option<Vec<_>>>().map(|all| all.concat());
-        let norm = bodies.iter().map(|b| row_norm(b.matrix)).fold(0.0, f64::max);
+        let norm = bodies.iter().map(|b| max_row_norm(b.matrix)).fold(0.0, f64::max);
         Ok(Self {
             rhs: bodies.iter().flat_map(|b| b.rhs.iter().copied()).collect(),
             bodies,
@@ -1274,4 +1128,205 @@ impl FrictionSystem for Bodies<'_> {
             .collect();
         Ok(reduced_blocks(&base, &columns, free, previous, &mu))
     }
+}
+
+/// Each body's first DOF in the stacked system, and each pair's first candidate (one past the
+/// last at the end).
+///
+/// # Errors
+/// [`ActiveSetError::Unsupported`] when a pair names a body out of range (or itself as its
+/// target), its operators disagree on the candidates, or `initial_gap` does not cover them.
+fn numbering(
+    bodies: &[BodyParts<'_>],
+    contact: &[PairParts<'_>],
+    initial_gap: &[f64],
+) -> Result<(Vec<usize>, Vec<usize>), ActiveSetError> {
+    let mut offsets = vec![0];
+    for b in bodies {
+        offsets.push(offsets.last().copied().unwrap_or(0) + b.matrix.n);
+    }
+    let mut starts = vec![0];
+    for pair in contact {
+        let m = starts.last().copied().unwrap_or(0);
+        let bad = pair.body >= bodies.len()
+            || pair.target.is_some_and(|(t, op)| {
+                t >= bodies.len() || t == pair.body || op.len() != pair.operator.len()
+            });
+        if bad {
+            return Err(ActiveSetError::Unsupported { candidate: m });
+        }
+        starts.push(m + pair.operator.len());
+    }
+    let m = starts.last().copied().unwrap_or(0);
+    if initial_gap.len() != m {
+        return Err(ActiveSetError::Unsupported { candidate: m.min(initial_gap.len()) });
+    }
+    Ok((offsets, starts))
+}
+
+/// Each candidate's owner: one node of its body with a non-zero weight, no node owning two
+/// candidates (of any pair).
+///
+/// # Errors
+/// [`ActiveSetError::OwnerConflict`] for a node owning candidates of two pairs,
+/// [`ActiveSetError::Unsupported`] for two of one pair or a force not on one node.
+fn candidate_owners(
+    contact: &[PairParts<'_>],
+    starts: &[usize],
+) -> Result<Vec<(usize, f64)>, ActiveSetError> {
+    let mut owner_of = Vec::with_capacity(starts.last().copied().unwrap_or(0));
+    let mut used: HashMap<(usize, u32), usize> = HashMap::new();
+    for (k, pair) in contact.iter().enumerate() {
+        for (c, owners) in pair.operator.owners.iter().enumerate() {
+            match owners.as_slice() {
+                [(i, w)] if *w != 0.0 => match used.insert((pair.body, *i), k) {
+                    None => owner_of.push((*i as usize, *w)),
+                    // A corner node of two contact edges.
+                    Some(first) if first != k => {
+                        return Err(ActiveSetError::OwnerConflict {
+                            body: pair.body,
+                            node: *i as usize,
+                            pair: first,
+                            other: k,
+                            what: "owns a candidate of each (a corner node shared by two contact edges)",
+                        });
+                    }
+                    Some(_) => {
+                        return Err(ActiveSetError::Unsupported { candidate: starts[k] + c });
+                    }
+                },
+                _ => return Err(ActiveSetError::Unsupported { candidate: starts[k] + c }),
+            }
+        }
+    }
+    Ok(owner_of)
+}
+
+/// The rows of `K` (stacked) at the owners' DOFs, which the contact rows replace.
+fn owner_rows(
+    bodies: &[BodyParts<'_>],
+    contact: &[PairParts<'_>],
+    offsets: &[usize],
+    starts: &[usize],
+    owner_of: &[(usize, f64)],
+) -> HashMap<usize, Row> {
+    let mut wanted: HashMap<usize, Row> = HashMap::new();
+    for (k, pair) in contact.iter().enumerate() {
+        for &(i, _) in &owner_of[starts[k]..starts[k + 1]] {
+            let o = offsets[pair.body];
+            wanted.insert(o + dof(i, Axis::X), Vec::new());
+            wanted.insert(o + dof(i, Axis::Y), Vec::new());
+        }
+    }
+    for (b, body) in bodies.iter().enumerate() {
+        let (k, o) = (body.matrix, offsets[b]);
+        for col in 0..k.n {
+            for e in k.col_ptr[col]..k.col_ptr[col + 1] {
+                if let Some(row) = wanted.get_mut(&(o + k.row_idx[e])) {
+                    row.push((o + col, k.values[e]));
+                }
+            }
+        }
+    }
+    wanted
+}
+
+/// Candidate `c` of pair `k`, owned by node `i` with weight `w`: its replaced row (the
+/// candidate's own larger normal component) becomes the gap row, and the other row and the
+/// target's force rows the rank-one terms that carry the removed row's force.
+fn replaced_rows(
+    pair: &PairParts<'_>,
+    (k, c): (usize, usize),
+    (i, w): (usize, f64),
+    offsets: &[usize],
+    wanted: &HashMap<usize, Row>,
+) -> Pair {
+    let (op1, ob) = (pair.operator, offsets[pair.body]);
+    let mut sides = vec![(op1, ob)];
+    if let Some((t, op2)) = pair.target {
+        sides.push((op2, offsets[t]));
+    }
+    // The replaced row: the candidate's own larger normal component (the normals are the
+    // target edge's, the same for all on a straight edge).
+    let d1 = op1.direction(c);
+    let (a, b) = if d1[0].abs() >= d1[1].abs() { (Axis::X, Axis::Y) } else { (Axis::Y, Axis::X) };
+    let (na, ratio) = (d1[a as usize], d1[b as usize] / d1[a as usize]);
+    let (ra, rb) = (ob + dof(i, a), ob + dof(i, b));
+    let old_a = wanted[&ra].clone();
+    let old_b = wanted[&rb].clone();
+    let gap_row = pair_row(pair.scale, &sides, c);
+    let minus_old: Row = old_a.iter().map(|&(j, v)| (j, -v)).collect();
+    // Row a: the gap row instead of K_a. Row b and the target's force rows: multiples of
+    // K_a, one rank-one term `u K_aᵀ` (and `u f_a` on the right).
+    let wn = w * na;
+    let mut u: Vec<(usize, f64)> = Vec::new();
+    if ratio != 0.0 {
+        u.push((rb, -ratio));
+    }
+    if let Some((t, op2)) = pair.target {
+        let d2 = op2.direction(c);
+        for &(j, w2) in &op2.owners[c] {
+            for ax in Axis::BOTH {
+                let v = -d2[ax as usize] * w2 / wn;
+                if v != 0.0 {
+                    u.push((offsets[t] + dof(j as usize, ax), v));
+                }
+            }
+        }
+    }
+    let mut us = vec![vec![(ra, 1.0)]];
+    let mut terms = vec![Term { u: 0, d: sum_rows(&gap_row, &minus_old), rhs: TermRhs::Gap }];
+    if !u.is_empty() {
+        us.push(u);
+        terms.push(Term { u: 1, d: old_a.clone(), rhs: TermRhs::Row(1.0, ra) });
+    }
+    let closed: Vec<usize> = (0..terms.len()).collect();
+    Pair {
+        frictionless: (us.len(), terms.len()),
+        us,
+        terms,
+        modes: vec![closed],
+        rows: [old_a, old_b],
+        dofs: [ra, rb],
+        axes: [a, b],
+        weight: w,
+        wn,
+        contact: (k, c),
+        scale: pair.scale,
+    }
+}
+
+/// A node that owns a candidate and receives another pair's target forces: its removed row
+/// would hold two unknown forces.
+///
+/// # Errors
+/// [`ActiveSetError::OwnerConflict`] naming the node and the two pairs.
+fn check_target_rows(pairs: &[Pair], offsets: &[usize]) -> Result<(), ActiveSetError> {
+    let owned: HashMap<usize, usize> =
+        pairs.iter().enumerate().flat_map(|(c, p)| p.dofs.iter().map(move |&r| (r, c))).collect();
+    for p in pairs {
+        let Some(targets) = p.us.get(1) else { continue };
+        for &(r, _) in targets.iter().filter(|&&(r, _)| r != p.dofs[1]) {
+            if let Some(&c) = owned.get(&r) {
+                let body = offsets.partition_point(|&o| o <= r) - 1;
+                return Err(ActiveSetError::OwnerConflict {
+                    body,
+                    node: (r - offsets[body]) / 2,
+                    pair: pairs[c].contact.0,
+                    other: p.contact.0,
+                    what: "owns a candidate of the first and receives the target forces of the second on the same rows (a body one node thick, or a corner node of the two edges)",
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The largest absolute row sum of `matrix`.
+fn max_row_norm(matrix: &SystemMatrix) -> f64 {
+    let mut rows = vec![0.0_f64; matrix.n];
+    for (k, &r) in matrix.row_idx.iter().enumerate() {
+        rows[r] += matrix.values[k].abs();
+    }
+    rows.into_iter().fold(0.0, f64::max)
 }
