@@ -388,6 +388,8 @@ fn discretise_all(
 
 /// Solves `problem` end to end (stages 1–11; both bodies of a two-body contact; with
 /// `[refinement]` the adaptive loop, [`adaptive::solve_adaptive`], and its last solution).
+/// Once, at the `β` of `problem.discretisation`: the second attempt of `beta = "auto"` and
+/// its warning belong to [`Outcome::solve`], which the command line and Python use.
 ///
 /// # Errors
 /// Any stage's error, wrapped in [`Error`].

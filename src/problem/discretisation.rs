@@ -95,7 +95,9 @@ pub struct Discretisation {
     pub beta: f64,
     /// `beta = "auto"`: `β = 0` (the paper's method), and when the condensed contact
     /// compliance at `β = 0` fails its run-time checks the run is repeated once at
-    /// [`AUTO_BETA`] (docs/dev/beta_study.md). The problem file's default for the MFVM when
+    /// [`AUTO_BETA`] (docs/dev/beta_study.md) by the run ([`crate::pipeline::Outcome::solve`]:
+    /// the command line, `run`, Python); [`crate::pipeline::solve`] solves once at `β` as
+    /// given. The problem file's default for the MFVM when
     /// neither `beta` nor `preset` is given ([`Discretisation::default`], for problems built in
     /// code, keeps `β = 0` without a second attempt). Not echoed when false.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
