@@ -96,18 +96,13 @@ fn with_method(problem: &Problem, method: Method) -> Problem {
         p.adaptive = None;
     }
     // The MFVM's `[[nodes.refine]]` regions would grade the FE's grid (`fem::Mesh::graded`).
-    let set = |body: &mut Problem| {
-        body.discretisation.method = method;
-        if fem {
-            body.refinement = Default::default();
+    for k in 0..p.body_count() {
+        if let Some(body) = p.body_mut(k) {
+            body.discretisation.method = method;
+            if fem {
+                body.refinement = Default::default();
+            }
         }
-    };
-    set(&mut p);
-    if let Some(second) = p.second_body.as_deref_mut() {
-        set(second);
-    }
-    for other in p.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()) {
-        set(other);
     }
     p
 }

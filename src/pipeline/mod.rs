@@ -1035,15 +1035,11 @@ impl Outcome {
                 ..
             })) => {
                 let mut stabilised = problem;
-                stabilised.discretisation.beta = crate::problem::AUTO_BETA;
                 // Every body shares the problem's discretisation table.
-                for body in stabilised
-                    .second_body
-                    .iter_mut()
-                    .map(|b| &mut **b)
-                    .chain(stabilised.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()))
-                {
-                    body.discretisation.beta = crate::problem::AUTO_BETA;
+                for k in 0..stabilised.body_count() {
+                    if let Some(body) = stabilised.body_mut(k) {
+                        body.discretisation.beta = crate::problem::AUTO_BETA;
+                    }
                 }
                 let mut outcome = Self::solve_once(stabilised, input, progress)?;
                 outcome.summary.warnings.insert(
