@@ -43,6 +43,8 @@ mod validation {
     mod adaptive_hertz;
     // Adaptive refinement of two bodies: a beam on an elastic block against FE and uniform.
     mod adaptive_two_bodies;
+    // A target 100 x softer than the candidates: M indefinite below its cells, accepted on the answer.
+    mod soft_target;
     // Adaptive refinement against uniform on the fully clamped cantilever (FE reference).
     mod clamped_cantilever;
     mod clamped_cantilever_measure;

@@ -269,7 +269,8 @@ pub(super) fn solve_frictional(
     }
     let load_path::Condensed { blocks, compliance: condensed } =
         clock.run("condensation", || load_path::condense(&terms, &candidates.initial_gap))?;
-    let warning = compliance_warning(problem, spec, &condensed)?;
+    let warning =
+        compliance_warning(problem, spec, &condensed, target.as_ref().map(|t| &t.operator))?;
     let m = candidates.len();
     // A rigid translation of the body held by the contact alone (docs/method.md §4.7): ν_c·r
     // per candidate for its unit vector r; only frictionless, without a force-driven

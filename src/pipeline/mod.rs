@@ -674,7 +674,7 @@ fn solve_condensed_once(
         }
         contact::CondensedContact::combine(&candidates.initial_gap, &parts)
     })?;
-    let warning = compliance_warning(problem, spec, &condensed)?;
+    let warning = compliance_warning(problem, spec, &condensed, target.as_ref())?;
     let m = candidates.len();
     let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
     let result =
@@ -883,20 +883,17 @@ fn solve_active_set(
     Ok((u1, u2, contact))
 }
 
-/// The run-time checks of `M` (docs/method.md §4.1): an error, or, with
-/// `contact.allow_indefinite`, the warning to report.
+/// The run-time checks of `M` (docs/method.md §4.1, §4.3): an error, or the warning to report
+/// (`M` indefinite only below the scale of `target`'s cells, or `contact.allow_indefinite`).
 fn compliance_warning(
     problem: &Problem,
     spec: &ContactSpec,
     condensed: &contact::CondensedContact,
+    target: Option<&contact::BodyOperator>,
 ) -> Result<Option<String>, Error> {
     let two_body = matches!(spec.target, contact::ContactTarget::Body { .. });
     let context = contact::ComplianceContext::of(problem, two_body);
-    match contact::check_compliance(condensed, &context) {
-        Ok(()) => Ok(None),
-        Err(err) if spec.allow_indefinite => Ok(Some(err.to_string())),
-        Err(err) => Err(err.into()),
-    }
+    Ok(contact::check_pair_compliance(condensed, &context, target, spec.allow_indefinite)?)
 }
 
 /// The MLS gaps from the final displacements, `g0 + ν·u^h(x_c)`, plus the second body's
