@@ -45,6 +45,8 @@ mod validation {
     mod adaptive_two_bodies;
     // A target 100 x softer than the candidates: M indefinite below its cells, accepted on the answer.
     mod soft_target;
+    // A graded Gmsh half-disk on a rigid flat, default discretisation, against Hertz.
+    mod graded_half_disk;
     // Adaptive refinement against uniform on the fully clamped cantilever (FE reference).
     mod clamped_cantilever;
     mod clamped_cantilever_measure;

@@ -11,12 +11,14 @@ twin's spacings), and second order, 4.1, at h = 0.2, 0.1 with corners at H = 5h,
 path on the mesh's elements. Also problems/plate_with_hole_gmsh.msh (plate_with_hole at
 h = 0.4, version 4.1). `punch` (obstacle curves only, meshed in one dimension): first order in
 4.1, second order in 2.2. `two_bodies` (two bodies in one file, every side named): first
-order, 4.1."""
+order, 4.1. `hertz_half_disk` (graded by a distance field): first order, 4.1, at hc = 0.006."""
 import gmsh
 
 
-def mesh(geo, out, order=1, version=4.1, h=None, dimension=2, H=None):
+def mesh(geo, out, order=1, version=4.1, h=None, dimension=2, H=None, hc=None):
     gmsh.clear()
+    if hc is not None:
+        gmsh.parser.setNumber("hc", [hc])
     if h is not None:
         gmsh.parser.setNumber("h", [h])
     if H is not None:
@@ -50,4 +52,5 @@ mesh("plate_with_hole", "../../../problems/plate_with_hole_gmsh.msh", 1, 4.1, 0.
 mesh("punch", "punch_o1_v4.msh", 1, 4.1, dimension=1)
 mesh("punch", "punch_o2_v2.msh", 2, 2.2, dimension=1)
 mesh("two_bodies", "two_bodies_o1_v4.msh")
+mesh("hertz_half_disk", "hertz_half_disk_hc0.006_v4.msh", H=0.08, hc=0.006)
 gmsh.finalize()
