@@ -27,7 +27,7 @@ pub use condense::{
     condense_model_observed, condense_observed, sparse_compliance,
 };
 pub use condense::{GRADED_SPARSE_CONDENSATION_MIN_CANDIDATES, SPARSE_CONDENSATION_MIN_CANDIDATES};
-pub use resolved::target_resolved_extremes;
+pub use resolved::{PairTarget, target_resolved_extremes};
 pub use spectrum::EigenvalueMethod;
 
 use crate::assembly::GlobalSystem;
@@ -269,9 +269,10 @@ pub fn check_compliance(
     }
 }
 
-/// The checks of `M` for a contact whose target may be an elastic body: [`check_compliance`],
-/// and when only its eigenvalue check fails on a two-body contact, the same check restricted
-/// to the force patterns the target resolves ([`target_resolved_extremes`], docs/method.md
+/// The checks of `M` for contact pairs whose targets may be elastic bodies (`pairs`: each
+/// pair's candidates in `M`'s numbering and its elastic target, if any): [`check_compliance`],
+/// and when only its eigenvalue check fails and some pair's target is elastic, the same check
+/// restricted to the force patterns the targets resolve ([`target_resolved_extremes`], docs/method.md
 /// §4.3). `Ok(None)`: `M` passed; `Ok(Some(note))`: `M`'s symmetric part is indefinite only in
 /// patterns finer than the target's cells, the note says so and the run proceeds to the
 /// answer's own checks; `allow_indefinite` turns any remaining failure into a note.
@@ -281,18 +282,19 @@ pub fn check_compliance(
 pub fn check_pair_compliance(
     condensed: &CondensedContact,
     context: &ComplianceContext,
-    target: Option<&BodyOperator>,
+    pairs: &[PairTarget<'_>],
     allow_indefinite: bool,
 ) -> Result<Option<String>, ContactError> {
     let Err(err) = check_compliance(condensed, context) else { return Ok(None) };
     let eigenvalue_only = condensed.min_diagonal > 0.0;
-    let resolved = target
-        .filter(|_| eigenvalue_only)
-        .and_then(|op| target_resolved_extremes(&condensed.compliance, op).ok())
+    let elastic = pairs.iter().any(|(_, target)| target.is_some());
+    let resolved = (eigenvalue_only && elastic)
+        .then(|| target_resolved_extremes(&condensed.compliance, pairs).ok())
+        .flatten()
         .filter(|&(min, max)| max > 0.0 && min > 1e-12 * max);
     match resolved {
         Some((min, _)) => Ok(Some(format!(
-            "the smallest eigenvalue of (M + Mᵀ)/2 is {:.3e} (largest {:.3e}), negative only in contact-force patterns that vary within one cell of the second body (on the patterns its cells resolve the smallest is {min:.3e}): the candidates are finer than the softer target (docs/method.md §4.3); the answer was accepted on its own checks (complementarity, equilibrium); refining the second body along contact.target_edge as finely as contact.edge removes this",
+            "the smallest eigenvalue of (M + Mᵀ)/2 is {:.3e} (largest {:.3e}), negative only in contact-force patterns that vary within one cell of a target body (on the patterns the target cells resolve the smallest is {min:.3e}): the candidates are finer than the target's cells (docs/method.md §4.3); the answer was accepted on its own checks (complementarity, equilibrium); refining the target body along its target_edge as finely as the contact edge removes this",
             condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue
         ))),
         None if allow_indefinite => Ok(Some(err.to_string())),

@@ -16,25 +16,46 @@ use super::spectrum::symmetric_eigenvalues;
 use crate::linear_solve::SolveError;
 use faer::Mat;
 
+/// One contact pair's candidates in the global numbering of `M` and its elastic target
+/// (`None`: rigid obstacles, whose every force pattern counts as resolved).
+pub type PairTarget<'a> = (std::ops::Range<usize>, Option<&'a BodyOperator>);
+
 /// The extreme eigenvalues `(λ_min, λ_max)` of `(M + Mᵀ)/2` (row-major `m × m`) restricted
-/// to the force patterns `z = S y` that `target` resolves (module documentation).
+/// to the force patterns the pairs' targets resolve (module documentation): for a pair with
+/// an elastic target `z = S y` over its candidates, its target's shares `S` (one column per
+/// target node, per pair); for a pair against rigid obstacles every pattern of its candidates.
 ///
 /// # Errors
 /// A failed eigenvalue decomposition.
 pub fn target_resolved_extremes(
     compliance: &[f64],
-    target: &BodyOperator,
+    pairs: &[PairTarget<'_>],
 ) -> Result<(f64, f64), SolveError> {
-    let m = target.owners.len();
-    let mut nodes: Vec<u32> = target.owners.iter().flatten().map(|&(n, _)| n).collect();
-    nodes.sort_unstable();
-    nodes.dedup();
-    let mut shares = Mat::<f64>::zeros(m, nodes.len());
-    for (c, owners) in target.owners.iter().enumerate() {
-        for &(node, weight) in owners {
-            if let Ok(j) = nodes.binary_search(&node) {
-                shares[(c, j)] += weight;
+    let m = pairs.iter().map(|(r, _)| r.end).max().unwrap_or(0);
+    let mut columns: Vec<Vec<(usize, f64)>> = Vec::new();
+    for (range, target) in pairs {
+        match target {
+            Some(op) => {
+                let mut nodes: Vec<u32> = op.owners.iter().flatten().map(|&(n, _)| n).collect();
+                nodes.sort_unstable();
+                nodes.dedup();
+                let first = columns.len();
+                columns.resize(first + nodes.len(), Vec::new());
+                for (c, owners) in op.owners.iter().enumerate() {
+                    for &(node, weight) in owners {
+                        if let Ok(j) = nodes.binary_search(&node) {
+                            columns[first + j].push((range.start + c, weight));
+                        }
+                    }
+                }
             }
+            None => columns.extend(range.clone().map(|c| vec![(c, 1.0)])),
+        }
+    }
+    let mut shares = Mat::<f64>::zeros(m, columns.len());
+    for (j, column) in columns.iter().enumerate() {
+        for &(c, weight) in column {
+            shares[(c, j)] += weight;
         }
     }
     let basis = orthonormal_columns(&shares);
@@ -93,11 +114,19 @@ mod tests {
         // (M + Mᵀ)/2 = [[1, 1.5], [1.5, 1]]: eigenvalues 2.5 (1, 1) and −0.5 (1, −1).
         let m = [1.0, 2.0, 1.0, 1.0];
         let shared = operator(vec![vec![(7, 1.0)], vec![(7, 1.0)]]);
-        let (min, max) = target_resolved_extremes(&m, &shared).unwrap();
+        let (min, max) = target_resolved_extremes(&m, &[(0..2, Some(&shared))]).unwrap();
         assert!((min - 2.5).abs() < 1e-14 && (max - 2.5).abs() < 1e-14, "{min} {max}");
         // Each candidate on its own target node: the restriction is the whole matrix.
         let own = operator(vec![vec![(3, 1.0)], vec![(4, 1.0)]]);
-        let (min, max) = target_resolved_extremes(&m, &own).unwrap();
+        let (min, max) = target_resolved_extremes(&m, &[(0..2, Some(&own))]).unwrap();
         assert!((min + 0.5).abs() < 1e-14 && (max - 2.5).abs() < 1e-14, "{min} {max}");
+        // Rigid obstacles: every pattern is resolved.
+        let (min, _) = target_resolved_extremes(&m, &[(0..2, None)]).unwrap();
+        assert!((min + 0.5).abs() < 1e-14, "{min}");
+        // Two pairs, one candidate each, both on one target node: still separate patterns.
+        let one = operator(vec![vec![(7, 1.0)]]);
+        let (min, _) =
+            target_resolved_extremes(&m, &[(0..1, Some(&one)), (1..2, Some(&one))]).unwrap();
+        assert!((min + 0.5).abs() < 1e-14, "{min}");
     }
 }

@@ -893,7 +893,9 @@ fn compliance_warning(
 ) -> Result<Option<String>, Error> {
     let two_body = matches!(spec.target, contact::ContactTarget::Body { .. });
     let context = contact::ComplianceContext::of(problem, two_body);
-    Ok(contact::check_pair_compliance(condensed, &context, target, spec.allow_indefinite)?)
+    let m = condensed.free_gap.len();
+    let pairs = [(0..m, target)];
+    Ok(contact::check_pair_compliance(condensed, &context, &pairs, spec.allow_indefinite)?)
 }
 
 /// The MLS gaps from the final displacements, `g0 + ν·u^h(x_c)`, plus the second body's

@@ -361,8 +361,7 @@ fn solve_scene(
         let solved = solve_active_set(models, pairs, found, initial_gap, held, clock)?;
         return Ok(((solved, Vec::new(), None), None));
     }
-    let answer =
-        solve_lemke(scene.problem, models, pairs, scene.operators, initial_gap, held, lemke, clock);
+    let answer = solve_lemke(scene, models, held, lemke, clock);
     // Lemke failed numerically: `"auto"` on every pair hands the problem to the
     // active-set method (docs/method.md §5.1) and records why, as for one pair.
     let auto = pairs.iter().all(|p| p.spec.solver == ContactSolver::Auto);
@@ -561,37 +560,42 @@ struct Solved {
     record: Option<solution::ActiveSetRecord>,
 }
 
-/// The run-time checks of `M` over all pairs (docs/method.md §4.1): an error, or with
-/// `allow_indefinite` (the same on every pair, validated) the warning to report.
+/// The run-time checks of `M` over all pairs (docs/method.md §4.1, §4.3): an error, or the
+/// warning to report (`M` indefinite only below the scale of the targets' cells, or
+/// `allow_indefinite`, the same on every pair, validated).
 fn compliance_warning(
     problem: &Problem,
     pairs: &[ContactPair],
+    targets: &[contact::PairTarget<'_>],
     condensed: &contact::CondensedContact,
 ) -> Result<Option<String>, Error> {
     let allow = pairs.first().is_some_and(|p| p.spec.allow_indefinite);
     let two_body =
         pairs.iter().any(|p| matches!(p.spec.target, contact::ContactTarget::Body { .. }));
     let context = contact::ComplianceContext::of(problem, two_body);
-    match contact::check_compliance(condensed, &context) {
-        Ok(()) => Ok(None),
-        Err(err) if allow => Ok(Some(err.to_string())),
-        Err(err) => Err(err.into()),
-    }
+    Ok(contact::check_pair_compliance(condensed, &context, targets, allow)?)
+}
+
+/// Each pair's candidates in the global numbering and its elastic target's operator, for
+/// [`contact::check_pair_compliance`].
+fn pair_targets<'a>(
+    found: &'a [PairCandidates],
+    offsets: &[usize],
+) -> Vec<contact::PairTarget<'a>> {
+    found.iter().enumerate().map(|(k, f)| (offsets[k]..offsets[k + 1], f.target.as_ref())).collect()
 }
 
 /// Lemke's method on `M = Σ_b G_b K_b⁻¹ E_b` over all candidates (docs/method.md §4.5), with
 /// the search of a held translation (§4.7).
-#[allow(clippy::too_many_arguments)]
 fn solve_lemke(
-    problem: &Problem,
+    scene: &path::Scene<'_>,
     models: &[&Model],
-    pairs: &[ContactPair],
-    operators: &[Option<(BodyOperator, Vec<usize>)>],
-    initial_gap: &[f64],
     held: &[Held],
     lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<Solved, Error> {
+    let (problem, pairs, operators) = (scene.problem, scene.pairs, scene.operators);
+    let initial_gap = scene.initial_gap;
     let m = initial_gap.len();
     let condensed = clock.run_counted("condensation", |progress| {
         let mut total =
@@ -609,7 +613,8 @@ fn solve_lemke(
         }
         contact::CondensedContact::combine(initial_gap, &[total])
     })?;
-    let warning = compliance_warning(problem, pairs, &condensed)?;
+    let targets = pair_targets(scene.found, scene.offsets);
+    let warning = compliance_warning(problem, pairs, &targets, &condensed)?;
     let lemke_on = |q: &[f64], clock: &mut Clock| -> Result<lcp::LcpSolution, Error> {
         let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), q.to_vec())?;
         let result = clock

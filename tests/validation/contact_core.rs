@@ -282,15 +282,16 @@ fn adaptive(problem: &Problem) -> mlpg_contact::pipeline::adaptive::AdaptiveRun 
 /// node set reproduces it; to 1e-9); the frictional answer passes the checks of the one-step
 /// frictional stack.
 ///
-/// `allow_indefinite = true` on both pairs: on the graded, non-matching node sets of the
-/// refinement steps the condensed compliance's symmetric part has a small negative
-/// eigenvalue (λ_min/λ_max ≈ −2.5e-4 at the second step; docs/dev/contact_core.md), which
-/// the run-time check refuses by default. The answers are checked here instead.
+/// `beta = 0.5` (what `"auto"` reaches from the command line), no `allow_indefinite`: on the
+/// graded, non-matching node sets of the refinement steps the condensed compliance's symmetric
+/// part has a small negative eigenvalue (λ_min/λ_max ≈ −2.5e-4 at the second step;
+/// docs/dev/contact_core.md), only in force patterns within one cell of a target body, so the
+/// run proceeds with a warning (docs/method.md §4.3); the answers are checked here.
 #[test]
 fn the_stack_refines_adaptively_with_friction_and_steps() {
     let refined = |mu: f64, increments: Option<usize>| {
         let text = stack_text(mu, increments)
-            .replace("target_edge = \"top\"\n", "target_edge = \"top\"\nallow_indefinite = true\n")
+            .replace("[discretisation]\n", "[discretisation]\nbeta = 0.5\n")
             + "\n[refinement]\nsteps = 2\n";
         adaptive(&Problem::from_toml(&text).unwrap())
     };

@@ -196,7 +196,8 @@ pub(super) fn solve(
     let held = held_on_path(held_bodies, &term_of, &friction, &normals)?;
     let load_path::Condensed { blocks, compliance } =
         clock.run("condensation", || load_path::condense(&terms, scene.initial_gap))?;
-    let warning = super::compliance_warning(scene.problem, pairs, &compliance)?;
+    let targets = super::pair_targets(scene.found, scene.offsets);
+    let warning = super::compliance_warning(scene.problem, pairs, &targets, &compliance)?;
     let path = Path {
         initial_gap: scene.initial_gap,
         normals: &normals,
