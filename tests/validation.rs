@@ -76,6 +76,8 @@ mod validation {
     mod axisymmetric_sphere;
     // Adaptive refinement of an axisymmetric body: the Hertz sphere against uniform node sets.
     mod axisymmetric_adaptive;
+    // Interference fits: confined blocks (exact), Lamé's shrink fit of long cylinders.
+    mod interference;
     // FE oracle: Q2 patch tests (Dirichlet, tractions) and equilibrium.
     mod fem_patch_test;
     // FE on Gmsh meshes with curved sides (T6, Q9): patch test, Kirsch errors and rates.

@@ -25,7 +25,8 @@ use crate::solution::{self, ContactSolution, MultibodySolution, Solution};
 /// The candidates of `edge` of `problem`'s body against the straight edge `target_edge` of
 /// `target` (docs/method.md §4.3): the candidates whose projection falls on the target edge
 /// (the others have no partner: their number is returned), the target's operator (`d = −ν`
-/// at the paired points), the initial gaps and the paired points.
+/// at the paired points), the initial gaps (less the pair's `interference`, docs/method.md
+/// §9.9) and the paired points.
 ///
 /// # Errors
 /// [`contact::ContactError::CurvedTarget`] for a curved target edge,
@@ -57,7 +58,8 @@ pub(super) fn body_pair(
         });
     }
     let (op, gaps, paired) = contact::target_operator_on(p2, m2, edge, &c)?;
-    c.initial_gap = gaps;
+    // A designed interference (a press fit): the gaps of the bodies made `δ` larger.
+    c.initial_gap = gaps.into_iter().map(|g| g - spec.interference).collect();
     Ok((c, op, paired, unpaired))
 }
 

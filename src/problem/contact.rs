@@ -378,6 +378,10 @@ pub struct ContactSpec {
     /// Which solver takes the frictionless contact problem (docs/method.md §5).
     #[serde(skip)]
     pub solver: ContactSolver,
+    /// A designed interference `δ ≥ 0` of a two-body pair (a press or shrink fit): every
+    /// candidate's initial gap is `g0 − δ` along the pair's normal, as if the contact body
+    /// were `δ` larger towards the target (docs/method.md §9.9). 0 for rigid obstacles.
+    pub interference: f64,
 }
 
 /// `[contact] solver`: how the frictionless contact problem is solved (docs/method.md §5).

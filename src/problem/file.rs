@@ -311,6 +311,10 @@ pub struct ContactFile {
     /// absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub solver: Option<ContactSolver>,
+    /// Two bodies: a designed interference `δ ≥ 0` (a press or shrink fit), the initial gaps
+    /// reduced by `δ` along the pair's normals (default 0). Not echoed when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub interference: Option<f64>,
 }
 
 /// `contact`: one `[contact]` table, or `[[contact]]` tables (one per contact pair). Written
@@ -319,7 +323,7 @@ pub struct ContactFile {
 #[serde(untagged)]
 pub enum ContactTables {
     /// One `[contact]` table.
-    One(ContactFile),
+    One(Box<ContactFile>),
     /// `[[contact]]` tables, in file order.
     Many(Vec<ContactFile>),
 }
@@ -328,14 +332,14 @@ impl ContactTables {
     /// The tables, in file order.
     pub fn tables(&self) -> &[ContactFile] {
         match self {
-            ContactTables::One(c) => std::slice::from_ref(c),
+            ContactTables::One(c) => std::slice::from_ref(&**c),
             ContactTables::Many(v) => v,
         }
     }
     /// The tables, mutable.
     pub fn tables_mut(&mut self) -> &mut [ContactFile] {
         match self {
-            ContactTables::One(c) => std::slice::from_mut(c),
+            ContactTables::One(c) => std::slice::from_mut(&mut **c),
             ContactTables::Many(v) => v,
         }
     }
@@ -351,7 +355,7 @@ impl ContactTables {
 
 impl From<ContactFile> for ContactTables {
     fn from(c: ContactFile) -> Self {
-        ContactTables::One(c)
+        ContactTables::One(Box::new(c))
     }
 }
 
@@ -370,7 +374,7 @@ impl<'de> Deserialize<'de> for ContactTables {
                 map: A,
             ) -> Result<Self::Value, A::Error> {
                 ContactFile::deserialize(serde::de::value::MapAccessDeserializer::new(map))
-                    .map(ContactTables::One)
+                    .map(|c| ContactTables::One(Box::new(c)))
             }
             fn visit_seq<A: serde::de::SeqAccess<'de>>(
                 self,

@@ -185,7 +185,7 @@ fn contact(defs: &mut Map<String, Value>) {
                 "target": { "anyOf": [string(), { "type": "array", "items": string() }] },
                 "gap_tolerance": number(), "allow_indefinite": boolean(),
                 "condensation": one_of(&["compliance", "stiffness"]), "friction": number(),
-                "solver": one_of(&["lemke", "active_set", "auto"]),
+                "solver": one_of(&["lemke", "active_set", "auto"]), "interference": number(),
             }),
             &["edge"],
         ),

@@ -1356,6 +1356,14 @@ fn contact_spec(
     let condensation = c.condensation.unwrap_or_default();
     let friction = c.friction.unwrap_or(0.0);
     let solver = c.solver.unwrap_or_default();
+    let interference = c.interference.unwrap_or(0.0);
+    if !(interference.is_finite() && interference >= 0.0) {
+        return Err(invalid(
+            "contact.interference",
+            interference,
+            "the designed interference of a press or shrink fit must be a finite number ≥ 0",
+        ));
+    }
     if !(friction.is_finite() && friction >= 0.0) {
         return Err(invalid(
             "contact.friction",
@@ -1433,15 +1441,28 @@ fn contact_spec(
             .filter(|&x| projects_onto(x, a2, b2, 1e-9 * target_length))
             .map(|x| (x[0] - a2[0]) * nu[0] + (x[1] - a2[1]) * nu[1])
             .fold(f64::INFINITY, f64::min);
-        let allowed = (0.1 * smallest_extent(domain).min(smallest_extent(&second.domain)))
-            .min(problem.node_spacing.max(second.node_spacing));
+        let extent = smallest_extent(domain).min(smallest_extent(&second.domain));
+        let allowed = (0.1 * extent).min(problem.node_spacing.max(second.node_spacing));
         if worst < -allowed {
             return Err(invalid(
                 "contact.target_edge",
                 name,
                 format!(
-                    "the bodies overlap: the contact edge reaches {:.3e} across this edge of the second body, more than the {allowed:.3e} allowed (10 % of the smaller body's smallest extent, at most the larger node spacing)",
+                    "the bodies overlap: the contact edge reaches {:.3e} across this edge of the second body, more than the {allowed:.3e} allowed (10 % of the smaller body's smallest extent, at most the larger node spacing); if the overlap is a designed press or shrink fit, mesh the bodies touching at the nominal interface and declare the overlap as `interference`",
                     -worst
+                ),
+            ));
+        }
+        // The interference solved is the declared one plus any small geometric overlap: a
+        // small-strain fit, as for the overlap itself.
+        if interference - worst.min(0.0) > 0.1 * extent {
+            return Err(invalid(
+                "contact.interference",
+                interference,
+                format!(
+                    "the interference (with the geometric overlap {:.3e}) exceeds 10 % of the smaller body's smallest extent ({:.3e}): not a small-strain fit",
+                    (-worst).max(0.0),
+                    0.1 * extent
                 ),
             ));
         }
@@ -1454,8 +1475,16 @@ fn contact_spec(
                 condensation,
                 friction,
                 solver,
+                interference,
             },
             Vec::new(),
+        ));
+    }
+    if c.interference.is_some_and(|d| d != 0.0) {
+        return Err(invalid(
+            "contact.interference",
+            interference,
+            "only between two elastic bodies (`target_edge`); a rigid obstacle's interference is its position: place it δ into the body (or move it with a `[[step]]`)",
         ));
     }
     if c.target_edge.is_some() {
@@ -1483,6 +1512,7 @@ fn contact_spec(
             condensation,
             friction,
             solver,
+            interference: 0.0,
         };
         return Ok((spec, chosen));
     }
@@ -1546,6 +1576,7 @@ fn contact_spec(
             condensation,
             friction,
             solver,
+            interference: 0.0,
         },
         Vec::new(),
     ))

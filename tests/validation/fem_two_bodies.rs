@@ -39,6 +39,7 @@ pub fn fem_two_blocks(h_upper: f64, h_lower: f64) -> Problem {
         condensation: Default::default(),
         friction: 0.0,
         solver: Default::default(),
+        interference: 0.0,
     });
     upper.second_body = Some(Box::new(lower));
     upper

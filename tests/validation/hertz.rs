@@ -74,6 +74,7 @@ pub fn hertz_problem_on(domain: Domain, h: f64, layout: Layout) -> Problem {
         condensation: Default::default(),
         friction: 0.0,
         solver: Default::default(),
+        interference: 0.0,
     });
     p
 }
@@ -347,6 +348,7 @@ pub fn cylinder_on_block(h: f64) -> Problem {
         condensation: Default::default(),
         friction: 0.0,
         solver: Default::default(),
+        interference: 0.0,
     });
     upper.second_body = Some(Box::new(lower));
     upper

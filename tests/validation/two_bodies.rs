@@ -55,6 +55,7 @@ pub fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
         condensation: Default::default(),
         friction: 0.0,
         solver: Default::default(),
+        interference: 0.0,
     });
     let mut lower = lower;
     lower.name = "lower".into();
@@ -152,6 +153,7 @@ pub fn mirror_problems() -> (Problem, Problem) {
         condensation: Default::default(),
         friction: 0.0,
         solver: Default::default(),
+        interference: 0.0,
     });
     let mut pair = upper("upper");
     let mut mirror = block([-1.0 - gap, -gap], 0.1, None, Some(bottom));
@@ -164,6 +166,7 @@ pub fn mirror_problems() -> (Problem, Problem) {
         condensation: Default::default(),
         friction: 0.0,
         solver: Default::default(),
+        interference: 0.0,
     });
     pair.second_body = Some(Box::new(mirror));
     (rigid, pair)
