@@ -168,16 +168,21 @@ pub fn target_operator(
             if hi <= lo {
                 continue;
             }
-            total += match system.axisymmetric {
-                true => pairing.moment(lo, hi),
-                false => (hi - lo) * 0.5 * (radius(lo) + radius(hi)),
-            };
+            // A straight edge: the exact trapezoid (`r` linear); a curved one: the same rule
+            // as the spread, so that the row sums to `1/2π` exactly (`r` along a mesh's
+            // polyline has kinks that the Gauss rules integrate differently).
+            let mut quadrature = 0.0;
             for (&r, &w) in xs.iter().zip(ws) {
                 let tq = 0.5 * (lo + hi) + 0.5 * r * (hi - lo);
                 let n = element::lagrange(2.0 * (tq - t0) / (t1 - t0) - 1.0);
                 let weight = 0.5 * w * (hi - lo) * radius(tq);
+                quadrature += weight;
                 spread.extend(ids.iter().zip(n).map(|(&i, n)| (i, weight * n)));
             }
+            total += match pairing.is_straight() {
+                true => (hi - lo) * 0.5 * (radius(lo) + radius(hi)),
+                false => quadrature,
+            };
         }
         let owner_row = if total > 0.0 {
             sorted_row(spread.into_iter().map(|(i, w)| (i, w / (total * per_radian))))
