@@ -122,7 +122,7 @@ impl Error {
             Error::Contact(C::IndefiniteCompliance { .. }) => {
                 "discretisation.support_factor, discretisation.beta, contact.allow_indefinite"
             }
-            Error::Contact(C::TargetConstrained { .. } | C::CurvedTarget { .. }) => {
+            Error::Contact(C::TargetConstrained { .. }) => {
                 "contact.target_edge, boundary of the second body"
             }
             Error::Contact(C::NoPartner { .. }) => "contact.edge, contact.target_edge, geometry",

@@ -72,6 +72,10 @@ mod validation {
     mod axisymmetric_contact_paths;
     // Axisymmetric elastic pairs: two cylinders end to end (exact), Hertz's sphere on a block.
     mod axisymmetric_pairs;
+    // Two elastic spheres (a curved target edge) against Hertz.
+    mod axisymmetric_spheres;
+    // Two elastic cylinders in plane strain (a curved target edge) against Hertz.
+    mod hertz_two_cylinders;
     // Lamé's thick sphere under internal pressure: a curved section (quarter annulus, two arcs).
     mod axisymmetric_sphere;
     // Adaptive refinement of an axisymmetric body: the Hertz sphere against uniform node sets.

@@ -121,10 +121,8 @@ pub fn target_operator(
     edge: usize,
     candidates: &Candidates,
 ) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
-    let (a, b) = domain.edge(edge);
     let name = || domain.edge_names()[edge].clone();
-    let nu =
-        domain.straight_normal(edge).ok_or_else(|| ContactError::CurvedTarget { edge: name() })?;
+    let pairing = super::TargetEdge::new(domain, edge);
     let sides: Vec<([u32; 3], f64, f64)> = mesh
         .boundary_segments(domain, nodes, edge)
         .into_iter()
@@ -141,7 +139,7 @@ pub fn target_operator(
     // An axisymmetric target: `N_a r` over the overlap (cubic: 3-point Gauss is exact), the
     // row summing to `1/2π` (the ring's total force per radian, `super::rings`).
     let radius = |t: f64| match system.axisymmetric {
-        true => a[0] + t * (b[0] - a[0]),
+        true => pairing.radius(t),
         false => 1.0,
     };
     let per_radian = if system.axisymmetric { super::rings::REVOLUTION } else { 1.0 };
@@ -149,9 +147,10 @@ pub fn target_operator(
     let mut owners = Vec::with_capacity(candidates.len());
     let mut gaps = Vec::with_capacity(candidates.len());
     let mut paired = Vec::with_capacity(candidates.len());
+    let mut directions = Vec::with_capacity(candidates.len());
     for (c, &x) in candidates.points.iter().enumerate() {
         let t = domain.edge_parameter(edge, x).clamp(0.0, 1.0);
-        let y = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        let (y, nu, gap) = pairing.pair(x);
         let (ids, t0, t1) = sides
             .iter()
             .min_by(|p, q| side_distance(t, p.1, p.2).total_cmp(&side_distance(t, q.1, q.2)))
@@ -169,37 +168,50 @@ pub fn target_operator(
             if hi <= lo {
                 continue;
             }
-            total += (hi - lo) * 0.5 * (radius(lo) + radius(hi));
+            // A straight edge: the exact trapezoid (`r` linear); a curved one: the same rule
+            // as the spread, so that the row sums to `1/2π` exactly (`r` along a mesh's
+            // polyline has kinks that the Gauss rules integrate differently).
+            let mut quadrature = 0.0;
             for (&r, &w) in xs.iter().zip(ws) {
                 let tq = 0.5 * (lo + hi) + 0.5 * r * (hi - lo);
                 let n = element::lagrange(2.0 * (tq - t0) / (t1 - t0) - 1.0);
                 let weight = 0.5 * w * (hi - lo) * radius(tq);
+                quadrature += weight;
                 spread.extend(ids.iter().zip(n).map(|(&i, n)| (i, weight * n)));
             }
+            total += match pairing.is_straight() {
+                true => (hi - lo) * 0.5 * (radius(lo) + radius(hi)),
+                false => quadrature,
+            };
         }
         let owner_row = if total > 0.0 {
             sorted_row(spread.into_iter().map(|(i, w)| (i, w / (total * per_radian))))
         } else {
             sorted_row(point_row.iter().map(|&(i, w)| (i, w / per_radian)))
         };
-        for &(i, _) in &owner_row {
-            if Axis::BOTH
-                .iter()
-                .any(|&ax| nu[ax as usize] != 0.0 && system.is_constrained(dof(i as usize, ax)))
-            {
-                return Err(ContactError::TargetConstrained { edge: name(), node: i as usize });
-            }
+        let blocked = |nu: Point| {
+            owner_row.iter().map(|&(i, _)| i as usize).find(|&i| {
+                Axis::BOTH
+                    .iter()
+                    .any(|&ax| nu[ax as usize] != 0.0 && system.is_constrained(dof(i, ax)))
+            })
+        };
+        // A curved axisymmetric target's force reaching an axis node: along the axis
+        // (`super::TargetEdge::axial`).
+        let (nu, gap) = match system.axisymmetric && blocked(nu).is_some() {
+            true => pairing.axial(x, y, nu),
+            false => (nu, gap),
+        };
+        if let Some(node) = blocked(nu) {
+            return Err(ContactError::TargetConstrained { edge: name(), node });
         }
-        gaps.push((x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]);
+        gaps.push(gap);
         paired.push(y);
         rows.push(point_row);
         owners.push(owner_row);
+        directions.push([-nu[0], -nu[1]]);
     }
-    let operator = BodyOperator {
-        shapes: ShapeSet::from_rows(&rows),
-        directions: vec![[-nu[0], -nu[1]]; owners.len()],
-        owners,
-    };
+    let operator = BodyOperator { shapes: ShapeSet::from_rows(&rows), directions, owners };
     Ok((operator, gaps, paired))
 }
 

@@ -77,14 +77,6 @@ pub enum ContactError {
         /// Node.
         node: usize,
     },
-    /// The second body's contact edge is an arc; only straight target edges are supported.
-    #[error(
-        "edge `{edge}` of the second body is curved; the target of a two-body contact must be a straight edge (put the curved edge on the first body)"
-    )]
-    CurvedTarget {
-        /// Edge name.
-        edge: String,
-    },
     /// No candidate of the contact edge lies over the target edge of the second body.
     #[error(
         "no point of contact edge `{edge}` lies over edge `{target}` of the second body: the bodies cannot touch (check the geometry)"
@@ -589,12 +581,8 @@ pub fn target_operator(
     edge: usize,
     candidates: &Candidates,
 ) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
-    let (a, b) = body.domain.edge(edge);
     let name = || body.domain.edge_names()[edge].clone();
-    let nu = body
-        .domain
-        .straight_normal(edge)
-        .ok_or_else(|| ContactError::CurvedTarget { edge: name() })?;
+    let pairing = TargetEdge::new(body.domain, edge);
     // Body-2 faces on the edge as parameter intervals.
     let faces: Vec<(f64, f64, u32, &Face)> = body
         .boundary_faces
@@ -611,13 +599,12 @@ pub fn target_operator(
     }
     // An axisymmetric target receives a ring's total force per radian (`rings`): `1/2π`.
     let per_radian = if body.system.axisymmetric { rings::REVOLUTION } else { 1.0 };
-    let radius = |t: f64| a[0] + t * (b[0] - a[0]);
     let mut paired = Vec::with_capacity(candidates.len());
     let mut owners = Vec::with_capacity(candidates.len());
     let mut gaps = Vec::with_capacity(candidates.len());
+    let mut directions = Vec::with_capacity(candidates.len());
     for (c, &x) in candidates.points.iter().enumerate() {
-        let t = body.domain.edge_parameter(edge, x).clamp(0.0, 1.0);
-        let y = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        let (y, nu, gap) = pairing.pair(x);
         let (p, q) = candidates.segment_ends[c];
         let (s0, s1) = {
             let (u, v) = (body.domain.edge_parameter(edge, p), body.domain.edge_parameter(edge, q));
@@ -627,9 +614,9 @@ pub fn target_operator(
         for &(f0, f1, owner, _) in &faces {
             let (lo, hi) = (s0.max(f0), s1.min(f1));
             if hi > lo {
-                // Axisymmetric: the overlap's `∫ r ds` (r linear along the straight edge).
+                // Axisymmetric: the overlap's `∫ r ds`.
                 let overlap = match body.system.axisymmetric {
-                    true => (hi - lo) * 0.5 * (radius(lo) + radius(hi)),
+                    true => pairing.moment(lo, hi),
                     false => hi - lo,
                 };
                 match share.iter_mut().find(|(o, _)| *o == owner) {
@@ -653,20 +640,112 @@ pub fn target_operator(
                 .ok_or_else(|| ContactError::NoCandidates { edge: name() })?;
             share = vec![(owner, 1.0 / per_radian)];
         }
-        for &(owner, _) in &share {
-            if Axis::BOTH.iter().any(|&ax| {
-                nu[ax as usize] != 0.0 && body.system.is_constrained(dof(owner as usize, ax))
-            }) {
-                return Err(ContactError::TargetConstrained { edge: name(), node: owner as usize });
-            }
+        let blocked = |nu: Point| {
+            share.iter().map(|&(o, _)| o as usize).find(|&o| {
+                Axis::BOTH
+                    .iter()
+                    .any(|&ax| nu[ax as usize] != 0.0 && body.system.is_constrained(dof(o, ax)))
+            })
+        };
+        let (nu, gap) = match body.system.axisymmetric && blocked(nu).is_some() {
+            true => pairing.axial(x, y, nu),
+            false => (nu, gap),
+        };
+        if let Some(node) = blocked(nu) {
+            return Err(ContactError::TargetConstrained { edge: name(), node });
         }
-        gaps.push((x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]);
+        gaps.push(gap);
         paired.push(y);
         owners.push(share);
+        directions.push([-nu[0], -nu[1]]);
     }
     let shapes = mls::shape_functions(&paired, body.nodes, body.supports, body.mls, false)?;
-    let directions = vec![[-nu[0], -nu[1]]; owners.len()];
     Ok((BodyOperator { shapes, owners, directions }, gaps, paired))
+}
+
+/// The target edge of a two-body contact as the pairing reads it (docs/method.md §4.3, §4.5):
+/// a straight edge (one normal, `r` linear along it) or a curved one (an arc, or a polyline of
+/// a mesh's boundary nodes), whose closest point, normal and `∫ r ds` come from the curve.
+#[derive(Clone, Copy)]
+pub struct TargetEdge<'a> {
+    curve: &'a crate::geometry::Curve,
+    /// The straight edge's normal (snapped to the axes within round-off), `None` if curved.
+    straight: Option<Point>,
+}
+
+impl<'a> TargetEdge<'a> {
+    /// Edge `edge` of `domain`.
+    pub fn new(domain: &'a Domain, edge: usize) -> Self {
+        Self { curve: domain.curve(edge), straight: domain.straight_normal(edge) }
+    }
+
+    /// The closest point `y` of the edge to `x` (clamped to the edge), the target's outward
+    /// normal `ν` there (from body 2 into body 1) and the initial gap `ν·(x − y)`.
+    pub fn pair(&self, x: Point) -> (Point, Point, f64) {
+        let t = self.curve.parameter(x).clamp(0.0, 1.0);
+        let y = self.curve.point_at(t);
+        let nu = match self.straight {
+            Some(nu) => nu,
+            // Round-off components dropped, as `Domain::straight_normal` does (a point on the
+            // axis has the axial normal exactly, so its radial row may be the axis condition).
+            None => self.curve.outward_normal_at(y).map(|n| if n.abs() <= 1e-12 { 0.0 } else { n }),
+        };
+        (y, nu, (x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1])
+    }
+
+    /// A curved axisymmetric target's normal where its force reaches a node on the axis
+    /// (whose radial row is the symmetry condition `u_r = 0`): the axial direction
+    /// `(0, ±1)` instead of `ν` (whose radial part is `O(r/R)` there, and would be lost on
+    /// that row), with the gap `ν'·(x − y)` along it (docs/method.md §9.6). A straight edge's
+    /// normal is returned as it is.
+    pub fn axial(&self, x: Point, y: Point, nu: Point) -> (Point, f64) {
+        match self.straight {
+            Some(_) => (nu, (x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1]),
+            None => {
+                let axial = [0.0, nu[1].signum()];
+                (axial, (x[1] - y[1]) * axial[1])
+            }
+        }
+    }
+
+    /// The contact normal at a candidate point `x` (the target's outward normal at its
+    /// closest point), with a zero initial gap: the candidates' `target` closure.
+    pub fn normal(&self, x: Point) -> Point {
+        self.pair(x).1
+    }
+
+    /// Whether `x`'s closest point lies on the edge (its parameter within `[0, 1]` to `1e-9`):
+    /// a candidate whose projection falls beside the edge has no partner.
+    pub fn over(&self, x: Point) -> bool {
+        (-1e-9..=1.0 + 1e-9).contains(&self.curve.parameter(x))
+    }
+
+    /// `r` at parameter `t` (the first coordinate of the edge's point).
+    pub fn radius(&self, t: f64) -> f64 {
+        self.curve.point_at(t)[0]
+    }
+
+    /// `∫ r ds` over the parameters `[lo, hi]`: exact on a straight edge (`r` linear, the
+    /// trapezoid), 4-point Gauss along a curved one (its arc length proportional to `t`).
+    pub fn moment(&self, lo: f64, hi: f64) -> f64 {
+        match self.straight {
+            Some(_) => (hi - lo) * 0.5 * (self.radius(lo) + self.radius(hi)),
+            None => {
+                let (xs, ws) = crate::weak_form::gauss_legendre(4);
+                let sum: f64 = xs
+                    .iter()
+                    .zip(ws)
+                    .map(|(&q, &w)| w * self.radius(0.5 * (lo + hi) + 0.5 * q * (hi - lo)))
+                    .sum();
+                0.5 * (hi - lo) * sum
+            }
+        }
+    }
+
+    /// Whether the edge is straight.
+    pub fn is_straight(&self) -> bool {
+        self.straight.is_some()
+    }
 }
 
 fn segment_distance(p: Point, a: Point, b: Point) -> f64 {

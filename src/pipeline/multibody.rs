@@ -22,14 +22,13 @@ use crate::problem::{ContactPair, ContactSolver, Multibody, Problem, ProblemErro
 use crate::progress::{Clock, Progress};
 use crate::solution::{self, ContactSolution, MultibodySolution, Solution};
 
-/// The candidates of `edge` of `problem`'s body against the straight edge `target_edge` of
-/// `target` (docs/method.md §4.3): the candidates whose projection falls on the target edge
+/// The candidates of `edge` of `problem`'s body against the edge `target_edge` of `target`,
+/// straight or curved (docs/method.md §4.3): the candidates whose projection falls on the target edge
 /// (the others have no partner: their number is returned), the target's operator (`d = −ν`
 /// at the paired points), the initial gaps (less the pair's `interference`, docs/method.md
 /// §9.9) and the paired points.
 ///
 /// # Errors
-/// [`contact::ContactError::CurvedTarget`] for a curved target edge,
 /// [`contact::ContactError::NoPartner`] when no candidate lies over it, and the errors of
 /// [`contact::candidates_on`] and [`contact::target_operator_on`].
 pub(super) fn body_pair(
@@ -39,17 +38,32 @@ pub(super) fn body_pair(
     target: (&Problem, &Model, usize),
 ) -> Result<(Candidates, BodyOperator, Vec<Point>, usize), contact::ContactError> {
     let (p2, m2, edge) = target;
-    let normal = p2.domain.straight_normal(edge).ok_or_else(|| {
-        contact::ContactError::CurvedTarget { edge: p2.domain.edge_names()[edge].clone() }
-    })?;
-    let mut c =
-        contact::candidates_on(problem, model, spec.edge, &|_| (0.0, normal), spec.condensation)?;
+    let pairing = contact::TargetEdge::new(&p2.domain, edge);
+    let mut c = match p2.domain.straight_normal(edge) {
+        Some(normal) => contact::candidates_on(
+            problem,
+            model,
+            spec.edge,
+            &|_| (0.0, normal),
+            spec.condensation,
+        )?,
+        // A curved target: each candidate's normal is the target's at its closest point.
+        None => contact::candidates_on(
+            problem,
+            model,
+            spec.edge,
+            &|x| (0.0, pairing.normal(x)),
+            spec.condensation,
+        )?,
+    };
     // A candidate whose projection falls beside the target edge has no partner: it cannot
     // close, and is no candidate.
     let (a2, b2) = p2.domain.edge(edge);
     let tol = 1e-9 * (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
-    let over: Vec<bool> =
-        c.points.iter().map(|&x| geometry::projects_onto(x, a2, b2, tol)).collect();
+    let over: Vec<bool> = match pairing.is_straight() {
+        true => c.points.iter().map(|&x| geometry::projects_onto(x, a2, b2, tol)).collect(),
+        false => c.points.iter().map(|&x| pairing.over(x)).collect(),
+    };
     let unpaired = c.retain(&over);
     if c.is_empty() {
         return Err(contact::ContactError::NoPartner {
@@ -60,6 +74,13 @@ pub(super) fn body_pair(
     let (op, gaps, paired) = contact::target_operator_on(p2, m2, edge, &c)?;
     // A designed interference (a press fit): the gaps of the bodies made `δ` larger.
     c.initial_gap = gaps.into_iter().map(|g| g - spec.interference).collect();
+    if !pairing.is_straight() {
+        // The target may have turned a normal to the axis (`contact::TargetEdge::axial`).
+        for (k, d) in op.directions.iter().enumerate() {
+            c.normals[k] = [-d[0], -d[1]];
+        }
+        c.operator.directions.clone_from(&c.normals);
+    }
     Ok((c, op, paired, unpaired))
 }
 

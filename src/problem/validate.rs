@@ -1413,17 +1413,25 @@ fn contact_spec(
                 "this edge has a displacement condition; a contact edge must be free to move",
             ));
         }
-        // The edges must face each other: body 1 must lie on the side the target normal points to.
-        let nu = second.domain.straight_normal(target).ok_or_else(|| {
-            invalid(
-                "contact.target_edge",
-                name,
-                "this edge of the second body is curved; the target must be a straight edge (swap the bodies so the curved edge belongs to the first)",
-            )
-        })?;
-        let (a2, _) = second.domain.edge(target);
-        let centroid = domain.centroid();
-        if (centroid[0] - a2[0]) * nu[0] + (centroid[1] - a2[1]) * nu[1] <= 0.0 {
+        // The edges must face each other: body 1 must lie on the side the target normal points
+        // to (a curved target: outside its line or circle, docs/method.md §4.5).
+        let target_curve = second.domain.curve(target);
+        let (a2, b2) = second.domain.edge(target);
+        let target_length = (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
+        // The signed distance from the target's line or circle, over it or not.
+        let across = |x: Point| -> (bool, f64) {
+            match second.domain.straight_normal(target) {
+                Some(nu) => (
+                    projects_onto(x, a2, b2, 1e-9 * target_length),
+                    (x[0] - a2[0]) * nu[0] + (x[1] - a2[1]) * nu[1],
+                ),
+                None => (
+                    (-1e-9..=1.0 + 1e-9).contains(&target_curve.parameter(x)),
+                    target_curve.signed_distance(x),
+                ),
+            }
+        };
+        if across(domain.centroid()).1 <= 0.0 {
             return Err(invalid(
                 "contact.target_edge",
                 name,
@@ -1433,13 +1441,11 @@ fn contact_spec(
         // Initial interference: the contact edge's points over the target edge may reach
         // across it by at most 10 % of the smaller body's smallest extent (as for a rigid
         // obstacle) and at most the larger node spacing (a prescribed small interference).
-        let (a2, b2) = second.domain.edge(target);
-        let target_length = (b2[0] - a2[0]).hypot(b2[1] - a2[1]);
         let curve = domain.curve(edge);
         let worst = (0..=1024)
-            .map(|i| curve.point_at(i as f64 / 1024.0))
-            .filter(|&x| projects_onto(x, a2, b2, 1e-9 * target_length))
-            .map(|x| (x[0] - a2[0]) * nu[0] + (x[1] - a2[1]) * nu[1])
+            .map(|i| across(curve.point_at(i as f64 / 1024.0)))
+            .filter(|&(over, _)| over)
+            .map(|(_, d)| d)
             .fold(f64::INFINITY, f64::min);
         let extent = smallest_extent(domain).min(smallest_extent(&second.domain));
         let allowed = (0.1 * extent).min(problem.node_spacing.max(second.node_spacing));
