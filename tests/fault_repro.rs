@@ -503,3 +503,17 @@ fn out_layouts_that_are_no_directory_are_refused_and_missing_parents_made() {
     assert_eq!(listing(&dir.join("a/b")), vec!["out".to_string()]);
     assert!(dir.join("a/b/out/summary.json").exists());
 }
+
+#[test]
+fn an_initial_velocity_out_of_scale_is_refused() {
+    // F1 (tests/data/fault-repro-3): -1e300 ended in exit 0 with inf in history.csv.
+    let dir = scratch("f1");
+    let problem = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fault-repro-3/F1_huge_initial_velocity.toml");
+    let out = run_problem(&problem, &dir.join("out"), &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("dynamics.initial_velocity"), "{stderr}");
+    assert!(stderr.contains("rescale the units"), "{stderr}");
+    assert!(!dir.join("out").exists());
+}
