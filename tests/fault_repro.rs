@@ -478,3 +478,42 @@ fn a_refinement_box_far_larger_than_the_body_is_clipped() {
     let nodes = |d: &str| std::fs::read_to_string(dir.join(d).join("nodes.csv")).unwrap();
     assert_eq!(nodes("huge"), nodes("body"));
 }
+
+#[cfg(unix)]
+#[test]
+fn out_layouts_that_are_no_directory_are_refused_and_missing_parents_made() {
+    // The --out layouts of the opt-in campaign (examples/studies/fault_campaign.rs) that the
+    // tests above do not cover: a symbolic link to a file and a file where the directory
+    // should be are refused before anything is solved, the file intact and nothing beside it;
+    // missing parents are created, and hold only the run.
+    let dir = scratch("layouts");
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    std::os::unix::fs::symlink("notes.txt", dir.join("to-file")).unwrap();
+    for out in ["to-file", "notes.txt"] {
+        let ran = run_problem(&repro("r_ok.toml"), &dir.join(out), &[]);
+        let stderr = String::from_utf8_lossy(&ran.stderr);
+        assert_eq!(ran.status.code(), Some(2), "{out}: {stderr}");
+        assert!(stderr.contains("is not a directory"), "{out}: {stderr}");
+        assert_eq!(std::fs::read_to_string(dir.join("notes.txt")).unwrap(), "mine");
+        assert_eq!(listing(&dir), vec!["notes.txt".to_string(), "to-file".to_string()]);
+    }
+    let ran = run_problem(&repro("r_ok.toml"), &dir.join("a/b/out"), &[]);
+    assert!(ran.status.success(), "{}", String::from_utf8_lossy(&ran.stderr));
+    assert_eq!(listing(&dir.join("a")), vec!["b".to_string()]);
+    assert_eq!(listing(&dir.join("a/b")), vec!["out".to_string()]);
+    assert!(dir.join("a/b/out/summary.json").exists());
+}
+
+#[test]
+fn an_initial_velocity_out_of_scale_is_refused() {
+    // F1 (tests/data/fault-repro-3): -1e300 ended in exit 0 with inf in history.csv.
+    let dir = scratch("f1");
+    let problem = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fault-repro-3/F1_huge_initial_velocity.toml");
+    let out = run_problem(&problem, &dir.join("out"), &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("dynamics.initial_velocity"), "{stderr}");
+    assert!(stderr.contains("rescale the units"), "{stderr}");
+    assert!(!dir.join("out").exists());
+}

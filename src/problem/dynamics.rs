@@ -90,6 +90,15 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         if !v.is_finite() {
             return Err(invalid("dynamics.initial_velocity", v, "must be finite numbers"));
         }
+        // Its square (the kinetic energy) must not overflow: the bound of every magnitude.
+        let max = super::validate::MAX_MAGNITUDE;
+        if v.abs() > max {
+            return Err(invalid(
+                "dynamics.initial_velocity",
+                format!("{v:e}"),
+                format!("magnitudes above {max:e} make the arithmetic overflow; rescale the units"),
+            ));
+        }
     }
     let load_ramp = match d.load_ramp {
         Some(r) if !(r.is_finite() && r > 0.0 && r <= end_time) => {
