@@ -204,18 +204,8 @@ pub(super) fn measure_with(label: &str, s: &Solution, e_star: f64) -> Sphere {
     let force = axial.abs();
     let a = (3.0 * force * RADIUS / (4.0 * e_star)).cbrt();
     let p0 = 3.0 * force / (TAU * a * a);
-    let pts: Vec<(f64, f64)> = (0..c.closed.len())
-        .filter(|&i| c.closed[i] && c.pressure[i] > 0.0)
-        .map(|i| (c.candidates.points[i][0].powi(2), c.pressure[i].powi(2)))
-        .collect();
-    assert!(pts.len() >= 6, "{label}: only {} closed candidates", pts.len());
-    let n = pts.len() as f64;
-    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let slope = sxy / sxx;
-    let alpha = my - slope * mx;
-    let (peak, radius) = (alpha.sqrt(), (-alpha / slope).sqrt());
+    let (peak, radius, closed) = hertz_fit(c);
+    assert!(closed >= 6, "{label}: only {} closed candidates", closed);
     let out =
         Sphere { force, radius, peak, radius_error: radius / a - 1.0, peak_error: peak / p0 - 1.0 };
     println!(
@@ -223,7 +213,7 @@ pub(super) fn measure_with(label: &str, s: &Solution, e_star: f64) -> Sphere {
         a / RADIUS,
         out.radius_error,
         out.peak_error,
-        pts.len()
+        closed
     );
     out
 }

@@ -124,24 +124,14 @@ fn two_elastic_spheres_against_hertz() {
     let radius = 1.0 / (1.0 / R1 + 1.0 / R2);
     let a = (3.0 * axial * radius / (4.0 * e_star)).cbrt();
     let p0 = 3.0 * axial / (TAU * a * a);
-    let pts: Vec<(f64, f64)> = (0..c.closed.len())
-        .filter(|&i| c.closed[i] && c.pressure[i] > 0.0)
-        .map(|i| (c.candidates.points[i][0].powi(2), c.pressure[i].powi(2)))
-        .collect();
+    let (peak, fitted, closed) = hertz_fit(c);
     assert_eq!(c.onset.closed_intervals, 1);
-    assert!(pts.len() >= 6, "only {} closed rings", pts.len());
-    let n = pts.len() as f64;
-    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let slope = sxy / sxx;
-    let alpha = my - slope * mx;
-    let (peak, fitted) = (alpha.sqrt(), (-alpha / slope).sqrt());
+    assert!(closed >= 6, "only {} closed rings", closed);
     let (ea, ep) = (fitted / a - 1.0, peak / p0 - 1.0);
     println!(
         "two spheres: F = {axial:.6e}  a/R = {:.4}  a {ea:+.3e}  p0 {ep:+.3e}  closed {}",
         a / radius,
-        pts.len()
+        closed
     );
     assert!(ea.abs() < 0.02 && ep.abs() < 0.02, "a {ea:+.3e}, p0 {ep:+.3e}");
 }

@@ -105,3 +105,21 @@ pub fn assert_lcp_residuals(label: &str, r: &mlpg_contact::lcp::LcpResiduals, to
         assert!(v <= tolerance, "{label}: {what} {v}");
     }
 }
+
+/// The Hertz pressure fit of every Hertz case: `p² = p₀²(1 − x²/a²)` is linear in `x²`, so a
+/// least-squares line through `(x_c², p_c²)` over the closed candidates with a positive
+/// pressure gives the peak `p₀` and the half-width (contact radius) `a`. Returns `(p₀, a,
+/// number of points)`; `NaN`s when fewer than two points (the callers assert the count).
+pub fn hertz_fit(c: &mlpg_contact::ContactSolution) -> (f64, f64, usize) {
+    let pts: Vec<(f64, f64)> = (0..c.closed.len())
+        .filter(|&i| c.closed[i] && c.pressure[i] > 0.0)
+        .map(|i| (c.candidates.points[i][0].powi(2), c.pressure[i].powi(2)))
+        .collect();
+    let n = pts.len() as f64;
+    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let slope = sxy / sxx;
+    let alpha = my - slope * mx;
+    (alpha.sqrt(), (-alpha / slope).sqrt(), pts.len())
+}

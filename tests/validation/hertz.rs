@@ -207,18 +207,8 @@ pub(super) fn measure(
     let a = (4.0 * load * radius / (std::f64::consts::PI * e_star)).sqrt();
     let p0 = 2.0 * load / (std::f64::consts::PI * a);
     // Least squares p² = α + β x² over the closed candidates.
-    let pts: Vec<(f64, f64)> = (0..c.closed.len())
-        .filter(|&i| c.closed[i] && c.pressure[i] > 0.0)
-        .map(|i| (c.candidates.points[i][0].powi(2), c.pressure[i].powi(2)))
-        .collect();
-    assert!(pts.len() >= 4, "{label}: only {} closed candidates", pts.len());
-    let n = pts.len() as f64;
-    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let beta = sxy / sxx;
-    let alpha = my - beta * mx;
-    let (p0_fit, a_fit) = (alpha.sqrt(), (-alpha / beta).sqrt());
+    let (p0_fit, a_fit, closed) = hertz_fit(c);
+    assert!(closed >= 4, "{label}: only {} closed candidates", closed);
     let profile = (0..c.closed.len())
         .filter(|&i| c.closed[i])
         .map(|i| {
@@ -248,12 +238,7 @@ pub(super) fn measure(
     };
     println!(
         "hertz: {label:<22} P = {load:.5e}  a/R = {:.4}  a_fit/a − 1 = {:+.3e}  p0_fit/p0 − 1 = {:+.3e}  profile {:.3e}  interior profile {:.3e}  closed {}",
-        out.a_over_r,
-        out.half_width,
-        out.peak,
-        out.profile,
-        out.profile_interior,
-        pts.len()
+        out.a_over_r, out.half_width, out.peak, out.profile, out.profile_interior, closed
     );
     out
 }

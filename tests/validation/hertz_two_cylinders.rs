@@ -114,24 +114,14 @@ fn two_elastic_cylinders_against_hertz() {
     let radius = 1.0 / (1.0 / R1 + 1.0 / R2);
     let b = (4.0 * force * radius / (std::f64::consts::PI * e_star)).sqrt();
     let p0 = 2.0 * force / (std::f64::consts::PI * b);
-    let pts: Vec<(f64, f64)> = (0..c.closed.len())
-        .filter(|&i| c.closed[i] && c.pressure[i] > 0.0)
-        .map(|i| (c.candidates.points[i][0].powi(2), c.pressure[i].powi(2)))
-        .collect();
+    let (peak, half, closed) = hertz_fit(c);
     assert_eq!(c.onset.closed_intervals, 1);
-    assert!(pts.len() >= 12, "only {} closed candidates", pts.len());
-    let n = pts.len() as f64;
-    let (mx, my) = pts.iter().fold((0.0, 0.0), |s, p| (s.0 + p.0 / n, s.1 + p.1 / n));
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    let slope = sxy / sxx;
-    let alpha = my - slope * mx;
-    let (peak, half) = (alpha.sqrt(), (-alpha / slope).sqrt());
+    assert!(closed >= 12, "only {} closed candidates", closed);
     let (eb, ep) = (half / b - 1.0, peak / p0 - 1.0);
     println!(
         "two cylinders: P = {force:.6e}  b/R = {:.4}  b {eb:+.3e}  p0 {ep:+.3e}  closed {}",
         b / radius,
-        pts.len()
+        closed
     );
     assert!(eb.abs() < 0.02 && ep.abs() < 0.02, "b {eb:+.3e}, p0 {ep:+.3e}");
 }
