@@ -33,7 +33,7 @@ pub enum Error {
     /// Contact candidates or condensation failed (stage 9: [`crate::contact`]).
     #[error(transparent)]
     Contact(#[from] ContactError),
-    /// The LCP, its frictional step, a load-driven search or the active set failed (stage 10:
+    /// The LCP, its frictional step, a load-driven search or the active set failed (stage 7:
     /// [`crate::lcp`]).
     #[error(transparent)]
     Lcp(#[from] LcpError),
@@ -84,10 +84,10 @@ pub enum Error {
         /// double precision, else empty (the advice is already taken).
         precision_hint: &'static str,
     },
-    /// Writing outputs failed (stage 12: [`crate::post`]).
+    /// Writing outputs failed (stage 11: [`crate::post`]).
     #[error(transparent)]
     Output(#[from] OutputError),
-    /// The time stepping failed (stage 11: [`crate::dynamics`]).
+    /// The time stepping failed (stage 10: [`crate::dynamics`]).
     #[error(transparent)]
     Dynamics(#[from] DynamicsError),
 }

@@ -9,8 +9,8 @@
 //! g p = 0` on `Γ_c`) of a body with rigid obstacles (lines, circles, rounded polylines) or
 //! between several elastic bodies is posed as the linear complementarity problem
 //! `w = M z + q, z ≥ 0, w ≥ 0, zᵀw = 0` and solved by Lemke's method on the condensed `M`, or
-//! by a primal–dual active-set method on the sparse system without forming `M` (stage 10:
-//! [`lcp`]);
+//! by a primal–dual active-set method on the sparse system without forming `M` (stage 7:
+//! [`lcp`], on the systems of [`contact::sparse`]);
 //! Coulomb friction and load steps follow the load path increment by increment
 //! (docs/method.md §8).
 //!
@@ -66,14 +66,13 @@
 //! | 4 | [`mls`] | [`mls::ShapeSet`]: `φ`, `∇φ` at nodes and quadrature points |
 //! | 5 | [`weak_form`] | subdomain cells `Ω_s`, faces, face quadrature |
 //! | 6 | [`assembly`], [`fem`] | [`assembly::GlobalSystem`]: `K = −Q D [(1 − β) Φ S + β B_q]`, `f`, collocation rows; or the finite element system on a Q2 mesh |
-//! | 7 | [`linear_solve`] | [`linear_solve::Factorisation`] (sparse LU) |
+//! | 7 | [`linear_solve`], [`lcp`] | [`linear_solve::Factorisation`] (sparse LU); the contact problem's algorithms, pure algebra: Lemke's method, the frictional step LCP, the load-driven searches, the primal–dual active-set iteration |
 //! | 8 | [`model`] | [`model::Model`]: the discretised body, MFVM or FE ([`model::Scheme`]) |
-//! | 9 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E` |
-//! | 10 | [`lcp`] | the contact solvers: Lemke's method, the frictional step LCP, the load-driven searches, the primal–dual active set |
-//! | 11 | [`solution`], [`dynamics`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks; Moreau–Jean time stepping with contact (mass, `M̂`, one LCP per step, history) |
-//! | 12 | [`post`] | outputs: CSV, VTU, plots, `summary.json` |
-//! | 13 | [`error`] | [`Error`], one variant per stage |
-//! | 14 | [`pipeline`] | orchestration: [`discretise`], [`solve_model`], [`solve`], [`run`], [`compare`] |
+//! | 9 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E`; the sparse systems of the active-set method ([`contact::sparse`]) |
+//! | 10 | [`solution`], [`dynamics`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks; Moreau–Jean time stepping with contact (mass, `M̂`, one LCP per step, history) |
+//! | 11 | [`post`] | outputs: CSV, VTU, plots, `summary.json` |
+//! | 12 | [`error`] | [`Error`], one variant per stage |
+//! | 13 | [`pipeline`] | orchestration: [`discretise`], [`solve_model`], [`solve`], [`run`], [`compare`] |
 //!
 //! The equations the modules cite (`docs/method.md §N`) are in the repository's
 //! `docs/method.md`.

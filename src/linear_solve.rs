@@ -1091,7 +1091,7 @@ mod tests {
     #[test]
     fn taken_factors_solve_and_the_released_ones_keep_their_statistics() {
         // The active-set solver takes `K`'s factors out of the model and releases them
-        // (lcp::active_set::ModelFactors): the taken ones solve as before, the model's keep
+        // (contact::sparse::ModelFactors): the taken ones solve as before, the model's keep
         // the statistics (summary.json reports them) and refuse to solve with a typed error;
         // releasing keeps the refinement record of the solves made before.
         let (m, points) = grid(20);

@@ -1,4 +1,4 @@
-//! Stage 11: recovery — from the nodal parameters `û` (and the contact forces) to what is
+//! Stage 10: recovery — from the nodal parameters `û` (and the contact forces) to what is
 //! reported: the displacement `u^h` and the stresses at the nodes, the reactions, the contact
 //! table (gaps, pressures, closed set, onset) and the global checks (residual, equilibrium).
 
@@ -308,7 +308,7 @@ pub struct ActiveSetRecord {
     /// How it ended.
     pub end: lcp::active_set::ActiveSetEnd,
     /// Factorisations and low-rank update work.
-    pub work: lcp::active_set::RigidObstacleStats,
+    pub work: contact::sparse::RigidObstacleStats,
 }
 
 /// The frictional part of a contact solution (the last load increment, and a record of every

@@ -310,7 +310,8 @@ fn other_suite_cases_answer_or_report() {
             Err(
                 e @ (ActiveSetError::NotConverged { .. }
                 | ActiveSetError::Rescue(_)
-                | ActiveSetError::Solve(_)),
+                | ActiveSetError::Solve(_)
+                | ActiveSetError::Singular { .. }),
             ) => reported.push(format!("{name}: {e}")),
             Err(e) => panic!("{name}: unexpected {e}"),
         }

@@ -317,3 +317,53 @@ fn a_module_outside_the_table_is_caught() {
     assert_eq!(violations(&dir), vec!["module `extra` is not in lib.rs's stage table".to_string()]);
     let _ = fs::remove_dir_all(dir);
 }
+
+/// The modules whose code names nothing of the crate outside itself: pure algorithms that
+/// bodies, matrices and problem files sit on, not under.
+const PURE: &[&str] = &["lcp"];
+
+/// The `crate::` paths out of `module` (its file or folder under `src`) other than into
+/// itself, one line each.
+fn impurities(src: &Path, module: &str) -> Vec<String> {
+    let mut files = Vec::new();
+    let file = src.join(format!("{module}.rs"));
+    if file.exists() {
+        files.push(file);
+    }
+    if src.join(module).is_dir() {
+        rust_files(&src.join(module), &mut files);
+    }
+    let mut out = Vec::new();
+    for file in files {
+        let text = fs::read_to_string(&file).expect("read a source file");
+        for target in references(&code(&text)) {
+            if target != module {
+                out.push(format!(
+                    "{}: the pure module `{module}` imports `{target}`",
+                    file.display()
+                ));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn pure_modules_import_nothing_else_of_the_crate() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    for module in PURE {
+        let wrong = impurities(&src, module);
+        assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+    }
+}
+
+#[test]
+fn an_impure_import_is_caught() {
+    let dir = scratch("pure", "pub struct A;\n");
+    fs::write(dir.join("late/inner.rs"), "use crate::late::B;\nuse crate::early::A;\n")
+        .expect("write");
+    let wrong = impurities(&dir, "late");
+    // `late/mod.rs` and `late/inner.rs` both name `early`; `crate::late` is the module itself.
+    assert_eq!(wrong.len(), 2, "{wrong:?}");
+    assert!(wrong.iter().all(|w| w.ends_with("imports `early`")), "{wrong:?}");
+}

@@ -17,6 +17,7 @@ mod condense;
 pub mod fem;
 mod resolved;
 pub mod rings;
+pub mod sparse;
 pub mod spectrum;
 
 pub use crate::problem::{

@@ -1,4 +1,4 @@
-//! Stage 11: elastodynamics with contact — Moreau–Jean time stepping of one body against
+//! Stage 10: elastodynamics with contact — Moreau–Jean time stepping of one body against
 //! rigid obstacles (docs/method.md §10; the plan in docs/dev/dynamics.md).
 //!
 //! Per step `n → n + 1` (step `h`, `θ ∈ [½, 1]`, restitution `e`):

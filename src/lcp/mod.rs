@@ -1,8 +1,13 @@
-//! Stage 10 of the pipeline: the contact solvers. The linear complementarity problem (LCP) of
+//! Stage 7 of the pipeline: the contact solvers. The linear complementarity problem (LCP) of
 //! frictionless contact solved by Lemke's complementary pivot method; the frictional step LCP
 //! of a load increment ([`friction`], docs/method.md §8); the searches of a force-driven
 //! obstacle and a body held by contact ([`load_driven`], §4.6–4.7); the primal–dual active-set
-//! method on the sparse system ([`active_set`], §5.1).
+//! iteration ([`active_set`], §5.1) over any system that implements its traits (the sparse
+//! contact systems on the bodies' matrices are [`crate::contact::sparse`]).
+//!
+//! This module is pure algebra: it imports nothing from the rest of the crate (the
+//! architecture test holds it to that), so its algorithms can be tested, reused and read
+//! without bodies, matrices or problem files.
 //!
 //! Given a dense, generally non-symmetric matrix M ∈ ℝⁿˣⁿ and a vector q ∈ ℝⁿ, the LCP(q, M) asks
 //! for z ∈ ℝⁿ with

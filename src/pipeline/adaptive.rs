@@ -1,4 +1,4 @@
-//! Stage 14: adaptive node refinement (docs/method.md §2.2) — solve, estimate, mark, refine.
+//! Stage 13: adaptive node refinement (docs/method.md §2.2) — solve, estimate, mark, refine.
 //!
 //! - **Estimate** ([`estimate`]): an error indicator `η_I` per node from one solution
 //!   ([`Indicator`]), and the relative global estimate `(Σ η_I² / Σ h_I² ε̂_Iᵀ D ε̂_I)^(1/2)`.

@@ -219,7 +219,7 @@ pub fn defers_to_analysis(problem: &Problem, available: f64) -> bool {
 /// factors), and for contact: Lemke's dense `M` and tableau, or the active-set solver's update
 /// columns, plus a second factorisation unless `releases` (the frictionless active set
 /// against a rigid obstacle releases `K`'s factors before it factorises its row-replaced
-/// matrix, `lcp::active_set::ModelFactors`).
+/// matrix, `contact::sparse::ModelFactors`).
 pub fn after_analysis(
     problem: &Problem,
     stats: &FactorStats,

@@ -1,4 +1,4 @@
-//! Stage 14: orchestration — the pipeline as functions that read like the algorithm:
+//! Stage 13: orchestration — the pipeline as functions that read like the algorithm:
 //! [`discretise`] (stages 2–8, MFVM or FE), [`solve_model`] (solve, or condense, run the LCP
 //! and solve again; then recover), [`solve`] (both in one call) and [`run`] (solve and write
 //! every output, the command-line program's job). [`compare`] runs both discretisations on
@@ -386,7 +386,7 @@ fn discretise_all(
     Ok((model, second))
 }
 
-/// Solves `problem` end to end (stages 1–11; both bodies of a two-body contact; with
+/// Solves `problem` end to end (stages 1–10; both bodies of a two-body contact; with
 /// `[refinement]` the adaptive loop, [`adaptive::solve_adaptive`], and its last solution).
 /// Once, at the `β` of `problem.discretisation`: the second attempt of `beta = "auto"` and
 /// its warning belong to [`Outcome::solve`], which the command line and Python use.
@@ -785,8 +785,8 @@ fn node_points(m: &Model) -> Option<&[geometry::Point]> {
 }
 
 /// One body's part of a two-body active-set system.
-fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> lcp::active_set::BodyParts<'a> {
-    lcp::active_set::BodyParts {
+fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> contact::sparse::BodyParts<'a> {
+    contact::sparse::BodyParts {
         matrix: &m.system.matrix,
         rhs: &m.system.rhs,
         factorisation: &m.factorisation,
@@ -799,8 +799,8 @@ fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> lcp::active_se
 fn rigid_obstacle<'a>(
     model: &'a Model,
     candidates: &'a contact::Candidates,
-) -> Result<lcp::active_set::RigidObstacle<'a>, lcp::active_set::ActiveSetError> {
-    lcp::active_set::RigidObstacle::new(
+) -> Result<contact::sparse::RigidObstacle<'a>, lcp::active_set::ActiveSetError> {
+    contact::sparse::RigidObstacle::new(
         &model.system.matrix,
         &model.system.rhs,
         &model.factorisation,
@@ -818,7 +818,7 @@ fn rigid_obstacle<'a>(
 ///
 /// Against a rigid obstacle the system takes `K`'s factorisation from `model` and gives it
 /// back, its factors released if it factorised a row-replaced matrix
-/// ([`lcp::active_set::ModelFactors`]): the peak is then one factorisation of the body, not
+/// ([`contact::sparse::ModelFactors`]): the peak is then one factorisation of the body, not
 /// two. Only statistics are left of `model.factorisation` then.
 fn solve_active_set(
     spec: &ContactSpec,
@@ -831,7 +831,7 @@ fn solve_active_set(
     let (answer, u1, u2, work) = clock.run("active_set", || match &second {
         None => {
             let factors = model.factorisation.take();
-            let mut system = lcp::active_set::RigidObstacle::new(
+            let mut system = contact::sparse::RigidObstacle::new(
                 &model.system.matrix,
                 &model.system.rhs,
                 factors,
@@ -849,7 +849,7 @@ fn solve_active_set(
             Ok::<_, lcp::LcpError>((answer, u1, None, stats))
         }
         Some((op, m2)) => {
-            let mut system = lcp::active_set::TwoBodies::two(
+            let mut system = contact::sparse::TwoBodies::two(
                 body_parts(model, &candidates.operator),
                 body_parts(m2, op),
                 &candidates.initial_gap,

@@ -3,7 +3,7 @@
 //! it, `M = Σ_b G_b K_b⁻¹ E_b` and `q = g0 + Σ_b G_b K_b⁻¹ f_b` over all candidates, Lemke,
 //! then one solve per body with the contact forces of its pairs; or, with
 //! `contact[k].solver = "active_set"`, the active-set method on all bodies at once without
-//! `M` (docs/method.md §5.1, [`lcp::active_set::Bodies`]).
+//! `M` (docs/method.md §5.1, [`contact::sparse::Bodies`]).
 
 mod path;
 mod sparse_path;
@@ -684,7 +684,7 @@ fn solve_lemke(
     })
 }
 
-/// The active-set method on all bodies and pairs ([`lcp::active_set::Bodies`],
+/// The active-set method on all bodies and pairs ([`contact::sparse::Bodies`],
 /// docs/method.md §5.1): no `M`, so none of its checks; a held translation (§4.7) found by
 /// the search of [`lcp::load_driven::find_translation_with`] over warm-started solves; the
 /// displacements those of the final closed set (with the pin at the translation found).
@@ -770,16 +770,16 @@ fn solve_active_set(
     })
 }
 
-/// The sparse system of all bodies and pairs ([`lcp::active_set::Bodies`]).
+/// The sparse system of all bodies and pairs ([`contact::sparse::Bodies`]).
 fn bodies_system<'a>(
     models: &[&'a Model],
     pairs: &'a [ContactPair],
     found: &'a [PairCandidates],
     initial_gap: &[f64],
-) -> Result<lcp::active_set::Bodies<'a>, Error> {
+) -> Result<contact::sparse::Bodies<'a>, Error> {
     let bodies = models
         .iter()
-        .map(|m| lcp::active_set::BodyParts {
+        .map(|m| contact::sparse::BodyParts {
             matrix: &m.system.matrix,
             rhs: &m.system.rhs,
             factorisation: &m.factorisation,
@@ -790,17 +790,17 @@ fn bodies_system<'a>(
     let parts = pairs
         .iter()
         .zip(found)
-        .map(|(pair, f)| lcp::active_set::PairParts {
+        .map(|(pair, f)| contact::sparse::PairParts {
             body: pair.body,
             operator: &f.candidates.operator,
             target: pair.target_body.zip(f.target.as_ref()),
             scale: models[pair.body].system.collocation_scale,
         })
         .collect();
-    Ok(lcp::active_set::Bodies::new(bodies, parts, initial_gap).map_err(lcp::LcpError::from)?)
+    Ok(contact::sparse::Bodies::new(bodies, parts, initial_gap).map_err(lcp::LcpError::from)?)
 }
 
-/// The operator [`lcp::active_set::BodyParts::operator`] holds for [`lcp::active_set::Bodies::new`],
+/// The operator [`contact::sparse::BodyParts::operator`] holds for [`contact::sparse::Bodies::new`],
 /// which reads the pairs' operators instead.
 static EMPTY_OPERATOR: std::sync::LazyLock<BodyOperator> = std::sync::LazyLock::new(|| {
     BodyOperator { shapes: ShapeSet::from_rows(&[]), owners: Vec::new(), directions: Vec::new() }
@@ -809,9 +809,9 @@ static EMPTY_OPERATOR: std::sync::LazyLock<BodyOperator> = std::sync::LazyLock::
 /// The trials of a held translation's search (docs/method.md §4.7) on the active-set path:
 /// each is the system with the initial gaps moved to `g0 − a t`, solved by
 /// [`lcp::active_set::solve_friction_step`] (frictionless) from the last trial's states; the
-/// slope one solve with the closed set's matrix ([`lcp::active_set::Bodies::force_rate`]).
+/// slope one solve with the closed set's matrix ([`contact::sparse::Bodies::force_rate`]).
 struct BodiesTrials<'s, 'a> {
-    system: &'s mut lcp::active_set::Bodies<'a>,
+    system: &'s mut contact::sparse::Bodies<'a>,
     initial_gap: &'s [f64],
     along: &'s [f64],
     /// The accumulated slips (zero: frictionless).
@@ -822,7 +822,7 @@ struct BodiesTrials<'s, 'a> {
     /// Linear solves and Lemke rescues over the trials.
     iterations: usize,
     rescues: Vec<usize>,
-    /// The round-off of the last trial's forces ([`lcp::active_set::Bodies::force_round_off`]).
+    /// The round-off of the last trial's forces ([`contact::sparse::Bodies::force_round_off`]).
     round_off: Vec<f64>,
     /// Inside outer searches ([`lcp::load_driven::nested::HeldWithin`]; other held bodies,
     /// a force-driven obstacle), nearest first: each one's `a_c` and trial displacement `s`,
@@ -835,7 +835,7 @@ impl<'s, 'a> BodiesTrials<'s, 'a> {
     /// accumulated slips `previous` and the states `warm`, each trial's residuals measured
     /// against `force_scale` (`ActiveSetParams::force_scale`); not inside another search.
     fn new(
-        system: &'s mut lcp::active_set::Bodies<'a>,
+        system: &'s mut contact::sparse::Bodies<'a>,
         (initial_gap, along): (&'s [f64], &'s [f64]),
         (previous, warm): (Vec<f64>, Option<Vec<lcp::ContactState>>),
         (params, force_scale): (lcp::active_set::ActiveSetParams, f64),

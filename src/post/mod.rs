@@ -1,4 +1,4 @@
-//! Stage 12: outputs — CSV tables, VTK files for ParaView (each body's `solution.vtu`, the
+//! Stage 11: outputs — CSV tables, VTK files for ParaView (each body's `solution.vtu`, the
 //! contact edges and obstacles, `solution.vtm` opening them all), plots and `summary.json`.
 //!
 //! Every file is deterministic (fixed float formatting, sorted keys) except the `timings`

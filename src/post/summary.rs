@@ -461,7 +461,7 @@ pub struct ActiveSetSummary {
     /// `"converged"` or `"converged_after_rescue"`.
     pub end: crate::lcp::active_set::ActiveSetEnd,
     /// Factorisations of row-replaced matrices, low-rank update columns and their times.
-    pub work: crate::lcp::active_set::RigidObstacleStats,
+    pub work: crate::contact::sparse::RigidObstacleStats,
 }
 
 /// The contact result.

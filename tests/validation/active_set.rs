@@ -226,7 +226,7 @@ fn inclined_obstacle_equals_lemke() {
     assert!(closed > 0 && closed < c.closed.len(), "a partial contact zone: {closed}");
 }
 
-/// Two elastic bodies (`lcp::active_set::TwoBodies`): the shipped `two_blocks.toml` (read
+/// Two elastic bodies (`contact::sparse::TwoBodies`): the shipped `two_blocks.toml` (read
 /// with `solver = "active_set"` in its `[contact]` table) and every two-body case of the
 /// validation suite: the uniform-pressure blocks (matching and non-matching layouts, the two
 /// stabilised variants, FE), the block on its mirror image and the Hertz cylinder on an elastic
@@ -389,9 +389,10 @@ fn long_strip_on_block_equals_lemke() {
 /// Then a forced rescue (one solve allowed before Lemke takes over) ends at Lemke's answer.
 #[test]
 fn two_body_system_equals_the_dense_lcp() {
+    use mlpg_contact::contact::sparse::{BodyParts, TwoBodies};
     use mlpg_contact::lcp::Lcp;
     use mlpg_contact::lcp::active_set::{
-        ActiveSetEnd, ActiveSetParams, ActiveSetSystem, BodyParts, DenseSystem, TwoBodies,
+        ActiveSetEnd, ActiveSetParams, ActiveSetSystem, DenseSystem,
     };
     let problem = mirror_problems().1;
     let lemke = solve_with(&problem, ContactSolver::Lemke);
@@ -499,8 +500,9 @@ pub(super) fn plain_strip(length: f64, h: f64, contact_keys: &str) -> Problem {
 /// after the free gap), and the pipeline's model must come back with the statistics only.
 #[test]
 fn releasing_k_factors_changes_nothing_but_memory() {
+    use mlpg_contact::contact::sparse::RigidObstacle;
     use mlpg_contact::contact::{candidates_on, rigid_target};
-    use mlpg_contact::lcp::active_set::{self, ActiveSetParams, RigidObstacle};
+    use mlpg_contact::lcp::active_set::{self, ActiveSetParams};
     use mlpg_contact::problem::ContactTarget;
 
     let mut problem = plain_strip(50.0, 0.1, "");
@@ -514,7 +516,7 @@ fn releasing_k_factors_changes_nothing_but_memory() {
         candidates_on(&problem, &model, spec.edge, &target, spec.condensation).unwrap();
     let points = Some(model.nodes.points.as_slice());
     let params = ActiveSetParams::default();
-    let solve = |factors: active_set::ModelFactors<'_>| {
+    let solve = |factors: mlpg_contact::contact::sparse::ModelFactors<'_>| {
         let mut system = RigidObstacle::new(
             &model.system.matrix,
             &model.system.rhs,

@@ -12,7 +12,7 @@
 //! 3.2e-5, as in the frictionless comparison). Each answer is also checked on its own: the scaled step residuals
 //! (complementarity, cone, friction complementarity ≤ 1e-9 at every increment) and global
 //! equilibrium (≤ 1e-8), of both bodies where there are two. Two bodies
-//! (`lcp::active_set::TwoBodies` with friction): `problems/cattaneo_mindlin.toml` (a cylinder
+//! (`contact::sparse::TwoBodies` with friction): `problems/cattaneo_mindlin.toml` (a cylinder
 //! cap pressed onto a block, then sheared with friction; all 5 increments), and two blocks
 //! pressed, sheared into partial slip and back by moving the other body (matching and
 //! non-matching layouts, and two FE blocks), with the same 1e-10.
@@ -156,7 +156,7 @@ fn fem_beam_with_friction_equals_lemke() {
 
 /// `problems/cattaneo_mindlin.toml` as shipped (a cylinder cap on a block, h = 0.01 on both,
 /// a frictionless press then a shear in 4 increments with μ = 0.3): two bodies with friction
-/// and `[[step]]` on the active-set path (`lcp::active_set::TwoBodies`) against Lemke's path,
+/// and `[[step]]` on the active-set path (`contact::sparse::TwoBodies`) against Lemke's path,
 /// every increment; both bodies' equilibrium is in each increment's record
 /// (`check_frictional`).
 #[test]
@@ -222,7 +222,7 @@ fn two_blocks_text(method: &str, upper_spacing: f64, mu: f64, top: &str, steps: 
     )
 }
 
-/// The sparse two-body frictional system (`lcp::active_set::TwoBodies` with friction) against
+/// The sparse two-body frictional system (`contact::sparse::TwoBodies` with friction) against
 /// the dense step problem of the same two blocks (non-matching layouts, pressed by 0.01 and
 /// sheared by 0.009 in one step, μ = 0.3: partial slip): the four blocks and `q` summed over
 /// both bodies' condensations (`contact::condense_blocks`, what Lemke's path uses) as a
@@ -236,10 +236,10 @@ fn two_blocks_text(method: &str, upper_spacing: f64, mu: f64, top: &str, steps: 
 #[test]
 fn two_body_frictional_system_equals_the_dense_blocks() {
     use mlpg_contact::contact::condense_blocks;
+    use mlpg_contact::contact::sparse::{BodyParts, TwoBodies};
     use mlpg_contact::lcp::FrictionProblem;
     use mlpg_contact::lcp::active_set::{
-        ActiveSetEnd, ActiveSetParams, BodyParts, DenseFriction, FrictionSystem, TwoBodies,
-        solve_friction_step,
+        ActiveSetEnd, ActiveSetParams, DenseFriction, FrictionSystem, solve_friction_step,
     };
     let text = two_blocks_text("mfvm", 0.08, 0.3, "{ x = -0.009, y = -0.01 }", "");
     let problem = Problem::from_toml(&text).unwrap();

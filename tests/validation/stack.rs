@@ -397,7 +397,7 @@ fn with_pair_solver(text: &str, solver: &str) -> String {
     text.replace("[[contact]]\n", &format!("[[contact]]\nsolver = \"{solver}\"\n"))
 }
 
-/// The active-set solver (docs/method.md §5.1, [`mlpg_contact::lcp::active_set::Bodies`])
+/// The active-set solver (docs/method.md §5.1, [`mlpg_contact::contact::sparse::Bodies`])
 /// against Lemke's method on this file's problems with several pairs: the stack (its middle
 /// block held by the two contacts, the translation found by the search over warm-started
 /// solves, docs/method.md §4.7) and the reversed pair (MFVM and FE) as

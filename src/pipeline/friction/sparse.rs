@@ -8,12 +8,12 @@ use super::*;
 /// The sparse frictional system of the active-set path: one body against a rigid obstacle,
 /// or two bodies.
 enum SparseFriction<'a> {
-    Rigid(lcp::active_set::RigidObstacle<'a>),
-    Pair(lcp::active_set::TwoBodies<'a>),
+    Rigid(contact::sparse::RigidObstacle<'a>),
+    Pair(contact::sparse::TwoBodies<'a>),
 }
 
 impl SparseFriction<'_> {
-    fn stats(self) -> lcp::active_set::RigidObstacleStats {
+    fn stats(self) -> contact::sparse::RigidObstacleStats {
         match self {
             SparseFriction::Rigid(s) => s.stats,
             SparseFriction::Pair(s) => s.stats,
@@ -66,7 +66,7 @@ struct Walk {
 /// the active-set method on the sparse system (docs/method.md §5.1, §8): no blocks `M_**`, no
 /// condensation. Each increment sets the load `f_λ` (of both bodies), the obstacle's
 /// displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the step's `μ` on one
-/// [`lcp::active_set::RigidObstacle`] or [`lcp::active_set::TwoBodies`], whose factorisations
+/// [`contact::sparse::RigidObstacle`] or [`contact::sparse::TwoBodies`], whose factorisations
 /// and update columns carry over, and starts from the previous increment's states. An
 /// obstacle pressed by a force (§4.6) or a translation held by the contact (§4.7) is found by
 /// the search of `lcp::load_driven` over warm-started solves (rigid obstacle only). The
@@ -159,7 +159,7 @@ impl<'p> Path<'p, '_> {
         let (model, candidates) = (self.model, self.candidates);
         Ok(match (self.target, self.target_tangential) {
             (Some(tg), Some(_)) => SparseFriction::Pair(
-                lcp::active_set::TwoBodies::two(
+                contact::sparse::TwoBodies::two(
                     body_parts(model, &candidates.operator),
                     body_parts(tg.model, &tg.operator),
                     &candidates.initial_gap,
@@ -303,7 +303,7 @@ impl Walk {
     fn rigid_increment(
         &mut self,
         path: &Path<'_, '_>,
-        system: &mut lcp::active_set::RigidObstacle<'_>,
+        system: &mut contact::sparse::RigidObstacle<'_>,
         (k, lambda): (usize, f64),
         rhs: &[f64],
         at_step: &dyn Fn(lcp::LcpError) -> Error,
@@ -438,9 +438,9 @@ fn held_search(
 /// The trials of a force search (docs/method.md §4.6–4.7) on the active-set path: each is
 /// the increment's problem with the gaps without displacement moved to `g0 − a s`, solved
 /// by [`lcp::active_set::solve_friction_step`] from the last trial's states; the slope is
-/// one solve with the closed set's matrix ([`lcp::active_set::RigidObstacle::force_rate`]).
+/// one solve with the closed set's matrix ([`contact::sparse::RigidObstacle::force_rate`]).
 struct ActiveSetTrials<'s, 'a> {
-    system: &'s mut lcp::active_set::RigidObstacle<'a>,
+    system: &'s mut contact::sparse::RigidObstacle<'a>,
     rhs: &'s [f64],
     initial_gap: &'s [f64],
     offset: &'s [f64],

@@ -1,7 +1,7 @@
 //! Several bodies and contact pairs along the load path on the sparse system (docs/method.md
 //! §5.1, §8; plan in docs/dev/contact_core.md): friction, `[[step]]` tables and a body held
 //! by the contact with `contact[k].solver = "active_set"`. No condensed blocks: one
-//! [`lcp::active_set::Bodies`] over all bodies and pairs, whose factorisations and update
+//! [`contact::sparse::Bodies`] over all bodies and pairs, whose factorisations and update
 //! columns carry over the increments; per increment each body's right-hand side, per step
 //! the coefficients `μ_c`, and the increment's frictional step solved from the previous
 //! increment's states (the held body's translation by the search of
@@ -13,7 +13,7 @@
 use super::super::friction::{History, StepEnd, at_increment, force_along, lerp};
 use super::path::{self, Scene};
 use super::{BodiesTrials, Held as HeldBody, Solved};
-use crate::contact::BodyOperator;
+use crate::contact::{self, BodyOperator};
 use crate::error::Error;
 use crate::lcp;
 use crate::model::Model;
@@ -99,7 +99,7 @@ pub(super) fn solve(
     }
     path::refuse_force(scene, &friction, &normals)?;
     let mut system = super::bodies_system(models, scene.pairs, scene.found, scene.initial_gap)?;
-    let pair_tangential: Vec<lcp::active_set::PairTangential<'_>> =
+    let pair_tangential: Vec<contact::sparse::PairTangential<'_>> =
         tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
     let zeros = |m: &&Model| vec![0.0; m.system.rhs.len()];
     let (mut loads0, mut rhss0): (Vec<_>, Vec<_>) =
@@ -250,7 +250,7 @@ struct Warm<'w> {
 /// active-set step, or the search for a force-driven obstacle's displacement
 /// ([`force_search`]) or the held bodies' translations ([`held_search`]).
 fn solve_increment(
-    system: &mut lcp::active_set::Bodies<'_>,
+    system: &mut contact::sparse::Bodies<'_>,
     models: &[&Model],
     held_bodies: &[HeldBody],
     (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
@@ -285,7 +285,7 @@ fn solve_increment(
 /// gaps to the obstacle's displacement alone, so that the displacements answer the system
 /// reported.
 fn held_search(
-    system: &mut lcp::active_set::Bodies<'_>,
+    system: &mut contact::sparse::Bodies<'_>,
     models: &[&Model],
     (held_bodies, held): (&[HeldBody], &[(&[f64], f64)]),
     rhss: &[Vec<f64>],
@@ -340,7 +340,7 @@ fn held_search(
 /// whose answer carries the increment's force, over warm-started solves with the moved
 /// candidates' gaps at `g0 − a s` (the system is left at the last trial, the answer's).
 fn force_search(
-    system: &mut lcp::active_set::Bodies<'_>,
+    system: &mut contact::sparse::Bodies<'_>,
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
     let (e, target, along) = start.force.expect("a force");

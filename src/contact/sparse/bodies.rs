@@ -38,15 +38,18 @@
 //!
 //! [`RigidObstacle`]: super::RigidObstacle
 
-use super::friction::{FreeResponse, FrictionSystem, StateResponse, mode_of, reduced_blocks};
 use super::{
-    ActiveSetError, ActiveSetSystem, CLOSED, COLUMN_BYTES, Lcp, Mode, OPEN, RigidObstacleStats,
-    Row, SparseSolves, closed_modes, dense_lu, dense_lu_solve, singular, solve_blocks,
+    COLUMN_BYTES, RigidObstacleStats, Row, SparseSolves, closed_modes, singular, solve_blocks,
     solve_refined, sum_rows,
 };
 use crate::assembly::SystemMatrix;
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
+use crate::lcp::Lcp;
+use crate::lcp::active_set::{
+    ActiveSetError, ActiveSetSystem, CLOSED, FreeResponse, FrictionSystem, Mode, OPEN,
+    StateResponse, dense_lu, dense_lu_solve, mode_of, reduced_blocks,
+};
 use crate::lcp::friction::{ContactState, FrictionProblem};
 use crate::linear_solve::{ColumnOrdering, Factorisation};
 use crate::nodes::{Axis, dof};
