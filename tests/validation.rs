@@ -78,6 +78,8 @@ mod validation {
     mod hertz_two_cylinders;
     // Lamé's thick sphere under internal pressure: a curved section (quarter annulus, two arcs).
     mod axisymmetric_sphere;
+    // A rigid flat circular punch on a large cylinder: the stiffness against Sneddon.
+    mod flat_punch_axisymmetric;
     // Adaptive refinement of an axisymmetric body: the Hertz sphere against uniform node sets.
     mod axisymmetric_adaptive;
     // Interference fits: confined blocks (exact), Lamé's shrink fit of long cylinders.
