@@ -872,76 +872,60 @@ fn kill_case(env: &Env, seed: u64, i: usize, problem: &Path, run_time: f64) -> T
     tally
 }
 
-/// Bad values through the Python package (every leaf of a small problem replaced by values of
-/// other types and scales): a result or `ProblemError`, never another exception or a crash.
-const PYTHON: &str = r#"
-import math, sys
-import mlpg_contact as mc
-BASE = {"name": "block", "geometry": {"kind": "rectangle", "x": [0.0, 2.0], "y": [-2.0, 0.0]},
- "nodes": {"spacing": 0.5}, "material": {"young": 1.0, "poisson": 0.3, "plane": "strain"},
- "boundary": [{"edge": "bottom", "displacement": {"x": 0.0, "y": 0.0}},
-              {"edge": "top", "traction": {"x": 0.0, "y": -0.1}}]}
-BAD = [None, "x", [], {}, True, 2**70, -2**63, float("nan"), float("inf"), 1e300, 5e-324, b"1", (1,), object()]
-def leaves(v, path=()):
-    if isinstance(v, dict):
-        for k in v: yield from leaves(v[k], path + (k,))
-    elif isinstance(v, list):
-        for i, x in enumerate(v): yield from leaves(x, path + (i,))
-    else: yield path, v
-def put(v, path, x):
-    if not path: return x
-    c = dict(v) if isinstance(v, dict) else list(v)
-    c[path[0]] = put(v[path[0]], path[1:], x); return c
-counts = {"ok": 0, "refused": 0, "other": 0}
-for path, v in list(leaves(BASE)):
-    values = BAD + ([v * 10.0**k for k in range(-15, 16, 3)] + [-v] if isinstance(v, float) else [])
-    for x in values:
-        try:
-            mc.solve(put(BASE, path, x)); counts["ok"] += 1
-        except mc.ProblemError: counts["refused"] += 1
-        except Exception as e:
-            counts["other"] += 1; print("FAIL", path, repr(x), type(e).__name__, e, file=sys.stderr)
-print(counts["ok"], counts["refused"], counts["other"])
-"#;
-
-/// Class python: skipped with a message when `import mlpg_contact` fails.
-fn python_class() -> Tally {
+/// Class python: `scripts/python-fault-campaign.py` (malformed `mc.solve` dicts, numpy values,
+/// keys and sweep grids, in worker processes that count an abort), with the interpreter
+/// `MLPG_PYTHON` names (default `python3`); skipped with a message when `import mlpg_contact`
+/// fails there. Its table is printed as it comes; its last line gives the counts: inputs,
+/// results, `ProblemError`, `SolveError`, failures (any other exception, an unnamed key, a
+/// numpy value not solving like its number, an abort).
+fn python_class(seed: u64) -> Tally {
     let mut tally = Tally::default();
-    let importable = Command::new("python3")
-        .args(["-c", "import mlpg_contact"])
+    let python = std::env::var("MLPG_PYTHON").unwrap_or_else(|_| "python3".into());
+    let importable = Command::new(&python)
+        .args(["-c", "import mlpg_contact, numpy"])
         .stderr(Stdio::null())
         .status()
         .is_ok_and(|s| s.success());
     if !importable {
-        println!("python: skipped (`import mlpg_contact` fails: build the wheel with maturin)");
+        println!(
+            "python: skipped (`import mlpg_contact` fails with {python}: build the wheel with maturin, set MLPG_PYTHON)"
+        );
         return tally;
     }
-    let child = Command::new("python3")
-        .args(["-c", PYTHON])
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/python-fault-campaign.py");
+    let output = Command::new(&python)
+        .arg(script)
+        .args(["--seed", &seed.to_string()])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
-        .spawn()
+        .output()
         .unwrap();
-    let output = child.wait_with_output().unwrap();
     let text = String::from_utf8_lossy(&output.stdout);
-    let n: Vec<usize> = text.split_whitespace().filter_map(|w| w.parse().ok()).collect();
+    println!("{text}");
+    let n: Vec<usize> = text
+        .lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("SUMMARY "))
+        .map(|l| l.split_whitespace().filter_map(|w| w.parse().ok()).collect())
+        .unwrap_or_default();
     use std::os::unix::process::ExitStatusExt;
-    if output.status.signal().is_some() || n.len() != 3 {
+    if output.status.signal().is_some() || n.len() != 5 {
         tally.input(Class::Python);
         tally.add(Class::Python, Outcome::Abort);
         tally.failures.push(format!("python: {}", tail(&String::from_utf8_lossy(&output.stderr))));
         return tally;
     }
-    for (count, outcome) in
-        n.into_iter().zip([Outcome::RunOk, Outcome::Refused, Outcome::OtherExit])
-    {
+    // SolveError (a valid input the run could not solve) counts as a refusal with a message.
+    let counts =
+        [(n[1], Outcome::RunOk), (n[2] + n[3], Outcome::Refused), (n[4], Outcome::OtherExit)];
+    for (count, outcome) in counts {
         for _ in 0..count {
             tally.input(Class::Python);
             tally.add(Class::Python, outcome);
         }
     }
-    if tally.counts.contains_key(&(Class::Python, Outcome::OtherExit)) {
-        tally.failures.push(format!("python: {}", tail(&String::from_utf8_lossy(&output.stderr))));
+    if n[4] > 0 {
+        tally.failures.push(format!("python: {} failures (its table above)", n[4]));
     }
     tally
 }
@@ -1001,7 +985,7 @@ fn main() {
         .into_par_iter()
         .map(|i| kill_case(&env, cli.seed, i, &kill_problem, kill_time))
         .reduce(Tally::default, Tally::merge);
-    let tally = mutated.merge(layouts).merge(kills).merge(python_class());
+    let tally = mutated.merge(layouts).merge(kills).merge(python_class(cli.seed));
     let total: usize = tally.inputs.values().sum();
     println!(
         "\nfault campaign, seed {}: {total} inputs in {:.0} s ({:.0} s for the problem-file classes)\n",

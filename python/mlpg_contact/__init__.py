@@ -198,7 +198,7 @@ def with_values(problem: Problem, values: Mapping[str, Any]) -> dict:
             _set(out, key, value)
         except (KeyError, IndexError, TypeError, ValueError, AttributeError) as e:
             raise _problem_error(
-                key, value, f"no such key path ({type(e).__name__}: {e}); write tables with dots and "
+                key if isinstance(key, str) else repr(key), value, f"no such key path ({type(e).__name__}: {e}); write tables with dots and "
                 "list entries with an index in brackets, e.g. `boundary[1].traction.y`"
             ) from None
     return out
@@ -253,7 +253,7 @@ def sweep(base: Problem, grid: Mapping[str, Iterable[Any]], client: Any = None) 
     keys = list(grid)
     for k in keys:
         if isinstance(grid[k], (str, bytes)) or not isinstance(grid[k], Iterable):
-            raise _problem_error(k, grid[k], "a sweep's grid gives a list of values for each key")
+            raise _problem_error(k if isinstance(k, str) else repr(k), grid[k], "a sweep's grid gives a list of values for each key")
     combos = [dict(zip(keys, values)) for values in itertools.product(*(list(grid[k]) for k in keys))]
     problems = [with_values(base, c) for c in combos]
     if client is None:

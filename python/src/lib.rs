@@ -196,7 +196,13 @@ fn solve(py: Python<'_>, text: &str, format: &str, folder: Option<&str>) -> PyRe
         file.resolve_paths(std::path::Path::new(folder));
     }
     let problem = Problem::try_from(file).map_err(|e| problem_error(py, &e))?;
+    // Threads solving at once reserve their memory, dense kernels' workspace included, against
+    // what the process may use: a solve that would not fit is refused with the limit named
+    // (pipeline::memory::admit) instead of aborting the interpreter half-way.
+    let admission =
+        mlpg_contact::pipeline::memory::admit(&problem).map_err(|e| solve_error(py, &e))?;
     let outcome = py.detach(|| Outcome::solve(problem, echo, &mut mlpg_contact::Silent));
+    drop(admission);
     outcome.map(|outcome| Solved { outcome }).map_err(|e| solve_error(py, &e))
 }
 
