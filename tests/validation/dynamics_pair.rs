@@ -39,8 +39,8 @@ fn bars(spacing: f64, extra: &str) -> String {
 /// `ρ c (v0/2) H`, the bars' velocities after the separation within 5 % of `v0` (the striker
 /// at rest, the struck bar at `v0`), the total momentum `ρ L H v0` at every step to round-off,
 /// and every step's impulses complementary to the post-step relative velocities. Measured:
-/// duration +1.25 %, force −2.4 %, velocities −2.3 % (the one-body bar's errors at L/80; they
-/// halve with the spacing, docs/dev/dynamics.md). The force is within 2 % only at L/160, which
+/// duration +1.25 %, force −2.37 % (the one-body bar's errors at L/80; they halve with the
+/// spacing, docs/dev/dynamics.md), velocities ±1.15 % of `v0`. The force is within 2 % only at L/160, which
 /// takes ~7 s: too slow for CI, so 3 % here.
 #[test]
 fn equal_bars_exchange_their_velocities() {
