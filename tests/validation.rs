@@ -60,6 +60,8 @@ mod validation {
     mod adaptive_fem;
     // Elastodynamics: lumped mass, free flight, the bar impact against the 1-D wave solution.
     mod dynamics;
+    // Elastodynamics of two bodies: equal bars exchange their velocities (St Venant).
+    mod dynamics_pair;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
     mod quasi_static;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.

@@ -117,17 +117,95 @@ pub fn candidates_on(
     target: &dyn Fn(Point) -> (f64, Point),
     condensation: Condensation,
 ) -> Result<Candidates, ContactError> {
-    let mut found = match &model.scheme {
-        Scheme::Mfvm(m) => candidates(BodyView::new(problem, model, m), edge, target, condensation),
-        Scheme::Fem(f) => {
-            fem::candidates(&f.mesh, &problem.domain, &model.nodes, &model.system, edge, target)
+    candidates_in(problem, Discretised::of(model), edge, target, condensation)
+}
+
+/// A discretised body as the contact stage reads it, with or without a factorisation: the
+/// nodes, the assembled system and the MFVM's cells and faces or the FE mesh (a static
+/// [`Model`], or a dynamic body assembled without `K⁻¹`).
+#[derive(Clone, Copy)]
+pub enum Discretised<'a> {
+    /// The MFVM: nodes, system, supports and cells.
+    Mfvm {
+        /// Nodes.
+        nodes: &'a Nodes,
+        /// `K` with its collocation rows.
+        system: &'a GlobalSystem,
+        /// Supports, cells and faces.
+        mfvm: &'a Mfvm,
+    },
+    /// Finite elements: nodes, system and mesh.
+    Fem {
+        /// Nodes.
+        nodes: &'a Nodes,
+        /// `K` with its eliminated rows.
+        system: &'a GlobalSystem,
+        /// The mesh.
+        mesh: &'a crate::fem::Mesh,
+    },
+}
+
+impl<'a> Discretised<'a> {
+    /// The view of a static model.
+    pub fn of(model: &'a Model) -> Self {
+        match &model.scheme {
+            Scheme::Mfvm(m) => Self::Mfvm { nodes: &model.nodes, system: &model.system, mfvm: m },
+            Scheme::Fem(f) => {
+                Self::Fem { nodes: &model.nodes, system: &model.system, mesh: &f.mesh }
+            }
+        }
+    }
+
+    /// The assembled system.
+    pub fn system(&self) -> &'a GlobalSystem {
+        match self {
+            Self::Mfvm { system, .. } | Self::Fem { system, .. } => system,
+        }
+    }
+
+    fn view(
+        problem: &'a Problem,
+        nodes: &'a Nodes,
+        system: &'a GlobalSystem,
+        m: &'a Mfvm,
+    ) -> BodyView<'a> {
+        BodyView {
+            domain: &problem.domain,
+            nodes,
+            supports: &m.supports,
+            mls: &problem.discretisation.mls,
+            boundary_faces: &m.faces.boundary,
+            system,
+        }
+    }
+}
+
+/// [`candidates_on`] for a [`Discretised`] body.
+///
+/// # Errors
+/// As [`candidates`] and [`fem::candidates`].
+pub fn candidates_in(
+    problem: &Problem,
+    body: Discretised<'_>,
+    edge: usize,
+    target: &dyn Fn(Point) -> (f64, Point),
+    condensation: Condensation,
+) -> Result<Candidates, ContactError> {
+    let mut found = match body {
+        Discretised::Mfvm { nodes, system, mfvm } => {
+            candidates(Discretised::view(problem, nodes, system, mfvm), edge, target, condensation)
+        }
+        Discretised::Fem { nodes, system, mesh } => {
+            fem::candidates(mesh, &problem.domain, nodes, system, edge, target)
         }
     }?;
-    if model.system.axisymmetric {
-        let area = match &model.scheme {
-            Scheme::Mfvm(m) => rings::mfvm_areas(&m.faces.boundary, edge, &found.nodes),
-            Scheme::Fem(f) => {
-                rings::fem_areas(&f.mesh, &problem.domain, &model.nodes, edge, &found.nodes)
+    if body.system().axisymmetric {
+        let area = match body {
+            Discretised::Mfvm { mfvm, .. } => {
+                rings::mfvm_areas(&mfvm.faces.boundary, edge, &found.nodes)
+            }
+            Discretised::Fem { nodes, mesh, .. } => {
+                rings::fem_areas(mesh, &problem.domain, nodes, edge, &found.nodes)
             }
         };
         rings::into_rings(&mut found, area);
@@ -160,16 +238,26 @@ pub fn target_operator_on(
     edge: usize,
     candidates: &Candidates,
 ) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
-    match &model.scheme {
-        Scheme::Mfvm(m) => target_operator(BodyView::new(problem, model, m), edge, candidates),
-        Scheme::Fem(f) => fem::target_operator(
-            &f.mesh,
-            &problem.domain,
-            &model.nodes,
-            &model.system,
-            edge,
-            candidates,
-        ),
+    target_operator_in(problem, Discretised::of(model), edge, candidates)
+}
+
+/// [`target_operator_on`] for a [`Discretised`] body.
+///
+/// # Errors
+/// As [`target_operator`] and [`fem::target_operator`].
+pub fn target_operator_in(
+    problem: &Problem,
+    body: Discretised<'_>,
+    edge: usize,
+    candidates: &Candidates,
+) -> Result<(BodyOperator, Vec<f64>, Vec<Point>), ContactError> {
+    match body {
+        Discretised::Mfvm { nodes, system, mfvm } => {
+            target_operator(Discretised::view(problem, nodes, system, mfvm), edge, candidates)
+        }
+        Discretised::Fem { nodes, system, mesh } => {
+            fem::target_operator(mesh, &problem.domain, nodes, system, edge, candidates)
+        }
     }
 }
 

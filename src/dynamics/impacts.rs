@@ -190,16 +190,7 @@ impl<'a> Impacts<'a> {
         q: Vec<f64>,
         step: usize,
     ) -> Result<(Vec<f64>, usize), DynamicsError> {
-        let m = self.len();
-        let w: Vec<f64> = set
-            .iter()
-            .flat_map(|&r| set.iter().map(move |&c| (r, c)))
-            .map(|(r, c)| self.compliance[r * m + c])
-            .collect();
-        let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
-        let answer = lemke(&lcp, &LemkeParams::default())
-            .map_err(|e| DynamicsError::Lcp { step, source: e })?;
-        Ok((answer.z, answer.pivots))
+        solve_on(&self.compliance, self.len(), set, q, step)
     }
 
     /// `v_free + M̂⁻¹ (E Π + E_t Π_t)` (`tangential` empty: no friction).
@@ -228,8 +219,28 @@ impl<'a> Impacts<'a> {
     }
 }
 
+/// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set` of the `m × m`
+/// row-major `compliance`, with its pivots.
+pub(super) fn solve_on(
+    compliance: &[f64],
+    m: usize,
+    set: &[usize],
+    q: Vec<f64>,
+    step: usize,
+) -> Result<(Vec<f64>, usize), DynamicsError> {
+    let w: Vec<f64> = set
+        .iter()
+        .flat_map(|&r| set.iter().map(move |&c| (r, c)))
+        .map(|(r, c)| compliance[r * m + c])
+        .collect();
+    let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+    let answer =
+        lemke(&lcp, &LemkeParams::default()).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+    Ok((answer.z, answer.pivots))
+}
+
 /// `M̂⁻¹ E_c` for every candidate `c` of `operator`.
-fn condensed_columns(
+pub(super) fn condensed_columns(
     iteration: &Iteration<'_>,
     operator: &BodyOperator,
     dofs: usize,
@@ -247,7 +258,7 @@ fn condensed_columns(
 }
 
 /// `G Y` for the rows of `operator` and the columns `Y`, row-major `m × m`.
-fn block(operator: &BodyOperator, columns: &[Vec<f64>]) -> Vec<f64> {
+pub(super) fn block(operator: &BodyOperator, columns: &[Vec<f64>]) -> Vec<f64> {
     let m = columns.len();
     let mut w = vec![0.0; m * m];
     for (c, y) in columns.iter().enumerate() {

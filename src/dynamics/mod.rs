@@ -23,11 +23,13 @@ pub mod history;
 mod impacts;
 mod iteration;
 pub mod mass;
+mod pair;
 
 pub use history::{Figures, History, Record};
 
 pub use impacts::{Friction, Impacts};
 pub use iteration::Iteration;
+pub use pair::{BodyEnd, PairContact, PairSimulation, simulate_bodies};
 
 use crate::assembly::{BlockRows, GlobalSystem};
 use crate::contact::BodyOperator;

@@ -4,8 +4,8 @@
 
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
-use crate::contact::{self, BodyView, Candidates, rings};
-use crate::dynamics::{self, Body, Contact, Simulation, StrainEnergy};
+use crate::contact::{self, BodyOperator, BodyView, Candidates, rings};
+use crate::dynamics::{self, Body, BodyEnd, Contact, Simulation, StrainEnergy};
 use crate::error::Error;
 use crate::fem::{self, Mesh};
 use crate::mls::ShapeSet;
@@ -37,6 +37,18 @@ pub struct FemParts {
 }
 
 impl DynamicBody {
+    /// The body as the contact stage reads it.
+    pub fn discretised(&self) -> contact::Discretised<'_> {
+        match self {
+            Self::Mfvm(p) => {
+                contact::Discretised::Mfvm { nodes: &p.nodes, system: &p.system, mfvm: &p.mfvm }
+            }
+            Self::Fem(p) => {
+                contact::Discretised::Fem { nodes: &p.nodes, system: &p.system, mesh: &p.mesh }
+            }
+        }
+    }
+
     /// The nodes.
     pub fn nodes(&self) -> &Nodes {
         match self {
@@ -58,12 +70,24 @@ pub struct DynamicOutcome {
     pub dynamics: Dynamics,
     /// Stage timings.
     pub timings: Vec<crate::progress::StageTiming>,
+    /// The second body of a two-body contact and each body's end (`None` for one body).
+    pub pair: Option<Box<PairOutcome>>,
+}
+
+/// The second body of a two-body run (the candidates are on the first) and both bodies' ends.
+pub struct PairOutcome {
+    /// The second body.
+    pub body: DynamicBody,
+    /// The target's operator on it (`G₂`, `E₂`).
+    pub target: BodyOperator,
+    /// Body 1 and body 2 at the end.
+    pub ends: [BodyEnd; 2],
 }
 
 impl DynamicOutcome {
-    /// Number of nodes.
+    /// Number of nodes (of both bodies of a pair).
     pub fn nodes(&self) -> usize {
-        self.body.nodes().len()
+        self.body.nodes().len() + self.pair.as_ref().map_or(0, |p| p.body.nodes().len())
     }
     /// The nodes' positions.
     pub fn points(&self) -> &[crate::geometry::Point] {
@@ -144,10 +168,10 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
             reason: "a dynamic run needs a [dynamics] table".into(),
         })?;
     let mut clock = Clock::new(progress, Vec::new());
-    let body = match problem.discretisation.method {
-        Method::Fem => DynamicBody::Fem(Box::new(discretise_fem(problem, &mut clock)?)),
-        Method::Mfvm => DynamicBody::Mfvm(Box::new(discretise(problem, &mut clock)?)),
-    };
+    let body = discretise_any(problem, &mut clock)?;
+    if let Some(p2) = &problem.second_body {
+        return solve_pair(problem, p2, body, dynamics, clock);
+    }
     let candidates = match &problem.contact {
         Some(spec) => Some(clock.run("candidates", || {
             let target =
@@ -203,7 +227,72 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
     let s = simulation.seconds;
     clock.timings.push(StageTiming { stage: "time steps: M̂ and W set-up", seconds: s.setup });
     clock.timings.push(StageTiming { stage: "time steps: LCPs", seconds: s.lcp });
-    Ok(DynamicOutcome { candidates, simulation, dynamics, timings: clock.timings, body })
+    Ok(DynamicOutcome {
+        candidates,
+        simulation,
+        dynamics,
+        timings: clock.timings,
+        body,
+        pair: None,
+    })
+}
+
+/// `problem`'s body assembled by its method, not factorised.
+fn discretise_any(problem: &Problem, clock: &mut Clock<'_>) -> Result<DynamicBody, Error> {
+    Ok(match problem.discretisation.method {
+        Method::Fem => DynamicBody::Fem(Box::new(discretise_fem(problem, clock)?)),
+        Method::Mfvm => DynamicBody::Mfvm(Box::new(discretise(problem, clock)?)),
+    })
+}
+
+/// Two bodies in frictionless contact (increment 10 of docs/dev/dynamics.md): the second body
+/// assembled, the pair's candidates, normals, gaps and target operator of the static pair
+/// ([`super::multibody::body_pair`]: straight or curved targets), and the two-body time
+/// stepping ([`dynamics::simulate_bodies`]).
+fn solve_pair(
+    problem: &Problem,
+    p2: &Problem,
+    body: DynamicBody,
+    dynamics: Dynamics,
+    mut clock: Clock<'_>,
+) -> Result<DynamicOutcome, Error> {
+    let second = discretise_any(p2, &mut clock)?;
+    let spec = problem.contact.as_ref().ok_or(contact::ContactError::MissingTarget)?;
+    let contact::ContactTarget::Body { edge } = spec.target else {
+        return Err(contact::ContactError::MissingTarget.into());
+    };
+    let (candidates, target, _, _) = clock.run("candidates", || {
+        super::multibody::body_pair(
+            problem,
+            body.discretised(),
+            spec,
+            (p2, second.discretised(), edge),
+        )
+    })?;
+    let motion = dynamics.second_body.ok_or(contact::ContactError::MissingTarget)?;
+    let stepped =
+        [stepped_body(problem, &body, dynamics.density), stepped_body(p2, &second, motion.density)];
+    let pair = dynamics::PairContact {
+        operator: &candidates.operator,
+        target: &target,
+        initial_gap: &candidates.initial_gap,
+    };
+    let velocities = [dynamics.initial_velocity, motion.initial_velocity];
+    let run = clock.run_counted("time steps", |advance| {
+        dynamics::simulate_bodies([&stepped[0], &stepped[1]], &pair, &dynamics, velocities, advance)
+    })?;
+    let s = run.simulation.seconds;
+    clock.timings.push(StageTiming { stage: "time steps: M̂ and W set-up", seconds: s.setup });
+    clock.timings.push(StageTiming { stage: "time steps: LCPs", seconds: s.lcp });
+    drop(stepped);
+    Ok(DynamicOutcome {
+        candidates: Some(candidates),
+        simulation: run.simulation,
+        dynamics,
+        timings: clock.timings,
+        body,
+        pair: Some(Box::new(PairOutcome { body: second, target, ends: run.bodies })),
+    })
 }
 
 /// The ring areas of the axisymmetric `body`'s candidates `found` on `edge`.
@@ -284,6 +373,7 @@ pub fn run(
         figures,
         input,
         timings: outcome.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
+        bodies: outcome.pair.as_ref().map(|pair| body_summaries(problem, &outcome, pair)),
     };
     let mut files =
         post::frames::write_frames(staged.path(), outcome.points(), &outcome.simulation.frames)?;
@@ -294,4 +384,30 @@ pub fn run(
     )?);
     let files = staged.commit(files)?;
     Ok(DynamicReport { summary, files })
+}
+
+/// Each body of a two-body run for `summary.json`.
+fn body_summaries(
+    problem: &Problem,
+    outcome: &DynamicOutcome,
+    pair: &PairOutcome,
+) -> Vec<post::history::BodyFigures> {
+    let d = &outcome.dynamics;
+    let motion = d.second_body.map_or((d.density, [0.0; 2]), |m| (m.density, m.initial_velocity));
+    let bodies = [
+        (problem, &outcome.body, (d.density, d.initial_velocity)),
+        (problem.second_body.as_deref().unwrap_or(problem), &pair.body, motion),
+    ];
+    bodies
+        .into_iter()
+        .zip(&pair.ends)
+        .map(|((p, body, (density, initial_velocity)), end)| post::history::BodyFigures {
+            name: p.name.clone(),
+            nodes: body.nodes().len(),
+            density,
+            mass: end.mass,
+            initial_velocity,
+            final_velocity: end.mean_velocity(),
+        })
+        .collect()
 }

@@ -612,8 +612,12 @@ fn find_candidates(
             Ok(Found { candidates: c, target: None, paired_points: Vec::new(), unpaired: 0 })
         }
         (ContactTarget::Body { edge }, Some((p2, m2))) => {
-            let (c, op, paired, unpaired) =
-                multibody::body_pair(problem, model, spec, (p2, m2, *edge))?;
+            let (c, op, paired, unpaired) = multibody::body_pair(
+                problem,
+                contact::Discretised::of(model),
+                spec,
+                (p2, contact::Discretised::of(m2), *edge),
+            )?;
             Ok(Found { candidates: c, target: Some(op), paired_points: paired, unpaired })
         }
         (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),

@@ -33,14 +33,14 @@ use crate::solution::{self, ContactSolution, MultibodySolution, Solution};
 /// [`contact::candidates_on`] and [`contact::target_operator_on`].
 pub(super) fn body_pair(
     problem: &Problem,
-    model: &Model,
+    model: contact::Discretised<'_>,
     spec: &contact::ContactSpec,
-    target: (&Problem, &Model, usize),
+    target: (&Problem, contact::Discretised<'_>, usize),
 ) -> Result<(Candidates, BodyOperator, Vec<Point>, usize), contact::ContactError> {
     let (p2, m2, edge) = target;
     let pairing = contact::TargetEdge::new(&p2.domain, edge);
     let mut c = match p2.domain.straight_normal(edge) {
-        Some(normal) => contact::candidates_on(
+        Some(normal) => contact::candidates_in(
             problem,
             model,
             spec.edge,
@@ -48,7 +48,7 @@ pub(super) fn body_pair(
             spec.condensation,
         )?,
         // A curved target: each candidate's normal is the target's at its closest point.
-        None => contact::candidates_on(
+        None => contact::candidates_in(
             problem,
             model,
             spec.edge,
@@ -71,7 +71,7 @@ pub(super) fn body_pair(
             target: p2.domain.edge_names()[edge].clone(),
         });
     }
-    let (op, gaps, paired) = contact::target_operator_on(p2, m2, edge, &c)?;
+    let (op, gaps, paired) = contact::target_operator_in(p2, m2, edge, &c)?;
     // A designed interference (a press fit): the gaps of the bodies made `δ` larger.
     c.initial_gap = gaps.into_iter().map(|g| g - spec.interference).collect();
     if !pairing.is_straight() {
@@ -935,8 +935,12 @@ fn pair_candidates(
     let spec = &pair.spec;
     match (spec.target, pair.target_body) {
         (ContactTarget::Body { edge }, Some(t)) => {
-            let (candidates, op, paired, unpaired) =
-                body_pair(problem, model, spec, (problems[t], models[t], edge))?;
+            let (candidates, op, paired, unpaired) = body_pair(
+                problem,
+                contact::Discretised::of(model),
+                spec,
+                (problems[t], contact::Discretised::of(models[t]), edge),
+            )?;
             Ok(PairCandidates { candidates, target: Some(op), paired, unpaired })
         }
         (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),

@@ -31,6 +31,27 @@ pub struct DynamicSummary {
     /// Wall time of each stage, seconds (the only non-deterministic entry, as in the static
     /// `summary.json`).
     pub timings: BTreeMap<&'static str, f64>,
+    /// The two bodies of a two-body run (absent for one body; `figures` are the pair's:
+    /// the contact force, the energies and momentum summed).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bodies: Option<Vec<BodyFigures>>,
+}
+
+/// One body of a two-body run.
+#[derive(Clone, Debug, Serialize)]
+pub struct BodyFigures {
+    /// Its name.
+    pub name: String,
+    /// Its nodes.
+    pub nodes: usize,
+    /// Its density.
+    pub density: f64,
+    /// Its mass (per unit thickness).
+    pub mass: f64,
+    /// Its uniform velocity at time 0.
+    pub initial_velocity: [f64; 2],
+    /// The velocity of its centre of mass at the end.
+    pub final_velocity: [f64; 2],
 }
 
 /// The checked `[dynamics]` parameters, as used.

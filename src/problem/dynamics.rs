@@ -28,6 +28,18 @@ pub struct Dynamics {
     /// A VTP snapshot of the body every this many steps (the first and last always;
     /// `None`: no snapshots).
     pub snapshot_every: Option<usize>,
+    /// The second body of a two-body contact (`Problem::second_body`): its density and
+    /// initial velocity (`density` and `initial_velocity` above are the first body's).
+    pub second_body: Option<Motion>,
+}
+
+/// A body's mass density and uniform velocity at time 0.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motion {
+    /// `ρ`.
+    pub density: f64,
+    /// `[vx, vy]` at time 0.
+    pub initial_velocity: [f64; 2],
 }
 
 impl Dynamics {
@@ -85,21 +97,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
     if !(0.0..=1.0).contains(&restitution) {
         return Err(invalid("dynamics.restitution", restitution, "must be in [0, 1]"));
     }
-    let initial_velocity = d.initial_velocity.unwrap_or([0.0; 2]);
-    for v in initial_velocity {
-        if !v.is_finite() {
-            return Err(invalid("dynamics.initial_velocity", v, "must be finite numbers"));
-        }
-        // Its square (the kinetic energy) must not overflow: the bound of every magnitude.
-        let max = super::validate::MAX_MAGNITUDE;
-        if v.abs() > max {
-            return Err(invalid(
-                "dynamics.initial_velocity",
-                format!("{v:e}"),
-                format!("magnitudes above {max:e} make the arithmetic overflow; rescale the units"),
-            ));
-        }
-    }
+    let initial_velocity = velocity_of(file, 0)?;
     let load_ramp = match d.load_ramp {
         Some(r) if !(r.is_finite() && r > 0.0 && r <= end_time) => {
             return Err(invalid(
@@ -115,6 +113,19 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         return Err(invalid("dynamics.output.every", 0, "must be at least 1"));
     }
     let density = density(file)?;
+    let second_body = match &problem.second_body {
+        Some(_) => Some(Motion {
+            density: file.body[1].material.density.ok_or_else(|| {
+                invalid(
+                    "body[1].material.density",
+                    "(missing)",
+                    "[dynamics] needs each body's mass density; add `density = …` to its material",
+                )
+            })?,
+            initial_velocity: velocity_of(file, 1)?,
+        }),
+        None => None,
+    };
     let dynamics = Dynamics {
         density,
         end_time,
@@ -124,6 +135,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         initial_velocity,
         load_ramp,
         snapshot_every,
+        second_body,
     };
     if dynamics.steps() > MAX_STEPS {
         return Err(invalid(
@@ -136,15 +148,61 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         ));
     }
     refuse_unsupported(file, problem)?;
-    refuse_inconsistent_start(problem, initial_velocity)?;
+    refuse_inconsistent_start(problem, initial_velocity, "")?;
+    if let (Some(p2), Some(m)) = (&problem.second_body, &dynamics.second_body) {
+        refuse_inconsistent_start(p2, m.initial_velocity, "body[1].")?;
+    }
     Ok(Some(dynamics))
+}
+
+/// The initial velocity of body `k` (0 or 1): `[dynamics] initial_velocity` for a body
+/// without `[[body]]` tables, else `[[body]] initial_velocity` (`[dynamics]`'s is refused
+/// with two bodies, a body's and `[dynamics]`'s together with one), `[0, 0]` when absent;
+/// each finite and bounded.
+fn velocity_of(file: &ProblemFile, k: usize) -> Result<[f64; 2], ProblemError> {
+    let own = file.body.get(k).and_then(|b| b.initial_velocity);
+    let (key, given) = match (own, file.dynamics.as_ref().and_then(|d| d.initial_velocity)) {
+        (Some(v), None) => (format!("body[{k}].initial_velocity"), Some(v)),
+        (None, Some(v)) if file.body.len() <= 1 => ("dynamics.initial_velocity".into(), Some(v)),
+        (None, Some(v)) => {
+            return Err(invalid(
+                "dynamics.initial_velocity",
+                format!("{v:?}"),
+                "with several bodies each body's initial velocity goes in its [[body]] table (`initial_velocity = [vx, vy]`)",
+            ));
+        }
+        (Some(v), Some(_)) => {
+            return Err(invalid(
+                &format!("body[{k}].initial_velocity"),
+                format!("{v:?}"),
+                "give the initial velocity once: in [[body]] or in [dynamics], not both",
+            ));
+        }
+        (None, None) => (String::new(), None),
+    };
+    let velocity = given.unwrap_or([0.0; 2]);
+    for v in velocity {
+        if !v.is_finite() {
+            return Err(invalid(&key, v, "must be finite numbers"));
+        }
+        // Its square (the kinetic energy) must not overflow: the bound of every magnitude.
+        let max = super::validate::MAX_MAGNITUDE;
+        if v.abs() > max {
+            return Err(invalid(
+                &key,
+                format!("{v:e}"),
+                format!("magnitudes above {max:e} make the arithmetic overflow; rescale the units"),
+            ));
+        }
+    }
+    Ok(velocity)
 }
 
 /// `[material] density` (or the one `[[body]]` table's), required with `[dynamics]`.
 fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
     let (key, given) = match (&file.material, file.body.as_slice()) {
         (Some(m), _) => ("material.density", m.density),
-        (None, [b]) => ("body[0].material.density", b.material.density),
+        (None, [b, ..]) => ("body[0].material.density", b.material.density),
         _ => ("material.density", None),
     };
     given.ok_or_else(|| {
@@ -161,8 +219,19 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 /// displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let spec = problem.contact.as_ref();
-    let refused = if problem.second_body.is_some() || problem.multibody.is_some() {
-        Some(("body", "several bodies"))
+    let pair = problem.second_body.is_some();
+    let refused = if problem.multibody.is_some() {
+        Some(("body", "more than two bodies, or several contact pairs,"))
+    } else if pair && spec.is_some_and(|c| c.friction > 0.0) {
+        Some(("contact.friction", "friction between two bodies"))
+    } else if pair && spec.is_some_and(|c| c.interference != 0.0) {
+        Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
+    } else if pair && problem.material.is_axisymmetric() {
+        Some(("body[0].material.plane", "two axisymmetric bodies"))
+    } else if pair
+        && file.dynamics.as_ref().and_then(|d| d.output.as_ref()).is_some_and(|o| o.every.is_some())
+    {
+        Some(("dynamics.output.every", "snapshots of two bodies"))
     } else if spec.is_some_and(|c| c.friction > 0.0) && problem.material.is_axisymmetric() {
         Some(("contact.friction", "friction on an axisymmetric body"))
     } else if spec.is_some_and(|c| c.solver == ContactSolver::ActiveSet) {
@@ -186,7 +255,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles, or two plane bodies in frictionless contact; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),
@@ -196,21 +265,29 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
 /// The start must satisfy the displacement conditions: every prescribed displacement is zero
 /// (the body starts undeformed at rest on its supports), and the initial velocity has no
 /// component that a displacement condition holds.
-fn refuse_inconsistent_start(problem: &Problem, velocity: [f64; 2]) -> Result<(), ProblemError> {
+fn refuse_inconsistent_start(
+    problem: &Problem,
+    velocity: [f64; 2],
+    prefix: &str,
+) -> Result<(), ProblemError> {
     let names = problem.domain.edge_names();
     for (k, condition) in problem.boundary.iter().enumerate() {
         for axis in 0..2 {
             let Some(field) = condition.displacement(axis) else { continue };
             if !field.is_zero() {
                 return Err(invalid(
-                    &format!("boundary ({}).displacement", names[k]),
+                    &format!("{prefix}boundary ({}).displacement", names[k]),
                     "(non-zero)",
                     "with [dynamics] prescribed displacements must be 0 (a displacement history is a later increment); move the load to a traction or an initial velocity",
                 ));
             }
             if velocity[axis] != 0.0 {
+                let key = match prefix {
+                    "" => "dynamics.initial_velocity".to_string(),
+                    _ => format!("{prefix}initial_velocity"),
+                };
                 return Err(invalid(
-                    "dynamics.initial_velocity",
+                    &key,
                     format!("{velocity:?}"),
                     format!(
                         "edge `{}` holds the {} displacement at 0, so the initial velocity's {} component must be 0",

@@ -407,6 +407,14 @@ pub struct BodyFile {
     /// Boundary conditions per edge; edges not listed are traction-free.
     #[serde(default)]
     pub boundary: Vec<BoundaryFile>,
+    /// With `[dynamics]`: the body's uniform velocity `[vx, vy]` at time 0 (default
+    /// `[0, 0]`). Not echoed when absent.
+    #[serde(
+        default,
+        deserialize_with = "exact::optional_pair",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub initial_velocity: Option<[f64; 2]>,
 }
 
 /// `[geometry]`. Read through the flat [`GeometryTable`] (so that a parse error names its key

@@ -225,7 +225,7 @@ fn bodies_and_control(defs: &mut Map<String, Value>) {
             json!({
                 "name": string(), "body_force": pair(), "geometry": def("GeometryTable"),
                 "nodes": def("NodesFile"), "material": def("MaterialFile"),
-                "boundary": list_of("BoundaryFile"),
+                "boundary": list_of("BoundaryFile"), "initial_velocity": pair(),
             }),
             &["geometry", "nodes", "material"],
         ),

@@ -262,6 +262,25 @@ impl TryFrom<ProblemFile> for Problem {
                 .as_ref()
                 .is_some_and(|m| m.pairs.iter().any(|p| p.spec.friction > 0.0));
         problem.dynamics = super::dynamics::dynamics(&file, &problem)?;
+        // The second body of a two-body run steps with inertia too, at its own density and
+        // initial velocity.
+        if let (Some(p2), Some(d)) = (problem.second_body.as_deref_mut(), &problem.dynamics) {
+            p2.dynamics = d.second_body.map(|m| super::dynamics::Dynamics {
+                density: m.density,
+                initial_velocity: m.initial_velocity,
+                second_body: None,
+                ..d.clone()
+            });
+        }
+        if let (None, Some(k)) =
+            (&problem.dynamics, file.body.iter().position(|b| b.initial_velocity.is_some()))
+        {
+            return Err(invalid(
+                &format!("body[{k}].initial_velocity"),
+                "(given)",
+                "an initial velocity needs a [dynamics] table (the static solve has none)",
+            ));
+        }
         if problem.write_steps && problem.steps.is_empty() && !frictional {
             return Err(invalid(
                 "output.steps",
