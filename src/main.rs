@@ -145,13 +145,13 @@ enum Finished {
     ChecksFailed(Vec<(String, mlpg_contact::post::summary::Verdict)>),
 }
 
-/// The failed checks of the summaries `(file, summary)` of a run.
+/// The failed checks of the summaries `(file, failed checks)` of a run.
 fn finished<'a>(
-    summaries: impl IntoIterator<Item = (String, &'a mlpg_contact::post::Summary)>,
+    summaries: impl IntoIterator<Item = (String, Vec<&'a mlpg_contact::post::summary::Verdict>)>,
 ) -> Finished {
     let failed: Vec<_> = summaries
         .into_iter()
-        .flat_map(|(file, s)| s.failed_checks().into_iter().map(move |v| (file.clone(), v.clone())))
+        .flat_map(|(file, failed)| failed.into_iter().map(move |v| (file.clone(), v.clone())))
         .collect();
     if failed.is_empty() { Finished::Passed } else { Finished::ChecksFailed(failed) }
 }
@@ -187,7 +187,8 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Fini
         if !args.quiet {
             say(format_args!("{report}"));
         }
-        return Ok(Finished::Passed);
+        let file = args.out.join("summary.json").display().to_string();
+        return Ok(finished([(file, report.summary.failed_checks())]));
     }
     if args.compare {
         let comparison = mlpg_contact::compare::compare(&problem, &args.out, echo, &mut progress)?;
@@ -196,8 +197,14 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Fini
         }
         let out = &args.out;
         return Ok(finished([
-            (out.join("mfvm/summary.json").display().to_string(), &comparison.mfvm.summary),
-            (out.join("fem/summary.json").display().to_string(), &comparison.fem.summary),
+            (
+                out.join("mfvm/summary.json").display().to_string(),
+                comparison.mfvm.summary.failed_checks(),
+            ),
+            (
+                out.join("fem/summary.json").display().to_string(),
+                comparison.fem.summary.failed_checks(),
+            ),
         ]));
     }
     let report = mlpg_contact::pipeline::run_with_report(
@@ -214,7 +221,7 @@ fn run(args: &Args, echo: &mut Option<serde_json::Value>) -> anyhow::Result<Fini
         say(format_args!("{report}"));
     }
     let file = args.out.join("summary.json").display().to_string();
-    Ok(finished([(file, &report.summary)]))
+    Ok(finished([(file, report.summary.failed_checks())]))
 }
 
 /// On SIGINT, SIGTERM or SIGHUP: removes the staging directory of the run under way (the

@@ -24,6 +24,8 @@ pub struct Record {
     pub active: usize,
     /// Lemke's pivots in the step.
     pub pivots: usize,
+    /// The step LCP's largest scaled residual (0 without contact in the step).
+    pub residual: f64,
 }
 
 impl Record {
@@ -31,6 +33,29 @@ impl Record {
     pub fn energy(&self) -> f64 {
         self.kinetic_energy + self.strain_energy
     }
+
+    /// How many of the record's numbers are not finite.
+    fn non_finite(&self) -> usize {
+        [
+            self.time,
+            self.contact_force,
+            self.kinetic_energy,
+            self.strain_energy,
+            self.external_work,
+            self.contact_loss,
+            self.momentum[0],
+            self.momentum[1],
+            self.residual,
+        ]
+        .iter()
+        .filter(|v| !v.is_finite())
+        .count()
+    }
+}
+
+/// The larger of `a` and `b`, NaN if either is (so that a NaN residual fails its check).
+fn nan_max(a: f64, b: f64) -> f64 {
+    if a.is_nan() || b.is_nan() { f64::NAN } else { a.max(b) }
 }
 
 /// The run's figures for `summary.json`.
@@ -74,6 +99,13 @@ pub struct Figures {
     pub contact_steps: usize,
     /// Lemke's pivots over the run.
     pub pivots: usize,
+    /// The largest scaled residual of a step's LCP over the run (complementarity and signs of
+    /// the impulses and velocities; checked against
+    /// [`crate::solution::COMPLEMENTARITY_TOLERANCE`]).
+    pub max_step_residual: f64,
+    /// Entries of the history that are not finite numbers (time, forces, energies, momentum):
+    /// 0 in a sound run.
+    pub non_finite_values: usize,
 }
 
 /// The records of a run: time 0 first, then one per step.
@@ -120,6 +152,42 @@ impl History {
             energy_growth,
             contact_steps: r.iter().filter(|x| x.active > 0).count(),
             pivots: r.iter().map(|x| x.pivots).sum(),
+            max_step_residual: r.iter().map(|x| x.residual).fold(0.0, nan_max),
+            non_finite_values: r.iter().map(Record::non_finite).sum(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(time: f64, residual: f64) -> Record {
+        Record {
+            time,
+            contact_force: 1.0,
+            kinetic_energy: 1.0,
+            strain_energy: 0.0,
+            external_work: 0.0,
+            contact_loss: 0.0,
+            momentum: [1.0, 0.0],
+            active: 1,
+            pivots: 1,
+            residual,
+        }
+    }
+
+    #[test]
+    fn the_figures_carry_the_worst_step_residual_and_the_non_finite_entries() {
+        let h = History { records: vec![record(0.0, 0.0), record(0.1, 2e-12), record(0.2, 0.0)] };
+        let f = h.figures(0.1, 1.0);
+        assert_eq!(f.max_step_residual, 2e-12);
+        assert_eq!(f.non_finite_values, 0);
+        let mut bad = h.clone();
+        bad.records[1].residual = f64::NAN;
+        bad.records[2].kinetic_energy = f64::INFINITY;
+        let f = bad.figures(0.1, 1.0);
+        assert!(f.max_step_residual.is_nan(), "a NaN residual must not be folded away");
+        assert_eq!(f.non_finite_values, 2);
     }
 }

@@ -50,6 +50,8 @@ pub struct StepImpulses {
     pub active: usize,
     /// Lemke's pivots.
     pub pivots: usize,
+    /// The step LCP's largest scaled residual (complementarity, signs; 0 without contact).
+    pub residual: f64,
 }
 
 impl<'a> Impacts<'a> {
@@ -130,7 +132,13 @@ impl<'a> Impacts<'a> {
         let m = self.len();
         let mut impulses = vec![0.0; m];
         if active.is_empty() {
-            return Ok(StepImpulses { impulses, tangential: Vec::new(), active: 0, pivots: 0 });
+            return Ok(StepImpulses {
+                impulses,
+                tangential: Vec::new(),
+                active: 0,
+                pivots: 0,
+                residual: 0.0,
+            });
         }
         let (u_free, u) = (self.normal_velocities(v_free), self.normal_velocities(v));
         let q: Vec<f64> = active.iter().map(|&c| u_free[c] + restitution * u[c]).collect();
@@ -139,11 +147,17 @@ impl<'a> Impacts<'a> {
         {
             return self.frictional(f, active, q, v_free, step);
         }
-        let (z, pivots) = self.solve_on(active, q, step)?;
+        let (z, pivots, residual) = self.solve_on(active, q, step)?;
         for (&c, z) in active.iter().zip(&z) {
             impulses[c] = *z;
         }
-        Ok(StepImpulses { impulses, tangential: Vec::new(), active: active.len(), pivots })
+        Ok(StepImpulses {
+            impulses,
+            tangential: Vec::new(),
+            active: active.len(),
+            pivots,
+            residual,
+        })
     }
 
     /// Moreau's frictional law on the index set: the normal law of [`Self::impulses`]
@@ -180,16 +194,23 @@ impl<'a> Impacts<'a> {
             impulses[c] = answer.normal[k];
             tangential[c] = answer.tangential[k];
         }
-        Ok(StepImpulses { impulses, tangential, active: active.len(), pivots: answer.pivots })
+        Ok(StepImpulses {
+            impulses,
+            tangential,
+            active: active.len(),
+            pivots: answer.pivots,
+            residual: answer.residuals.max(),
+        })
     }
 
-    /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set`, with its pivots.
+    /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set`, with its pivots and
+    /// its largest scaled residual.
     fn solve_on(
         &self,
         set: &[usize],
         q: Vec<f64>,
         step: usize,
-    ) -> Result<(Vec<f64>, usize), DynamicsError> {
+    ) -> Result<(Vec<f64>, usize, f64), DynamicsError> {
         solve_on(&self.compliance, self.len(), set, q, step)
     }
 
@@ -220,14 +241,15 @@ impl<'a> Impacts<'a> {
 }
 
 /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set` of the `m × m`
-/// row-major `compliance`, with its pivots.
+/// row-major `compliance`, with its pivots and its largest scaled residual
+/// ([`crate::lcp::LcpResiduals::max_violation`]).
 pub(super) fn solve_on(
     compliance: &[f64],
     m: usize,
     set: &[usize],
     q: Vec<f64>,
     step: usize,
-) -> Result<(Vec<f64>, usize), DynamicsError> {
+) -> Result<(Vec<f64>, usize, f64), DynamicsError> {
     let w: Vec<f64> = set
         .iter()
         .flat_map(|&r| set.iter().map(move |&c| (r, c)))
@@ -236,7 +258,7 @@ pub(super) fn solve_on(
     let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
     let answer =
         lemke(&lcp, &LemkeParams::default()).map_err(|e| DynamicsError::Lcp { step, source: e })?;
-    Ok((answer.z, answer.pivots))
+    Ok((answer.z, answer.pivots, answer.residuals.max_violation()))
 }
 
 /// `M̂⁻¹ E_c` for every candidate `c` of `operator`.

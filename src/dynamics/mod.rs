@@ -239,6 +239,7 @@ pub fn simulate(
             rec.contact_loss -= impacts.work(&answer.impulses, &answer.tangential, &dq) / h;
             rec.active = answer.active;
             rec.pivots = answer.pivots;
+            rec.residual = answer.residual;
         }
         if let Some(answer) = answer {
             final_impulses = answer.impulses;
@@ -282,5 +283,6 @@ fn record(body: &Body<'_>, state: &State, time: f64) -> Record {
         momentum: energy::momentum(mass, &v),
         active: 0,
         pivots: 0,
+        residual: 0.0,
     }
 }

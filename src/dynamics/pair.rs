@@ -129,17 +129,17 @@ pub fn simulate_bodies(
         let predicted = gaps([&ahead[0], &ahead[1]]);
         let active: Vec<usize> = (0..m).filter(|&c| predicted[c] <= 0.0).collect();
         let mut impulses = vec![0.0; m];
-        let mut pivots = 0;
+        let (mut pivots, mut residual) = (0, 0.0);
         if !active.is_empty() {
             let u_free = rates([&v_free[0], &v_free[1]]);
             let u = rates([&states[0].v, &states[1].v]);
             let q: Vec<f64> =
                 active.iter().map(|&c| u_free[c] + params.restitution * u[c]).collect();
-            let (z, p) = solve_on(&compliance, m, &active, q, step)?;
+            let (z, p, r) = solve_on(&compliance, m, &active, q, step)?;
             for (&c, z) in active.iter().zip(&z) {
                 impulses[c] = *z;
             }
-            pivots = p;
+            (pivots, residual) = (p, r);
         }
         seconds.lcp += lcp_clock.elapsed().as_secs_f64();
         let previous = &history.records[history.records.len() - 1];
@@ -172,6 +172,7 @@ pub fn simulate_bodies(
         rec.contact_force = impulses.iter().sum::<f64>() / h;
         rec.active = active.len();
         rec.pivots = pivots;
+        rec.residual = residual;
         if !active.is_empty() {
             final_impulses.clone_from(&impulses);
         }

@@ -365,6 +365,7 @@ pub fn run(
     let figures = outcome.simulation.figures(h);
     let summary = DynamicSummary {
         schema_version: post::summary::SCHEMA_VERSION,
+        checks: post::history::DynamicChecks::of(&figures),
         warnings: post::history::warnings(&figures, outcome.dynamics.theta),
         name: problem.name.clone(),
         nodes: outcome.nodes(),

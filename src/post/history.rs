@@ -1,6 +1,7 @@
 //! The outputs of a dynamic run (docs/method.md §10): `history.csv` (one row per written
 //! step), the force and energy plots against time, and `summary.json` with the run's figures.
 
+use super::summary::Verdict;
 use super::{OutputError, num, plot, write_text};
 use crate::dynamics::{Figures, History, Record};
 use crate::problem::dynamics::Dynamics;
@@ -24,6 +25,10 @@ pub struct DynamicSummary {
     pub dynamics: DynamicsEcho,
     /// The run's figures.
     pub figures: Figures,
+    /// Every check of the run against its tolerance ([`DynamicChecks::of`]); a run
+    /// with a failing check still writes its outputs, and the command line ends it with exit
+    /// status 3.
+    pub checks: DynamicChecks,
     /// What the reader should know about the result ([`warnings`]).
     pub warnings: Vec<String>,
     /// The problem file as read.
@@ -52,6 +57,45 @@ pub struct BodyFigures {
     pub initial_velocity: [f64; 2],
     /// The velocity of its centre of mass at the end.
     pub final_velocity: [f64; 2],
+}
+
+/// The checks of a dynamic run (`checks` in its `summary.json`).
+#[derive(Clone, Debug, Serialize)]
+pub struct DynamicChecks {
+    /// Whether every check in `verdicts` passed.
+    pub passed: bool,
+    /// The worst step's LCP residual against
+    /// [`crate::solution::COMPLEMENTARITY_TOLERANCE`], and the count of non-finite history
+    /// entries against 0.
+    pub verdicts: Vec<Verdict>,
+}
+
+impl DynamicChecks {
+    /// The checks of a run with these figures.
+    pub fn of(figures: &Figures) -> Self {
+        let verdicts = vec![
+            Verdict::new(
+                "step_complementarity",
+                "figures.max_step_residual".into(),
+                figures.max_step_residual,
+                crate::solution::COMPLEMENTARITY_TOLERANCE,
+            ),
+            Verdict::new(
+                "finite_values",
+                "figures.non_finite_values".into(),
+                figures.non_finite_values as f64,
+                0.0,
+            ),
+        ];
+        Self { passed: verdicts.iter().all(|v| v.pass), verdicts }
+    }
+}
+
+impl DynamicSummary {
+    /// The checks that failed.
+    pub fn failed_checks(&self) -> Vec<&Verdict> {
+        self.checks.verdicts.iter().filter(|v| !v.pass).collect()
+    }
 }
 
 /// The checked `[dynamics]` parameters, as used.
@@ -196,5 +240,41 @@ fn energy_chart(history: &History) -> plot::Chart {
             series(history, "kinetic + strain", 2, Record::energy),
             series(history, "lost at contacts", 3, |r| r.contact_loss),
         ],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::History;
+
+    fn figures(residual: f64, kinetic: f64) -> Figures {
+        let record = |time: f64| Record {
+            time,
+            contact_force: 1.0,
+            kinetic_energy: kinetic,
+            strain_energy: 0.0,
+            external_work: 0.0,
+            contact_loss: 0.0,
+            momentum: [1.0, 0.0],
+            active: 1,
+            pivots: 1,
+            residual,
+        };
+        History { records: vec![record(0.0), record(0.1)] }.figures(0.1, 1.0)
+    }
+
+    #[test]
+    fn a_dynamic_run_fails_its_checks_on_an_inaccurate_step_or_a_non_finite_value() {
+        assert!(DynamicChecks::of(&figures(1e-12, 1.0)).passed);
+        let inaccurate = DynamicChecks::of(&figures(1e-6, 1.0));
+        assert!(!inaccurate.passed);
+        assert_eq!(inaccurate.verdicts[0].check, "step_complementarity");
+        assert!(!inaccurate.verdicts[0].pass && inaccurate.verdicts[1].pass);
+        let nan = DynamicChecks::of(&figures(f64::NAN, 1.0));
+        assert!(!nan.verdicts[0].pass, "a NaN residual fails");
+        let infinite = DynamicChecks::of(&figures(0.0, f64::INFINITY));
+        assert!(!infinite.passed && !infinite.verdicts[1].pass);
+        assert!(infinite.verdicts[1].to_string().contains("figures.non_finite_values"));
     }
 }

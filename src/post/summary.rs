@@ -291,7 +291,7 @@ pub struct Verdict {
 }
 
 impl Verdict {
-    fn new(check: &'static str, key: String, value: f64, tolerance: f64) -> Self {
+    pub(crate) fn new(check: &'static str, key: String, value: f64, tolerance: f64) -> Self {
         Self { check, key, value, tolerance, pass: value <= tolerance }
     }
 
@@ -300,6 +300,9 @@ impl Verdict {
         match self.check {
             "complementarity" => {
                 "the contact solver's answer is inaccurate: try `[contact] solver = \"active_set\"` or a coarser contact edge (a larger nodes.spacing)"
+            }
+            "step_complementarity" => {
+                "a time step's contact impulses are inaccurate: try a smaller dynamics.time_step or a coarser contact edge (a larger nodes.spacing)"
             }
             _ => {
                 "the magnitudes are out of scale for double precision: compare material.young between the bodies, the boundary[*] values with the body's size and the loads with the stiffness, and rescale the units"
