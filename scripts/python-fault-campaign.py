@@ -372,6 +372,7 @@ def main() -> int:
     ap.add_argument("--random", type=int, default=2000, help="random sweep keys, and as many random combinations")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--chunk", type=int, default=500)
+    ap.add_argument("--show-solve-errors", action="store_true", help="list the inputs that ended in SolveError, with the message")
     ap.add_argument("--worker", nargs=2, type=int, help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.worker:
@@ -421,6 +422,11 @@ def main() -> int:
     print(f"\n{len(bad)} failures")
     for i, (outcome, detail) in bad[:40]:
         print(f"- {cases[i][1]}: {outcome}: {detail}")
+    if args.show_solve_errors:
+        solve_errors = [(i, r) for i, r in sorted(results.items()) if r[0] == "SolveError"]
+        print(f"\n{len(solve_errors)} SolveError outcomes")
+        for i, (_, detail) in solve_errors:
+            print(f"- {cases[i][1]}: {detail}")
     # The last line, for the study: inputs, ok, refused (ProblemError), SolveError, failures.
     print(f"\nSUMMARY {n} {total['ok']} {total['ProblemError']} {total['SolveError']} {len(bad)}")
     return 1 if bad else 0

@@ -397,6 +397,20 @@ plane = "stress"
     }
 
     #[test]
+    fn a_modulus_that_underflows_is_refused_with_the_reason() {
+        for young in ["5e-324", "1e-150"] {
+            let text = BODY.replace("young = 1000.0", &format!("young = {young}"));
+            let e = Problem::from_toml(&text).unwrap_err().to_string();
+            assert!(e.contains("material.young") && e.contains("underflow"), "{young}: {e}");
+        }
+        let text = BODY.replace("young = 1000.0", "young = 1e-90");
+        if let Err(e) = Problem::from_toml(&text) {
+            let e = e.to_string();
+            assert!(!e.contains("material.young"), "a small representable modulus passes: {e}");
+        }
+    }
+
+    #[test]
     fn long_numbers_in_messages_are_shown_in_scientific_form() {
         let e = invalid("nodes.refine[0].spacing", 1e50, "too large").to_string();
         assert!(e.contains(": 1e50 (too large)"), "{e}");

@@ -1022,6 +1022,18 @@ fn material(m: &MaterialFile) -> Result<Material, ProblemError> {
     if check_finite("material.young", m.young)? <= 0.0 {
         return Err(invalid("material.young", m.young, "must be a positive number"));
     }
+    if m.young < 1.0 / MAX_MAGNITUDE {
+        // A modulus this small underflows in the products of assembly (a subnormal `E` gave a
+        // "singular matrix" refusal that blamed the displacement conditions).
+        return Err(invalid(
+            "material.young",
+            format!("{:e}", m.young),
+            format!(
+                "moduli below {:e} make the arithmetic underflow; rescale the units",
+                1.0 / MAX_MAGNITUDE
+            ),
+        ));
+    }
     if !(m.poisson.is_finite() && (0.0..0.5).contains(&m.poisson)) {
         return Err(invalid("material.poisson", m.poisson, "must be in [0, 0.5)"));
     }
