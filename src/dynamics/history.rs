@@ -34,6 +34,23 @@ impl Record {
         self.kinetic_energy + self.strain_energy
     }
 
+    /// A record of one contact step with unit kinetic energy and momentum, for tests.
+    #[cfg(test)]
+    pub(crate) fn sample(time: f64, residual: f64) -> Self {
+        Record {
+            time,
+            contact_force: 1.0,
+            kinetic_energy: 1.0,
+            strain_energy: 0.0,
+            external_work: 0.0,
+            contact_loss: 0.0,
+            momentum: [1.0, 0.0],
+            active: 1,
+            pivots: 1,
+            residual,
+        }
+    }
+
     /// How many of the record's numbers are not finite.
     fn non_finite(&self) -> usize {
         [
@@ -163,18 +180,7 @@ mod tests {
     use super::*;
 
     fn record(time: f64, residual: f64) -> Record {
-        Record {
-            time,
-            contact_force: 1.0,
-            kinetic_energy: 1.0,
-            strain_energy: 0.0,
-            external_work: 0.0,
-            contact_loss: 0.0,
-            momentum: [1.0, 0.0],
-            active: 1,
-            pivots: 1,
-            residual,
-        }
+        Record::sample(time, residual)
     }
 
     #[test]

@@ -249,18 +249,8 @@ mod tests {
     use crate::dynamics::History;
 
     fn figures(residual: f64, kinetic: f64) -> Figures {
-        let record = |time: f64| Record {
-            time,
-            contact_force: 1.0,
-            kinetic_energy: kinetic,
-            strain_energy: 0.0,
-            external_work: 0.0,
-            contact_loss: 0.0,
-            momentum: [1.0, 0.0],
-            active: 1,
-            pivots: 1,
-            residual,
-        };
+        let record =
+            |time: f64| Record { kinetic_energy: kinetic, ..Record::sample(time, residual) };
         History { records: vec![record(0.0), record(0.1)] }.figures(0.1, 1.0)
     }
 
