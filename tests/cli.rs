@@ -956,6 +956,9 @@ fn every_shipped_problem_runs() {
         }
         headline_failures.extend(headline_mismatches(&file, &summary));
         stale_images.extend(stale_guide_images(&stem, &out_dir));
+        if summary.get("dynamics").is_none() {
+            assert_lists_agree(&stem, &summary);
+        }
     }
     assert!(headline_failures.is_empty(), "{}", headline_failures.join("\n"));
     assert!(
@@ -963,6 +966,34 @@ fn every_shipped_problem_runs() {
         "the guide's screenshots differ from this run's plots (rerun scripts/guide-images.sh): {stale_images:?}"
     );
     assert_summary_layout(&layout);
+}
+
+/// A static summary's `bodies` and `pairs` lists say what its single-pair keys say: the
+/// first body's checks are `checks`, a second body's are `second_body`, and a `[contact]`
+/// pair's result is `contact`.
+fn assert_lists_agree(stem: &str, s: &serde_json::Value) {
+    let (bodies, pairs) = (s["bodies"].as_array(), s["pairs"].as_array());
+    let (bodies, pairs) = (bodies.expect(stem), pairs.expect(stem));
+    for key in ["applied_force", "reaction_force", "contact_force", "equilibrium_error"] {
+        assert_eq!(bodies[0][key], s["checks"][key], "{stem}: bodies[0].{key}");
+    }
+    assert_eq!(bodies[0]["nodes"], s["counts"]["nodes"], "{stem}: bodies[0].nodes");
+    if !s["second_body"].is_null() {
+        assert_eq!(bodies.len(), 2, "{stem}: bodies with a second body");
+        assert_eq!(bodies[1], s["second_body"], "{stem}: bodies[1]");
+    }
+    match &s["contact"] {
+        serde_json::Value::Null => {
+            assert!(pairs.is_empty() || s["second_body"].is_null(), "{stem}")
+        }
+        c => {
+            assert_eq!(pairs.len(), 1, "{stem}: one [contact] pair");
+            for key in ["candidates", "closed", "closed_intervals", "total_force"] {
+                assert_eq!(pairs[0][key], c[key], "{stem}: pairs[0].{key}");
+            }
+            assert_eq!(pairs[0]["target_body"], s["bodies"][1]["name"], "{stem}: target body");
+        }
+    }
 }
 
 /// The guide's screenshots of `problem`'s plots (the list of `scripts/guide-images.sh`:

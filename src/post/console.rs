@@ -15,7 +15,7 @@ impl std::fmt::Display for Console<'_> {
         let s = self.0;
         bodies(f, s)?;
         pairs(f, s)?;
-        if let (Some(_), Some(l)) = (&s.pairs, &s.lcp) {
+        if let (true, Some(l)) = (s.by_pair(), &s.lcp) {
             pairs_lcp(f, l)?;
         }
         if let (Some(c), Some(l)) = (&s.contact, &s.lcp) {
@@ -51,7 +51,7 @@ fn bodies(f: &mut Formatter<'_>, s: &Summary) -> Result {
             second.equilibrium_error
         )?;
     }
-    for b in s.bodies.iter().flatten() {
+    for b in s.bodies.iter().filter(|_| s.by_pair()) {
         writeln!(
             f,
             "  body {}: {} nodes, residual {:.2e}, equilibrium error {:.2e}",
@@ -70,9 +70,11 @@ fn bodies(f: &mut Formatter<'_>, s: &Summary) -> Result {
 /// One line per contact pair of a scene (its friction and a force-driven obstacle's record
 /// below it).
 fn pairs(f: &mut Formatter<'_>, s: &Summary) -> Result {
-    let first_rigid =
-        s.pairs.iter().flatten().position(|p| p.target_body.is_none()).unwrap_or(usize::MAX);
-    for (k, p) in s.pairs.iter().flatten().enumerate() {
+    if !s.by_pair() {
+        return Ok(());
+    }
+    let first_rigid = s.pairs.iter().position(|p| p.target_body.is_none()).unwrap_or(usize::MAX);
+    for (k, p) in s.pairs.iter().enumerate() {
         let target = match (&p.target_body, &p.target_edge) {
             (Some(b), Some(e)) => format!("{b}.{e}"),
             _ => "obstacle".into(),

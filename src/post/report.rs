@@ -207,13 +207,13 @@ fn results(s: &Summary) -> Vec<(String, String)> {
             format!("{}, {:.2e}, {:.2e}", b.nodes, b.relative_residual, b.equilibrium_error),
         ));
     }
-    for b in s.bodies.iter().flatten() {
+    for b in s.bodies.iter().filter(|_| s.by_pair()) {
         rows.push((
             format!("body `{}`: nodes, residual, equilibrium", b.name.as_deref().unwrap_or("-")),
             format!("{}, {:.2e}, {:.2e}", b.nodes, b.relative_residual, b.equilibrium_error),
         ));
     }
-    for (k, p) in s.pairs.iter().flatten().enumerate() {
+    for (k, p) in s.pairs.iter().enumerate().filter(|_| s.by_pair()) {
         rows.push((
             format!("contact[{k}] `{}`.`{}`: total force, closed / all", p.body, p.edge),
             format!("{}, {} / {}", g(p.total_force), p.closed, p.candidates),
@@ -278,25 +278,13 @@ fn results(s: &Summary) -> Vec<(String, String)> {
 /// One body's force balance: its name and `Σ f`, `Σ R`, `Σ ν P` and the relative error.
 type Balance = (String, [f64; 2], [f64; 2], [f64; 2], f64);
 
-/// Every body's force balance, the first body first (from `summary.json`'s `checks`,
-/// `second_body` and `bodies`).
+/// Every body's force balance, the first body first (from `summary.json`'s `bodies`).
 fn balances(s: &Summary) -> Vec<Balance> {
-    let body = |b: &super::summary::SecondBody| {
+    let body = |b: &super::summary::BodySummary| {
         let name = b.name.clone().unwrap_or_else(|| "-".into());
         (name, b.applied_force, b.reaction_force, b.contact_force, b.equilibrium_error)
     };
-    if let Some(bodies) = &s.bodies {
-        return bodies.iter().map(body).collect();
-    }
-    let c = &s.checks;
-    let first = (
-        s.problem.name.clone(),
-        c.applied_force,
-        c.reaction_force,
-        c.contact_force,
-        c.equilibrium_error,
-    );
-    std::iter::once(first).chain(s.second_body.as_ref().map(body)).collect()
+    s.bodies.iter().map(body).collect()
 }
 
 /// The force balance table: per body and direction the applied load, the reactions, the

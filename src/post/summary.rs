@@ -47,16 +47,14 @@ pub struct Summary {
     pub lcp: Option<LcpSummary>,
     /// The contact result (contact problems).
     pub contact: Option<ContactSummary>,
-    /// The second body's checks (two-body contact).
-    pub second_body: Option<SecondBody>,
-    /// Several bodies or contact pairs (`[[contact]]` tables; absent otherwise, so that other
-    /// summaries are unchanged): every body's checks, the first included.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub bodies: Option<Vec<SecondBody>>,
-    /// Several bodies or contact pairs: each pair's contact result, in the order of the
-    /// `[[contact]]` tables (`lcp` describes the one LCP over all of them).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub pairs: Option<Vec<PairSummary>>,
+    /// The second body's checks (two-body contact; `bodies[1]` holds the same, this key is
+    /// kept for the readers of the earlier layout).
+    pub second_body: Option<BodySummary>,
+    /// Every body's checks, the first included (one entry for a one-body problem).
+    pub bodies: Vec<BodySummary>,
+    /// Each contact pair's result (empty without contact): the `[contact]` pair, or the
+    /// `[[contact]]` tables in their order (`lcp` describes the one LCP over all of them).
+    pub pairs: Vec<PairSummary>,
     /// One record per load increment (friction or `[[step]]` only; absent otherwise, so that
     /// frictionless summaries are unchanged; docs/method.md §8).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -608,7 +606,7 @@ impl LoadDrivenSummary {
     }
 }
 
-/// One contact pair of a problem with several bodies or pairs.
+/// One contact pair.
 #[derive(Clone, Debug, Serialize)]
 pub struct PairSummary {
     /// The body carrying the candidates.
@@ -666,9 +664,9 @@ pub struct PairFriction {
     pub increments: usize,
 }
 
-/// The second body of a two-body contact.
+/// One body's size and checks.
 #[derive(Clone, Debug, Serialize)]
-pub struct SecondBody {
+pub struct BodySummary {
     /// Its name.
     pub name: Option<String>,
     /// Nodes.
@@ -685,8 +683,8 @@ pub struct SecondBody {
     pub reaction_force: [f64; 2],
     /// `Σ ν P`.
     pub contact_force: [f64; 2],
-    /// Several bodies: this body's rigid translation held by contact alone
-    /// (docs/method.md §4.7).
+    /// Several bodies or pairs (`[[contact]]` tables): this body's rigid translation held by
+    /// contact alone (docs/method.md §4.7; one pair: `contact.rigid_mode`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rigid_mode: Option<RigidModeSummary>,
 }
@@ -838,19 +836,12 @@ impl Summary {
                 load_driven: c.load_driven.as_ref().map(LoadDrivenSummary::new),
                 rigid_mode: c.rigid_mode.as_ref().map(RigidModeSummary::new),
             }),
-            second_body: solution.second_body.as_deref().map(|s2| SecondBody {
-                name: problem.second_body.as_ref().map(|p| p.name.clone()),
-                nodes: s2.displacement.len(),
-                dofs: 2 * s2.displacement.len(),
-                relative_residual: s2.relative_residual,
-                equilibrium_error: s2.equilibrium_error,
-                applied_force: s2.applied_force,
-                reaction_force: s2.reaction_force,
-                contact_force: s2.contact_force,
-                rigid_mode: None,
-            }),
-            bodies: multibody_bodies(problem, solution),
-            pairs: multibody_pairs(problem, solution),
+            second_body: solution
+                .second_body
+                .as_deref()
+                .map(|s2| BodySummary::new(problem.second_body.as_ref().map(|p| &p.name), s2)),
+            bodies: every_body(problem, solution),
+            pairs: every_pair(problem, solution),
             steps: solution
                 .contact
                 .as_ref()
@@ -860,6 +851,13 @@ impl Summary {
             warnings: warnings(problem, solution),
             timings: solution.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
         }
+    }
+
+    /// Whether the contact result is given pair by pair (a scene of `[[contact]]` tables,
+    /// without the one `contact` block of a single pair): the console and the report list
+    /// `bodies` and `pairs` then.
+    pub fn by_pair(&self) -> bool {
+        self.contact.is_none() && !self.pairs.is_empty()
     }
 
     /// The checks that failed (`checks.verdicts` whose `pass` is false).
@@ -881,88 +879,130 @@ impl Summary {
     }
 }
 
-/// Every body's checks of a problem with several bodies or pairs (`None` otherwise).
-fn multibody_bodies(problem: &Problem, solution: &Solution) -> Option<Vec<SecondBody>> {
-    let ms = solution.multibody.as_deref()?;
-    let solutions = std::iter::once(solution).chain(ms.bodies.iter());
-    Some(
-        solutions
-            .enumerate()
-            .map(|(k, s)| SecondBody {
-                name: problem.body(k).map(|p| p.name.clone()),
-                nodes: s.displacement.len(),
-                dofs: 2 * s.displacement.len(),
-                relative_residual: s.relative_residual,
-                equilibrium_error: s.equilibrium_error,
-                applied_force: s.applied_force,
-                reaction_force: s.reaction_force,
-                contact_force: s.contact_force,
-                rigid_mode: ms
-                    .held
-                    .iter()
-                    .find(|(b, _)| *b == k)
-                    .map(|(_, r)| RigidModeSummary::new(r)),
-            })
-            .collect(),
-    )
+impl BodySummary {
+    /// The size and checks of the body named `name` solved as `s`.
+    fn new(name: Option<&String>, s: &Solution) -> Self {
+        Self {
+            name: name.cloned(),
+            nodes: s.displacement.len(),
+            dofs: 2 * s.displacement.len(),
+            relative_residual: s.relative_residual,
+            equilibrium_error: s.equilibrium_error,
+            applied_force: s.applied_force,
+            reaction_force: s.reaction_force,
+            contact_force: s.contact_force,
+            rigid_mode: None,
+        }
+    }
 }
 
-/// Each pair's contact result of a problem with several bodies or pairs (`None` otherwise).
-fn multibody_pairs(problem: &Problem, solution: &Solution) -> Option<Vec<PairSummary>> {
-    let (several, ms) = (problem.multibody.as_deref()?, solution.multibody.as_deref()?);
+/// Every body's checks, the first body first: the problem's own body, then the second body
+/// of a two-body pair or the further bodies of a scene.
+fn every_body(problem: &Problem, solution: &Solution) -> Vec<BodySummary> {
+    let Some(ms) = solution.multibody.as_deref() else {
+        let second = problem.second_body.as_deref().zip(solution.second_body.as_deref());
+        return std::iter::once((problem, solution))
+            .chain(second)
+            .map(|(p, s)| BodySummary::new(Some(&p.name), s))
+            .collect();
+    };
+    std::iter::once(solution)
+        .chain(ms.bodies.iter())
+        .enumerate()
+        .map(|(k, s)| BodySummary {
+            rigid_mode: ms
+                .held
+                .iter()
+                .find(|(b, _)| *b == k)
+                .map(|(_, r)| RigidModeSummary::new(r)),
+            ..BodySummary::new(problem.body(k).map(|p| &p.name), s)
+        })
+        .collect()
+}
+
+/// Each contact pair's result: the one pair of a `[contact]` table (empty without contact),
+/// or the pairs of a scene in the order of its `[[contact]]` tables.
+fn every_pair(problem: &Problem, solution: &Solution) -> Vec<PairSummary> {
     let edge_name = |b: usize, e: usize| {
         problem.body(b).map(|p| p.domain.edge_names()[e].clone()).unwrap_or_default()
     };
-    let fold = |v: &mut dyn Iterator<Item = f64>, f: fn(f64, f64) -> f64, start| v.fold(start, f);
-    Some(
-        several
-            .pairs
-            .iter()
-            .zip(&ms.pairs)
-            .map(|(pair, c)| PairSummary {
-                body: problem.body(pair.body).map(|p| p.name.clone()).unwrap_or_default(),
-                edge: edge_name(pair.body, pair.spec.edge),
-                target_body: pair.target_body.and_then(|t| problem.body(t)).map(|p| p.name.clone()),
-                target_edge: match (pair.target_body, pair.spec.target) {
-                    (Some(t), crate::problem::ContactTarget::Body { edge }) => {
-                        Some(edge_name(t, edge))
-                    }
-                    _ => None,
-                },
-                candidates: c.candidates.len(),
-                closed: c.closed.iter().filter(|&&v| v).count(),
-                closed_intervals: c.onset.closed_intervals,
-                total_force: c.total_force,
-                resultant: c.candidates.operator.resultant(&c.lcp.z),
-                unpaired: c.unpaired,
-                gap_tolerance: c.gap_tolerance,
-                min_force: fold(&mut c.lcp.z.iter().copied(), f64::min, f64::INFINITY),
-                min_gap: fold(&mut c.lcp.w.iter().copied(), f64::min, f64::INFINITY),
-                max_force_times_gap: fold(
-                    &mut c.lcp.z.iter().zip(&c.lcp.w).map(|(z, w)| (z * w).abs()),
-                    f64::max,
-                    0.0,
-                ),
-                max_gap_mismatch: c
-                    .gap
-                    .iter()
-                    .zip(&c.lcp.w)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max),
-                friction: c.friction.as_ref().map(|f| PairFriction {
-                    coefficient: f.coefficient,
-                    total_tangential_force: f.total_force,
-                    stick_slip_counts: [
-                        f.step.state.iter().filter(|s| **s == ContactState::Stick).count(),
-                        f.step.state.iter().filter(|s| s.is_slip()).count(),
-                    ],
-                    residual: f.step.residuals.max(),
-                    increments: f.increments.len(),
-                }),
-                load_driven: c.load_driven.as_ref().map(LoadDrivenSummary::new),
-            })
-            .collect(),
-    )
+    let target_edge = |target_body: Option<usize>, target| match (target_body, target) {
+        (Some(t), crate::problem::ContactTarget::Body { edge }) => Some(edge_name(t, edge)),
+        _ => None,
+    };
+    let body_name = |b: Option<usize>| b.and_then(|b| problem.body(b)).map(|p| p.name.clone());
+    let Some((several, ms)) = problem.multibody.as_deref().zip(solution.multibody.as_deref())
+    else {
+        let (Some(spec), Some(c)) = (&problem.contact, &solution.contact) else {
+            return Vec::new();
+        };
+        let target_body = solution.second_body.is_some().then_some(1);
+        return vec![PairSummary {
+            target_body: body_name(target_body),
+            target_edge: target_edge(target_body, spec.target),
+            ..PairSummary::new(problem.name.clone(), edge_name(0, spec.edge), c)
+        }];
+    };
+    several
+        .pairs
+        .iter()
+        .zip(&ms.pairs)
+        .map(|(pair, c)| PairSummary {
+            target_body: body_name(pair.target_body),
+            target_edge: target_edge(pair.target_body, pair.spec.target),
+            ..PairSummary::new(
+                body_name(Some(pair.body)).unwrap_or_default(),
+                edge_name(pair.body, pair.spec.edge),
+                c,
+            )
+        })
+        .collect()
+}
+
+impl PairSummary {
+    /// The result `c` of the pair whose candidates lie on `edge` of `body`, against rigid
+    /// obstacles (the caller names a target body).
+    fn new(body: String, edge: String, c: &crate::solution::ContactSolution) -> Self {
+        let fold =
+            |v: &mut dyn Iterator<Item = f64>, f: fn(f64, f64) -> f64, start| v.fold(start, f);
+        Self {
+            body,
+            edge,
+            target_body: None,
+            target_edge: None,
+            candidates: c.candidates.len(),
+            closed: c.closed.iter().filter(|&&v| v).count(),
+            closed_intervals: c.onset.closed_intervals,
+            total_force: c.total_force,
+            resultant: c.candidates.operator.resultant(&c.lcp.z),
+            unpaired: c.unpaired,
+            gap_tolerance: c.gap_tolerance,
+            min_force: fold(&mut c.lcp.z.iter().copied(), f64::min, f64::INFINITY),
+            min_gap: fold(&mut c.lcp.w.iter().copied(), f64::min, f64::INFINITY),
+            max_force_times_gap: fold(
+                &mut c.lcp.z.iter().zip(&c.lcp.w).map(|(z, w)| (z * w).abs()),
+                f64::max,
+                0.0,
+            ),
+            max_gap_mismatch: c
+                .gap
+                .iter()
+                .zip(&c.lcp.w)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max),
+            friction: c.friction.as_ref().map(|f| PairFriction {
+                coefficient: f.coefficient,
+                total_tangential_force: f.total_force,
+                stick_slip_counts: [
+                    f.step.state.iter().filter(|s| **s == ContactState::Stick).count(),
+                    f.step.state.iter().filter(|s| s.is_slip()).count(),
+                ],
+                residual: f.step.residuals.max(),
+                increments: f.increments.len(),
+            }),
+            load_driven: c.load_driven.as_ref().map(LoadDrivenSummary::new),
+        }
+    }
 }
 
 /// The LCP of a problem with several bodies or pairs (`None` otherwise).
