@@ -11,10 +11,11 @@ system of the child), then the ratios peer / ours.
 
     python3 benches/peer/compare.py [--rounds 3] [--ny 16] [--binary target/release/mlpg-contact]
         [--python target/peer-venv/bin/python] [--problem problems/beam_on_foundation_adaptive.toml]
-        [--baseline /path/to/another/mlpg-contact]
+        [--baseline /path/to/another/mlpg-contact] [--baseline-problem <file>]
 
 ``--baseline`` also runs a second build of ours in each round (before and after a change, in
-the same minutes).
+the same minutes), on ``--baseline-problem`` (default: ``--problem``; a problem file for an
+older binary that does not know a newer key).
 
 The peer runs with one BLAS thread (OPENBLAS_NUM_THREADS=1 etc.): a multi-threaded BLAS
 oversubscribed on a shared 2-core machine made its condensation 20x slower, which would
@@ -109,6 +110,7 @@ def main():
     ap.add_argument("--baseline", help="a second mlpg-contact binary, run alternately too (A/B)")
     ap.add_argument("--python", default=str(ROOT / "target/peer-venv/bin/python"))
     ap.add_argument("--problem", default="problems/beam_on_foundation_adaptive.toml")
+    ap.add_argument("--baseline-problem", help="the baseline's problem file (default: --problem)")
     a = ap.parse_args()
     loads = [pathlib.Path("/proc/loadavg").read_text().split()[:3]]
     runs = {"ours": [], "peer": []}
@@ -116,7 +118,7 @@ def main():
         runs["baseline"] = []
     for k in range(a.rounds):
         if a.baseline:
-            runs["baseline"].append(ours(a.baseline, a.problem))
+            runs["baseline"].append(ours(a.baseline, a.baseline_problem or a.problem))
             b = runs["baseline"][-1]
             print(f"round {k + 1}: baseline stage {b['stage']:.2f} s wall {b['wall']:.2f} s cpu {b['cpu']:.2f} s", flush=True)
         runs["ours"].append(ours(a.binary, a.problem))

@@ -106,6 +106,8 @@ fn main() {
                     steps: 14,
                     max_nodes: finest.0,
                     tolerance: None,
+                    onset_tolerance: None,
+                    force_tolerance: None,
                     fraction,
                     indicator,
                     contact: false,

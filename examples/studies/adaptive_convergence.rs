@@ -105,7 +105,16 @@ fn adaptive_run(
     max_nodes: usize,
     error: &Measure,
 ) -> Run {
-    let a = Adaptive { steps: 14, max_nodes, tolerance: None, fraction, indicator, contact: false };
+    let a = Adaptive {
+        steps: 14,
+        max_nodes,
+        tolerance: None,
+        onset_tolerance: None,
+        force_tolerance: None,
+        fraction,
+        indicator,
+        contact: false,
+    };
     let mut rows = Vec::new();
     let t = Instant::now();
     let result =

@@ -150,6 +150,8 @@ fn cantilever_study(layout: Layout, name: &str) {
                 steps: 12,
                 max_nodes: finest.0,
                 tolerance: None,
+                onset_tolerance: None,
+                force_tolerance: None,
                 fraction,
                 indicator: ind,
                 contact: false,

@@ -430,6 +430,11 @@ pub fn solve_adaptive(
             rows.push(unmarked(row));
             return Ok(finish(solved, adaptive, "tolerance", rows));
         }
+        let onset = solved.solution.contact.as_ref().map(|c| &c.onset);
+        if goals_met(adaptive, &row, onset, rows.last()) {
+            rows.push(unmarked(row));
+            return Ok(finish(solved, adaptive, "accuracy", rows));
+        }
         if step == adaptive.steps {
             rows.push(unmarked(row));
             return Ok(finish(solved, adaptive, "steps", rows));
@@ -584,6 +589,41 @@ fn body_marks(solved: &Solved, estimates: Vec<Estimate>, adaptive: &Adaptive) ->
         .collect()
 }
 
+/// Whether the accuracy goals of `adaptive` (at least one stated) are met by the solve of
+/// `row` (its contact onset `onset`) after the solve of `previous`, from computed quantities
+/// only. `onset_tolerance`: the onset's two one-sided estimates — `gap^(2/3)` extrapolated
+/// from the open side and `p²` from the closed side — both strictly inside the bracket (not
+/// clipped to it) and at most `onset_tolerance` apart. `force_tolerance`: the total contact
+/// force changed by at most that, relative, from the solve before. Never on the first solve.
+fn goals_met(
+    adaptive: &Adaptive,
+    row: &AdaptiveStep,
+    onset: Option<&crate::contact::ContactOnset>,
+    previous: Option<&AdaptiveStep>,
+) -> bool {
+    let Some(prev) = previous else { return false };
+    if adaptive.onset_tolerance.is_none() && adaptive.force_tolerance.is_none() {
+        return false;
+    }
+    let onset_met = adaptive.onset_tolerance.is_none_or(|t| {
+        let Some(o) = onset else { return false };
+        let (Some(a), Some(b)) = (o.last_open, o.first_closed) else { return false };
+        let (lo, hi) = (a.min(b), a.max(b));
+        let inside = |x: f64| lo < x && x < hi;
+        match (o.from_gap_raw, o.from_pressure) {
+            (Some(g), Some(p)) => inside(g) && inside(p) && (g - p).abs() <= t,
+            _ => false,
+        }
+    });
+    let force_met = adaptive.force_tolerance.is_none_or(|t| {
+        match (row.total_contact_force, prev.total_contact_force) {
+            (Some(f), Some(g)) => (f - g).abs() <= t * f.abs(),
+            _ => false,
+        }
+    });
+    onset_met && force_met
+}
+
 /// `row` with nothing marked (a step that stops).
 fn unmarked(mut row: AdaptiveStep) -> AdaptiveStep {
     for b in row.bodies.iter_mut().flatten() {
@@ -627,6 +667,65 @@ mod tests {
         assert_eq!(mark(&eta2, 0.8), vec![1, 3, 4]);
         assert_eq!(mark(&eta2, 1.0).len(), 5);
         assert!(mark(&[0.0; 3], 0.5).is_empty());
+    }
+
+    /// The accuracy goals from computed quantities: the onset's two one-sided estimates inside
+    /// the bracket and close, the force's change from the solve before; never on the first
+    /// solve, never without a goal stated.
+    #[test]
+    fn accuracy_goals_need_every_stated_goal() {
+        let row = |force: f64| AdaptiveStep {
+            step: 1,
+            nodes: 10,
+            min_spacing: 0.1,
+            estimated_error: 0.1,
+            marked: 0,
+            marked_contact: 0,
+            total_contact_force: Some(force),
+            onset_x: None,
+            last_open_x: None,
+            first_closed_x: None,
+            bodies: None,
+            pairs: None,
+        };
+        let onset = |gap: f64, pressure: f64| crate::contact::ContactOnset {
+            last_open: Some(1.0),
+            first_closed: Some(1.5),
+            from_gap_raw: Some(gap),
+            from_gap: Some(gap.clamp(1.0, 1.5)),
+            from_pressure: Some(pressure),
+            closed_intervals: 1,
+        };
+        let goals = |o: Option<f64>, f: Option<f64>| Adaptive {
+            steps: 4,
+            max_nodes: 1000,
+            tolerance: None,
+            fraction: 0.5,
+            indicator: Indicator::Gradient,
+            contact: true,
+            onset_tolerance: o,
+            force_tolerance: f,
+        };
+        let (close, apart, clipped) = (onset(1.20, 1.205), onset(1.20, 1.25), onset(1.6, 1.5));
+        let (prev, near, far) = (row(10.0), row(10.0005), row(10.01));
+        let met = |a: &Adaptive, r: &AdaptiveStep, o, p| goals_met(a, r, Some(o), p);
+        // Onset: both estimates inside the bracket and at most the tolerance apart.
+        let a = goals(Some(0.01), None);
+        assert!(met(&a, &far, &close, Some(&prev)));
+        assert!(!met(&a, &far, &apart, Some(&prev)));
+        assert!(!met(&a, &far, &clipped, Some(&prev)));
+        assert!(!met(&a, &far, &close, None));
+        assert!(!goals_met(&a, &far, None, Some(&prev)));
+        // Force: relative change from the solve before.
+        let f = goals(None, Some(1e-4));
+        assert!(met(&f, &near, &apart, Some(&prev)));
+        assert!(!met(&f, &far, &close, Some(&prev)));
+        // Both: each must hold; none stated: never.
+        let both = goals(Some(0.01), Some(1e-4));
+        assert!(met(&both, &near, &close, Some(&prev)));
+        assert!(!met(&both, &near, &apart, Some(&prev)));
+        assert!(!met(&both, &far, &close, Some(&prev)));
+        assert!(!met(&goals(None, None), &near, &close, Some(&prev)));
     }
 
     #[test]
@@ -694,6 +793,8 @@ mod tests {
             fraction: 0.5,
             indicator: Indicator::Gradient,
             contact: true,
+            onset_tolerance: None,
+            force_tolerance: None,
         };
         let mut silent = crate::Silent;
         for method in ["mfvm", "fem"] {

@@ -77,7 +77,8 @@ pub struct AdaptiveSummary {
     /// The parameters of the loop.
     pub parameters: crate::problem::Adaptive,
     /// Why the loop stopped: `"tolerance"`, `"steps"`, `"max_nodes"` (the next node set would
-    /// have exceeded it; the last solved set is reported) or `"no_marks"`.
+    /// have exceeded it; the last solved set is reported), `"accuracy"` (the stated
+    /// `onset_tolerance` / `force_tolerance` goals are met) or `"no_marks"`.
     pub stopped_by: &'static str,
     /// One row per solve, the first on the initial node set.
     pub steps: Vec<AdaptiveStep>,

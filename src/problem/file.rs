@@ -125,6 +125,13 @@ pub struct AdaptiveFile {
     /// Also refine around the contact transitions (default `true`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub contact: Option<bool>,
+    /// Accuracy goal for the contact onset, a length (default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub onset_tolerance: Option<f64>,
+    /// Accuracy goal for the total contact force, its relative change between solves
+    /// (in `(0, 1)`; default: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force_tolerance: Option<f64>,
 }
 
 /// One `[[obstacle]]`: a named rigid obstacle of kind `"line"` (`point`, `normal` into the

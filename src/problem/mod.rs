@@ -471,6 +471,35 @@ plane = "stress"
     }
 
     #[test]
+    fn accuracy_goals_are_validated_with_key_paths() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("problems/beam_on_foundation_adaptive.toml");
+        let beam = std::fs::read_to_string(path).unwrap();
+        let with = |keys: &str| {
+            Problem::from_toml(&beam.replace("[refinement]\n", &format!("[refinement]\n{keys}\n")))
+        };
+        let a = with("onset_tolerance = 0.01\nforce_tolerance = 1e-4").unwrap().adaptive.unwrap();
+        assert_eq!((a.onset_tolerance, a.force_tolerance), (Some(0.01), Some(1e-4)));
+        let a = with("").unwrap().adaptive.unwrap();
+        assert_eq!((a.onset_tolerance, a.force_tolerance), (None, None));
+        for (keys, key) in [
+            ("onset_tolerance = 0.0", "refinement.onset_tolerance"),
+            ("onset_tolerance = -0.01", "refinement.onset_tolerance"),
+            ("force_tolerance = 0.0", "refinement.force_tolerance"),
+            ("force_tolerance = 1.0", "refinement.force_tolerance"),
+        ] {
+            let e = with(keys).unwrap_err().to_string();
+            assert!(e.contains(key), "{keys}: {e}");
+        }
+        // Without a contact there is no onset or contact force to aim at.
+        for key in ["onset_tolerance", "force_tolerance"] {
+            let text = format!("{BODY}\n[refinement]\n{key} = 0.01");
+            let e = Problem::from_toml(&text).unwrap_err().to_string();
+            assert!(e.contains(&format!("refinement.{key}")) && e.contains("[contact]"), "{e}");
+        }
+    }
+
+    #[test]
     fn adaptive_table_is_validated_with_key_paths() {
         let with = |table: &str| Problem::from_toml(&format!("{BODY}\n[refinement]\n{table}"));
         let a = with("").unwrap().adaptive.unwrap();

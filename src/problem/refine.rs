@@ -271,7 +271,8 @@ impl Indicator {
 }
 
 /// The adaptive loop of `[refinement]` (docs/method.md §2.2): solve, estimate, mark, refine,
-/// until the estimated error is at most `tolerance`, the next node set would exceed
+/// until the estimated error is at most `tolerance`, the stated accuracy goals
+/// (`onset_tolerance`, `force_tolerance`) are met, the next node set would exceed
 /// `max_nodes`, or after `steps` refinements.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Adaptive {
@@ -287,6 +288,15 @@ pub struct Adaptive {
     pub indicator: Indicator,
     /// Also mark the contact candidates at open/closed (and stick/slip) transitions.
     pub contact: bool,
+    /// Accuracy goal for the contact onset, a length: met when its two one-sided estimates
+    /// (the gap's from the open side, the pressure's from the closed side), both inside the
+    /// bracket, are at most this apart (`None`: no goal).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub onset_tolerance: Option<f64>,
+    /// Accuracy goal for the total contact force: met when it changed by at most this,
+    /// relative, between this solve and the one before (`None`: no goal).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub force_tolerance: Option<f64>,
 }
 
 impl Adaptive {

@@ -236,7 +236,7 @@ fn bodies_and_control(defs: &mut Map<String, Value>) {
             json!({
                 "steps": integer(), "max_nodes": integer(), "tolerance": number(),
                 "fraction": number(), "indicator": one_of(&["gradient", "recovery"]),
-                "contact": boolean(),
+                "contact": boolean(), "onset_tolerance": number(), "force_tolerance": number(),
             }),
             &[],
         ),

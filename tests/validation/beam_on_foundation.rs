@@ -264,6 +264,42 @@ fn refined_contact_edge_matches_the_fine_uniform_beam() {
     assert!(err.to_string().contains("not trustworthy"), "{err}");
 }
 
+/// The adaptive beam with the accuracy goals `onset_tolerance = 0.01` (the onset's two
+/// one-sided estimates at most 0.01 apart) and `force_tolerance = 1e-4` (the contact force's
+/// change from the solve before): the loop stops by `"accuracy"` before `max_nodes`, with
+/// fewer solves than without the goals, and the answer is within the level of the FE
+/// reference, `|l_c − 19.810| ≤ 0.01` and `|ΣP/32.3476 − 1| ≤ 1e-4` (the stop tests use no
+/// reference value). Measured: 1261 → 1604 → 3044 → 6582 nodes, `ΣP` 32.346798 (−2.5e-5),
+/// `l_c` 19.8048 (−0.0052); without the goals one more solve, 12 567 nodes.
+#[test]
+fn adaptive_beam_with_accuracy_goals_stops_within_the_level() {
+    let problem = shipped_problem("beam_on_foundation_adaptive.toml", 0.5);
+    let mut adaptive = problem.adaptive.unwrap();
+    adaptive.onset_tolerance = Some(0.01);
+    adaptive.force_tolerance = Some(1e-4);
+    let mut solves = 0;
+    let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
+        &problem,
+        &adaptive,
+        &mut mlpg_contact::Silent,
+        &mut |_, _, _, _| solves += 1,
+    )
+    .unwrap();
+    let c = run.solution.contact.as_ref().unwrap();
+    let onset = c.onset.from_gap.unwrap();
+    println!(
+        "{solves} solves, {} nodes, F_c {:.6}, l_c {onset:.4}, stopped by {}",
+        run.model.nodes.len(),
+        c.total_force,
+        run.summary.stopped_by
+    );
+    assert_eq!(run.summary.stopped_by, "accuracy");
+    assert!((2..=4).contains(&solves), "{solves} solves");
+    assert!(run.model.nodes.len() < 10_000, "{} nodes", run.model.nodes.len());
+    assert!((c.total_force / FE_CONTACT_FORCE - 1.0).abs() <= 1e-4, "F_c {}", c.total_force);
+    assert!((onset - FE_ONSET).abs() <= 0.01, "l_c {onset}");
+}
+
 /// The adaptive loop (docs/method.md §2.2) on `problems/beam_on_foundation_adaptive.toml`:
 /// from the uniform spacing 0.5 to at most 20 000 nodes. Target (the FE reference above, an
 /// independent method): `|l_c − 19.810| ≤ 0.01` and `ΣP` within `1e-5` relative of

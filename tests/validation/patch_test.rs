@@ -128,6 +128,8 @@ fn adaptive_grading(layout: Layout) -> Refinement {
         steps: 3,
         max_nodes: 100_000,
         tolerance: None,
+        onset_tolerance: None,
+        force_tolerance: None,
         fraction: 0.5,
         indicator: mlpg_contact::problem::Indicator::Gradient,
         contact: false,

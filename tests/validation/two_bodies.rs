@@ -238,6 +238,8 @@ fn adaptive_gradings(layout: Layout) -> (Refinement, Refinement) {
         steps: 3,
         max_nodes: 100_000,
         tolerance: None,
+        onset_tolerance: None,
+        force_tolerance: None,
         fraction: 0.5,
         indicator: mlpg_contact::problem::Indicator::Gradient,
         contact: true,
