@@ -61,14 +61,7 @@ pub(super) fn run(
         .transpose()?;
     seconds.setup = clock.elapsed().as_secs_f64();
     let loads: Vec<Vec<f64>> = bodies.iter().map(|b| free_load(b.system)).collect();
-    let mut states: Vec<State> = bodies
-        .iter()
-        .zip(velocities)
-        .map(|(b, u)| State {
-            q: vec![0.0; b.system.matrix.n],
-            v: (0..b.system.matrix.n).map(|d| u[d % 2]).collect(),
-        })
-        .collect();
+    let mut states = initial_states(bodies, velocities);
     let mut history = History { records: vec![summed(bodies, &states, 0.0)] };
     let steps = params.steps();
     let snapshot =
@@ -102,10 +95,7 @@ pub(super) fn run(
         let mut rec = summed(bodies, &states, step as f64 * h);
         (rec.external_work, rec.contact_loss) = (external, loss);
         if let Some((_, answer)) = answer {
-            rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
-            rec.active = answer.active;
-            rec.pivots = answer.pivots;
-            rec.residual = answer.residual;
+            with_contact(&mut rec, &answer, h);
             final_impulses = answer.impulses;
         }
         history.records.push(rec);
@@ -116,6 +106,18 @@ pub(super) fn run(
     }
     let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&positions(&states)));
     Ok(Run { history, frames, states, final_gap, final_impulses, seconds })
+}
+
+/// Each body undeformed at its uniform velocity.
+fn initial_states(bodies: &[&Body<'_>], velocities: &[[f64; 2]]) -> Vec<State> {
+    bodies
+        .iter()
+        .zip(velocities)
+        .map(|(b, u)| State {
+            q: vec![0.0; b.system.matrix.n],
+            v: (0..b.system.matrix.n).map(|d| u[d % 2]).collect(),
+        })
+        .collect()
 }
 
 /// The step's index set and impulses over all bodies.
@@ -162,6 +164,15 @@ fn advance(
         next.push(State { q, v });
     }
     (next, (external, loss))
+}
+
+/// `rec` with the step's contact: the mean force `Σ Π / h`, the index set's size, Lemke's
+/// pivots and the LCP's residual.
+fn with_contact(rec: &mut Record, answer: &StepImpulses, h: f64) {
+    rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
+    rec.active = answer.active;
+    rec.pivots = answer.pivots;
+    rec.residual = answer.residual;
 }
 
 /// The bodies' records at `time`, summed (without contact or work: the caller adds them).
