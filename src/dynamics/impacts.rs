@@ -1,17 +1,39 @@
 //! Contact at the velocity level (docs/method.md §10.3): the condensed operator
-//! `W = G M̂⁻¹ E` formed once per run, the index set from the predicted gaps, and each step's
-//! LCP in the impulses, solved by Lemke's method.
+//! `W = Σ_b G_b M̂_b⁻¹ E_b` formed once per run, the index set from the predicted gaps, and
+//! each step's LCP in the impulses, solved by Lemke's method.
+//!
+//! The candidates act on the bodies through [`Term`]s: one against rigid obstacles (the body's
+//! `G`, `E`), two for a pair of bodies (the candidates' `G₁`, `E₁` and the target's `G₂`, `E₂`
+//! with the opposite direction). The gaps' rates `U = Σ_b G_b v_b` and the impulses' velocity
+//! changes `M̂_b⁻¹ E_b Π` are sums over the terms.
 
 use super::{DynamicsError, Iteration};
 use crate::contact::BodyOperator;
 use crate::lcp::{FrictionProblem, Lcp, LemkeParams, lemke, solve_step};
 
-/// The candidates of one body against rigid obstacles, condensed with `M̂`.
-pub struct Impacts<'a> {
-    operator: &'a BodyOperator,
-    initial_gap: &'a [f64],
-    /// `Y = M̂⁻¹ E`, one column per candidate.
+/// The candidates `offset .. offset + operator.len()` acting on body `body` through
+/// `operator` (`G` rows, `E` columns).
+#[derive(Clone, Copy)]
+pub struct Term<'a> {
+    /// The body's index.
+    pub body: usize,
+    /// The first candidate's index among all.
+    pub offset: usize,
+    /// `G_b`, `E_b` of these candidates.
+    pub operator: &'a BodyOperator,
+}
+
+/// A term condensed with its body's iteration matrix: `Y = M̂_b⁻¹ E_b`.
+struct Condensed<'a> {
+    term: Term<'a>,
+    /// One column per candidate of the term.
     columns: Vec<Vec<f64>>,
+}
+
+/// The candidates against rigid obstacles or between bodies, condensed with each body's `M̂`.
+pub struct Impacts<'a> {
+    initial_gap: Vec<f64>,
+    normal: Vec<Condensed<'a>>,
     /// `W = G Y`, row-major `m × m`.
     compliance: Vec<f64>,
     /// Coulomb friction at the velocity level (`None`: frictionless).
@@ -20,22 +42,21 @@ pub struct Impacts<'a> {
 
 /// The tangential side of the candidates, condensed with `M̂`.
 struct Tangential<'a> {
-    /// `G_t`, `E_t` (direction `t` per candidate).
-    operator: &'a BodyOperator,
+    /// `G_t`, `E_t` (direction `t` per candidate, `−t` on a pair's target) with `Y_t`.
+    terms: Vec<Condensed<'a>>,
     /// `μ_c` per candidate.
     coefficients: Vec<f64>,
-    /// `Y_t = M̂⁻¹ E_t`, one column per candidate.
-    columns: Vec<Vec<f64>>,
     /// `W_nt = G Y_t`, `W_tn = G_t Y`, `W_tt = G_t Y_t`, row-major `m × m`.
     nt: Vec<f64>,
     tn: Vec<f64>,
     tt: Vec<f64>,
 }
 
-/// Coulomb friction for [`Impacts::new`]: the tangential operator and `μ` per candidate.
+/// Coulomb friction for [`Impacts::new`]: the tangential terms and `μ` per candidate.
+#[derive(Clone)]
 pub struct Friction<'a> {
-    /// `G_t`, `E_t`.
-    pub operator: &'a BodyOperator,
+    /// `G_t`, `E_t` of each term of the normal side, in the same order.
+    pub terms: Vec<Term<'a>>,
     /// `μ_c ≥ 0` (0: frictionless candidate).
     pub coefficients: Vec<f64>,
 }
@@ -55,35 +76,35 @@ pub struct StepImpulses {
 }
 
 impl<'a> Impacts<'a> {
-    /// Condenses `operator` (the candidates' `G` and `E`), and the tangential operator of
-    /// `friction`, with the iteration matrix.
+    /// Condenses the `normal` terms (the candidates' `G` and `E` on each body), and the
+    /// tangential terms of `friction`, with the bodies' iteration matrices `iterations`;
+    /// `initial_gap` has one gap per candidate.
     ///
     /// # Errors
     /// [`DynamicsError::Solve`] when a solve fails.
     pub fn new(
-        iteration: &Iteration<'_>,
-        operator: &'a BodyOperator,
-        initial_gap: &'a [f64],
+        iterations: &[Iteration<'_>],
+        normal: &[Term<'a>],
+        initial_gap: Vec<f64>,
         friction: Option<Friction<'a>>,
-        dofs: usize,
     ) -> Result<Self, DynamicsError> {
-        let columns = condensed_columns(iteration, operator, dofs)?;
-        let compliance = block(operator, &columns);
+        let m = initial_gap.len();
+        let normal = condense(iterations, normal)?;
+        let compliance = block(&normal, &normal, m);
         let friction = match friction {
             Some(f) => {
-                let t = condensed_columns(iteration, f.operator, dofs)?;
+                let t = condense(iterations, &f.terms)?;
                 Some(Tangential {
-                    nt: block(operator, &t),
-                    tn: block(f.operator, &columns),
-                    tt: block(f.operator, &t),
-                    operator: f.operator,
+                    nt: block(&normal, &t, m),
+                    tn: block(&t, &normal, m),
+                    tt: block(&t, &t, m),
+                    terms: t,
                     coefficients: f.coefficients,
-                    columns: t,
                 })
             }
             None => None,
         };
-        Ok(Self { operator, initial_gap, columns, compliance, friction })
+        Ok(Self { initial_gap, normal, compliance, friction })
     }
 
     /// Number of candidates.
@@ -96,36 +117,40 @@ impl<'a> Impacts<'a> {
         self.initial_gap.is_empty()
     }
 
-    /// The gaps `g0 + G q`.
-    pub fn gaps(&self, q: &[f64]) -> Vec<f64> {
-        let gq = self.operator.gap_contribution(q);
+    /// The gaps `g0 + Σ_b G_b q_b` of the bodies' states `q`.
+    pub fn gaps(&self, q: &[&[f64]]) -> Vec<f64> {
+        let gq = rates(&self.normal, q, self.len());
         self.initial_gap.iter().zip(gq).map(|(g0, g)| g0 + g).collect()
     }
 
-    /// The normal velocities `G v` (the gaps' rates).
-    pub fn normal_velocities(&self, v: &[f64]) -> Vec<f64> {
-        self.operator.gap_contribution(v)
+    /// The normal velocities `Σ_b G_b v_b` (the gaps' rates).
+    pub fn normal_velocities(&self, v: &[&[f64]]) -> Vec<f64> {
+        rates(&self.normal, v, self.len())
     }
 
     /// The index set of Moreau–Jean: the candidates whose gap predicted half a step ahead,
-    /// `g0 + G (q + h/2 v)`, is not positive.
-    pub fn index_set(&self, q: &[f64], v: &[f64], h: f64) -> Vec<usize> {
-        let ahead: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + 0.5 * h * v).collect();
-        let g = self.gaps(&ahead);
+    /// `g0 + Σ_b G_b (q_b + h/2 v_b)`, is not positive.
+    pub fn index_set(&self, q: &[&[f64]], v: &[&[f64]], h: f64) -> Vec<usize> {
+        let ahead: Vec<Vec<f64>> = q
+            .iter()
+            .zip(v)
+            .map(|(q, v)| q.iter().zip(*v).map(|(q, v)| q + 0.5 * h * v).collect())
+            .collect();
+        let g = self.gaps(&ahead.iter().map(Vec::as_slice).collect::<Vec<_>>());
         (0..g.len()).filter(|&c| g[c] <= 0.0).collect()
     }
 
     /// The impulses on the index set `active`: `0 ≤ Π ⊥ U⁺ + e U ≥ 0` with
-    /// `U⁺ = G v_free + W Π` (Newton's impact law at the velocity level), `U = G v` at the
-    /// step's start.
+    /// `U⁺ = Σ_b G_b v_b,free + W Π` (Newton's impact law at the velocity level),
+    /// `U = Σ_b G_b v_b` at the step's start.
     ///
     /// # Errors
     /// [`DynamicsError::Lcp`] when Lemke's method fails.
     pub fn impulses(
         &self,
         active: &[usize],
-        v_free: &[f64],
-        v: &[f64],
+        v_free: &[&[f64]],
+        v: &[&[f64]],
         restitution: f64,
         step: usize,
     ) -> Result<StepImpulses, DynamicsError> {
@@ -147,7 +172,7 @@ impl<'a> Impacts<'a> {
         {
             return self.frictional(f, active, q, v_free, step);
         }
-        let (z, pivots, residual) = self.solve_on(active, q, step)?;
+        let (z, pivots, residual) = solve_on(&self.compliance, m, active, q, step)?;
         for (&c, z) in active.iter().zip(&z) {
             impulses[c] = *z;
         }
@@ -162,19 +187,19 @@ impl<'a> Impacts<'a> {
 
     /// Moreau's frictional law on the index set: the normal law of [`Self::impulses`]
     /// (`q_n = U_free + e U`) and Coulomb's on the tangential velocities
-    /// `U_t = G_t v_free + W_tn Π + W_tt Π_t`: stick (`U_t = 0`, `|Π_t| ≤ μ Π`) or slide
-    /// (`Π_t = −μ Π sign U_t`) — the step LCP of the static friction ([`solve_step`]) with the
-    /// velocities in place of the displacement increments (`s_prev = 0`).
+    /// `U_t = Σ_b G_t,b v_b,free + W_tn Π + W_tt Π_t`: stick (`U_t = 0`, `|Π_t| ≤ μ Π`) or
+    /// slide (`Π_t = −μ Π sign U_t`) — the step LCP of the static friction ([`solve_step`])
+    /// with the velocities in place of the displacement increments (`s_prev = 0`).
     fn frictional(
         &self,
         f: &Tangential<'_>,
         active: &[usize],
         q_n: Vec<f64>,
-        v_free: &[f64],
+        v_free: &[&[f64]],
         step: usize,
     ) -> Result<StepImpulses, DynamicsError> {
         let m = self.len();
-        let u_t = f.operator.gap_contribution(v_free);
+        let u_t = rates(&f.terms, v_free, m);
         let sub = |b: &[f64]| -> Vec<f64> {
             active.iter().flat_map(|&r| active.iter().map(move |&c| b[r * m + c])).collect()
         };
@@ -203,47 +228,70 @@ impl<'a> Impacts<'a> {
         })
     }
 
-    /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set`, with its pivots and
-    /// its largest scaled residual.
-    fn solve_on(
-        &self,
-        set: &[usize],
-        q: Vec<f64>,
-        step: usize,
-    ) -> Result<(Vec<f64>, usize, f64), DynamicsError> {
-        solve_on(&self.compliance, self.len(), set, q, step)
+    /// The terms on body `b`, normal then tangential, with their impulses (`tangential` empty:
+    /// no friction).
+    fn on_body<'s>(
+        &'s self,
+        b: usize,
+        impulses: &'s [f64],
+        tangential: &'s [f64],
+    ) -> impl Iterator<Item = (&'s Condensed<'a>, &'s [f64])> {
+        let t_terms = self.friction.as_ref().filter(|_| !tangential.is_empty());
+        let normal = self.normal.iter().map(move |t| (t, impulses));
+        let t = t_terms.into_iter().flat_map(|f| f.terms.iter()).map(move |t| (t, tangential));
+        normal.chain(t).filter(move |(t, _)| t.term.body == b).map(|(t, p)| {
+            let o = t.term.offset;
+            (t, &p[o..o + t.columns.len()])
+        })
     }
 
-    /// `v_free + M̂⁻¹ (E Π + E_t Π_t)` (`tangential` empty: no friction).
-    pub fn apply(&self, v_free: &[f64], impulses: &[f64], tangential: &[f64]) -> Vec<f64> {
-        let mut v = v_free.to_vec();
-        let t_columns = self.friction.as_ref().map_or(&[][..], |f| &f.columns[..]);
-        let pairs = self.columns.iter().zip(impulses).chain(t_columns.iter().zip(tangential));
-        for (y, &p) in pairs {
-            if p != 0.0 {
-                for (v, y) in v.iter_mut().zip(y) {
-                    *v += p * y;
+    /// Body `b`'s velocity `v_free + M̂_b⁻¹ (E_b Π + E_t,b Π_t)`.
+    pub fn apply(
+        &self,
+        b: usize,
+        v_free: Vec<f64>,
+        impulses: &[f64],
+        tangential: &[f64],
+    ) -> Vec<f64> {
+        let mut v = v_free;
+        for (t, p) in self.on_body(b, impulses, tangential) {
+            for (y, &p) in t.columns.iter().zip(p) {
+                if p != 0.0 {
+                    for (v, y) in v.iter_mut().zip(y) {
+                        *v += p * y;
+                    }
                 }
             }
         }
         v
     }
 
-    /// The work of the impulses on the velocity `v`: `(E Π + E_t Π_t)ᵀ v`.
-    pub fn work(&self, impulses: &[f64], tangential: &[f64], v: &[f64]) -> f64 {
+    /// The work of the impulses on body `b`'s velocity `v`: `(E_b Π + E_t,b Π_t)ᵀ v`.
+    pub fn work(&self, b: usize, impulses: &[f64], tangential: &[f64], v: &[f64]) -> f64 {
         let mut e = vec![0.0; v.len()];
-        self.operator.add_forces(impulses, &mut e);
-        if let (Some(f), false) = (&self.friction, tangential.is_empty()) {
-            f.operator.add_forces(tangential, &mut e);
+        for (t, p) in self.on_body(b, impulses, tangential) {
+            t.term.operator.add_forces(p, &mut e);
         }
         e.iter().zip(v).map(|(e, v)| e * v).sum()
     }
 }
 
+/// `Σ_terms G_t x_body` placed at each term's candidates (`m` in all).
+fn rates(terms: &[Condensed<'_>], x: &[&[f64]], m: usize) -> Vec<f64> {
+    let mut r = vec![0.0; m];
+    for t in terms {
+        let g = t.term.operator.gap_contribution(x[t.term.body]);
+        for (r, g) in r[t.term.offset..].iter_mut().zip(g) {
+            *r += g;
+        }
+    }
+    r
+}
+
 /// Lemke's answer to `0 ≤ z ⊥ W_SS z + q ≥ 0` on the candidates `set` of the `m × m`
 /// row-major `compliance`, with its pivots and its largest scaled residual
 /// ([`crate::lcp::LcpResiduals::max_violation`]).
-pub(super) fn solve_on(
+fn solve_on(
     compliance: &[f64],
     m: usize,
     set: &[usize],
@@ -261,31 +309,42 @@ pub(super) fn solve_on(
     Ok((answer.z, answer.pivots, answer.residuals.max_violation()))
 }
 
-/// `M̂⁻¹ E_c` for every candidate `c` of `operator`.
-pub(super) fn condensed_columns(
-    iteration: &Iteration<'_>,
-    operator: &BodyOperator,
-    dofs: usize,
-) -> Result<Vec<Vec<f64>>, DynamicsError> {
-    let m = operator.len();
-    (0..m)
-        .map(|c| {
-            let mut unit = vec![0.0; m];
-            unit[c] = 1.0;
-            let mut e = vec![0.0; dofs];
-            operator.add_forces(&unit, &mut e);
-            iteration.solve(&e)
+/// Each term with `M̂_b⁻¹ E_c` for every candidate `c` of it.
+fn condense<'a>(
+    iterations: &[Iteration<'_>],
+    terms: &[Term<'a>],
+) -> Result<Vec<Condensed<'a>>, DynamicsError> {
+    terms
+        .iter()
+        .map(|&term| {
+            let (operator, m) = (term.operator, term.operator.len());
+            let iteration = &iterations[term.body];
+            let columns = (0..m)
+                .map(|c| {
+                    let mut unit = vec![0.0; m];
+                    unit[c] = 1.0;
+                    let mut e = vec![0.0; iteration.dofs()];
+                    operator.add_forces(&unit, &mut e);
+                    iteration.solve(&e)
+                })
+                .collect::<Result<_, _>>()?;
+            Ok(Condensed { term, columns })
         })
         .collect()
 }
 
-/// `G Y` for the rows of `operator` and the columns `Y`, row-major `m × m`.
-pub(super) fn block(operator: &BodyOperator, columns: &[Vec<f64>]) -> Vec<f64> {
-    let m = columns.len();
+/// `Σ G_r Y_c` over the pairs of a row term `r` and a column term `c` on the same body, placed
+/// at their candidates: row-major `m × m`.
+fn block(rows: &[Condensed<'_>], columns: &[Condensed<'_>], m: usize) -> Vec<f64> {
     let mut w = vec![0.0; m * m];
-    for (c, y) in columns.iter().enumerate() {
-        for (r, g) in operator.gap_contribution(y).into_iter().enumerate() {
-            w[r * m + c] = g;
+    for r in rows {
+        for c in columns.iter().filter(|c| c.term.body == r.term.body) {
+            for (j, y) in c.columns.iter().enumerate() {
+                let col = c.term.offset + j;
+                for (i, g) in r.term.operator.gap_contribution(y).into_iter().enumerate() {
+                    w[(r.term.offset + i) * m + col] += g;
+                }
+            }
         }
     }
     w

@@ -89,6 +89,11 @@ impl<'a> Iteration<'a> {
         Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
     }
 
+    /// Number of degrees of freedom.
+    pub fn dofs(&self) -> usize {
+        self.system.matrix.n
+    }
+
     /// `M̂⁻¹ b`.
     ///
     /// # Errors

@@ -14,7 +14,8 @@
 //!
 //! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
 //! - `iteration` (private): `M̂` and the free velocity;
-//! - `impacts` (private): `W`, the index set and each step's LCP;
+//! - [`Impacts`]: `W`, the index set and each step's LCP, over the bodies' [`Term`]s;
+//! - `stepping` (private): the step loop of one body and of bodies in contact;
 //! - [`energy`]: kinetic and strain energies, momentum;
 //! - [`history`]: one record per step and the run's figures.
 
@@ -24,10 +25,11 @@ mod impacts;
 mod iteration;
 pub mod mass;
 mod pair;
+mod stepping;
 
 pub use history::{Figures, History, Record};
 
-pub use impacts::{Friction, Impacts};
+pub use impacts::{Friction, Impacts, Term};
 pub use iteration::Iteration;
 pub use pair::{BodyEnd, PairContact, PairSimulation, simulate_bodies};
 
@@ -40,7 +42,6 @@ use crate::material::Constitutive;
 use crate::mls::ShapeSet;
 use crate::problem::dynamics::Dynamics;
 use crate::weak_form::Cell;
-use std::time::Instant;
 
 /// Failures of the time stepping.
 #[derive(Debug, thiserror::Error)]
@@ -105,7 +106,8 @@ pub struct Contact<'a> {
     pub operator: &'a BodyOperator,
     /// `g0`.
     pub initial_gap: &'a [f64],
-    /// Coulomb friction at the velocity level (`None`: frictionless).
+    /// Coulomb friction at the velocity level (`None`: frictionless): the one body's
+    /// tangential term.
     pub friction: Option<Friction<'a>>,
 }
 
@@ -187,79 +189,22 @@ pub fn simulate(
     params: &Dynamics,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Simulation, DynamicsError> {
-    let (h, theta, n) = (params.time_step, params.theta, body.system.matrix.n);
-    let mut seconds = Seconds::default();
-    let clock = Instant::now();
-    let mass = &body.mass;
-    let iteration = Iteration::new(body.system, mass, body.node_shapes, h, theta, body.points)?;
-    let impacts = match contact {
-        Some(c) => Some(Impacts::new(&iteration, c.operator, c.initial_gap, c.friction, n)?),
-        None => None,
-    };
-    seconds.setup = clock.elapsed().as_secs_f64();
-    let load = free_load(body.system);
-    let mut state =
-        State { q: vec![0.0; n], v: (0..n).map(|d| params.initial_velocity[d % 2]).collect() };
-    let mut history = History { records: vec![record(body, &state, 0.0)] };
-    let steps = params.steps();
-    let snapshot =
-        |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
-    let mut frames = Vec::new();
-    let mut final_impulses = Vec::new();
-    if snapshot(0) {
-        frames.push(Frame::of(body, &state, 0, 0.0));
-    }
-    for step in 1..=steps {
-        let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
-        let v_free = iteration.free_velocity(&state.q, &state.v, factor)?;
-        let (v_next, answer) = match &impacts {
-            Some(impacts) => {
-                let clock = Instant::now();
-                let active = impacts.index_set(&state.q, &state.v, h);
-                let answer =
-                    impacts.impulses(&active, &v_free, &state.v, params.restitution, step)?;
-                seconds.lcp += clock.elapsed().as_secs_f64();
-                (impacts.apply(&v_free, &answer.impulses, &answer.tangential), Some(answer))
-            }
-            None => (v_free, None),
-        };
-        let q_next: Vec<f64> = (0..n)
-            .map(|d| state.q[d] + h * ((1.0 - theta) * state.v[d] + theta * v_next[d]))
-            .collect();
-        let dq: Vec<f64> = q_next.iter().zip(&state.q).map(|(a, b)| a - b).collect();
-        let previous = &history.records[history.records.len() - 1];
-        let (external, loss) = (previous.external_work, previous.contact_loss);
-        state = State { q: q_next, v: v_next };
-        let mut rec = record(body, &state, step as f64 * h);
-        rec.external_work =
-            external + factor * load.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
-        rec.contact_loss = loss;
-        if let (Some(impacts), Some(answer)) = (&impacts, &answer) {
-            rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
-            rec.contact_loss -= impacts.work(&answer.impulses, &answer.tangential, &dq) / h;
-            rec.active = answer.active;
-            rec.pivots = answer.pivots;
-            rec.residual = answer.residual;
-        }
-        if let Some(answer) = answer {
-            final_impulses = answer.impulses;
-        }
-        history.records.push(rec);
-        if snapshot(step) {
-            frames.push(Frame::of(body, &state, step, step as f64 * h));
-        }
-        progress(step, steps);
-    }
-    let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&state.q));
+    let contacts = contact.map(|c| stepping::Contacts {
+        normal: vec![Term { body: 0, offset: 0, operator: c.operator }],
+        initial_gap: c.initial_gap.to_vec(),
+        friction: c.friction,
+    });
+    let mut run = stepping::run(&[body], contacts, params, &[params.initial_velocity], progress)?;
+    let state = run.states.pop().unwrap_or_else(|| unreachable!("one body"));
     Ok(Simulation {
-        history,
-        frames,
+        history: run.history,
+        frames: run.frames,
         displacement: state.q,
         velocity: state.v,
         mass: body.mass.clone(),
-        final_gap,
-        final_impulses,
-        seconds,
+        final_gap: run.final_gap,
+        final_impulses: run.final_impulses,
+        seconds: run.seconds,
     })
 }
 

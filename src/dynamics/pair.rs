@@ -1,4 +1,4 @@
-//! Two elastic bodies in frictionless contact (docs/method.md §10.3; increment 10 of
+//! Two elastic bodies in contact (docs/method.md §10.3; increment 10 of
 //! docs/dev/dynamics.md): each body has its own lumped mass and `M̂_b = M_b Φ_b + h²θ² K_b`,
 //! factorised once; the pair's candidates (on body 1) and the target's operator (on body 2)
 //! are condensed into one
@@ -12,13 +12,14 @@
 //! Lemke on `0 ≤ Π ⊥ U_free + W Π + e U ≥ 0` with the pair's relative normal velocity
 //! `U = G₁ v₁ + G₂ v₂` (Newton's law), then `v_b⁺ = v_b,free + M̂_b⁻¹ E_b Π`. The impulses act
 //! on both bodies with opposite directions, so the total momentum changes only by the loads.
+//! With Coulomb friction the tangential terms `G_t,1` (along `t`) and `G_t,2` (along `−t`)
+//! enter the same way: the step is Moreau's frictional law on the relative tangential
+//! velocity (the one-body friction of [`super::Impacts`] with the sums over both bodies).
 
-use super::impacts::{block, condensed_columns, solve_on};
-use super::{Body, DynamicsError, History, Iteration, Record, Seconds, Simulation, State};
-use super::{energy, free_load, mass, record};
+use super::stepping::{self, Contacts};
+use super::{Body, DynamicsError, Friction, Simulation, Term, energy, mass};
 use crate::contact::BodyOperator;
 use crate::problem::dynamics::Dynamics;
-use std::time::Instant;
 
 /// The contact of two bodies: the candidates' operator on body 1, the target's on body 2.
 pub struct PairContact<'a> {
@@ -28,6 +29,9 @@ pub struct PairContact<'a> {
     pub target: &'a BodyOperator,
     /// `g0` (one per candidate).
     pub initial_gap: &'a [f64],
+    /// Coulomb friction at the velocity level (`None`: frictionless): the candidates'
+    /// tangential term on body 1 (direction `t`) and the target's on body 2 (`−t`).
+    pub friction: Option<Friction<'a>>,
 }
 
 /// One body at the end of a two-body run.
@@ -59,7 +63,8 @@ pub struct PairSimulation {
     pub bodies: [BodyEnd; 2],
 }
 
-/// Runs the Moreau–Jean time stepping of two bodies in frictionless contact, each from its
+/// Runs the Moreau–Jean time stepping of two bodies in contact (with friction when
+/// `contact.friction` is given), each from its
 /// uniform initial velocity (`velocities`, undeformed) to `params.end_time`, reporting
 /// `(step, steps)` to `progress`.
 ///
@@ -72,115 +77,16 @@ pub fn simulate_bodies(
     velocities: [[f64; 2]; 2],
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<PairSimulation, DynamicsError> {
-    let (h, theta) = (params.time_step, params.theta);
-    let mut seconds = Seconds::default();
-    let clock = Instant::now();
-    let operators = [contact.operator, contact.target];
-    let dofs = bodies.map(|b| b.system.matrix.n);
-    let mut iterations = Vec::with_capacity(2);
-    let mut columns = Vec::with_capacity(2);
-    for (b, body) in bodies.iter().enumerate() {
-        let iteration =
-            Iteration::new(body.system, &body.mass, body.node_shapes, h, theta, body.points)?;
-        columns.push(condensed_columns(&iteration, operators[b], dofs[b])?);
-        iterations.push(iteration);
-    }
-    let m = contact.initial_gap.len();
-    let mut compliance = block(operators[0], &columns[0]);
-    for (w, w2) in compliance.iter_mut().zip(block(operators[1], &columns[1])) {
-        *w += w2;
-    }
-    seconds.setup = clock.elapsed().as_secs_f64();
-    let loads = bodies.map(|b| free_load(b.system));
-    let mut states: Vec<State> = (0..2)
-        .map(|b| State {
-            q: vec![0.0; dofs[b]],
-            v: (0..dofs[b]).map(|d| velocities[b][d % 2]).collect(),
-        })
-        .collect();
-    let both = |states: &[State], time: f64| {
-        sum(record(bodies[0], &states[0], time), &record(bodies[1], &states[1], time))
+    let contacts = Contacts {
+        normal: vec![
+            Term { body: 0, offset: 0, operator: contact.operator },
+            Term { body: 1, offset: 0, operator: contact.target },
+        ],
+        initial_gap: contact.initial_gap.to_vec(),
+        friction: contact.friction.clone(),
     };
-    // `Σ_b G_b x_b` (the pair's relative normal velocity for velocities) and `g0 + Σ_b G_b x_b`.
-    let rates = |x: [&[f64]; 2]| -> Vec<f64> {
-        let mut g = operators[0].gap_contribution(x[0]);
-        for (g, d) in g.iter_mut().zip(operators[1].gap_contribution(x[1])) {
-            *g += d;
-        }
-        g
-    };
-    let gaps = |x: [&[f64]; 2]| -> Vec<f64> {
-        rates(x).into_iter().zip(contact.initial_gap).map(|(r, g0)| g0 + r).collect()
-    };
-    let mut history = History { records: vec![both(&states, 0.0)] };
-    let steps = params.steps();
-    let mut final_impulses = Vec::new();
-    for step in 1..=steps {
-        let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
-        let v_free = [
-            iterations[0].free_velocity(&states[0].q, &states[0].v, factor)?,
-            iterations[1].free_velocity(&states[1].q, &states[1].v, factor)?,
-        ];
-        let lcp_clock = Instant::now();
-        let ahead: Vec<Vec<f64>> = states
-            .iter()
-            .map(|s| s.q.iter().zip(&s.v).map(|(q, v)| q + 0.5 * h * v).collect())
-            .collect();
-        let predicted = gaps([&ahead[0], &ahead[1]]);
-        let active: Vec<usize> = (0..m).filter(|&c| predicted[c] <= 0.0).collect();
-        let mut impulses = vec![0.0; m];
-        let (mut pivots, mut residual) = (0, 0.0);
-        if !active.is_empty() {
-            let u_free = rates([&v_free[0], &v_free[1]]);
-            let u = rates([&states[0].v, &states[1].v]);
-            let q: Vec<f64> =
-                active.iter().map(|&c| u_free[c] + params.restitution * u[c]).collect();
-            let (z, p, r) = solve_on(&compliance, m, &active, q, step)?;
-            for (&c, z) in active.iter().zip(&z) {
-                impulses[c] = *z;
-            }
-            (pivots, residual) = (p, r);
-        }
-        seconds.lcp += lcp_clock.elapsed().as_secs_f64();
-        let previous = &history.records[history.records.len() - 1];
-        let (mut external, mut loss) = (previous.external_work, previous.contact_loss);
-        let mut next = Vec::with_capacity(2);
-        for (b, v_free) in v_free.into_iter().enumerate() {
-            let mut v = v_free;
-            for (y, &p) in columns[b].iter().zip(&impulses) {
-                if p != 0.0 {
-                    for (v, y) in v.iter_mut().zip(y) {
-                        *v += p * y;
-                    }
-                }
-            }
-            let s = &states[b];
-            let q: Vec<f64> = (0..dofs[b])
-                .map(|d| s.q[d] + h * ((1.0 - theta) * s.v[d] + theta * v[d]))
-                .collect();
-            let dq: Vec<f64> = q.iter().zip(&s.q).map(|(a, b)| a - b).collect();
-            external += factor * loads[b].iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
-            let mut e = vec![0.0; dofs[b]];
-            operators[b].add_forces(&impulses, &mut e);
-            loss -= e.iter().zip(&dq).map(|(e, d)| e * d).sum::<f64>() / h;
-            next.push(State { q, v });
-        }
-        states = next;
-        let mut rec = both(&states, step as f64 * h);
-        rec.external_work = external;
-        rec.contact_loss = loss;
-        rec.contact_force = impulses.iter().sum::<f64>() / h;
-        rec.active = active.len();
-        rec.pivots = pivots;
-        rec.residual = residual;
-        if !active.is_empty() {
-            final_impulses.clone_from(&impulses);
-        }
-        history.records.push(rec);
-        progress(step, steps);
-    }
-    let final_gap = gaps([&states[0].q, &states[1].q]);
-    let end = |s: State, body: &Body<'_>| {
+    let run = stepping::run(&bodies, Some(contacts), params, &velocities, progress)?;
+    let mut ends = run.states.into_iter().zip(bodies).map(|(s, body)| {
         let v = mass::nodal_values(body.node_shapes, &s.v);
         BodyEnd {
             momentum: energy::momentum(&body.mass, &v),
@@ -188,34 +94,22 @@ pub fn simulate_bodies(
             displacement: s.q,
             velocity: s.v,
         }
-    };
-    let second_state = states.pop();
-    let (first, second) = match (states.pop(), second_state) {
-        (Some(a), Some(b)) => (end(a, bodies[0]), end(b, bodies[1])),
-        _ => unreachable!("two states"),
+    });
+    let (Some(first), Some(second)) = (ends.next(), ends.next()) else {
+        unreachable!("two states")
     };
     let concat = |a: &[f64], b: &[f64]| [a, b].concat();
     Ok(PairSimulation {
         simulation: Simulation {
-            history,
-            frames: Vec::new(),
+            history: run.history,
+            frames: run.frames,
             displacement: concat(&first.displacement, &second.displacement),
             velocity: concat(&first.velocity, &second.velocity),
             mass: concat(&bodies[0].mass, &bodies[1].mass),
-            final_gap,
-            final_impulses,
-            seconds,
+            final_gap: run.final_gap,
+            final_impulses: run.final_impulses,
+            seconds: run.seconds,
         },
         bodies: [first, second],
     })
-}
-
-/// The records of two bodies at one time, summed (time and contact from `a`).
-fn sum(a: Record, b: &Record) -> Record {
-    Record {
-        kinetic_energy: a.kinetic_energy + b.kinetic_energy,
-        strain_energy: a.strain_energy + b.strain_energy,
-        momentum: [a.momentum[0] + b.momentum[0], a.momentum[1] + b.momentum[1]],
-        ..a
-    }
 }

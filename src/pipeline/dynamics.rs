@@ -216,7 +216,7 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         operator: &c.operator,
         initial_gap: &c.initial_gap,
         friction: tangential.as_ref().map(|(operator, free)| dynamics::Friction {
-            operator,
+            terms: vec![dynamics::Term { body: 0, offset: 0, operator }],
             coefficients: free.iter().map(|&f| if f { mu } else { 0.0 }).collect(),
         }),
     });
@@ -245,10 +245,11 @@ fn discretise_any(problem: &Problem, clock: &mut Clock<'_>) -> Result<DynamicBod
     })
 }
 
-/// Two bodies in frictionless contact (increment 10 of docs/dev/dynamics.md): the second body
-/// assembled, the pair's candidates, normals, gaps and target operator of the static pair
-/// ([`super::multibody::body_pair`]: straight or curved targets), and the two-body time
-/// stepping ([`dynamics::simulate_bodies`]).
+/// Two bodies in contact (increment 10 of docs/dev/dynamics.md): the second body assembled,
+/// the pair's candidates, normals, gaps and target operator of the static pair
+/// ([`super::multibody::body_pair`]: straight or curved targets), with Coulomb friction the
+/// tangential operators of the static friction (the target's along `−t`), and the two-body
+/// time stepping ([`dynamics::simulate_bodies`]).
 fn solve_pair(
     problem: &Problem,
     p2: &Problem,
@@ -272,10 +273,23 @@ fn solve_pair(
     let motion = dynamics.second_body.ok_or(contact::ContactError::MissingTarget)?;
     let stepped =
         [stepped_body(problem, &body, dynamics.density), stepped_body(p2, &second, motion.density)];
+    let mu = spec.friction;
+    let tangential = (mu > 0.0).then(|| {
+        let systems = (stepped[0].system, stepped[1].system);
+        super::friction::tangential_operators_of(&candidates, systems.0, Some((systems.1, &target)))
+    });
     let pair = dynamics::PairContact {
         operator: &candidates.operator,
         target: &target,
         initial_gap: &candidates.initial_gap,
+        friction: tangential.as_ref().and_then(|(t1, free, t2)| {
+            let terms = vec![
+                dynamics::Term { body: 0, offset: 0, operator: t1 },
+                dynamics::Term { body: 1, offset: 0, operator: t2.as_ref()? },
+            ];
+            let coefficients = free.iter().map(|&f| if f { mu } else { 0.0 }).collect();
+            Some(dynamics::Friction { terms, coefficients })
+        }),
     };
     let velocities = [dynamics.initial_velocity, motion.initial_velocity];
     let run = clock.run_counted("time steps", |advance| {

@@ -190,10 +190,21 @@ pub(super) fn tangential_operators(
     model: &Model,
     target: Option<(&Model, &contact::BodyOperator)>,
 ) -> (contact::BodyOperator, Vec<bool>, Option<contact::BodyOperator>) {
-    let (mut tangential, mut free) = candidates.tangential_operator(&model.system);
+    let target = target.map(|(m, op)| (&m.system, op));
+    tangential_operators_of(candidates, &model.system, target)
+}
+
+/// [`tangential_operators`] on the bodies' systems (`K` with its displacement conditions)
+/// alone: a body assembled without a model (the time stepping's).
+pub(super) fn tangential_operators_of(
+    candidates: &contact::Candidates,
+    system: &crate::assembly::GlobalSystem,
+    target: Option<(&crate::assembly::GlobalSystem, &contact::BodyOperator)>,
+) -> (contact::BodyOperator, Vec<bool>, Option<contact::BodyOperator>) {
+    let (mut tangential, mut free) = candidates.tangential_operator(system);
     // The second body: direction −t at the paired points; a candidate whose partner's
     // tangential row is a displacement condition is frictionless too.
-    let target_tangential = target.map(|(target_model, target_operator)| {
+    let target_tangential = target.map(|(sys, target_operator)| {
         let mut op = target_operator.clone();
         op.directions = (0..candidates.len())
             .map(|c| {
@@ -201,7 +212,6 @@ pub(super) fn tangential_operators(
                 [-t[0], -t[1]]
             })
             .collect();
-        let sys = &target_model.system;
         for (c, owners) in op.owners.iter().enumerate() {
             let t = candidates.tangent(c);
             let fixed = owners.iter().any(|&(i, _)| {

@@ -215,15 +215,13 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 }
 
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
-/// axisymmetric; friction on plane bodies only), against rigid obstacles, from rest at its prescribed
-/// displacements.
+/// axisymmetric; friction on plane bodies only) against rigid obstacles, or two plane bodies
+/// (with or without friction), from rest at their prescribed displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let spec = problem.contact.as_ref();
     let pair = problem.second_body.is_some();
     let refused = if problem.multibody.is_some() {
         Some(("body", "more than two bodies, or several contact pairs,"))
-    } else if pair && spec.is_some_and(|c| c.friction > 0.0) {
-        Some(("contact.friction", "friction between two bodies"))
     } else if pair && spec.is_some_and(|c| c.interference != 0.0) {
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
     } else if pair && problem.material.is_axisymmetric() {
@@ -255,7 +253,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles, or two plane bodies in frictionless contact; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles, or two plane bodies in contact with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),

@@ -1,0 +1,198 @@
+//! The time-step loop shared by one body against rigid obstacles ([`super::simulate`]) and
+//! bodies in contact ([`super::simulate_bodies`]): per step each body's free velocity, the
+//! candidates' index set and LCP over all bodies ([`Impacts`]), each body's velocity and
+//! position update, and one [`Record`] of the bodies summed. A run is its bodies and the
+//! [`Term`]s through which the candidates act on them.
+
+use super::impacts::StepImpulses;
+use super::{Body, DynamicsError, Frame, History, Impacts, Iteration, Record, Seconds, State};
+use super::{Friction, Term, free_load, record};
+use crate::problem::dynamics::Dynamics;
+use std::time::Instant;
+
+/// The candidates of a run before condensation.
+pub(super) struct Contacts<'a> {
+    /// The normal terms (`G_b`, `E_b` of the candidates on each body).
+    pub normal: Vec<Term<'a>>,
+    /// `g0`, one per candidate.
+    pub initial_gap: Vec<f64>,
+    /// Coulomb friction at the velocity level (`None`: frictionless).
+    pub friction: Option<Friction<'a>>,
+}
+
+/// A finished run of the loop.
+pub(super) struct Run {
+    /// Records at time 0 and after every step (the bodies summed).
+    pub history: History,
+    /// Snapshots of the first body.
+    pub frames: Vec<Frame>,
+    /// Each body's state at the end.
+    pub states: Vec<State>,
+    /// Each candidate's gap at the end (empty without contact).
+    pub final_gap: Vec<f64>,
+    /// Each candidate's impulse over the last step (empty without contact).
+    pub final_impulses: Vec<f64>,
+    /// Wall times.
+    pub seconds: Seconds,
+}
+
+/// Runs the Moreau–Jean time stepping of `bodies`, each from its uniform initial velocity
+/// (`velocities`, undeformed), in the contact `contacts`, to `params.end_time`, reporting
+/// `(step, steps)` to `progress`.
+///
+/// # Errors
+/// [`DynamicsError`] when a factorisation, a solve or a step's LCP fails.
+pub(super) fn run(
+    bodies: &[&Body<'_>],
+    contacts: Option<Contacts<'_>>,
+    params: &Dynamics,
+    velocities: &[[f64; 2]],
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Run, DynamicsError> {
+    let (h, theta) = (params.time_step, params.theta);
+    let mut seconds = Seconds::default();
+    let clock = Instant::now();
+    let iterations = bodies
+        .iter()
+        .map(|b| Iteration::new(b.system, &b.mass, b.node_shapes, h, theta, b.points))
+        .collect::<Result<Vec<_>, _>>()?;
+    let impacts = contacts
+        .map(|c| Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction))
+        .transpose()?;
+    seconds.setup = clock.elapsed().as_secs_f64();
+    let loads: Vec<Vec<f64>> = bodies.iter().map(|b| free_load(b.system)).collect();
+    let mut states = initial_states(bodies, velocities);
+    let mut history = History { records: vec![summed(bodies, &states, 0.0)] };
+    let steps = params.steps();
+    let snapshot =
+        |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
+    let mut frames = Vec::new();
+    if snapshot(0) {
+        frames.push(Frame::of(bodies[0], &states[0], 0, 0.0));
+    }
+    let mut final_impulses = Vec::new();
+    for step in 1..=steps {
+        let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
+        let v_free = iterations
+            .iter()
+            .zip(&states)
+            .map(|(it, s)| it.free_velocity(&s.q, &s.v, factor))
+            .collect::<Result<Vec<_>, _>>()?;
+        let answer = match &impacts {
+            Some(impacts) => {
+                let clock = Instant::now();
+                let answer = contact_step(impacts, &states, &v_free, params, step)?;
+                seconds.lcp += clock.elapsed().as_secs_f64();
+                Some((impacts, answer))
+            }
+            None => None,
+        };
+        let previous = &history.records[history.records.len() - 1];
+        let start = (previous.external_work, previous.contact_loss);
+        let (next, (external, loss)) =
+            advance(&states, v_free, answer.as_ref(), &loads, factor, params, start);
+        states = next;
+        let mut rec = summed(bodies, &states, step as f64 * h);
+        (rec.external_work, rec.contact_loss) = (external, loss);
+        if let Some((_, answer)) = answer {
+            with_contact(&mut rec, &answer, h);
+            final_impulses = answer.impulses;
+        }
+        history.records.push(rec);
+        if snapshot(step) {
+            frames.push(Frame::of(bodies[0], &states[0], step, step as f64 * h));
+        }
+        progress(step, steps);
+    }
+    let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&positions(&states)));
+    Ok(Run { history, frames, states, final_gap, final_impulses, seconds })
+}
+
+/// Each body undeformed at its uniform velocity.
+fn initial_states(bodies: &[&Body<'_>], velocities: &[[f64; 2]]) -> Vec<State> {
+    bodies
+        .iter()
+        .zip(velocities)
+        .map(|(b, u)| State {
+            q: vec![0.0; b.system.matrix.n],
+            v: (0..b.system.matrix.n).map(|d| u[d % 2]).collect(),
+        })
+        .collect()
+}
+
+/// The step's index set and impulses over all bodies.
+fn contact_step(
+    impacts: &Impacts<'_>,
+    states: &[State],
+    v_free: &[Vec<f64>],
+    params: &Dynamics,
+    step: usize,
+) -> Result<StepImpulses, DynamicsError> {
+    let (q, v) = (positions(states), velocities(states));
+    let active = impacts.index_set(&q, &v, params.time_step);
+    let v_free: Vec<&[f64]> = v_free.iter().map(Vec::as_slice).collect();
+    impacts.impulses(&active, &v_free, &v, params.restitution, step)
+}
+
+/// Each body's next state from its free velocity and the step's impulses, with the loads'
+/// work since time 0 (`start.0` plus `factor fᵀ Δq`, body after body) and the energy taken
+/// by the contacts (`start.1` minus the impulses' work `/ h`).
+fn advance(
+    states: &[State],
+    v_free: Vec<Vec<f64>>,
+    answer: Option<&(&Impacts<'_>, StepImpulses)>,
+    loads: &[Vec<f64>],
+    factor: f64,
+    params: &Dynamics,
+    start: (f64, f64),
+) -> (Vec<State>, (f64, f64)) {
+    let (h, theta) = (params.time_step, params.theta);
+    let (mut external, mut loss) = start;
+    let mut next = Vec::with_capacity(states.len());
+    for (b, (s, v_free)) in states.iter().zip(v_free).enumerate() {
+        let v = match answer {
+            Some((impacts, a)) => impacts.apply(b, v_free, &a.impulses, &a.tangential),
+            None => v_free,
+        };
+        let q: Vec<f64> =
+            (0..v.len()).map(|d| s.q[d] + h * ((1.0 - theta) * s.v[d] + theta * v[d])).collect();
+        let dq: Vec<f64> = q.iter().zip(&s.q).map(|(a, b)| a - b).collect();
+        external += factor * loads[b].iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
+        if let Some((impacts, a)) = answer {
+            loss -= impacts.work(b, &a.impulses, &a.tangential, &dq) / h;
+        }
+        next.push(State { q, v });
+    }
+    (next, (external, loss))
+}
+
+/// `rec` with the step's contact: the mean force `Σ Π / h`, the index set's size, Lemke's
+/// pivots and the LCP's residual.
+fn with_contact(rec: &mut Record, answer: &StepImpulses, h: f64) {
+    rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
+    rec.active = answer.active;
+    rec.pivots = answer.pivots;
+    rec.residual = answer.residual;
+}
+
+/// The bodies' records at `time`, summed (without contact or work: the caller adds them).
+fn summed(bodies: &[&Body<'_>], states: &[State], time: f64) -> Record {
+    let mut records = bodies.iter().zip(states).map(|(b, s)| record(b, s, time));
+    let first = records.next().unwrap_or_else(|| unreachable!("a run has a body"));
+    records.fold(first, |a, b| Record {
+        kinetic_energy: a.kinetic_energy + b.kinetic_energy,
+        strain_energy: a.strain_energy + b.strain_energy,
+        momentum: [a.momentum[0] + b.momentum[0], a.momentum[1] + b.momentum[1]],
+        ..a
+    })
+}
+
+/// The bodies' positions `q_b`.
+fn positions(states: &[State]) -> Vec<&[f64]> {
+    states.iter().map(|s| s.q.as_slice()).collect()
+}
+
+/// The bodies' velocities `v_b`.
+fn velocities(states: &[State]) -> Vec<&[f64]> {
+    states.iter().map(|s| s.v.as_slice()).collect()
+}
