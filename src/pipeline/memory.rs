@@ -181,11 +181,7 @@ fn route(problem: &Problem, spec: &ContactSpec) -> Route {
     let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
     // A translation held by the contact is not known before assembly: a held pair is counted
     // as the free pair's route.
-    let shape = match (frictionless, &problem.second_body) {
-        (true, _) => Shape::OneShot,
-        (false, None) => Shape::RigidPath,
-        (false, Some(_)) => Shape::PairPath { held: false },
-    };
+    let shape = Shape::of(!frictionless, problem.second_body.is_some(), false);
     let active_set = Plan::new(spec.solver, shape, m as usize).is_sparse();
     Route { m, frictionless, active_set }
 }

@@ -480,8 +480,9 @@ fn finite(solution: Solution) -> Result<Solution, Error> {
 
 type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
 
-/// Candidates, condensation `M = G K⁻¹ E`, the checks of `M`, Lemke, and the solves with the
-/// contact forces (docs/method.md §4–§5). When Lemke fails numerically, `"auto"` hands the
+/// Candidates, the plan ([`plan::Plan`], decided once from them), condensation `M = G K⁻¹ E`,
+/// the checks of `M`, Lemke, and the solves with the contact forces (docs/method.md §4–§5), or
+/// the load path, or the active set. When Lemke fails numerically, `"auto"` hands the
 /// problem to the active-set solver and records why; `"lemke"` refuses with the conditioning
 /// of `M` ([`crate::error::LemkeRefusal`]).
 fn solve_contact(
@@ -499,9 +500,12 @@ fn solve_contact(
     // search (docs/method.md §4.7) lives there.
     let held =
         model.system.pinned.is_some() || second.is_some_and(|(_, m2)| m2.system.pinned.is_some());
-    if spec.friction > 0.0 || steps.is_some() || held {
+    let on_path = spec.friction > 0.0 || steps.is_some() || held;
+    let shape = plan::Shape::of(on_path, found.target.is_some(), held);
+    let plan = plan::Plan::new(spec.solver, shape, found.candidates.len());
+    if on_path {
         let Found { candidates, target, paired_points, unpaired } = found;
-        let on_path = (candidates, target, held);
+        let on_path = (candidates, target, plan);
         let (u1, u2, mut contact) =
             solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
         contact.paired_points = paired_points;
@@ -510,7 +514,6 @@ fn solve_contact(
         contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
-    let plan = plan::Plan::new(spec.solver, plan::Shape::OneShot, found.candidates.len());
     if plan.is_sparse() {
         let Found { candidates, target, paired_points, unpaired } = found;
         let second = target.zip(second.map(|(_, m2)| m2));
@@ -563,15 +566,15 @@ fn find_candidates(
 }
 
 /// Friction, load steps or a held translation: the load path (docs/method.md §8), condensed
-/// or sparse, MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
-/// models' loads in one increment.
+/// or sparse as `plan` says, MFVM or FE, a rigid obstacle or two bodies. Without steps, one
+/// step to the models' loads in one increment.
 fn solve_on_load_path(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     second: Option<(&Problem, &Model)>,
     steps: Option<&[Vec<StepEnd>]>,
-    (candidates, target, held): (contact::Candidates, Option<contact::BodyOperator>, bool),
+    (candidates, target, plan): (contact::Candidates, Option<contact::BodyOperator>, plan::Plan),
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let one = |m: &Model| vec![StepEnd::whole(m, spec.friction)];
@@ -584,11 +587,7 @@ fn solve_on_load_path(
         }),
         _ => None,
     };
-    let shape = match &target {
-        None => plan::Shape::RigidPath,
-        Some(_) => plan::Shape::PairPath { held },
-    };
-    if plan::Plan::new(spec.solver, shape, candidates.len()).is_sparse() {
+    if plan.is_sparse() {
         solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)
     } else {
         solve_frictional(problem, spec, model, candidates, target, &steps1, clock)

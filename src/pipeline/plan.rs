@@ -34,6 +34,18 @@ pub enum Shape {
     PairPath { held: bool },
 }
 
+impl Shape {
+    /// The shape of one pair: on the load path (`on_path`: friction, load steps or a held
+    /// translation) between two bodies (`pair`) or against rigid obstacles, else one shot.
+    pub fn of(on_path: bool, pair: bool, held: bool) -> Shape {
+        match (on_path, pair) {
+            (false, _) => Shape::OneShot,
+            (true, false) => Shape::RigidPath,
+            (true, true) => Shape::PairPath { held },
+        }
+    }
+}
+
 /// The route of a contact problem: its system, and whether Lemke's numerical failure is
 /// handed to the active set.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
