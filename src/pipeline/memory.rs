@@ -27,6 +27,7 @@
 //! analysis of `K` counts the factors exactly ([`after_analysis`]), and the run is refused
 //! then if they do not fit in what is left.
 
+use super::plan::{Plan, Shape};
 use crate::contact::ContactSpec;
 use crate::linear_solve::{FactorPrecision, FactorStats, STATIC_PIVOTING_MIN_DOFS};
 use crate::problem::{Method, Precision, Problem};
@@ -178,14 +179,10 @@ fn route(problem: &Problem, spec: &ContactSpec) -> Route {
         / problem.refinement.finest(problem.node_spacing)
         + 1.0;
     let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
-    let active_set = if frictionless {
-        spec.solver.is_active_set(m as usize)
-    } else {
-        match problem.second_body {
-            None => spec.solver.is_active_set_frictional(m as usize),
-            Some(_) => spec.solver.is_active_set_frictional_pair(m as usize),
-        }
-    };
+    // A translation held by the contact is not known before assembly: a held pair is counted
+    // as the free pair's route.
+    let shape = Shape::of(!frictionless, problem.second_body.is_some(), false);
+    let active_set = Plan::new(spec.solver, shape, m as usize).is_sparse();
     Route { m, frictionless, active_set }
 }
 

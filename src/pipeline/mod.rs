@@ -11,6 +11,7 @@ mod friction;
 mod load_path;
 pub mod memory;
 pub mod multibody;
+mod plan;
 
 use crate::assembly::{self, AssemblyInput};
 use crate::contact::{self, ContactTarget};
@@ -18,9 +19,7 @@ use crate::error::Error;
 use crate::fem;
 use crate::geometry;
 use crate::lcp;
-use crate::linear_solve::{
-    ColumnOrdering, FactorMethod, FactorOptions, FactorPrecision, Factorisation,
-};
+use crate::linear_solve::{ColumnOrdering, FactorPrecision, Factorisation};
 use crate::mls;
 use crate::model::{self, Model, Scheme};
 use crate::neighbours::Supports;
@@ -80,11 +79,7 @@ fn discretise_mfvm_nodes(
     check_factor_memory(problem, &system, &nodes.points)?;
     let factorisation = clock.run("factorisation", || {
         let ordering = ColumnOrdering::NestedDissection(&nodes.points);
-        let options = if condensed_sparsely(problem, &nodes, system.pinned.is_some()) {
-            graded_static(problem)
-        } else {
-            factor_options(problem)
-        };
+        let options = plan::model_factor_options(problem, &nodes, system.pinned.is_some());
         Factorisation::with_options(&system.matrix, ordering, &options)
     })?;
     Ok(Model {
@@ -180,64 +175,6 @@ fn mfvm_parts(
     })
 }
 
-/// Whether `problem`'s contact will be condensed for Lemke's method with at least
-/// [`contact::SPARSE_CONDENSATION_MIN_CANDIDATES`] candidates on this body (on a graded node
-/// set, one with refinement regions: [`contact::GRADED_SPARSE_CONDENSATION_MIN_CANDIDATES`]) (one body or the
-/// first of two; frictionless, one step, no translation held by the contact, double
-/// precision, `contact.solver` resolving to Lemke), counted as the nodes on the contact edge
-/// (the candidates are these, less constrained ones). Then the body's own factorisation is
-/// the static-pivoting LU with nested dissection ([`FactorOptions::nested_dissection_static`])
-/// that the condensation's reach-restricted solves need ([`contact::condense_model_observed`]),
-/// instead of a second factorisation for `M`: on the 2 000-candidate strip one factorisation
-/// of 84k unknowns less (docs/dev/performance.md, "Lemke's final accuracy and one factorisation
-/// at 2 000 candidates").
-fn condensed_sparsely(problem: &Problem, nodes: &nodes::Nodes, pinned: bool) -> bool {
-    let Some(spec) = &problem.contact else { return false };
-    if spec.friction > 0.0
-        || !problem.steps.is_empty()
-        || pinned
-        || problem.multibody.is_some()
-        || memory::precision(problem) != FactorPrecision::Double
-    {
-        return false;
-    }
-    let on_edge = nodes.edges.iter().filter(|e| e.contains(spec.edge)).count();
-    let least = if problem.refinement.boxes.is_empty() {
-        contact::SPARSE_CONDENSATION_MIN_CANDIDATES
-    } else {
-        contact::GRADED_SPARSE_CONDENSATION_MIN_CANDIDATES
-    };
-    on_edge >= least && !spec.solver.is_active_set(on_edge)
-}
-
-/// The static-pivoting LU for the sparse condensation: nested dissection only on uniform sets
-/// ([`FactorOptions::nested_dissection_static`], what the reach-restricted solves need on the
-/// 2 000-candidate strip); on graded sets the lesser-fill of nested dissection and the banded
-/// order, as [`FactorOptions::default`] compares them (on the refined beam's 13 474 graded
-/// nodes nested dissection alone bounds 12× the flops of the banded order:
-/// docs/dev/time_to_accuracy.md).
-fn graded_static(problem: &Problem) -> FactorOptions {
-    if problem.refinement.boxes.is_empty() {
-        FactorOptions::nested_dissection_static()
-    } else {
-        FactorOptions { method: FactorMethod::StaticPivoting, ..FactorOptions::default() }
-    }
-}
-
-/// The options of the factorisation of `problem`'s MFVM matrix: the defaults, or with
-/// mixed precision (`discretisation.precision`, [`memory::precision`]) the static-pivoting
-/// LU with single-precision factors whatever the size.
-fn factor_options(problem: &Problem) -> FactorOptions {
-    match memory::precision(problem) {
-        FactorPrecision::Double => FactorOptions::default(),
-        FactorPrecision::Mixed => FactorOptions {
-            method: FactorMethod::StaticPivoting,
-            precision: FactorPrecision::Mixed,
-            ..FactorOptions::default()
-        },
-    }
-}
-
 fn discretise_fem(
     problem: &Problem,
     held_by_contact: bool,
@@ -308,7 +245,7 @@ fn check_factor_memory(
     if estimate <= available_before + resident_bytes() {
         return Ok(());
     }
-    let options = factor_options(problem);
+    let options = plan::factor_options(problem);
     let ordering = ColumnOrdering::NestedDissection(points);
     let stats = Factorisation::analyse(&system.matrix, ordering, &options)?;
     // The frictionless active set against a rigid obstacle releases `K`'s factors before its
@@ -543,8 +480,9 @@ fn finite(solution: Solution) -> Result<Solution, Error> {
 
 type ContactOutcome = (Vec<f64>, Option<Vec<f64>>, ContactSolution);
 
-/// Candidates, condensation `M = G K⁻¹ E`, the checks of `M`, Lemke, and the solves with the
-/// contact forces (docs/method.md §4–§5). When Lemke fails numerically, `"auto"` hands the
+/// Candidates, the plan ([`plan::Plan`], decided once from them), condensation `M = G K⁻¹ E`,
+/// the checks of `M`, Lemke, and the solves with the contact forces (docs/method.md §4–§5), or
+/// the load path, or the active set. When Lemke fails numerically, `"auto"` hands the
 /// problem to the active-set solver and records why; `"lemke"` refuses with the conditioning
 /// of `M` ([`crate::error::LemkeRefusal`]).
 fn solve_contact(
@@ -562,9 +500,12 @@ fn solve_contact(
     // search (docs/method.md §4.7) lives there.
     let held =
         model.system.pinned.is_some() || second.is_some_and(|(_, m2)| m2.system.pinned.is_some());
-    if spec.friction > 0.0 || steps.is_some() || held {
+    let on_path = spec.friction > 0.0 || steps.is_some() || held;
+    let shape = plan::Shape::of(on_path, found.target.is_some(), held);
+    let plan = plan::Plan::new(spec.solver, shape, found.candidates.len());
+    if on_path {
         let Found { candidates, target, paired_points, unpaired } = found;
-        let on_path = (candidates, target, held);
+        let on_path = (candidates, target, plan);
         let (u1, u2, mut contact) =
             solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
         contact.paired_points = paired_points;
@@ -573,7 +514,7 @@ fn solve_contact(
         contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
         return Ok((u1, u2, contact));
     }
-    if spec.solver.is_active_set(found.candidates.len()) {
+    if plan.is_sparse() {
         let Found { candidates, target, paired_points, unpaired } = found;
         let second = target.zip(second.map(|(_, m2)| m2));
         let (u1, u2, mut contact) = solve_active_set(spec, model, candidates, second, clock)?;
@@ -581,7 +522,7 @@ fn solve_contact(
         contact.unpaired = unpaired;
         return Ok((u1, u2, contact));
     }
-    solve_condensed_once(problem, spec, model, second, found, lemke, clock)
+    solve_condensed_once(problem, (spec, plan), model, second, found, lemke, clock)
 }
 
 /// One pair's candidates before any solve: the target body's operator, the paired points
@@ -625,15 +566,15 @@ fn find_candidates(
 }
 
 /// Friction, load steps or a held translation: the load path (docs/method.md §8), condensed
-/// or sparse, MFVM or FE, a rigid obstacle or two bodies. Without steps, one step to the
-/// models' loads in one increment.
+/// or sparse as `plan` says, MFVM or FE, a rigid obstacle or two bodies. Without steps, one
+/// step to the models' loads in one increment.
 fn solve_on_load_path(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     second: Option<(&Problem, &Model)>,
     steps: Option<&[Vec<StepEnd>]>,
-    (candidates, target, held): (contact::Candidates, Option<contact::BodyOperator>, bool),
+    (candidates, target, plan): (contact::Candidates, Option<contact::BodyOperator>, plan::Plan),
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let one = |m: &Model| vec![StepEnd::whole(m, spec.friction)];
@@ -646,11 +587,7 @@ fn solve_on_load_path(
         }),
         _ => None,
     };
-    let active_set = match &target {
-        None => spec.solver.is_active_set_frictional(candidates.len()),
-        Some(_) => !held && spec.solver.is_active_set_frictional_pair(candidates.len()),
-    };
-    if active_set {
+    if plan.is_sparse() {
         solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)
     } else {
         solve_frictional(problem, spec, model, candidates, target, &steps1, clock)
@@ -658,11 +595,11 @@ fn solve_on_load_path(
 }
 
 /// Frictionless contact in one step by Lemke on the condensed `M` (polished; a mixed-precision
-/// factorisation's gaps corrected), with `"auto"`'s fallback to the active set when Lemke
-/// fails numerically.
+/// factorisation's gaps corrected), with the plan's fallback to the active set (`"auto"`) when
+/// Lemke fails numerically.
 fn solve_condensed_once(
     problem: &Problem,
-    spec: &ContactSpec,
+    (spec, plan): (&ContactSpec, plan::Plan),
     model: &mut Model,
     second: Option<(&Problem, &Model)>,
     found: Found,
@@ -695,7 +632,7 @@ fn solve_condensed_once(
             let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
             // Frictionless and one step here: the active-set solver takes the problem.
             let mut refusal = crate::error::LemkeRefusal::new(cause, m, extremes, true)?;
-            if spec.solver == crate::problem::ContactSolver::Auto {
+            if plan.fallback {
                 drop((lcp_problem, condensed));
                 let pair = target.zip(second.map(|(_, m2)| m2));
                 match solve_active_set(spec, model, candidates, pair, clock) {
@@ -1208,7 +1145,7 @@ mod tests {
     #[test]
     fn the_static_lu_is_the_models_own_only_for_lemke_from_1000_candidates() {
         let sparse = |p: &Problem, pinned: bool| {
-            condensed_sparsely(p, &nodes::for_problem(p).unwrap(), pinned)
+            plan::condensed_sparsely(p, &nodes::for_problem(p).unwrap(), pinned)
         };
         let lemke = "solver = \"lemke\"";
         // 1 001 nodes on the contact edge: the Lemke path condenses by reach-restricted solves.

@@ -9,6 +9,7 @@ mod path;
 mod sparse_path;
 
 use super::friction::{StepEnd, step_ends};
+use super::plan::Plan;
 use super::{final_gaps, finite};
 use crate::assembly::PinnedMode;
 use crate::contact::{self, BodyOperator, Candidates, ContactTarget};
@@ -364,15 +365,10 @@ fn solve_scene(
     clock: &mut Clock<'_>,
 ) -> Result<(path::OnPath, Option<String>), Error> {
     let (pairs, initial_gap) = (scene.pairs, scene.initial_gap);
-    // `contact[k].solver = "active_set"` on any pair (validated: none says "lemke"): the
-    // sparse system of all bodies and pairs, no M (docs/method.md §5.1).
-    let active_set = pairs.iter().any(|p| p.spec.solver == ContactSolver::ActiveSet);
+    let solvers: Vec<ContactSolver> = pairs.iter().map(|p| p.spec.solver).collect();
+    let plan = Plan::several(&solvers, on_path, initial_gap.len());
     if on_path {
-        // The sparse system when a pair asks for the active set, or "auto" on every pair
-        // from the two-body threshold of all candidates on.
-        let sparse = active_set
-            || pairs.iter().all(|p| p.spec.solver.is_active_set_frictional_pair(initial_gap.len()));
-        let on = if sparse {
+        let on = if plan.is_sparse() {
             sparse_path::solve(scene, models, held, clock)?
         } else {
             path::solve(scene, models, held, clock)?
@@ -380,16 +376,15 @@ fn solve_scene(
         return Ok((on, None));
     }
     let found = scene.found;
-    if active_set {
+    if plan.is_sparse() {
         let solved = solve_active_set(models, pairs, found, initial_gap, held, clock)?;
         return Ok(((solved, Vec::new(), None), None));
     }
     let answer = solve_lemke(scene, models, held, lemke, clock);
-    // Lemke failed numerically: `"auto"` on every pair hands the problem to the
-    // active-set method (docs/method.md §5.1) and records why, as for one pair.
-    let auto = pairs.iter().all(|p| p.spec.solver == ContactSolver::Auto);
+    // Lemke failed numerically: the plan's fallback (`"auto"` on every pair) hands the
+    // problem to the active-set method (docs/method.md §5.1) and records why, as for one pair.
     match answer {
-        Err(Error::LemkeRefused(mut refusal)) if auto => {
+        Err(Error::LemkeRefused(mut refusal)) if plan.fallback => {
             match solve_active_set(models, pairs, found, initial_gap, held, clock) {
                 Ok(solved) => Ok(((solved, Vec::new(), None), Some(refusal.diagnosis_text()))),
                 Err(e) => {

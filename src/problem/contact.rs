@@ -396,7 +396,7 @@ pub enum ContactSolver {
     /// Lemke below [`ContactSolver::AUTO_THRESHOLD`] candidates (frictional problems against
     /// a rigid obstacle: [`ContactSolver::FRICTION_AUTO_THRESHOLD`]; two bodies with friction
     /// or load steps: [`ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD`]), the active-set method
-    /// from there on.
+    /// from there on (the rule: `pipeline::plan`).
     #[default]
     Auto,
 }
@@ -407,16 +407,6 @@ impl ContactSolver {
     /// candidates and 3.1 s against 1.7 s at 2 000; on the beam the two are even at 768.
     /// Above every shipped problem (at most 384 candidates).
     pub const AUTO_THRESHOLD: usize = 1000;
-
-    /// Whether a frictionless problem with `candidates` candidates is solved by the active-set
-    /// method (a rigid obstacle or two bodies).
-    pub fn is_active_set(self, candidates: usize) -> bool {
-        match self {
-            ContactSolver::Lemke => false,
-            ContactSolver::ActiveSet => true,
-            ContactSolver::Auto => candidates >= Self::AUTO_THRESHOLD,
-        }
-    }
 
     /// Candidates from which `Auto` takes the active-set method for a frictional problem
     /// (or one with load steps) against a rigid obstacle (docs/dev/active_set.md, "Friction"):
@@ -433,26 +423,6 @@ impl ContactSolver {
     /// 7.1 s at 500 candidates, 11.3 s against 12.2 s at 750 and 19.3 s against 13.5 s at
     /// 1 000 (under load). Above every shipped two-body problem (at most 52 candidates).
     pub const FRICTION_PAIR_AUTO_THRESHOLD: usize = 800;
-
-    /// Whether a frictional problem (or one with load steps) between two bodies with
-    /// `candidates` candidates is solved by the active-set method.
-    pub fn is_active_set_frictional_pair(self, candidates: usize) -> bool {
-        match self {
-            ContactSolver::Lemke => false,
-            ContactSolver::ActiveSet => true,
-            ContactSolver::Auto => candidates >= Self::FRICTION_PAIR_AUTO_THRESHOLD,
-        }
-    }
-
-    /// Whether a frictional problem (or one with load steps) against a rigid obstacle with
-    /// `candidates` candidates is solved by the active-set method.
-    pub fn is_active_set_frictional(self, candidates: usize) -> bool {
-        match self {
-            ContactSolver::Lemke => false,
-            ContactSolver::ActiveSet => true,
-            ContactSolver::Auto => candidates >= Self::FRICTION_AUTO_THRESHOLD,
-        }
-    }
 }
 
 /// How the problem is condensed onto the contact unknowns.
