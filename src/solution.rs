@@ -454,6 +454,12 @@ impl FrictionContact {
 }
 
 impl ContactSolution {
+    /// The largest difference between a candidate's gap from the displacements and the LCP's
+    /// `w` (how far the condensed problem and the recovered field disagree).
+    pub fn max_gap_mismatch(&self) -> f64 {
+        self.gap.iter().zip(&self.lcp.w).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
+    }
+
     /// The stick and the slip zones of the final increment (friction only): each maximal run
     /// of sticking (of slipping, either sign) candidates along the edge as the interval
     /// `[min, max]` of the candidates' coordinate `x·t` along the tangent `t`, from one outer

@@ -807,12 +807,7 @@ impl Summary {
                 last_open_x: c.onset.last_open,
                 first_closed_x: c.onset.first_closed,
                 gap_tolerance: c.gap_tolerance,
-                max_gap_mismatch: c
-                    .gap
-                    .iter()
-                    .zip(&c.lcp.w)
-                    .map(|(a, b)| (a - b).abs())
-                    .fold(0.0, f64::max),
+                max_gap_mismatch: c.max_gap_mismatch(),
                 warning: c.warning.clone(),
                 onset_note: ONSET_NOTE,
                 friction_coefficient: c.friction.as_ref().map(|f| f.coefficient),
@@ -985,12 +980,7 @@ impl PairSummary {
                 f64::max,
                 0.0,
             ),
-            max_gap_mismatch: c
-                .gap
-                .iter()
-                .zip(&c.lcp.w)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max),
+            max_gap_mismatch: c.max_gap_mismatch(),
             friction: c.friction.as_ref().map(|f| PairFriction {
                 coefficient: f.coefficient,
                 total_tangential_force: f.total_force,
