@@ -105,12 +105,10 @@ fn main() {
                 let a = Adaptive {
                     steps: 14,
                     max_nodes: finest.0,
-                    tolerance: None,
-                    onset_tolerance: None,
-                    force_tolerance: None,
                     fraction,
                     indicator,
                     contact: false,
+                    ..Adaptive::default()
                 };
                 let (mut step, mut reached) = (0, None);
                 let t = Instant::now();

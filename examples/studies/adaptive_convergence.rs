@@ -108,12 +108,10 @@ fn adaptive_run(
     let a = Adaptive {
         steps: 14,
         max_nodes,
-        tolerance: None,
-        onset_tolerance: None,
-        force_tolerance: None,
         fraction,
         indicator,
         contact: false,
+        ..Adaptive::default()
     };
     let mut rows = Vec::new();
     let t = Instant::now();

@@ -149,12 +149,10 @@ fn cantilever_study(layout: Layout, name: &str) {
             let a = Adaptive {
                 steps: 12,
                 max_nodes: finest.0,
-                tolerance: None,
-                onset_tolerance: None,
-                force_tolerance: None,
                 fraction,
                 indicator: ind,
                 contact: false,
+                ..Adaptive::default()
             };
             let mut step = 0;
             let mut reached = None;

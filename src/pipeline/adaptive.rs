@@ -789,12 +789,10 @@ mod tests {
         let a = Adaptive {
             steps: 1,
             max_nodes: 1000,
-            tolerance: None,
             fraction: 0.5,
             indicator: Indicator::Gradient,
             contact: true,
-            onset_tolerance: None,
-            force_tolerance: None,
+            ..Adaptive::default()
         };
         let mut silent = crate::Silent;
         for method in ["mfvm", "fem"] {

@@ -299,6 +299,23 @@ pub struct Adaptive {
     pub force_tolerance: Option<f64>,
 }
 
+/// The defaults of `[refinement]`: `STEPS` steps, at most `MAX_NODES` nodes, Dörfler's
+/// `FRACTION`, the gradient indicator, the contact transitions marked, no tolerance or goal.
+impl Default for Adaptive {
+    fn default() -> Self {
+        Self {
+            steps: Self::STEPS,
+            max_nodes: Self::MAX_NODES,
+            tolerance: None,
+            onset_tolerance: None,
+            force_tolerance: None,
+            fraction: Self::FRACTION,
+            indicator: Indicator::default(),
+            contact: true,
+        }
+    }
+}
+
 impl Adaptive {
     /// Default `steps`.
     pub const STEPS: usize = 4;

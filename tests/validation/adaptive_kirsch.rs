@@ -71,12 +71,10 @@ fn kirsch_adaptive_reaches_the_finest_uniform_error_with_a_third_of_the_nodes() 
     let adaptive = Adaptive {
         steps: 12,
         max_nodes: n_finest / RATIO,
-        tolerance: None,
-        onset_tolerance: None,
-        force_tolerance: None,
         fraction: Adaptive::FRACTION,
         indicator: Indicator::default(),
         contact: false,
+        ..Adaptive::default()
     };
     let mut rows = Vec::new();
     mlpg_contact::pipeline::adaptive::solve_adaptive(
@@ -133,12 +131,10 @@ fn graded_kirsch_sets_with_straddled_edges_and_corners_solve_and_pass_the_patch_
         let adaptive = Adaptive {
             steps: 8,
             max_nodes: 2500,
-            tolerance: None,
-            onset_tolerance: None,
-            force_tolerance: None,
             fraction,
             indicator,
             contact: false,
+            ..Adaptive::default()
         };
         let mut nodes = Vec::new();
         let run = mlpg_contact::pipeline::adaptive::solve_adaptive(

@@ -44,12 +44,10 @@ pub(super) fn sphere_adaptive(h0: f64, steps: usize, fraction: f64, max_nodes: u
     p.adaptive = Some(mlpg_contact::problem::Adaptive {
         steps,
         max_nodes,
-        tolerance: None,
-        onset_tolerance: None,
-        force_tolerance: None,
         fraction,
         indicator: mlpg_contact::problem::Indicator::Gradient,
         contact: true,
+        ..mlpg_contact::problem::Adaptive::default()
     });
     p
 }

@@ -66,12 +66,10 @@ fn clamped_cantilever_adaptive_reaches_the_finest_uniform_error_with_a_third_of_
     let adaptive = Adaptive {
         steps: 8,
         max_nodes: n_finest / RATIO,
-        tolerance: None,
-        onset_tolerance: None,
-        force_tolerance: None,
         fraction: 0.5,
         indicator: Indicator::Recovery,
         contact: false,
+        ..Adaptive::default()
     };
     let mut rows = Vec::new();
     mlpg_contact::pipeline::adaptive::solve_adaptive(

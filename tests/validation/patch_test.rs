@@ -127,12 +127,10 @@ fn adaptive_grading(layout: Layout) -> Refinement {
     let adaptive = mlpg_contact::problem::Adaptive {
         steps: 3,
         max_nodes: 100_000,
-        tolerance: None,
-        onset_tolerance: None,
-        force_tolerance: None,
         fraction: 0.5,
         indicator: mlpg_contact::problem::Indicator::Gradient,
         contact: false,
+        ..mlpg_contact::problem::Adaptive::default()
     };
     let mut silent = mlpg_contact::Silent;
     let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
