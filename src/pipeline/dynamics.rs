@@ -282,13 +282,15 @@ fn solve_pair(
         operator: &candidates.operator,
         target: &target,
         initial_gap: &candidates.initial_gap,
-        friction: tangential.as_ref().and_then(|(t1, free, t2)| {
+        friction: tangential.as_ref().map(|(t1, free, t2)| {
+            // Given a target, the tangential operators include the target's (along −t).
+            let t2 = t2.as_ref().unwrap_or_else(|| unreachable!("the target's tangential term"));
             let terms = vec![
                 dynamics::Term { body: 0, offset: 0, operator: t1 },
-                dynamics::Term { body: 1, offset: 0, operator: t2.as_ref()? },
+                dynamics::Term { body: 1, offset: 0, operator: t2 },
             ];
             let coefficients = free.iter().map(|&f| if f { mu } else { 0.0 }).collect();
-            Some(dynamics::Friction { terms, coefficients })
+            dynamics::Friction { terms, coefficients }
         }),
     };
     let velocities = [dynamics.initial_velocity, motion.initial_velocity];
