@@ -821,34 +821,23 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
             "must be in (0, 1]: the share of the squared estimate the marked nodes carry",
         ));
     }
-    for (key, value) in
-        [("onset_tolerance", file.onset_tolerance), ("force_tolerance", file.force_tolerance)]
-    {
-        let Some(v) = value else { continue };
-        let field = format!("refinement.{key}");
-        let (ok, what) = match key {
-            "onset_tolerance" => (
-                v.is_finite() && v > 0.0,
-                "must be a positive length: the distance between the onset's two one-sided estimates at which the onset goal is met",
-            ),
-            _ => (
-                v.is_finite() && v > 0.0 && v < 1.0,
-                "must be in (0, 1): the relative change of the total contact force between solves at which the force goal is met",
-            ),
-        };
-        if !ok {
-            return Err(invalid(&field, v, what));
-        }
-        let single = problem.body_count() == 1
-            && problem.contact.is_some()
-            && problem.discretisation.method == Method::Mfvm;
-        if !single {
-            return Err(invalid(
-                &field,
-                v,
-                "accuracy goals are implemented for one MFVM body with a [contact] against a rigid obstacle",
-            ));
-        }
+    if let Some(v) = file.onset_tolerance {
+        accuracy_goal(
+            problem,
+            "refinement.onset_tolerance",
+            v,
+            v.is_finite() && v > 0.0,
+            "must be a positive length: the distance between the onset's two one-sided estimates at which the onset goal is met",
+        )?;
+    }
+    if let Some(v) = file.force_tolerance {
+        accuracy_goal(
+            problem,
+            "refinement.force_tolerance",
+            v,
+            v.is_finite() && v > 0.0 && v < 1.0,
+            "must be in (0, 1): the relative change of the total contact force between solves at which the force goal is met",
+        )?;
     }
     Ok(Adaptive {
         steps,
@@ -860,6 +849,32 @@ fn adaptive(file: &AdaptiveFile, problem: &Problem) -> Result<Adaptive, ProblemE
         onset_tolerance: file.onset_tolerance,
         force_tolerance: file.force_tolerance,
     })
+}
+
+/// One accuracy goal of `[refinement]` (`field`, its value `v`): in range (`in_range`, else
+/// refused with `what`), and on a problem the goals are implemented for (one MFVM body with a
+/// `[contact]` against a rigid obstacle).
+fn accuracy_goal(
+    problem: &Problem,
+    field: &str,
+    v: f64,
+    in_range: bool,
+    what: &str,
+) -> Result<(), ProblemError> {
+    if !in_range {
+        return Err(invalid(field, v, what));
+    }
+    let single = problem.body_count() == 1
+        && problem.contact.is_some()
+        && problem.discretisation.method == Method::Mfvm;
+    if !single {
+        return Err(invalid(
+            field,
+            v,
+            "accuracy goals are implemented for one MFVM body with a [contact] against a rigid obstacle",
+        ));
+    }
+    Ok(())
 }
 
 /// `[[nodes.refine]]` → the refinement regions (rectangles, polygons, curves and disks without
