@@ -69,7 +69,7 @@
 //! | 7 | [`linear_solve`], [`lcp`] | [`linear_solve::Factorisation`] (sparse LU); the contact problem's algorithms, pure algebra: Lemke's method, the frictional step LCP, the load-driven searches, the primal–dual active-set iteration |
 //! | 8 | [`model`] | [`model::Model`]: the discretised body, MFVM or FE ([`model::Scheme`]) |
 //! | 9 | [`contact`] | candidates, gap `G`, force `E`, [`contact::CondensedContact`] `M = G K⁻¹ E`; the sparse systems of the active-set method ([`contact::sparse`]) |
-//! | 10 | [`solution`], [`dynamics`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks; Moreau–Jean time stepping with contact (mass, `M̂`, one LCP per step, history) |
+//! | 10 | [`solution`], [`dynamics`], [`refine`] | recovery: displacement `u^h`, stress, reactions, the contact table, checks; Moreau–Jean time stepping with contact (mass, `M̂`, one LCP per step, history); the a posteriori estimate, marks and refined problem of adaptive refinement |
 //! | 11 | [`post`] | outputs: CSV, VTU, plots, `summary.json` |
 //! | 12 | [`error`] | [`Error`], one variant per stage |
 //! | 13 | [`pipeline`] | orchestration: [`discretise`], [`solve_model`], [`solve`], [`run`], [`compare`] |
@@ -122,6 +122,7 @@ pub mod post;
 pub mod problem;
 pub mod progress;
 pub mod random;
+pub mod refine;
 pub mod solution;
 pub mod weak_form;
 

@@ -21,10 +21,11 @@ mod end_shear_exact;
 use end_shear_exact::{
     DEPTH, LENGTH, POISSON, YOUNG, energy_density, exact_displacement, exact_stress,
 };
-use mlpg_contact::pipeline::adaptive::{self, Estimate};
+use mlpg_contact::pipeline::adaptive;
 use mlpg_contact::problem::{
     Adaptive, ComponentCondition, EdgeCondition, Field, Indicator, Layout, Problem,
 };
+use mlpg_contact::refine::{self, Estimate};
 use mlpg_contact::{Model, Silent, Solution};
 use std::sync::Arc;
 use std::time::Instant;
@@ -109,7 +110,7 @@ fn indicators() {
             let (e2, _) = true_error(&model, &s);
             let e: Vec<f64> = e2.iter().map(|v| v.sqrt()).collect();
             for ind in [Indicator::Recovery, Indicator::Gradient] {
-                let Estimate { node, .. } = adaptive::estimate(&p, &model, &s, ind);
+                let Estimate { node, .. } = refine::estimate(&p, &model, &s, ind);
                 let eta: Vec<f64> = node.iter().map(|v| v.sqrt()).collect();
                 let eff = (node.iter().sum::<f64>() / e2.iter().sum::<f64>()).sqrt();
                 println!(
@@ -139,7 +140,7 @@ fn cantilever_study(layout: Layout, name: &str) {
         let model = mlpg_contact::discretise(&p, &mut silent).expect("discretise");
         let (model, _, s) = mlpg_contact::solve_model(&p, model, None, &mut silent).expect("solve");
         let (_, err) = true_error(&model, &s);
-        let est = adaptive::estimate(&p, &model, &s, Indicator::Gradient).relative;
+        let est = refine::estimate(&p, &model, &s, Indicator::Gradient).relative;
         println!("| uniform h = {h} | – | {} | {h} | {est:.3e} | {err:.3e} |", model.nodes.len());
         finest = (model.nodes.len(), err);
     }

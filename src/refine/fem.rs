@@ -1,5 +1,5 @@
-//! The adaptive loop on a body of Q2 elements (`discretisation.method = "fem"`): a recovery
-//! estimate per element, marks on elements, and the marked elements' refinement regions,
+//! The estimate and refinement of a body of Q2 elements (`discretisation.method = "fem"`): a
+//! recovery estimate per element, marks on elements, and the marked elements' refinement regions,
 //! which [`crate::fem::mesh`] meshes as a graded tensor-product grid ([`Mesh::graded`]:
 //! the columns and rows through a marked element halved, no hanging nodes).
 
@@ -11,7 +11,7 @@ use crate::problem::{Problem, RefineBox};
 use crate::solution::Solution;
 
 /// The Q2 mesh of `model`, when it is an FE model.
-pub(super) fn mesh_of(model: &Model) -> Option<&Mesh> {
+pub fn mesh_of(model: &Model) -> Option<&Mesh> {
     match &model.scheme {
         Scheme::Fem(fem) => Some(&fem.mesh),
         Scheme::Mfvm(_) => None,
@@ -23,7 +23,7 @@ pub(super) fn mesh_of(model: &Model) -> Option<&Mesh> {
 /// ([`Mesh::nodal_strains`], what `stress.csv` reports) interpolated by the element's shape
 /// functions; the relative estimate `(Σ η_e² / ∫ ε^hᵀ D ε^h dA)^(1/2)` (the element's own
 /// quadrature). `Estimate::node` holds the elements' `η_e²`, numbered as the mesh's.
-pub(super) fn estimate(problem: &Problem, mesh: &Mesh, solution: &Solution) -> Estimate {
+pub fn estimate(problem: &Problem, mesh: &Mesh, solution: &Solution) -> Estimate {
     let d = problem.material.constitutive();
     let u: Vec<f64> = solution.displacement.iter().flatten().copied().collect();
     let recovered = mesh.nodal_strains(&u);
@@ -54,7 +54,7 @@ pub(super) fn estimate(problem: &Problem, mesh: &Mesh, solution: &Solution) -> E
 
 /// The elements of `mesh` that hold any of the nodes `marked` (the contact marks, found as
 /// nodes, carried to the elements the FE loop refines). Ascending.
-pub(super) fn elements_at(mesh: &Mesh, marked: &[usize]) -> Vec<usize> {
+pub fn elements_at(mesh: &Mesh, marked: &[usize]) -> Vec<usize> {
     let mut wanted = vec![false; mesh.node_count()];
     for &i in marked {
         wanted[i] = true;
@@ -69,7 +69,7 @@ pub(super) fn elements_at(mesh: &Mesh, marked: &[usize]) -> Vec<usize> {
 /// the spacing half its longer side (at least the generator's finest, `h₀ / 4096`), so that
 /// the graded grid halves the element's column, and its row unless the row is already at
 /// most that tall.
-pub(super) fn refined(problem: &Problem, model: &Model, marked: &[usize]) -> Problem {
+pub fn refined(problem: &Problem, model: &Model, marked: &[usize]) -> Problem {
     let Some(mesh) = mesh_of(model) else { return problem.clone() };
     let floor = problem.node_spacing / f64::from(1u32 << nodes::MAX_LEVEL);
     let mut next = problem.clone();
