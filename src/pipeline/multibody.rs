@@ -48,14 +48,24 @@ pub(super) fn body_pair(
             &|_| (0.0, normal),
             spec.condensation,
         )?,
-        // A curved target: each candidate's normal is the target's at its closest point.
-        None => contact::candidates_in(
-            problem,
-            model,
-            spec.edge,
-            &|x| (0.0, pairing.normal(x)),
-            spec.condensation,
-        )?,
+        // A curved target: each candidate's normal is the target's at its closest point; a
+        // candidate on the axis of an axisymmetric body takes the axial one, as the target's
+        // side turns it (`contact::TargetEdge::axial`): its radial row is the symmetry
+        // condition, so a normal with a radial part (a mesh's polyline target at its end
+        // vertex) would leave that node out of the candidates, free to overlap the target.
+        None => {
+            let (lo, hi) = problem.domain.bounding_box();
+            let axis = AXIS_TOLERANCE * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+            let axisymmetric = model.system().axisymmetric;
+            let normal = |x: Point| {
+                let nu = pairing.normal(x);
+                match axisymmetric && x[0].abs() <= axis {
+                    true => (0.0, [0.0, nu[1].signum()]),
+                    false => (0.0, nu),
+                }
+            };
+            contact::candidates_in(problem, model, spec.edge, &normal, spec.condensation)?
+        }
     };
     // A candidate whose projection falls beside the target edge has no partner: it cannot
     // close, and is no candidate.
@@ -84,6 +94,10 @@ pub(super) fn body_pair(
     }
     Ok((c, op, paired, unpaired))
 }
+
+/// Relative tolerance (of the section's size) within which a candidate lies on the axis (as
+/// `contact::rings` and `problem::axisymmetric` read it).
+const AXIS_TOLERANCE: f64 = 1e-12;
 
 /// The models of `problem`'s other bodies (`multibody`; empty without).
 ///

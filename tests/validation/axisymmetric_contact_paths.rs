@@ -17,9 +17,13 @@
 //! 5. **Friction** `μ = 0.3`, the sphere pressed in 6 increments: Coulomb's cone holds on every
 //!    ring (`|T| ≤ μF`), each increment's complementarity and balance pass, and every loaded
 //!    increment has a central stick zone inside a slip annulus (`0 < c < a`, `c` and `a` the
-//!    outermost sticking and closed candidates). Spence's self-similarity (`c/a` constant) is
-//!    not resolved at this spacing: the annulus stays about two candidates wide (observed
-//!    `c/a` 0.50, 0.73, 0.79, 0.81, 0.83, 0.85 with `a − c` ≈ 0.019), a finer box is needed.
+//!    outermost sticking and closed candidates). With 6 equal increments `c/a` climbs (0.50,
+//!    0.73, 0.79, 0.81, 0.83, 0.85) at every box spacing down to 0.0025: the climb is the
+//!    load path's discretisation (each increment is solved as one step, the first from no
+//!    contact), not the nodes' (docs/dev/axisymmetric.md, 7b).
+//! 6. **Spence's self-similar stick zone**: in 20 geometric increments (each adds the same
+//!    fraction of the load) `c/a` stays within one candidate spacing `h/a` of its mean
+//!    0.882 from the second increment on (box 0.005; observed at most 0.63 `h/a`).
 
 use super::axisymmetric_contact::SPHERE_SECTION;
 use super::common::*;
@@ -33,6 +37,11 @@ const SPACING: f64 = 0.01;
 /// The Hertz sphere with `top` the top edge's declared condition, `contact` extra keys of
 /// `[contact]` and `tail` further tables (steps).
 fn sphere(top: &str, contact: &str, tail: &str) -> Problem {
+    sphere_at(SPACING, top, contact, tail)
+}
+
+/// [`sphere`] with the box around the contact at `spacing` (`examples/studies/spence.rs`).
+pub(super) fn sphere_at(spacing: f64, top: &str, contact: &str, tail: &str) -> Problem {
     Problem::from_toml(&format!(
         r#"
         {SPHERE_SECTION}
@@ -41,7 +50,7 @@ fn sphere(top: &str, contact: &str, tail: &str) -> Problem {
         [[nodes.refine]]
         x = [0.0, 0.2]
         y = [0.0, 0.05]
-        spacing = {SPACING}
+        spacing = {spacing}
         [material]
         young = 1.0
         poisson = 0.3
@@ -189,32 +198,74 @@ fn friction_keeps_a_central_stick_zone_inside_a_slip_annulus() {
         boundary = [{ edge = "top", displacement = { y = -0.015 } }]"#,
     );
     p.write_steps = true;
-    let s = solve(&p);
+    let ratios = stick_ratios(&solve(&p), mu);
+    for (k, &(ratio, a)) in ratios.iter().enumerate() {
+        println!("axisymmetric sphere μ = {mu}: increment {} a {a:.4} c/a {ratio:.3}", k + 1);
+    }
+    assert_eq!(ratios.len(), 6);
+    assert!(ratios.iter().all(|&(_, a)| a > 0.0), "an increment without contact: {ratios:?}");
+    assert!(ratios.iter().all(|&(q, _)| q > 0.0 && q < 1.0), "c/a {ratios:?}");
+}
+
+/// `c/a` and `a` of each increment: `a` the outermost closed and `c` the outermost sticking
+/// candidate's radius, after checking Coulomb's cone on every ring.
+fn stick_ratios(s: &Solution, mu: f64) -> Vec<(f64, f64)> {
     let c = s.contact.as_ref().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert!(f.increments.iter().all(|r| r.complementarity < 1e-9 && r.equilibrium_error < 1e-8));
     let r = |k: usize| c.candidates.points[k][0];
-    let mut ratios = Vec::new();
-    let mut smallest = f64::INFINITY;
-    for snap in &f.snapshots {
-        for (k, (t, n)) in snap.tangential.iter().zip(&snap.normal).enumerate() {
-            assert!(t.abs() <= mu * n * (1.0 + 1e-9) + 1e-15, "ring {k}: |T| {t:e} > μF {n:e}");
-        }
-        let outer = |pick: &dyn Fn(ContactState) -> bool| {
-            (0..snap.state.len()).filter(|&k| pick(snap.state[k])).map(r).fold(0.0, f64::max)
-        };
-        let a = outer(&|s| s != ContactState::Open);
-        let stick = outer(&|s| s == ContactState::Stick);
+    f.snapshots
+        .iter()
+        .map(|snap| {
+            for (k, (t, n)) in snap.tangential.iter().zip(&snap.normal).enumerate() {
+                assert!(t.abs() <= mu * n * (1.0 + 1e-9) + 1e-15, "ring {k}: |T| {t:e} > μF {n:e}");
+            }
+            let outer = |pick: &dyn Fn(ContactState) -> bool| {
+                (0..snap.state.len()).filter(|&k| pick(snap.state[k])).map(r).fold(0.0, f64::max)
+            };
+            let a = outer(&|s| s != ContactState::Open);
+            (outer(&|s| s == ContactState::Stick) / a, a)
+        })
+        .collect()
+}
+
+/// Spence's self-similarity: pressed in 20 geometric increments (the top's displacement
+/// `0.015 q^(k − 20)`, `q = 1.1`, one `[[step]]` each, so every increment adds the same
+/// fraction of the load), `c/a` is the same at every increment after the first (a one-step
+/// problem from no contact, `c/a` = 0.5) to within one candidate spacing `h/a` of the mean.
+/// With equal increments it is not: the first ones are large fractions of the load, and
+/// `c/a` climbs from 0.5 (docs/dev/axisymmetric.md, 7b; `examples/studies/spence.rs`).
+#[test]
+fn the_stick_zone_is_self_similar_under_geometric_increments() {
+    let (mu, q, n, h) = (0.3, 1.1_f64, 20, 0.005);
+    let steps: String = (1..=n)
+        .map(|k| {
+            let top = -0.015 * q.powi(k - n);
+            format!(
+                "[[step]]\nboundary = [{{ edge = \"top\", displacement = {{ y = {top:?} }} }}]\n"
+            )
+        })
+        .collect();
+    let mut p = sphere_at(h, "0.0", &format!("friction = {mu:?}"), &steps);
+    p.write_steps = true;
+    let ratios = stick_ratios(&solve(&p), mu);
+    assert_eq!(ratios.len(), n as usize);
+    let later = &ratios[1..];
+    let mean = later.iter().map(|r| r.0).sum::<f64>() / later.len() as f64;
+    for (k, &(ratio, a)) in ratios.iter().enumerate() {
         println!(
-            "axisymmetric sphere μ = {mu}: load factor {:.3} a {a:.4} c {stick:.4} c/a {:.3}",
-            snap.load_factor,
-            stick / a
+            "axisymmetric sphere μ = {mu}, geometric increment {}: a {a:.5} c/a {ratio:.3} (c/a − mean)/(h/a) {:+.2}",
+            k + 1,
+            (ratio - mean) / (h / a)
         );
-        if a > 0.0 {
-            ratios.push(stick / a);
-            smallest = smallest.min(a);
-        }
     }
-    assert_eq!(ratios.len(), f.snapshots.len(), "an increment without contact");
-    assert!(ratios.iter().all(|&q| q > 0.0 && q < 1.0), "c/a {ratios:?} (smallest a {smallest})");
+    println!("mean c/a over increments 2–{n}: {mean:.4}");
+    assert!(mean > 0.5 && mean < 1.0, "mean c/a {mean}");
+    for (k, &(ratio, a)) in later.iter().enumerate() {
+        assert!(
+            (ratio - mean).abs() <= h / a,
+            "increment {}: c/a {ratio:.3}, mean {mean:.3}",
+            k + 2
+        );
+    }
 }

@@ -9,7 +9,8 @@ quadrilaterals. `tri`: 6-node triangles; `quad`: recombined, 9-node quadrilatera
 few triangles where the recombination leaves them). Size factors 2, 1, 1/2 of the .geo's for the
 plate; the cylinder cap of the Cattaneo-Mindlin case (tests/validation/fem_friction.rs) and the
 Hertz quarter cylinder (tests/validation/hertz.rs), both recombined, at factors 2, 1 (and 1/2
-for the quarter cylinder)."""
+for the quarter cylinder). The two-sphere meshes (two_spheres_*.msh) have their own script,
+make_two_spheres.py."""
 import gmsh
 
 gmsh.initialize()
