@@ -13,7 +13,7 @@
 //! active-set step. The answer says which method produced it; no answer meeting the
 //! tolerance is an error ([`LcpError::FrictionNotConverged`]).
 
-use super::{Lcp, LcpError, LemkeParams, lemke};
+use super::{Lcp, LcpError, LcpSolution, LemkeParams, Polish, lemke, lemke_observed};
 use faer::Mat;
 use faer::linalg::solvers::Solve;
 use serde::Serialize;
@@ -175,8 +175,10 @@ impl FrictionProblem {
         let m = self.size();
         let blocks =
             [("M_nn", &self.nn), ("M_nt", &self.nt), ("M_tn", &self.tn), ("M_tt", &self.tt)];
+        // A normal-only step (every μ = 0) may leave the tangential blocks empty.
+        let normal_only = self.is_frictionless();
         for (what, b) in blocks {
-            if b.len() != m * m {
+            if b.len() != m * m && !(normal_only && what != "M_nn" && b.is_empty()) {
                 return Err(LcpError::DimensionMismatch { what, expected: m * m, found: b.len() });
             }
         }
@@ -201,13 +203,24 @@ impl FrictionProblem {
         Ok(())
     }
 
-    /// `(g, s)` for forces `(P, T)`.
+    /// Whether every `μ_c` is 0.
+    pub fn is_frictionless(&self) -> bool {
+        self.friction.iter().all(|&mu| mu == 0.0)
+    }
+
+    /// `(g, s)` for forces `(P, T)` (an empty block counts as zero: a normal-only step).
     pub fn response(&self, p: &[f64], t: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let m = self.size();
+        let product = |a: &[f64], x: &[f64], i: usize| match a.is_empty() {
+            true => None,
+            false => Some(a[i * m..(i + 1) * m].iter().zip(x).map(|(x, y)| x * y).sum::<f64>()),
+        };
         let row = |a: &[f64], b: &[f64], q: f64, i: usize| {
-            let (ra, rb) = (&a[i * m..(i + 1) * m], &b[i * m..(i + 1) * m]);
-            q + ra.iter().zip(p).map(|(x, y)| x * y).sum::<f64>()
-                + rb.iter().zip(t).map(|(x, y)| x * y).sum::<f64>()
+            let mut v = q;
+            for part in [product(a, p, i), product(b, t, i)].into_iter().flatten() {
+                v += part;
+            }
+            v
         };
         let g = (0..m).map(|i| row(&self.nn, &self.nt, self.free_gap[i], i)).collect();
         let s = (0..m).map(|i| row(&self.tn, &self.tt, self.free_tangential[i], i)).collect();
@@ -308,13 +321,9 @@ pub(crate) fn classify(p: &[f64], ds: &[f64], displacement_scale: f64) -> Vec<Co
 /// when neither method reaches the tolerance.
 pub fn solve_step(problem: &FrictionProblem) -> Result<FrictionSolution, LcpError> {
     problem.check()?;
-    let m = problem.size();
     let params = LemkeParams::default();
-    if problem.friction.iter().all(|&mu| mu == 0.0) {
-        let lcp = Lcp::new(m, problem.nn.clone(), problem.free_gap.clone())?;
-        let r = lemke(&lcp, &params)?;
-        let t = vec![0.0; m];
-        return Ok(problem.answer(r.z, t, FrictionMethod::Frictionless, r.pivots, 0));
+    if problem.is_frictionless() {
+        return frictionless(problem, &params, &mut |_, _| {}).map(|f| f.step);
     }
     let lemke_failure = match step_lcp_lemke(problem, &params) {
         Ok(sol) if sol.residuals.max() <= FRICTION_TOLERANCE => return Ok(sol),
@@ -342,6 +351,7 @@ pub fn solve_step(problem: &FrictionProblem) -> Result<FrictionSolution, LcpErro
     };
     // The fixed point in chunks of ACTIVE_SET_EVERY rounds, each followed by a short
     // active-set try; the last (converged, stalled or at MAX_FIXED_POINT) by the full one.
+    let m = problem.size();
     let (mut p, mut t) = (vec![0.0; m], vec![0.0; m]);
     let (mut pivots, mut rounds) = (0, 0);
     let mut fixed_point_change: f64;
@@ -374,6 +384,69 @@ pub fn solve_step(problem: &FrictionProblem) -> Result<FrictionSolution, LcpErro
             lemke: lemke_failure,
         })
     }
+}
+
+/// A frictionless step's answer with the normal LCP's own: Lemke's `(z, w)`, its residuals
+/// and pivots.
+#[derive(Clone, Debug)]
+pub struct FrictionlessStep {
+    /// The step's answer (`T = 0`).
+    pub step: FrictionSolution,
+    /// The normal LCP `(M_nn, q_n)`'s answer, as Lemke gave it.
+    pub lcp: LcpSolution,
+}
+
+impl FrictionlessStep {
+    /// Polishes the normal answer on its closed set ([`polish`]); when the polish is
+    /// accepted, the step's answer becomes the polished forces'.
+    ///
+    /// # Errors
+    /// As [`Lcp::new`] for `problem`'s `(M_nn, q_n)`.
+    pub fn polish(&mut self, problem: &FrictionProblem) -> Result<Polish, LcpError> {
+        let m = problem.size();
+        let lcp = Lcp::new(m, problem.nn.clone(), problem.free_gap.clone())?;
+        let record = super::polish(&lcp, &mut self.lcp);
+        if record.accepted {
+            let (z, t) = (self.lcp.z.clone(), vec![0.0; m]);
+            self.step = problem.answer(z, t, FrictionMethod::Frictionless, self.lcp.pivots, 0);
+        }
+        Ok(record)
+    }
+}
+
+/// A step with every `μ_c = 0`: Lemke on LCP `(M_nn, q_n)` alone with `params` (reporting
+/// `(pivots, expected)` to `progress`). The tangential blocks may be empty (a normal-only
+/// step: `s = q_t`).
+///
+/// # Errors
+/// As [`solve_step`]; [`LcpError::InvalidParameter`] when a `μ_c` is not 0.
+pub fn solve_frictionless_step(
+    problem: &FrictionProblem,
+    params: &LemkeParams,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<FrictionlessStep, LcpError> {
+    problem.check()?;
+    if let Some(&mu) = problem.friction.iter().find(|&&mu| mu != 0.0) {
+        return Err(LcpError::InvalidParameter {
+            what: "friction of a frictionless step",
+            value: mu,
+        });
+    }
+    frictionless(problem, params, progress)
+}
+
+/// [`solve_frictionless_step`] on checked data.
+fn frictionless(
+    problem: &FrictionProblem,
+    params: &LemkeParams,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<FrictionlessStep, LcpError> {
+    let m = problem.size();
+    let lcp = Lcp::new(m, problem.nn.clone(), problem.free_gap.clone())?;
+    let r = lemke_observed(&lcp, params, progress)?;
+    let t = vec![0.0; m];
+    let step = problem.answer(r.z.clone(), t, FrictionMethod::Frictionless, r.pivots, 0);
+    Ok(FrictionlessStep { step, lcp: r })
 }
 
 /// Lemke on the Stewart–Trinkle LCP: `z = (P, a, λ)`, `w = (g, Δs + λ, 2μP − a)` with

@@ -38,7 +38,8 @@ pub mod load_driven;
 
 pub use enumerate::enumerate_solutions;
 pub use friction::{
-    ContactState, FrictionMethod, FrictionProblem, FrictionResiduals, FrictionSolution, solve_step,
+    ContactState, FrictionMethod, FrictionProblem, FrictionResiduals, FrictionSolution,
+    FrictionlessStep, solve_frictionless_step, solve_step,
 };
 pub use lemke::{LemkeParams, Polish, closed_set_residual, lemke, lemke_observed, polish};
 

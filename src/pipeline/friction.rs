@@ -264,7 +264,7 @@ pub(super) fn solve_frictional(
     let mut terms = vec![load_path::Term {
         model,
         normal: &candidates.operator,
-        tangential: &tangential,
+        tangential: Some(&tangential),
         index: None,
         steps,
     }];
@@ -272,7 +272,7 @@ pub(super) fn solve_frictional(
         terms.push(load_path::Term {
             model: tg.model,
             normal: &tg.operator,
-            tangential: op_t,
+            tangential: Some(op_t),
             index: None,
             steps: &tg.steps,
         });
@@ -307,6 +307,8 @@ pub(super) fn solve_frictional(
         groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
+        lemke: &lcp::LemkeParams::default(),
+        polish: false,
     };
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
     drop(terms);
@@ -317,6 +319,7 @@ pub(super) fn solve_frictional(
         histories,
         load_driven,
         rigid_modes,
+        ..
     } = answer;
     let rigid_mode = rigid_modes.into_iter().next();
     let u2 = (u.len() == 2).then(|| u.pop()).flatten();

@@ -13,12 +13,13 @@ use super::*;
 use std::ops::Range;
 
 /// How one body enters the condensed contact system: its model, its normal and tangential
-/// operators over the candidates that touch it, their global indices (`None`: candidate `c`
+/// operators over the candidates that touch it (no tangential operator on a frictionless
+/// one-shot path, whose system is `M_nn` alone), their global indices (`None`: candidate `c`
 /// is the operators' row `c`, all candidates), and its load-step ends.
 pub(super) struct Term<'a> {
     pub(super) model: &'a Model,
     pub(super) normal: &'a contact::BodyOperator,
-    pub(super) tangential: &'a contact::BodyOperator,
+    pub(super) tangential: Option<&'a contact::BodyOperator>,
     pub(super) index: Option<&'a [usize]>,
     pub(super) steps: &'a [StepEnd],
 }
@@ -164,12 +165,44 @@ pub(super) struct Path<'a> {
     pub(super) write_steps: bool,
     /// Whether the problem has `[[step]]` tables (a failure then names the step).
     pub(super) named_steps: bool,
+    /// Lemke's parameters on the frictionless steps (the default but in tests that provoke
+    /// its failure).
+    pub(super) lemke: &'a lcp::LemkeParams,
+    /// Whether a frictionless step's answer is polished on its closed set ([`lcp::polish`];
+    /// the one-shot route's, recorded as `lemke_polish`).
+    pub(super) polish: bool,
 }
 
 impl Path<'_> {
     /// Whether the obstacle's motion moves candidate `c`'s target.
     fn moves(&self, c: usize) -> bool {
         self.moved.is_none_or(|moved| moved[c])
+    }
+
+    /// Frictionless contact in one step of one increment without a search: the one-shot
+    /// problem (docs/method.md §4–§5), whose stages are timed one by one (`lemke`,
+    /// `lemke_polish`, `solve`) instead of as one `friction` stage.
+    fn is_one_shot(&self) -> bool {
+        let plain = self.held.is_empty() && self.steps.iter().all(|s| s.force.is_none());
+        let frictionless = self.friction.iter().flatten().all(|&mu| mu == 0.0);
+        plain && frictionless && self.steps.len() == 1 && self.steps[0].increments == 1
+    }
+}
+
+/// Times the path's stages: inside the path's one `friction` stage (no clock), or each as its
+/// own stage on a one-shot path ([`Path::is_one_shot`]).
+struct Timer<'c, 'p>(Option<&'c mut Clock<'p>>);
+
+impl Timer<'_, '_> {
+    fn run<T>(
+        &mut self,
+        stage: &'static str,
+        f: impl FnOnce(&mut dyn FnMut(usize, usize)) -> T,
+    ) -> T {
+        match &mut self.0 {
+            Some(clock) => clock.run_counted(stage, f),
+            None => f(&mut |_, _| {}),
+        }
     }
 }
 
@@ -191,11 +224,12 @@ pub(super) fn condense(terms: &[Term<'_>], initial_gap: &[f64]) -> Result<Conden
     let mut total: Option<contact::CondensedBlocks> = None;
     let mut parts = Vec::with_capacity(terms.len());
     for term in terms {
+        let tangential = term.tangential.ok_or(contact::ContactError::MissingTarget)?;
         let b = contact::condense_blocks(
             &term.model.factorisation,
             &term.model.system.rhs,
             term.normal,
-            term.tangential,
+            tangential,
         )?;
         let global = contact::CondensedBlocks {
             size: m,
@@ -230,11 +264,65 @@ pub(super) fn condense(terms: &[Term<'_>], initial_gap: &[f64]) -> Result<Conden
     Ok(Condensed { blocks: total.with_initial_gap(initial_gap), compliance })
 }
 
+/// The frictionless `M = Σ_b scatter(I_b, G_b K_b⁻¹ E_b)` and `q` over the terms with `M`'s
+/// checks (docs/method.md §4.2–4.5), one condensation per term
+/// ([`contact::condense_model_observed`]: by reach-restricted solves where they pay), for a
+/// one-shot path. Terms over all candidates (one pair) are combined part by part, terms over
+/// some candidates each (several pairs) summed into one part first: the sums the one-shot
+/// routes always computed, in their order.
+///
+/// # Errors
+/// A failed solve or second factorisation, a dense eigenvalue failure.
+pub(super) fn condense_normal(
+    terms: &[Term<'_>],
+    initial_gap: &[f64],
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<contact::CondensedContact, contact::ContactError> {
+    let mut parts = Vec::with_capacity(terms.len());
+    for term in terms {
+        parts.push(contact::condense_model_observed(term.model, term.normal, progress)?);
+    }
+    if terms.iter().all(|t| t.index.is_none()) {
+        return contact::CondensedContact::combine(initial_gap, &parts);
+    }
+    let m = initial_gap.len();
+    let mut total = contact::CondensedPart { compliance: vec![0.0; m * m], free_gap: vec![0.0; m] };
+    for (term, part) in terms.iter().zip(parts) {
+        let mb = term.normal.len();
+        for i in 0..mb {
+            let gi = term.global(i);
+            total.free_gap[gi] += part.free_gap[i];
+            for j in 0..mb {
+                total.compliance[gi * m + term.global(j)] += part.compliance[i * mb + j];
+            }
+        }
+    }
+    contact::CondensedContact::combine(initial_gap, &[total])
+}
+
+/// The condensed blocks of a one-shot path ([`Path::is_one_shot`]): `M_nn` and `q_n` of
+/// `condensed` (taken: [`PathAnswer::problem`] gives `M_nn` back), no tangential blocks.
+pub(super) fn normal_blocks(condensed: &mut contact::CondensedContact) -> contact::CondensedBlocks {
+    let m = condensed.free_gap.len();
+    contact::CondensedBlocks {
+        size: m,
+        nn: std::mem::take(&mut condensed.compliance),
+        nt: Vec::new(),
+        tn: Vec::new(),
+        tt: Vec::new(),
+        free_gap: condensed.free_gap.clone(),
+        free_tangential: vec![0.0; m],
+    }
+}
+
 /// What the path ends with: the last increment's answer, each term's nodal parameters, the
 /// last step problem (its blocks and free gaps), one history per group, and the searches'
 /// records.
 pub(super) struct PathAnswer {
     pub(super) step: lcp::FrictionSolution,
+    /// The last increment's normal LCP as Lemke (and the polish) answered it (the search's
+    /// last trial), when that increment was frictionless.
+    pub(super) normal: Option<Normal>,
     pub(super) u: Vec<Vec<f64>>,
     pub(super) problem: lcp::FrictionProblem,
     pub(super) histories: Vec<History>,
@@ -269,7 +357,9 @@ fn step_end_gaps(
                 for term in terms {
                     let u = term.model.factorisation.solve(&term.steps[k].rhs)?;
                     term.scatter_add(&term.normal.gap_contribution(&u), &mut qn);
-                    term.scatter_add(&term.tangential.gap_contribution(&u), &mut qt);
+                    if let Some(tangential) = term.tangential {
+                        term.scatter_add(&tangential.gap_contribution(&u), &mut qt);
+                    }
                 }
                 (qn, qt)
             };
@@ -295,8 +385,38 @@ struct Searches {
     total_evaluations: usize,
 }
 
+/// One increment's answer without a search, or one trial of a search: the frictionless step
+/// by Lemke on `M_nn` (with the path's parameters, polished when the path asks) with the
+/// normal LCP's own answer, or the frictional step LCP.
+fn solve_plain(
+    path: &Path<'_>,
+    step_problem: &lcp::FrictionProblem,
+    timer: &mut Timer<'_, '_>,
+) -> Result<Increment, lcp::LcpError> {
+    if !step_problem.is_frictionless() {
+        return Ok((lcp::solve_step(step_problem)?, None));
+    }
+    let mut solved = timer.run("lemke", |progress| {
+        lcp::solve_frictionless_step(step_problem, path.lemke, progress)
+    })?;
+    let polish = match path.polish {
+        true => Some(timer.run("lemke_polish", |_| solved.polish(step_problem))?),
+        false => None,
+    };
+    Ok((solved.step, Some((solved.lcp, polish))))
+}
+
+/// An increment's step answer and, when frictionless, its normal LCP's
+/// ([`PathAnswer::normal`]).
+type Increment = (lcp::FrictionSolution, Option<Normal>);
+
+/// A frictionless increment's normal LCP answer, as Lemke (and the polish) gave it, and the
+/// polish's record.
+pub(super) type Normal = (lcp::LcpSolution, Option<lcp::Polish>);
+
 /// One increment's step answer at load factor `lambda` of step `k`: the step LCP, or the
 /// search for a force-driven obstacle or a held translation around it.
+#[allow(clippy::too_many_arguments)]
 fn solve_increment(
     path: &Path<'_>,
     terms: &[Term<'_>],
@@ -305,16 +425,17 @@ fn solve_increment(
     loads0: &[Vec<f64>],
     (k, lambda): (usize, f64),
     searches: &mut Searches,
-) -> Result<lcp::FrictionSolution, lcp::LcpError> {
+    timer: &mut Timer<'_, '_>,
+) -> Result<Increment, lcp::LcpError> {
     let end = &path.steps[k];
-    let Some(compliance) = compliance else { return lcp::solve_step(step_problem) };
+    let Some(compliance) = compliance else { return solve_plain(path, step_problem, timer) };
     let base = step_problem.free_gap.clone();
     let solve = |q: &[f64]| {
         step_problem.free_gap = q.to_vec();
-        lcp::solve_step(step_problem)
+        solve_plain(path, step_problem, timer)
     };
-    fn forces(answer: &lcp::FrictionSolution) -> &[f64] {
-        answer.normal.as_slice()
+    fn forces(answer: &Increment) -> &[f64] {
+        answer.0.normal.as_slice()
     }
     if let ([held @ Held::Alone { projection, .. }], None) = (path.held.as_slice(), end.force) {
         // The only body, against rigid obstacles: t = σ s along r with σ the sign of the load
@@ -443,78 +564,94 @@ pub(super) fn run_condensed(
     clock: &mut Clock<'_>,
 ) -> Result<PathAnswer, Error> {
     let m = path.initial_gap.len();
-    let ends = clock.run("load_steps", || step_end_gaps(path, terms, &blocks))?;
-    let mut step_problem = lcp::FrictionProblem {
-        nn: blocks.nn,
-        nt: blocks.nt,
-        tn: blocks.tn,
-        tt: blocks.tt,
-        free_gap: path.initial_gap.to_vec(),
-        free_tangential: vec![0.0; m],
-        previous_tangential: vec![0.0; m],
-        friction: path.friction[0].clone(),
+    let one_shot = path.is_one_shot();
+    let ends = match one_shot {
+        // One step: its end is the condensation's, no solve.
+        true => step_end_gaps(path, terms, &blocks)?,
+        false => clock.run("load_steps", || step_end_gaps(path, terms, &blocks))?,
     };
-    // The unloaded start: no load, the obstacle where it was given.
-    let zeros = |t: &Term<'_>| vec![0.0; t.model.system.rhs.len()];
-    let mut loads0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
-    let mut rhss0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
-    let (mut qn0, mut qt0) = (path.initial_gap.to_vec(), vec![0.0; m]);
-    let mut histories: Vec<History> =
-        path.groups.iter().map(|g| History::new(g.len(), path.write_steps)).collect();
-    let compliance = (path.steps.iter().any(|s| s.force.is_some()) || !path.held.is_empty())
-        .then(|| step_problem.nn.clone());
-    let mut searches = Searches::default();
-    let mut last = None;
-    clock.run("friction", || -> Result<(), Error> {
-        for (k, (end, (qn1, qt1))) in path.steps.iter().zip(&ends).enumerate() {
-            step_problem.friction.clone_from(&path.friction[k]);
+    let mut walk = Walk {
+        path,
+        terms,
+        step_problem: lcp::FrictionProblem {
+            nn: blocks.nn,
+            nt: blocks.nt,
+            tn: blocks.tn,
+            tt: blocks.tt,
+            free_gap: path.initial_gap.to_vec(),
+            free_tangential: vec![0.0; m],
+            previous_tangential: vec![0.0; m],
+            friction: path.friction[0].clone(),
+        },
+        histories: path.groups.iter().map(|g| History::new(g.len(), path.write_steps)).collect(),
+        searches: Searches::default(),
+        last: None,
+    };
+    match one_shot {
+        true => walk.steps(&ends, &mut Timer(Some(clock)))?,
+        false => clock.run("friction", || walk.steps(&ends, &mut Timer(None)))?,
+    }
+    let Walk { step_problem, histories, searches, last, .. } = walk;
+    let Some((step, normal, u)) = last else {
+        unreachable!("validated: at least one step with at least one increment")
+    };
+    Ok(PathAnswer {
+        step,
+        normal,
+        u,
+        problem: step_problem,
+        histories,
+        load_driven: searches.load_driven,
+        rigid_modes: searches.rigid_modes,
+    })
+}
+
+/// The load path's running state: the step problem, the histories, the searches' records and
+/// the last increment's answer (its step answer, normal LCP and each term's displacements).
+struct Walk<'w, 'a> {
+    path: &'w Path<'a>,
+    terms: &'w [Term<'a>],
+    step_problem: lcp::FrictionProblem,
+    histories: Vec<History>,
+    searches: Searches,
+    last: Option<(lcp::FrictionSolution, Option<Normal>, Vec<Vec<f64>>)>,
+}
+
+impl Walk<'_, '_> {
+    /// Every step's increments from the unloaded start (no load, the obstacle where it was
+    /// given) through the step ends `ends`.
+    fn steps(&mut self, ends: &[FreeMotion], timer: &mut Timer<'_, '_>) -> Result<(), Error> {
+        let (path, terms) = (self.path, self.terms);
+        let m = path.initial_gap.len();
+        let zeros = |t: &Term<'_>| vec![0.0; t.model.system.rhs.len()];
+        let mut loads0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
+        let mut rhss0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
+        let (mut qn0, mut qt0) = (path.initial_gap.to_vec(), vec![0.0; m]);
+        let compliance = (path.steps.iter().any(|s| s.force.is_some()) || !path.held.is_empty())
+            .then(|| self.step_problem.nn.clone());
+        for (k, (end, (qn1, qt1))) in path.steps.iter().zip(ends).enumerate() {
+            self.step_problem.friction.clone_from(&path.friction[k]);
             for i in 1..=end.increments {
                 let started = std::time::Instant::now();
                 let lambda = i as f64 / end.increments as f64;
-                step_problem.free_gap = lerp(&qn0, qn1, lambda);
-                step_problem.free_tangential = lerp(&qt0, qt1, lambda);
+                self.step_problem.free_gap = lerp(&qn0, qn1, lambda);
+                self.step_problem.free_tangential = lerp(&qt0, qt1, lambda);
                 let solved = solve_increment(
                     path,
                     terms,
-                    &mut step_problem,
+                    &mut self.step_problem,
                     compliance.as_deref(),
                     &loads0,
                     (k, lambda),
-                    &mut searches,
+                    &mut self.searches,
+                    timer,
                 );
                 // With [[step]] tables, a failure names the step and the increment.
-                let step = solved
+                let (step, normal) = solved
                     .map_err(|e| at_increment(path.named_steps, (k, i, end.increments), e))?;
-                let mut u = Vec::with_capacity(terms.len());
-                let mut equilibrium: f64 = 0.0;
-                for (b, term) in terms.iter().enumerate() {
-                    let (normal, tangential) =
-                        (term.gather(&step.normal), term.gather(&step.tangential));
-                    let mut rhs = lerp(&rhss0[b], &term.steps[k].rhs, lambda);
-                    term.normal.add_forces(&normal, &mut rhs);
-                    term.tangential.add_forces(&tangential, &mut rhs);
-                    // The body's free translation found above: the pin's value (the solve
-                    // adds the rigid translation, which K_int does not see, to the pinned
-                    // answer).
-                    for (held, r) in path.held.iter().zip(&searches.rigid_modes) {
-                        if held.term() == b {
-                            let pin = held.pin();
-                            let t = r.translation[pin.axis as usize];
-                            set_pin_value(&mut rhs, term.model, pin, t);
-                        }
-                    }
-                    let u_b = term.model.factorisation.solve(&rhs)?;
-                    let load = lerp(&loads0[b], &term.steps[k].load, lambda);
-                    let ops = [
-                        (term.normal, normal.as_slice()),
-                        (term.tangential, tangential.as_slice()),
-                    ];
-                    let e = solution::equilibrium_error(&term.model.system, &load, &u_b, &ops);
-                    equilibrium = if b == 0 { e } else { equilibrium.max(e) };
-                    u.push(u_b);
-                }
+                let (u, equilibrium) = self.bodies(&step, (&loads0, &rhss0), (k, lambda), timer)?;
                 let seconds = started.elapsed().as_secs_f64();
-                for (h, g) in histories.iter_mut().zip(&path.groups) {
+                for (h, g) in self.histories.iter_mut().zip(&path.groups) {
                     let share = if g.len() == m { None } else { Some(select(&step, g.clone())) };
                     h.record(
                         share.as_ref().unwrap_or(&step),
@@ -524,29 +661,59 @@ pub(super) fn run_condensed(
                         seconds,
                     );
                 }
-                step_problem.previous_tangential.clone_from(&step.tangential_displacement);
-                last = Some((step, u));
+                self.step_problem.previous_tangential.clone_from(&step.tangential_displacement);
+                self.last = Some((step, normal, u));
             }
             for (b, term) in terms.iter().enumerate() {
                 loads0[b].clone_from(&term.steps[k].load);
                 rhss0[b].clone_from(&term.steps[k].rhs);
             }
             (qn0, qt0) = (qn1.clone(), qt1.clone());
-            searches.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
+            self.searches.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
         }
         Ok(())
-    })?;
-    let Some((step, u)) = last else {
-        unreachable!("validated: at least one step with at least one increment")
-    };
-    Ok(PathAnswer {
-        step,
-        u,
-        problem: step_problem,
-        histories,
-        load_driven: searches.load_driven,
-        rigid_modes: searches.rigid_modes,
-    })
+    }
+
+    /// One solve per body with the contact forces of its candidates at load factor `lambda`
+    /// of step `k` (the step's start `(loads0, rhss0)`), and the worst body's equilibrium
+    /// error (computed only when a history records it).
+    fn bodies(
+        &self,
+        step: &lcp::FrictionSolution,
+        (loads0, rhss0): (&[Vec<f64>], &[Vec<f64>]),
+        (k, lambda): (usize, f64),
+        timer: &mut Timer<'_, '_>,
+    ) -> Result<(Vec<Vec<f64>>, f64), Error> {
+        let mut u = Vec::with_capacity(self.terms.len());
+        let mut equilibrium: f64 = 0.0;
+        for (b, term) in self.terms.iter().enumerate() {
+            let normal = term.gather(&step.normal);
+            let tangential = term.tangential.map(|op| (op, term.gather(&step.tangential)));
+            let mut rhs = lerp(&rhss0[b], &term.steps[k].rhs, lambda);
+            term.normal.add_forces(&normal, &mut rhs);
+            if let Some((op, forces)) = &tangential {
+                op.add_forces(forces, &mut rhs);
+            }
+            // The body's free translation found: the pin's value (the solve adds the rigid
+            // translation, which K_int does not see, to the pinned answer).
+            for (held, r) in self.path.held.iter().zip(&self.searches.rigid_modes) {
+                if held.term() == b {
+                    let pin = held.pin();
+                    set_pin_value(&mut rhs, term.model, pin, r.translation[pin.axis as usize]);
+                }
+            }
+            let u_b = timer.run("solve", |_| term.model.factorisation.solve(&rhs))?;
+            if !self.histories.is_empty() {
+                let load = lerp(&loads0[b], &term.steps[k].load, lambda);
+                let mut ops = vec![(term.normal, normal.as_slice())];
+                ops.extend(tangential.as_ref().map(|(op, t)| (*op, t.as_slice())));
+                let e = solution::equilibrium_error(&term.model.system, &load, &u_b, &ops);
+                equilibrium = if b == 0 { e } else { equilibrium.max(e) };
+            }
+            u.push(u_b);
+        }
+        Ok((u, equilibrium))
+    }
 }
 
 /// The normal LCP of the answer given its tangential forces (`q = q_n + M_nt T`), for the

@@ -594,9 +594,10 @@ fn solve_on_load_path(
     }
 }
 
-/// Frictionless contact in one step by Lemke on the condensed `M` (polished; a mixed-precision
-/// factorisation's gaps corrected), with the plan's fallback to the active set (`"auto"`) when
-/// Lemke fails numerically.
+/// Frictionless contact in one step: μ = 0, one step of one increment on the condensed load
+/// path ([`load_path::run_condensed`]: Lemke on `M`, polished; one solve per body), a
+/// mixed-precision factorisation's gaps corrected, with the plan's fallback to the active set
+/// (`"auto"`) when Lemke fails numerically.
 fn solve_condensed_once(
     problem: &Problem,
     (spec, plan): (&ContactSpec, plan::Plan),
@@ -607,33 +608,38 @@ fn solve_condensed_once(
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let Found { candidates, target, paired_points, unpaired } = found;
-    let condensed = clock.run_counted("condensation", |progress| {
-        let op = &candidates.operator;
-        let mut parts = vec![contact::condense_model_observed(model, op, progress)?];
-        if let (Some(op), Some((_, m2))) = (&target, second) {
-            parts.push(contact::condense_model_observed(m2, op, progress)?);
-        }
-        contact::CondensedContact::combine(&candidates.initial_gap, &parts)
+    let m = candidates.len();
+    let steps: Vec<_> =
+        std::iter::once(&*model).chain(second.map(|(_, m2)| m2)).map(one_shot_step).collect();
+    let terms = one_shot_terms((model, &candidates.operator), target.as_ref().zip(second), &steps);
+    let mut condensed = clock.run_counted("condensation", |progress| {
+        load_path::condense_normal(&terms, &candidates.initial_gap, progress)
     })?;
     let warning = compliance_warning(problem, spec, &condensed, target.as_ref())?;
-    let m = candidates.len();
-    let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
-    let result =
-        clock.run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
-    let result = match result {
-        Ok(result) => result,
-        // A ray is a numerical failure only when M passed its checks (positive definite
-        // symmetric part: the LCP has a solution); else it may prove that none exists, and
-        // stays Lemke's own error.
-        Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
-            return Err(cause.into());
-        }
-        Err(cause) => {
-            let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
+    let path = load_path::Path {
+        initial_gap: &candidates.initial_gap,
+        normals: &candidates.normals,
+        steps: &steps[0],
+        friction: vec![vec![0.0; m]],
+        moved: None,
+        held: Vec::new(),
+        groups: Vec::new(),
+        write_steps: false,
+        named_steps: false,
+        lemke,
+        polish: true,
+    };
+    let blocks = load_path::normal_blocks(&mut condensed);
+    let answer = match load_path::run_condensed(&path, &terms, blocks, clock) {
+        Ok(answer) => answer,
+        Err(e) => {
+            let mut refusal = match refused(e, &condensed, warning.is_some()) {
+                Error::LemkeRefused(refusal) => refusal,
+                other => return Err(other),
+            };
             // Frictionless and one step here: the active-set solver takes the problem.
-            let mut refusal = crate::error::LemkeRefusal::new(cause, m, extremes, true)?;
             if plan.fallback {
-                drop((lcp_problem, condensed));
+                drop((terms, condensed));
                 let pair = target.zip(second.map(|(_, m2)| m2));
                 match solve_active_set(spec, model, candidates, pair, clock) {
                     Ok((u1, u2, mut contact)) => {
@@ -646,45 +652,42 @@ fn solve_condensed_once(
                     Err(e) => refusal.active_set_failure = Some(e.to_string()),
                 }
             }
-            return Err(Error::LemkeRefused(Box::new(refusal)));
+            return Err(Error::LemkeRefused(refusal));
         }
     };
-    let mut result = result;
-    let polish = clock.run("lemke_polish", || lcp::polish(&lcp_problem, &mut result));
-    // The displacements of the forces `z` added to `u1`, `u2`, and their gaps.
-    let displaced = |z: &[f64], u1: &[f64], u2: Option<&[f64]>| -> Result<_, Error> {
-        let mut rhs = vec![0.0; u1.len()];
-        candidates.operator.add_forces(z, &mut rhs);
-        let d1 = model.factorisation.solve(&rhs)?;
-        let v1: Vec<f64> = u1.iter().zip(&d1).map(|(a, b)| a + b).collect();
-        let v2 = match (&target, second, u2) {
-            (Some(op), Some((_, m2)), Some(u2)) => {
-                let mut rhs2 = vec![0.0; u2.len()];
-                op.add_forces(z, &mut rhs2);
-                let d2 = m2.factorisation.solve(&rhs2)?;
-                Some(u2.iter().zip(&d2).map(|(a, b)| a + b).collect::<Vec<f64>>())
-            }
-            _ => None,
-        };
-        let gap = final_gaps(model, &candidates, &v1, target.as_ref().zip(v2.as_deref()));
-        Ok((v1, v2, gap))
+    drop(terms);
+    let load_path::PathAnswer { mut u, problem: step_problem, normal, .. } = answer;
+    condensed.compliance = step_problem.nn;
+    let Some((mut result, polish)) = normal else {
+        unreachable!("a frictionless one-shot path answers with Lemke's normal LCP")
     };
-    let mut rhs = model.system.rhs.clone();
-    candidates.operator.add_forces(&result.z, &mut rhs);
-    let mut u1 = clock.run("solve", || model.factorisation.solve(&rhs))?;
-    let mut u2 = match (&target, second) {
-        (Some(op), Some((_, m2))) => {
-            let mut rhs2 = m2.system.rhs.clone();
-            op.add_forces(&result.z, &mut rhs2);
-            Some(clock.run("solve", || m2.factorisation.solve(&rhs2))?)
-        }
-        _ => None,
-    };
+    let mut u2 = (u.len() == 2).then(|| u.pop()).flatten();
+    let mut u1 = u.pop().expect("the first body's displacements");
     let mut gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
     // Mixed precision: `M` and `q` carry the single-precision solves' error; one correction
     // against the displacements' own gaps closes them to double precision.
     let mut correction = None;
     if model.factorisation.stats().precision == FactorPrecision::Mixed {
+        let lcp_problem =
+            lcp::Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone())?;
+        // The displacements of the forces `z` added to `u1`, `u2`, and their gaps.
+        let displaced = |z: &[f64], u1: &[f64], u2: Option<&[f64]>| -> Result<_, Error> {
+            let mut rhs = vec![0.0; u1.len()];
+            candidates.operator.add_forces(z, &mut rhs);
+            let d1 = model.factorisation.solve(&rhs)?;
+            let v1: Vec<f64> = u1.iter().zip(&d1).map(|(a, b)| a + b).collect();
+            let v2 = match (&target, second, u2) {
+                (Some(op), Some((_, m2)), Some(u2)) => {
+                    let mut rhs2 = vec![0.0; u2.len()];
+                    op.add_forces(z, &mut rhs2);
+                    let d2 = m2.factorisation.solve(&rhs2)?;
+                    Some(u2.iter().zip(&d2).map(|(a, b)| a + b).collect::<Vec<f64>>())
+                }
+                _ => None,
+            };
+            let gap = final_gaps(model, &candidates, &v1, target.as_ref().zip(v2.as_deref()));
+            Ok((v1, v2, gap))
+        };
         let mut moved = None;
         let record = clock.run("gap_correction", || {
             solution::correct_closed_gaps(&lcp_problem, &mut result, &mut gap, &mut |dz| {
@@ -711,9 +714,56 @@ fn solve_condensed_once(
         warning,
     );
     contact.unpaired = unpaired;
-    contact.lemke_polish = Some(polish);
+    contact.lemke_polish = polish;
     contact.gap_correction = correction;
     Ok((u1, u2, contact))
+}
+
+/// A frictionless one-shot path's error `e` as Lemke's numerical failure
+/// ([`Error::LemkeRefused`], with the conditioning of `condensed`), or `e` itself: any other
+/// error, and a ray when `M` failed its checks (`overridden`: the ray may then prove that no
+/// solution exists, and stays Lemke's own error).
+fn refused(e: Error, condensed: &contact::CondensedContact, overridden: bool) -> Error {
+    let cause = match e {
+        Error::Lcp(cause @ lcp::LcpError::RayTermination { .. }) if overridden => {
+            return cause.into();
+        }
+        Error::Lcp(cause) => cause,
+        other => return other,
+    };
+    let m = condensed.free_gap.len();
+    let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
+    // Frictionless and one step: the active-set method applies.
+    match crate::error::LemkeRefusal::new(cause, m, extremes, true) {
+        Ok(refusal) => Error::LemkeRefused(Box::new(refusal)),
+        Err(cause) => cause.into(),
+    }
+}
+
+/// A body's one step of a one-shot path: to its own load in one increment, frictionless.
+fn one_shot_step(model: &Model) -> Vec<StepEnd> {
+    vec![StepEnd::whole(model, 0.0)]
+}
+
+/// The terms of a one-shot path (no tangential operators): the body's on its candidates'
+/// operator, and the target body's on its operator.
+fn one_shot_terms<'a>(
+    (model, operator): (&'a Model, &'a contact::BodyOperator),
+    target: Option<(&'a contact::BodyOperator, (&Problem, &'a Model))>,
+    steps: &'a [Vec<StepEnd>],
+) -> Vec<load_path::Term<'a>> {
+    let term = |model, normal, steps| load_path::Term {
+        model,
+        normal,
+        tangential: None,
+        index: None,
+        steps,
+    };
+    let mut terms = vec![term(model, operator, &steps[0])];
+    if let Some((op, (_, m2))) = target {
+        terms.push(term(m2, op, &steps[1]));
+    }
+    terms
 }
 
 /// The node coordinates the active-set solver orders its factorisations by (MFVM; the FE

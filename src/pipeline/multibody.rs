@@ -9,6 +9,7 @@ mod path;
 mod sparse_path;
 
 use super::friction::{StepEnd, step_ends};
+use super::load_path::{self, Term};
 use super::plan::Plan;
 use super::{final_gaps, finite};
 use crate::assembly::PinnedMode;
@@ -258,7 +259,7 @@ pub fn solve_bodies(
     };
     let ((solved, frictions, load_driven), fallback_from) =
         solve_scene(&scene, &models, &held, on_path, lemke, &mut clock)?;
-    let Solved { result, free_gap, condensed, warning, search, displacements, record } = solved;
+    let Solved { result, free_gap, condensed, warning, search, displacements: u, record } = solved;
     let rigid = held_modes(&held, &search, (&problems, &models), &result, &free_gap)?;
     // The pin's value is the translation found, so that the system each solution answers
     // (its residual, its reactions) is the one solved.
@@ -267,12 +268,6 @@ pub fn solve_bodies(
         super::set_pin(if *b == 0 { &mut model } else { &mut others[*b - 1] }, r);
     }
     let models: Vec<&Model> = std::iter::once(&model).chain(others.iter()).collect();
-    // Lemke: one solve per body with the forces of the pairs that touch it; the active set:
-    // the displacements of its final closed set (as for one or two bodies).
-    let u = match displacements {
-        Some(u) => u,
-        None => body_displacements(&models, &numbering.operators, &result, &mut clock)?,
-    };
     let answer = PairAnswer { result: &result, free_gap: &free_gap, load_driven, frictions };
     let contacts = pair_solutions(problem, pairs, found, &numbering, (&models, &u), answer);
     let mut solutions =
@@ -444,26 +439,6 @@ fn held_modes(
     Ok(rigid)
 }
 
-/// Each body's displacements from one solve with the contact forces of the pairs that touch
-/// it (Lemke's answer).
-fn body_displacements(
-    models: &[&Model],
-    operators: &[Option<(BodyOperator, Vec<usize>)>],
-    result: &lcp::LcpSolution,
-    clock: &mut Clock<'_>,
-) -> Result<Vec<Vec<f64>>, Error> {
-    let mut u = Vec::with_capacity(models.len());
-    for (b, op) in operators.iter().enumerate() {
-        let mut rhs = models[b].system.rhs.clone();
-        if let Some((op, index)) = op {
-            let forces: Vec<f64> = index.iter().map(|&g| result.z[g]).collect();
-            op.add_forces(&forces, &mut rhs);
-        }
-        u.push(clock.run("solve", || models[b].factorisation.solve(&rhs))?);
-    }
-    Ok(u)
-}
-
 /// What the LCP gave that every pair's record shares.
 struct PairAnswer<'a> {
     result: &'a lcp::LcpSolution,
@@ -588,7 +563,7 @@ struct Solved {
     warning: Option<String>,
     /// Each held body's translation and the LCP solves of the search (empty: none held).
     search: Vec<(f64, usize)>,
-    displacements: Option<Vec<Vec<f64>>>,
+    displacements: Vec<Vec<f64>>,
     record: Option<solution::ActiveSetRecord>,
 }
 
@@ -618,7 +593,8 @@ fn pair_targets<'a>(
 }
 
 /// Lemke's method on `M = Σ_b G_b K_b⁻¹ E_b` over all candidates (docs/method.md §4.5), with
-/// the search of a held translation (§4.7).
+/// the search of a held translation (§4.7): μ = 0, one step of one increment on the
+/// condensed load path ([`load_path::run_condensed`]), each body one term.
 fn solve_lemke(
     scene: &path::Scene<'_>,
     models: &[&Model],
@@ -626,69 +602,64 @@ fn solve_lemke(
     lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<Solved, Error> {
-    let (problem, pairs, operators) = (scene.problem, scene.pairs, scene.operators);
-    let initial_gap = scene.initial_gap;
+    let (problem, pairs, initial_gap) = (scene.problem, scene.pairs, scene.initial_gap);
     let m = initial_gap.len();
-    let condensed = clock.run_counted("condensation", |progress| {
-        let mut total =
-            contact::CondensedPart { compliance: vec![0.0; m * m], free_gap: vec![0.0; m] };
-        for (b, op) in operators.iter().enumerate() {
-            let Some((op, index)) = op else { continue };
-            let part = contact::condense_model_observed(models[b], op, progress)?;
-            let mb = index.len();
-            for (i, &gi) in index.iter().enumerate() {
-                total.free_gap[gi] += part.free_gap[i];
-                for (j, &gj) in index.iter().enumerate() {
-                    total.compliance[gi * m + gj] += part.compliance[i * mb + j];
-                }
-            }
+    let steps: Vec<Vec<StepEnd>> = models.iter().map(|m| super::one_shot_step(m)).collect();
+    let mut term_of = vec![None; models.len()];
+    let mut terms = Vec::new();
+    for (b, op) in scene.operators.iter().enumerate() {
+        if let Some((normal, index)) = op {
+            term_of[b] = Some(terms.len());
+            let (model, steps) = (models[b], &steps[b]);
+            terms.push(Term { model, normal, tangential: None, index: Some(index), steps });
         }
-        contact::CondensedContact::combine(initial_gap, &[total])
+    }
+    let mut condensed = clock.run_counted("condensation", |progress| {
+        load_path::condense_normal(&terms, initial_gap, progress)
     })?;
     let targets = pair_targets(scene.found, scene.offsets);
     let warning = compliance_warning(problem, pairs, &targets, &condensed)?;
-    let lemke_on = |q: &[f64], clock: &mut Clock| -> Result<lcp::LcpSolution, Error> {
-        let lcp_problem = lcp::Lcp::new(m, condensed.compliance.clone(), q.to_vec())?;
-        let result = clock
-            .run_counted("lemke", |progress| lcp::lemke_observed(&lcp_problem, lemke, progress));
-        match result {
-            Ok(r) => Ok(r),
-            Err(cause @ lcp::LcpError::RayTermination { .. }) if warning.is_some() => {
-                Err(cause.into())
-            }
-            Err(cause) => {
-                let extremes =
-                    [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
-                // Frictionless and one step here: the active-set method takes the pairs.
-                let refusal = crate::error::LemkeRefusal::new(cause, m, extremes, true)?;
-                Err(Error::LemkeRefused(Box::new(refusal)))
-            }
+    let (normals, friction) = (path::normals(scene), vec![vec![0.0; m]]);
+    let path = load_path::Path {
+        initial_gap,
+        normals: &normals,
+        steps: &steps[0],
+        moved: Some(scene.moved),
+        held: path::held_on_path(held, &term_of, &friction, &normals)?,
+        friction,
+        groups: Vec::new(),
+        write_steps: false,
+        named_steps: false,
+        lemke,
+        polish: false,
+    };
+    let blocks = load_path::normal_blocks(&mut condensed);
+    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+        .map_err(|e| super::refused(e, &condensed, warning.is_some()))?;
+    drop(terms);
+    condensed.compliance = answer.problem.nn;
+    let Some((result, _)) = answer.normal else {
+        unreachable!("a frictionless path answers with Lemke's normal LCP")
+    };
+    // Each body's displacements: its term's, or (no pair touches it) its own solve.
+    let mut solved = answer.u.into_iter();
+    let mut u = Vec::with_capacity(models.len());
+    for (b, model) in models.iter().enumerate() {
+        match term_of[b] {
+            Some(_) => u.push(solved.next().expect("one answer per term")),
+            None => u.push(clock.run("solve", || model.factorisation.solve(&model.system.rhs))?),
         }
-    };
-    // A body held by the contact alone (docs/method.md §4.7): its translation t along r
-    // moves the gaps by −a t, and its pin's reaction vanishes when aᵀz = F_r.
-    let (result, search) = if held.is_empty() {
-        (lemke_on(&condensed.free_gap, clock)?, Vec::new())
-    } else {
-        let unknowns = held_unknowns(held);
-        let unknowns = lcp::load_driven::nested::Unknowns { held: &unknowns, force: None };
-        let found = lcp::load_driven::search_condensed(
-            &condensed.compliance,
-            &condensed.free_gap,
-            unknowns,
-            |q| lemke_on(q, clock),
-            |r| r.z.as_slice(),
-        )?;
-        let search = found.translations.iter().map(|&t| (t, found.evaluations)).collect();
-        (found.outer.answer, search)
-    };
+    }
+    let search = (answer.rigid_modes.iter().zip(held))
+        .map(|(r, (_, pin, _, _))| (r.translation[pin.axis as usize], r.evaluations))
+        .collect();
     Ok(Solved {
         result,
         free_gap: condensed.free_gap.clone(),
         condensed: Some(condensed),
         warning,
         search,
-        displacements: None,
+        displacements: u,
         record: None,
     })
 }
@@ -717,7 +688,7 @@ fn solve_active_set(
                 condensed: None,
                 warning: None,
                 search: Vec::new(),
-                displacements: Some(u),
+                displacements: u,
                 record: Some(solution::ActiveSetRecord {
                     iterations: answer.iterations,
                     changes: answer.changes,
@@ -767,7 +738,7 @@ fn solve_active_set(
             condensed: None,
             warning: None,
             search: found.translations.iter().map(|&t| (t, found.evaluations)).collect(),
-            displacements: Some(u),
+            displacements: u,
             record: Some(solution::ActiveSetRecord {
                 iterations,
                 changes: answer.changes,

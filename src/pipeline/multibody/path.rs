@@ -143,7 +143,7 @@ pub(super) fn refuse_force(
 
 /// The held bodies' searches on the path (docs/method.md §4.7), with friction only as
 /// [`refuse_slanted`] allows.
-fn held_on_path(
+pub(super) fn held_on_path(
     held: &[HeldBody],
     term_of: &[Option<usize>],
     friction: &[Vec<f64>],
@@ -184,7 +184,7 @@ pub(super) fn solve(
             terms.push(Term {
                 model: models[b],
                 normal,
-                tangential,
+                tangential: Some(tangential),
                 index: Some(index),
                 steps: &scene.steps[b],
             });
@@ -208,6 +208,8 @@ pub(super) fn solve(
         groups: (0..pairs.len()).map(|k| scene.offsets[k]..scene.offsets[k + 1]).collect(),
         write_steps: scene.problem.write_steps,
         named_steps: !scene.problem.steps.is_empty(),
+        lemke: &lcp::LemkeParams::default(),
+        polish: false,
     };
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
     let last_friction = path.friction.last().cloned().unwrap_or_default();
@@ -232,7 +234,7 @@ pub(super) fn solve(
         condensed: Some(compliance),
         warning,
         search,
-        displacements: Some(u),
+        displacements: u,
         record: None,
     };
     Ok((solved, frictions, answer.load_driven))

@@ -228,7 +228,7 @@ pub(super) fn solve(
         condensed: None,
         warning: None,
         search,
-        displacements: Some(u),
+        displacements: u,
         record: Some(record),
     };
     Ok((solved, frictions, load_driven))
