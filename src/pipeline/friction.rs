@@ -308,7 +308,6 @@ pub(super) fn solve_frictional(
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
         lemke: &lcp::LemkeParams::default(),
-        polish: false,
     };
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
     drop(terms);

@@ -168,9 +168,6 @@ pub(super) struct Path<'a> {
     /// Lemke's parameters on the frictionless steps (the default but in tests that provoke
     /// its failure).
     pub(super) lemke: &'a lcp::LemkeParams,
-    /// Whether a frictionless step's answer is polished on its closed set ([`lcp::polish`];
-    /// the one-shot route's, recorded as `lemke_polish`).
-    pub(super) polish: bool,
 }
 
 impl Path<'_> {
@@ -386,7 +383,7 @@ struct Searches {
 }
 
 /// One increment's answer without a search, or one trial of a search: the frictionless step
-/// by Lemke on `M_nn` (with the path's parameters, polished when the path asks) with the
+/// by Lemke on `M_nn` (with the path's parameters, polished on its closed set) with the
 /// normal LCP's own answer, or the frictional step LCP.
 fn solve_plain(
     path: &Path<'_>,
@@ -399,10 +396,7 @@ fn solve_plain(
     let mut solved = timer.run("lemke", |progress| {
         lcp::solve_frictionless_step(step_problem, path.lemke, progress)
     })?;
-    let polish = match path.polish {
-        true => Some(timer.run("lemke_polish", |_| solved.polish(step_problem))?),
-        false => None,
-    };
+    let polish = timer.run("lemke_polish", |_| solved.polish(step_problem))?;
     Ok((solved.step, Some((solved.lcp, polish))))
 }
 
@@ -412,7 +406,7 @@ type Increment = (lcp::FrictionSolution, Option<Normal>);
 
 /// A frictionless increment's normal LCP answer, as Lemke (and the polish) gave it, and the
 /// polish's record.
-pub(super) type Normal = (lcp::LcpSolution, Option<lcp::Polish>);
+pub(super) type Normal = (lcp::LcpSolution, lcp::Polish);
 
 /// One increment's step answer at load factor `lambda` of step `k`: the step LCP, or the
 /// search for a force-driven obstacle or a held translation around it.

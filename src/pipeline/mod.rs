@@ -627,7 +627,6 @@ fn solve_condensed_once(
         write_steps: false,
         named_steps: false,
         lemke,
-        polish: true,
     };
     let blocks = load_path::normal_blocks(&mut condensed);
     let answer = match load_path::run_condensed(&path, &terms, blocks, clock) {
@@ -714,7 +713,7 @@ fn solve_condensed_once(
         warning,
     );
     contact.unpaired = unpaired;
-    contact.lemke_polish = polish;
+    contact.lemke_polish = Some(polish);
     contact.gap_correction = correction;
     Ok((u1, u2, contact))
 }

@@ -631,7 +631,6 @@ fn solve_lemke(
         write_steps: false,
         named_steps: false,
         lemke,
-        polish: false,
     };
     let blocks = load_path::normal_blocks(&mut condensed);
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)

@@ -209,7 +209,6 @@ pub(super) fn solve(
         write_steps: scene.problem.write_steps,
         named_steps: !scene.problem.steps.is_empty(),
         lemke: &lcp::LemkeParams::default(),
-        polish: false,
     };
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
     let last_friction = path.friction.last().cloned().unwrap_or_default();
