@@ -389,7 +389,14 @@ fn solve_bodies(
             .chain(dynamics.others.iter().map(|m| (m.density, m.initial_velocity)))
             .collect();
     if motions.len() != problems.len() {
-        return Err(contact::ContactError::MissingTarget.into());
+        return Err(crate::problem::ProblemError::Invalid {
+            field: "dynamics".into(),
+            value: format!("{} motions for {} bodies", motions.len(), problems.len()),
+            reason:
+                "each body needs its density and initial velocity (problem::dynamics builds them)"
+                    .into(),
+        }
+        .into());
     }
     let stepped: Vec<Body<'_>> = problems
         .iter()

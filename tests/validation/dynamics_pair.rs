@@ -226,7 +226,7 @@ fn cradle_text(spacing: f64, wall: Option<f64>, end: f64) -> String {
 /// pair's impulses are equal and opposite; measured 2.1e-13); every step's LCP residual
 /// within the run's own check (1e-9); each pair's impulse over the run is the momentum it
 /// moved — the striker's loss and the last bar's gain — to 1e-10 (the per-pair forces'
-/// bookkeeping; measured 2e-15); the second pair closes about `L / c` after the first
+/// bookkeeping; measured 1.8e-13 of `ρ L H v0`); the second pair closes about `L / c` after the first
 /// (within 2 %; measured 1.0000); the
 /// energy taken by the impacts at most twice the two-bar pair's at the same resolution (two
 /// impacts; measured 1.11 ×, 0.386 % against 0.346 % of the initial energy).
