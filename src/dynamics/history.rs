@@ -20,6 +20,10 @@ pub struct Record {
     pub contact_loss: f64,
     /// Momentum `Σ_I m_I v^h(x_I)` (x, y).
     pub momentum: [f64; 2],
+    /// With several contact pairs, each pair's mean force over the step (`[[contact]]`
+    /// order; they sum to `contact_force`); empty with one pair (`contact_force` is its
+    /// force) or none.
+    pub pair_forces: Vec<f64>,
     /// Candidates in the step's index set.
     pub active: usize,
     /// Lemke's pivots in the step.
@@ -45,6 +49,7 @@ impl Record {
             external_work: 0.0,
             contact_loss: 0.0,
             momentum: [1.0, 0.0],
+            pair_forces: Vec::new(),
             active: 1,
             pivots: 1,
             residual,
@@ -65,6 +70,7 @@ impl Record {
             self.residual,
         ]
         .iter()
+        .chain(&self.pair_forces)
         .filter(|v| !v.is_finite())
         .count()
     }
@@ -132,16 +138,65 @@ pub struct History {
     pub records: Vec<Record>,
 }
 
+/// The contact figures of one contact pair of a run with several ([`History::pair_figures`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct PairFigures {
+    /// Start of the first step with an impulse of the pair (`None`: it never touched).
+    pub contact_start: Option<f64>,
+    /// End of the last step with an impulse of the pair.
+    pub contact_end: Option<f64>,
+    /// `contact_end − contact_start`.
+    pub contact_duration: Option<f64>,
+    /// The pair's total impulse over the run.
+    pub total_impulse: f64,
+    /// `total_impulse / contact_duration`.
+    pub mean_contact_force: Option<f64>,
+    /// The pair's largest mean force of one step.
+    pub peak_contact_force: f64,
+}
+
+impl PairFigures {
+    /// The figures of the force `force(record)` over `records` (time 0 first), step `h`.
+    fn of(records: &[Record], h: f64, force: impl Fn(&Record) -> f64) -> Self {
+        let touching: Vec<&Record> = records[1..].iter().filter(|x| force(x) > 0.0).collect();
+        let contact_start = touching.first().map(|x| x.time - h);
+        let contact_end = touching.last().map(|x| x.time);
+        let contact_duration = contact_start.zip(contact_end).map(|(a, b)| b - a);
+        let total_impulse: f64 = records[1..].iter().map(|x| force(x) * h).sum();
+        Self {
+            contact_start,
+            contact_end,
+            contact_duration,
+            total_impulse,
+            mean_contact_force: contact_duration.map(|d| total_impulse / d),
+            peak_contact_force: records.iter().map(&force).fold(0.0, f64::max),
+        }
+    }
+}
+
 impl History {
+    /// Each contact pair's figures, from the records' pair forces (empty with one pair).
+    pub fn pair_figures(&self, h: f64) -> Vec<PairFigures> {
+        let pairs = self.records.first().map_or(0, |r| r.pair_forces.len());
+        (0..pairs)
+            .map(|k| {
+                PairFigures::of(&self.records, h, |r| r.pair_forces.get(k).copied().unwrap_or(0.0))
+            })
+            .collect()
+    }
+
     /// The run's figures; `h` is the step, `mass` the total mass.
     pub fn figures(&self, h: f64, mass: f64) -> Figures {
         let r = &self.records;
         let (first, last) = (&r[0], &r[r.len() - 1]);
-        let touching: Vec<&Record> = r[1..].iter().filter(|x| x.contact_force > 0.0).collect();
-        let contact_start = touching.first().map(|x| x.time - h);
-        let contact_end = touching.last().map(|x| x.time);
-        let contact_duration = contact_start.zip(contact_end).map(|(a, b)| b - a);
-        let total_impulse: f64 = r[1..].iter().map(|x| x.contact_force * h).sum();
+        let PairFigures {
+            contact_start,
+            contact_end,
+            contact_duration,
+            total_impulse,
+            mean_contact_force,
+            peak_contact_force,
+        } = PairFigures::of(r, h, |x| x.contact_force);
         let top = r.iter().map(Record::energy).fold(first.energy(), f64::max);
         let scale = if top > 0.0 { top } else { 1.0 };
         let excess: Vec<f64> = r
@@ -158,8 +213,8 @@ impl History {
             contact_end,
             contact_duration,
             total_impulse,
-            mean_contact_force: contact_duration.map(|d| total_impulse / d),
-            peak_contact_force: r.iter().map(|x| x.contact_force).fold(0.0, f64::max),
+            mean_contact_force,
+            peak_contact_force,
             final_velocity: [last.momentum[0] / mass, last.momentum[1] / mass],
             initial_energy: first.energy(),
             final_energy: last.energy(),
@@ -181,6 +236,32 @@ mod tests {
 
     fn record(time: f64, residual: f64) -> Record {
         Record::sample(time, residual)
+    }
+
+    /// Each pair's figures read its own force; they add up to the run's.
+    #[test]
+    fn pair_figures_follow_each_pair_force() {
+        let with = |time: f64, forces: [f64; 2]| Record {
+            contact_force: forces[0] + forces[1],
+            pair_forces: forces.to_vec(),
+            ..record(time, 0.0)
+        };
+        let h = History {
+            records: vec![
+                with(0.0, [0.0, 0.0]),
+                with(0.1, [2.0, 0.0]),
+                with(0.2, [1.0, 3.0]),
+                with(0.3, [0.0, 1.0]),
+            ],
+        };
+        let pairs = h.pair_figures(0.1);
+        assert_eq!(pairs.len(), 2);
+        assert_eq!((pairs[0].contact_start, pairs[0].contact_end), (Some(0.0), Some(0.2)));
+        assert_eq!((pairs[1].contact_start, pairs[1].contact_end), (Some(0.1), Some(0.3)));
+        assert_eq!((pairs[0].peak_contact_force, pairs[1].peak_contact_force), (2.0, 3.0));
+        let total = h.figures(0.1, 1.0).total_impulse;
+        assert!((pairs[0].total_impulse + pairs[1].total_impulse - total).abs() < 1e-15);
+        assert!(History { records: vec![record(0.0, 0.0)] }.pair_figures(0.1).is_empty());
     }
 
     #[test]

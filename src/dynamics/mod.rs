@@ -27,11 +27,12 @@ pub mod mass;
 mod pair;
 mod stepping;
 
-pub use history::{Figures, History, Record};
+pub use history::{Figures, History, PairFigures, Record};
 
 pub use impacts::{Friction, Impacts, Term};
 pub use iteration::Iteration;
-pub use pair::{BodyEnd, PairContact, PairSimulation, simulate_bodies};
+pub use pair::{BodiesSimulation, BodyEnd, simulate_bodies};
+pub use stepping::Contacts;
 
 use crate::assembly::{BlockRows, GlobalSystem};
 use crate::contact::BodyOperator;
@@ -193,6 +194,7 @@ pub fn simulate(
         normal: vec![Term { body: 0, offset: 0, operator: c.operator }],
         initial_gap: c.initial_gap.to_vec(),
         friction: c.friction,
+        pair_starts: vec![0],
     });
     let mut run = stepping::run(&[body], contacts, params, &[params.initial_velocity], progress)?;
     let state = run.states.pop().unwrap_or_else(|| unreachable!("one body"));
@@ -226,6 +228,7 @@ fn record(body: &Body<'_>, state: &State, time: f64) -> Record {
         external_work: 0.0,
         contact_loss: 0.0,
         momentum: energy::momentum(mass, &v),
+        pair_forces: Vec::new(),
         active: 0,
         pivots: 0,
         residual: 0.0,

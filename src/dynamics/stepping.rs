@@ -10,14 +10,20 @@ use super::{Friction, Term, free_load, record};
 use crate::problem::dynamics::Dynamics;
 use std::time::Instant;
 
-/// The candidates of a run before condensation.
-pub(super) struct Contacts<'a> {
-    /// The normal terms (`G_b`, `E_b` of the candidates on each body).
+/// The candidates of a run before condensation: every contact pair's, numbered pair after
+/// pair.
+pub struct Contacts<'a> {
+    /// The normal terms (`G_b`, `E_b` of the candidates on each body; a pair of bodies has
+    /// two, the candidates' and the target's, a pair against rigid obstacles one), each at
+    /// its pair's first candidate.
     pub normal: Vec<Term<'a>>,
     /// `g0`, one per candidate.
     pub initial_gap: Vec<f64>,
     /// Coulomb friction at the velocity level (`None`: frictionless).
     pub friction: Option<Friction<'a>>,
+    /// The first candidate of each contact pair, ascending from 0 (`[0]` for one pair): with
+    /// several, each record carries each pair's force ([`Record::pair_forces`]).
+    pub pair_starts: Vec<usize>,
 }
 
 /// A finished run of the loop.
@@ -56,13 +62,18 @@ pub(super) fn run(
         .iter()
         .map(|b| Iteration::new(b.system, &b.mass, b.node_shapes, h, theta, b.points))
         .collect::<Result<Vec<_>, _>>()?;
+    let pair_starts = contacts.as_ref().map_or_else(Vec::new, |c| c.pair_starts.clone());
     let impacts = contacts
         .map(|c| Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction))
         .transpose()?;
     seconds.setup = clock.elapsed().as_secs_f64();
     let loads: Vec<Vec<f64>> = bodies.iter().map(|b| free_load(b.system)).collect();
     let mut states = initial_states(bodies, velocities);
-    let mut history = History { records: vec![summed(bodies, &states, 0.0)] };
+    let mut start = summed(bodies, &states, 0.0);
+    if pair_starts.len() > 1 {
+        start.pair_forces = vec![0.0; pair_starts.len()];
+    }
+    let mut history = History { records: vec![start] };
     let steps = params.steps();
     let snapshot =
         |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
@@ -95,7 +106,7 @@ pub(super) fn run(
         let mut rec = summed(bodies, &states, step as f64 * h);
         (rec.external_work, rec.contact_loss) = (external, loss);
         if let Some((_, answer)) = answer {
-            with_contact(&mut rec, &answer, h);
+            with_contact(&mut rec, &answer, h, &pair_starts);
             final_impulses = answer.impulses;
         }
         history.records.push(rec);
@@ -166,10 +177,19 @@ fn advance(
     (next, (external, loss))
 }
 
-/// `rec` with the step's contact: the mean force `Σ Π / h`, the index set's size, Lemke's
-/// pivots and the LCP's residual.
-fn with_contact(rec: &mut Record, answer: &StepImpulses, h: f64) {
+/// `rec` with the step's contact: the mean force `Σ Π / h` (and each pair's, with several
+/// pairs starting at `pair_starts`), the index set's size, Lemke's pivots and the LCP's
+/// residual.
+fn with_contact(rec: &mut Record, answer: &StepImpulses, h: f64, pair_starts: &[usize]) {
     rec.contact_force = answer.impulses.iter().sum::<f64>() / h;
+    if pair_starts.len() > 1 {
+        let ends = pair_starts[1..].iter().copied().chain([answer.impulses.len()]);
+        rec.pair_forces = pair_starts
+            .iter()
+            .zip(ends)
+            .map(|(&a, b)| answer.impulses[a..b].iter().sum::<f64>() / h)
+            .collect();
+    }
     rec.active = answer.active;
     rec.pivots = answer.pivots;
     rec.residual = answer.residual;

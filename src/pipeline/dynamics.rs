@@ -1,18 +1,20 @@
 //! Elastodynamic runs (`[dynamics]`, docs/method.md §10): the body assembled without a
 //! static factorisation (MFVM or finite elements), its contact candidates against the rigid
-//! obstacles, the time stepping ([`crate::dynamics::simulate`]) and the outputs.
+//! obstacles, the time stepping ([`crate::dynamics::simulate`]) and the outputs; or several
+//! bodies in contact pairs with each other or with rigid obstacles (`solve_bodies`,
+//! [`crate::dynamics::simulate_bodies`]).
 
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
-use crate::contact::{self, BodyOperator, BodyView, Candidates, rings};
+use crate::contact::{self, BodyOperator, BodyView, Candidates, ContactTarget, rings};
 use crate::dynamics::{self, Body, BodyEnd, Contact, Simulation, StrainEnergy};
 use crate::error::Error;
 use crate::fem::{self, Mesh};
+use crate::geometry::Point;
 use crate::mls::ShapeSet;
 use crate::nodes::Nodes;
 use crate::post::{self, history::DynamicSummary};
-use crate::problem::Method;
-use crate::problem::{Problem, dynamics::Dynamics};
+use crate::problem::{Method, Obstacle, Problem, dynamics::Dynamics};
 use crate::progress::{Clock, Progress, StageTiming};
 use std::path::{Path, PathBuf};
 
@@ -60,9 +62,10 @@ impl DynamicBody {
 
 /// A dynamic run, solved: the body, its candidates and the time history.
 pub struct DynamicOutcome {
-    /// The body.
+    /// The body (the first of several).
     pub body: DynamicBody,
-    /// The candidates (`None` without contact).
+    /// The candidates of one body against rigid obstacles (`None` without contact; with
+    /// several bodies each pair's are in `bodies`).
     pub candidates: Option<Candidates>,
     /// The time stepping's result.
     pub simulation: Simulation,
@@ -70,24 +73,47 @@ pub struct DynamicOutcome {
     pub dynamics: Dynamics,
     /// Stage timings.
     pub timings: Vec<crate::progress::StageTiming>,
-    /// The second body of a two-body contact and each body's end (`None` for one body).
-    pub pair: Option<Box<PairOutcome>>,
+    /// The other bodies, the contact pairs and each body's end (`None` for one body).
+    pub bodies: Option<Box<BodiesOutcome>>,
 }
 
-/// The second body of a two-body run (the candidates are on the first) and both bodies' ends.
+/// The other bodies of a run of several (the first is [`DynamicOutcome::body`]), every contact
+/// pair and each body's end.
+pub struct BodiesOutcome {
+    /// Bodies 1, 2, … ([`Problem::body`]'s numbering).
+    pub others: Vec<DynamicBody>,
+    /// Each contact pair (`[contact]`, or the `[[contact]]` tables in order).
+    pub pairs: Vec<PairOutcome>,
+    /// Each body's end, in body order.
+    pub ends: Vec<BodyEnd>,
+}
+
+/// One contact pair of a run of several bodies.
 pub struct PairOutcome {
-    /// The second body.
-    pub body: DynamicBody,
-    /// The target's operator on it (`G₂`, `E₂`).
-    pub target: BodyOperator,
-    /// Body 1 and body 2 at the end.
-    pub ends: [BodyEnd; 2],
+    /// The body carrying the candidates.
+    pub body: usize,
+    /// The target body (`None`: rigid obstacles).
+    pub target_body: Option<usize>,
+    /// The candidates (on `body`).
+    pub candidates: Candidates,
+    /// The target's operator on the target body (`G₂`, `E₂`; `None` against obstacles).
+    pub target: Option<BodyOperator>,
+    /// The pair's first candidate among all pairs'.
+    pub offset: usize,
 }
 
 impl DynamicOutcome {
-    /// Number of nodes (of both bodies of a pair).
+    /// Number of nodes (of every body).
     pub fn nodes(&self) -> usize {
-        self.body.nodes().len() + self.pair.as_ref().map_or(0, |p| p.body.nodes().len())
+        self.body.nodes().len()
+            + self.bodies.as_ref().map_or(0, |b| b.others.iter().map(|o| o.nodes().len()).sum())
+    }
+    /// Number of contact candidates (of every pair).
+    pub fn candidates(&self) -> usize {
+        match &self.bodies {
+            Some(b) => b.pairs.iter().map(|p| p.candidates.len()).sum(),
+            None => self.candidates.as_ref().map_or(0, Candidates::len),
+        }
     }
     /// The nodes' positions.
     pub fn points(&self) -> &[crate::geometry::Point] {
@@ -125,7 +151,27 @@ impl std::fmt::Display for DynamicReport {
             g.initial_energy,
             g.final_energy,
             g.contact_loss
-        )
+        )?;
+        // Several pairs: each pair's contact and each body's final velocity.
+        for (k, p) in s.pairs.iter().flatten().enumerate() {
+            let p_ = &p.figures;
+            writeln!(
+                f,
+                "  pair {k} ({} on {}): contact from {} to {} (duration {}), mean force {}, peak {:.6}",
+                p.body,
+                p.target_body.as_deref().unwrap_or("obstacles"),
+                opt(p_.contact_start),
+                opt(p_.contact_end),
+                opt(p_.contact_duration),
+                opt(p_.mean_contact_force),
+                p_.peak_contact_force
+            )?;
+        }
+        for b in s.bodies.iter().flatten().filter(|_| s.pairs.is_some()) {
+            let v = b.final_velocity;
+            writeln!(f, "  body {}: final velocity [{:.6}, {:.6}]", b.name, v[0], v[1])?;
+        }
+        Ok(())
     }
 }
 
@@ -169,8 +215,8 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         })?;
     let mut clock = Clock::new(progress, Vec::new());
     let body = discretise_any(problem, &mut clock)?;
-    if let Some(p2) = &problem.second_body {
-        return solve_pair(problem, p2, body, dynamics, clock);
+    if problem.body_count() > 1 || problem.multibody.is_some() {
+        return solve_bodies(problem, body, dynamics, clock);
     }
     let candidates = match &problem.contact {
         Some(spec) => Some(clock.run("candidates", || {
@@ -233,7 +279,7 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         dynamics,
         timings: clock.timings,
         body,
-        pair: None,
+        bodies: None,
     })
 }
 
@@ -245,69 +291,189 @@ fn discretise_any(problem: &Problem, clock: &mut Clock<'_>) -> Result<DynamicBod
     })
 }
 
-/// Two bodies in contact (increment 10 of docs/dev/dynamics.md): the second body assembled,
-/// the pair's candidates, normals, gaps and target operator of the static pair
-/// ([`super::multibody::body_pair`]: straight or curved targets), with Coulomb friction the
-/// tangential operators of the static friction (the target's along `−t`), and the two-body
-/// time stepping ([`dynamics::simulate_bodies`]).
-fn solve_pair(
+/// A contact pair of a run of several bodies, as the problem states it.
+struct ScenePair<'a> {
+    body: usize,
+    target_body: Option<usize>,
+    spec: &'a contact::ContactSpec,
+    obstacles: &'a [Obstacle],
+}
+
+/// The contact pairs of `problem`'s bodies: `[contact]` between the two bodies of
+/// `second_body`, or every `[[contact]]` table of `multibody`.
+fn scene_pairs(problem: &Problem) -> Result<Vec<ScenePair<'_>>, contact::ContactError> {
+    Ok(match &problem.multibody {
+        Some(m) => m
+            .pairs
+            .iter()
+            .map(|p| ScenePair {
+                body: p.body,
+                target_body: p.target_body,
+                spec: &p.spec,
+                obstacles: &p.obstacles,
+            })
+            .collect(),
+        None => {
+            let spec = problem.contact.as_ref().ok_or(contact::ContactError::MissingTarget)?;
+            vec![ScenePair { body: 0, target_body: Some(1), spec, obstacles: &problem.obstacles }]
+        }
+    })
+}
+
+/// `pair`'s candidates and, against a body, the target's operator: between bodies the static
+/// pair's candidates, normals, gaps and target operator ([`super::multibody::body_pair`]:
+/// straight or curved targets), against rigid obstacles the one body's candidates.
+fn pair_candidates(
+    pair: &ScenePair<'_>,
+    problems: &[&Problem],
+    bodies: &[&DynamicBody],
+) -> Result<(Candidates, Option<BodyOperator>), contact::ContactError> {
+    let (problem, view, spec) = (problems[pair.body], bodies[pair.body].discretised(), pair.spec);
+    let rigid = |target: &dyn Fn(Point) -> (f64, Point)| {
+        contact::candidates_in(problem, view, spec.edge, target, spec.condensation)
+    };
+    match (spec.target, pair.target_body) {
+        (ContactTarget::Body { edge }, Some(t)) => {
+            let target = (problems[t], bodies[t].discretised(), edge);
+            let (candidates, op, _, _) = super::multibody::body_pair(problem, view, spec, target)?;
+            Ok((candidates, Some(op)))
+        }
+        (ContactTarget::Body { .. }, None) => Err(contact::ContactError::MissingTarget),
+        (ContactTarget::Obstacles, _) if pair.obstacles.is_empty() => {
+            Err(contact::ContactError::MissingTarget)
+        }
+        (ContactTarget::Obstacles, _) => Ok((
+            rigid(&|x| {
+                contact::closest_obstacle(pair.obstacles, x)
+                    .map_or((f64::INFINITY, [0.0, 1.0]), |(_, c)| (c.gap, c.normal))
+            })?,
+            None,
+        )),
+        (ContactTarget::Rigid(line), _) => Ok((rigid(&|x| (line.gap(x), line.normal))?, None)),
+    }
+}
+
+/// Several bodies in contact (increment 10 of docs/dev/dynamics.md): every body assembled,
+/// each pair's candidates ([`pair_candidates`]) numbered pair after pair, the pairs' terms on
+/// their bodies at their offsets, with Coulomb friction the tangential operators of the
+/// static friction (a target's along `−t`), and the time stepping of all bodies at once
+/// ([`dynamics::simulate_bodies`]).
+fn solve_bodies(
     problem: &Problem,
-    p2: &Problem,
     body: DynamicBody,
     dynamics: Dynamics,
     mut clock: Clock<'_>,
 ) -> Result<DynamicOutcome, Error> {
-    let second = discretise_any(p2, &mut clock)?;
-    let spec = problem.contact.as_ref().ok_or(contact::ContactError::MissingTarget)?;
-    let contact::ContactTarget::Body { edge } = spec.target else {
-        return Err(contact::ContactError::MissingTarget.into());
-    };
-    let (candidates, target, _, _) = clock.run("candidates", || {
-        super::multibody::body_pair(
-            problem,
-            body.discretised(),
-            spec,
-            (p2, second.discretised(), edge),
-        )
+    let problems: Vec<&Problem> =
+        (0..problem.body_count()).filter_map(|k| problem.body(k)).collect();
+    let mut others = Vec::with_capacity(problems.len() - 1);
+    for p in &problems[1..] {
+        others.push(discretise_any(p, &mut clock)?);
+    }
+    let all: Vec<&DynamicBody> = std::iter::once(&body).chain(&others).collect();
+    let scene = scene_pairs(problem)?;
+    let found = clock.run("candidates", || {
+        scene
+            .iter()
+            .map(|pair| pair_candidates(pair, &problems, &all))
+            .collect::<Result<Vec<_>, _>>()
     })?;
-    let motion = dynamics.second_body.ok_or(contact::ContactError::MissingTarget)?;
-    let stepped =
-        [stepped_body(problem, &body, dynamics.density), stepped_body(p2, &second, motion.density)];
-    let mu = spec.friction;
-    let tangential = (mu > 0.0).then(|| {
-        let systems = (stepped[0].system, stepped[1].system);
-        super::friction::tangential_operators_of(&candidates, systems.0, Some((systems.1, &target)))
+    let mut offsets = Vec::with_capacity(found.len());
+    let mut next = 0;
+    for (c, _) in &found {
+        offsets.push(next);
+        next += c.len();
+    }
+    let motions: Vec<(f64, [f64; 2])> =
+        std::iter::once((dynamics.density, dynamics.initial_velocity))
+            .chain(dynamics.others.iter().map(|m| (m.density, m.initial_velocity)))
+            .collect();
+    if motions.len() != problems.len() {
+        return Err(crate::problem::ProblemError::Invalid {
+            field: "dynamics".into(),
+            value: format!("{} motions for {} bodies", motions.len(), problems.len()),
+            reason:
+                "each body needs its density and initial velocity (problem::dynamics builds them)"
+                    .into(),
+        }
+        .into());
+    }
+    let stepped: Vec<Body<'_>> = problems
+        .iter()
+        .zip(&all)
+        .zip(&motions)
+        .map(|((p, b), &(density, _))| stepped_body(p, b, density))
+        .collect();
+    let mut normal = Vec::new();
+    for ((pair, (c, target)), &offset) in scene.iter().zip(&found).zip(&offsets) {
+        normal.push(dynamics::Term { body: pair.body, offset, operator: &c.operator });
+        if let (Some(t), Some(op)) = (pair.target_body, target) {
+            normal.push(dynamics::Term { body: t, offset, operator: op });
+        }
+    }
+    // Coulomb friction: every pair's tangential operators when any pair has friction (a
+    // frictionless pair's candidates get μ = 0).
+    let tangential: Option<Vec<_>> = scene.iter().any(|p| p.spec.friction > 0.0).then(|| {
+        scene
+            .iter()
+            .zip(&found)
+            .map(|(pair, (c, target))| {
+                let on_target =
+                    pair.target_body.zip(target.as_ref()).map(|(t, op)| (stepped[t].system, op));
+                super::friction::tangential_operators_of(c, stepped[pair.body].system, on_target)
+            })
+            .collect()
     });
-    let pair = dynamics::PairContact {
-        operator: &candidates.operator,
-        target: &target,
-        initial_gap: &candidates.initial_gap,
-        friction: tangential.as_ref().map(|(t1, free, t2)| {
-            // Given a target, the tangential operators include the target's (along −t).
-            let t2 = t2.as_ref().unwrap_or_else(|| unreachable!("the target's tangential term"));
-            let terms = vec![
-                dynamics::Term { body: 0, offset: 0, operator: t1 },
-                dynamics::Term { body: 1, offset: 0, operator: t2 },
-            ];
-            let coefficients = free.iter().map(|&f| if f { mu } else { 0.0 }).collect();
-            dynamics::Friction { terms, coefficients }
-        }),
+    let friction = tangential.as_ref().map(|tangential| {
+        let mut terms = Vec::new();
+        let mut coefficients = Vec::new();
+        for ((pair, (t1, free, t2)), &offset) in scene.iter().zip(tangential).zip(&offsets) {
+            terms.push(dynamics::Term { body: pair.body, offset, operator: t1 });
+            if let (Some(t), Some(op)) = (pair.target_body, t2) {
+                terms.push(dynamics::Term { body: t, offset, operator: op });
+            }
+            let mu = pair.spec.friction;
+            coefficients.extend(free.iter().map(|&f| if f { mu } else { 0.0 }));
+        }
+        dynamics::Friction { terms, coefficients }
+    });
+    let contacts = dynamics::Contacts {
+        normal,
+        initial_gap: found.iter().flat_map(|(c, _)| c.initial_gap.iter().copied()).collect(),
+        friction,
+        pair_starts: offsets.clone(),
     };
-    let velocities = [dynamics.initial_velocity, motion.initial_velocity];
+    let velocities: Vec<[f64; 2]> = motions.iter().map(|m| m.1).collect();
+    let refs: Vec<&Body<'_>> = stepped.iter().collect();
     let run = clock.run_counted("time steps", |advance| {
-        dynamics::simulate_bodies([&stepped[0], &stepped[1]], &pair, &dynamics, velocities, advance)
+        dynamics::simulate_bodies(&refs, contacts, &dynamics, &velocities, advance)
     })?;
     let s = run.simulation.seconds;
     clock.timings.push(StageTiming { stage: "time steps: M̂ and W set-up", seconds: s.setup });
     clock.timings.push(StageTiming { stage: "time steps: LCPs", seconds: s.lcp });
+    drop(refs);
     drop(stepped);
+    drop(tangential);
+    drop(all);
+    let pairs = scene
+        .iter()
+        .zip(found)
+        .zip(offsets)
+        .map(|((pair, (candidates, target)), offset)| PairOutcome {
+            body: pair.body,
+            target_body: pair.target_body,
+            candidates,
+            target,
+            offset,
+        })
+        .collect();
     Ok(DynamicOutcome {
-        candidates: Some(candidates),
+        candidates: None,
         simulation: run.simulation,
         dynamics,
         timings: clock.timings,
         body,
-        pair: Some(Box::new(PairOutcome { body: second, target, ends: run.bodies })),
+        bodies: Some(Box::new(BodiesOutcome { others, pairs, ends: run.bodies })),
     })
 }
 
@@ -385,12 +551,17 @@ pub fn run(
         warnings: post::history::warnings(&figures, outcome.dynamics.theta),
         name: problem.name.clone(),
         nodes: outcome.nodes(),
-        candidates: outcome.candidates.as_ref().map_or(0, Candidates::len),
+        candidates: outcome.candidates(),
         dynamics: (&outcome.dynamics).into(),
         figures,
         input,
         timings: outcome.timings.iter().map(|t| (t.stage, t.seconds)).collect(),
-        bodies: outcome.pair.as_ref().map(|pair| body_summaries(problem, &outcome, pair)),
+        bodies: outcome.bodies.as_ref().map(|b| body_summaries(problem, &outcome, b)),
+        pairs: outcome
+            .bodies
+            .as_ref()
+            .filter(|b| b.pairs.len() > 1)
+            .map(|b| pair_summaries(problem, &outcome, b)),
     };
     let mut files =
         post::frames::write_frames(staged.path(), outcome.points(), &outcome.simulation.frames)?;
@@ -403,28 +574,49 @@ pub fn run(
     Ok(DynamicReport { summary, files })
 }
 
-/// Each body of a two-body run for `summary.json`.
+/// Each body of a run of several for `summary.json`.
 fn body_summaries(
     problem: &Problem,
     outcome: &DynamicOutcome,
-    pair: &PairOutcome,
+    several: &BodiesOutcome,
 ) -> Vec<post::history::BodyFigures> {
     let d = &outcome.dynamics;
-    let motion = d.second_body.map_or((d.density, [0.0; 2]), |m| (m.density, m.initial_velocity));
-    let bodies = [
-        (problem, &outcome.body, (d.density, d.initial_velocity)),
-        (problem.second_body.as_deref().unwrap_or(problem), &pair.body, motion),
-    ];
-    bodies
-        .into_iter()
-        .zip(&pair.ends)
-        .map(|((p, body, (density, initial_velocity)), end)| post::history::BodyFigures {
+    let motions = std::iter::once((d.density, d.initial_velocity))
+        .chain(d.others.iter().map(|m| (m.density, m.initial_velocity)));
+    let bodies = std::iter::once(&outcome.body).chain(&several.others);
+    (0..problem.body_count())
+        .filter_map(|k| problem.body(k))
+        .zip(bodies)
+        .zip(motions)
+        .zip(&several.ends)
+        .map(|(((p, body), (density, initial_velocity)), end)| post::history::BodyFigures {
             name: p.name.clone(),
             nodes: body.nodes().len(),
             density,
             mass: end.mass,
             initial_velocity,
             final_velocity: end.mean_velocity(),
+        })
+        .collect()
+}
+
+/// Each contact pair of a run with several for `summary.json`.
+fn pair_summaries(
+    problem: &Problem,
+    outcome: &DynamicOutcome,
+    several: &BodiesOutcome,
+) -> Vec<post::history::PairHistory> {
+    let name = |k: usize| problem.body(k).map_or_else(String::new, |p| p.name.clone());
+    let figures = outcome.simulation.history.pair_figures(outcome.dynamics.time_step);
+    several
+        .pairs
+        .iter()
+        .zip(figures)
+        .map(|(pair, figures)| post::history::PairHistory {
+            body: name(pair.body),
+            target_body: pair.target_body.map(name),
+            candidates: pair.candidates.len(),
+            figures,
         })
         .collect()
 }

@@ -36,10 +36,29 @@ pub struct DynamicSummary {
     /// Wall time of each stage, seconds (the only non-deterministic entry, as in the static
     /// `summary.json`).
     pub timings: BTreeMap<&'static str, f64>,
-    /// The two bodies of a two-body run (absent for one body; `figures` are the pair's:
-    /// the contact force, the energies and momentum summed).
+    /// The bodies of a run of several (absent for one body; `figures` are the scene's: the
+    /// total contact force, the energies and momentum summed).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bodies: Option<Vec<BodyFigures>>,
+    /// Each contact pair's figures with several pairs (`[[contact]]` order; absent with
+    /// one pair, whose figures are `figures`' contact entries); `history.csv` has each
+    /// pair's force as `contact_force_<k>`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pairs: Option<Vec<PairHistory>>,
+}
+
+/// One contact pair of a run with several.
+#[derive(Clone, Debug, Serialize)]
+pub struct PairHistory {
+    /// The body carrying the candidates.
+    pub body: String,
+    /// The target body (`null` for rigid obstacles).
+    pub target_body: Option<String>,
+    /// The pair's candidates.
+    pub candidates: usize,
+    /// Its contact figures.
+    #[serde(flatten)]
+    pub figures: crate::dynamics::PairFigures,
 }
 
 /// One body of a two-body run.
@@ -166,7 +185,7 @@ pub fn write_dynamic(
     let plots = dir.join("plots");
     super::create_dir(&plots)?;
     let force = plots.join("history_force");
-    plot::write_chart(&force, &force_chart(history))?;
+    plot::write_chart(&force, &force_chart(history, summary.pairs.as_deref()))?;
     let energy = plots.join("history_energy");
     plot::write_chart(&energy, &energy_chart(history))?;
     let json = dir.join("summary.json");
@@ -184,12 +203,19 @@ pub fn write_dynamic(
     Ok(files)
 }
 
+/// One row per record; with several contact pairs each pair's force follows as
+/// `contact_force_<k>` (`[[contact]]` order).
 fn history_csv(history: &History) -> String {
     let mut s = String::from(
-        "time,contact_force,kinetic_energy,strain_energy,external_work,contact_loss,momentum_x,momentum_y,active\n",
+        "time,contact_force,kinetic_energy,strain_energy,external_work,contact_loss,momentum_x,momentum_y,active",
     );
+    let pairs = history.records.first().map_or(0, |r| r.pair_forces.len());
+    for k in 0..pairs {
+        let _ = write!(s, ",contact_force_{k}");
+    }
+    s.push('\n');
     for r in &history.records {
-        let _ = writeln!(
+        let _ = write!(
             s,
             "{},{},{},{},{},{},{},{},{}",
             num(r.time),
@@ -202,6 +228,10 @@ fn history_csv(history: &History) -> String {
             num(r.momentum[1]),
             r.active
         );
+        for f in &r.pair_forces {
+            let _ = write!(s, ",{}", num(*f));
+        }
+        s.push('\n');
     }
     s
 }
@@ -220,12 +250,23 @@ fn series(
     }
 }
 
-fn force_chart(history: &History) -> plot::Chart {
+fn force_chart(history: &History, pairs: Option<&[PairHistory]>) -> plot::Chart {
+    let mut series_ = vec![series(history, "total contact force", 0, |r| r.contact_force)];
+    for (k, p) in pairs.unwrap_or_default().iter().enumerate() {
+        let target = p.target_body.as_deref().unwrap_or("obstacles");
+        let label = format!("pair {k}: {} on {target}", p.body);
+        series_
+            .push(series(history, &label, k + 1, |r| r.pair_forces.get(k).copied().unwrap_or(0.0)));
+    }
+    let title = match pairs {
+        Some(_) => "Contact forces, total and per pair (mean over each step)",
+        None => "Total contact force (mean over each step)",
+    };
     plot::Chart {
-        title: "Total contact force (mean over each step)".into(),
+        title: title.into(),
         x_label: "time".into(),
         y_label: "contact force".into(),
-        series: vec![series(history, "total contact force", 0, |r| r.contact_force)],
+        series: series_,
     }
 }
 

@@ -28,9 +28,10 @@ pub struct Dynamics {
     /// A VTP snapshot of the body every this many steps (the first and last always;
     /// `None`: no snapshots).
     pub snapshot_every: Option<usize>,
-    /// The second body of a two-body contact (`Problem::second_body`): its density and
-    /// initial velocity (`density` and `initial_velocity` above are the first body's).
-    pub second_body: Option<Motion>,
+    /// The other bodies' density and initial velocity, bodies 1, 2, … of
+    /// [`Problem::body`] in order (empty for one body; `density` and `initial_velocity`
+    /// above are body 0's).
+    pub others: Vec<Motion>,
 }
 
 /// A body's mass density and uniform velocity at time 0.
@@ -113,19 +114,18 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         return Err(invalid("dynamics.output.every", 0, "must be at least 1"));
     }
     let density = density(file)?;
-    let second_body = match &problem.second_body {
-        Some(_) => Some(Motion {
-            density: file.body[1].material.density.ok_or_else(|| {
+    let others = (1..problem.body_count())
+        .map(|k| {
+            let density = file.body.get(k).and_then(|b| b.material.density).ok_or_else(|| {
                 invalid(
-                    "body[1].material.density",
+                    &format!("body[{k}].material.density"),
                     "(missing)",
                     "[dynamics] needs each body's mass density; add `density = …` to its material",
                 )
-            })?,
-            initial_velocity: velocity_of(file, 1)?,
-        }),
-        None => None,
-    };
+            })?;
+            Ok(Motion { density, initial_velocity: velocity_of(file, k)? })
+        })
+        .collect::<Result<Vec<_>, ProblemError>>()?;
     let dynamics = Dynamics {
         density,
         end_time,
@@ -135,7 +135,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         initial_velocity,
         load_ramp,
         snapshot_every,
-        second_body,
+        others,
     };
     if dynamics.steps() > MAX_STEPS {
         return Err(invalid(
@@ -149,15 +149,17 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
     }
     refuse_unsupported(file, problem)?;
     refuse_inconsistent_start(problem, initial_velocity, "")?;
-    if let (Some(p2), Some(m)) = (&problem.second_body, &dynamics.second_body) {
-        refuse_inconsistent_start(p2, m.initial_velocity, "body[1].")?;
+    for (k, m) in dynamics.others.iter().enumerate() {
+        if let Some(p) = problem.body(k + 1) {
+            refuse_inconsistent_start(p, m.initial_velocity, &format!("body[{}].", k + 1))?;
+        }
     }
     Ok(Some(dynamics))
 }
 
-/// The initial velocity of body `k` (0 or 1): `[dynamics] initial_velocity` for a body
+/// The initial velocity of body `k`: `[dynamics] initial_velocity` for a body
 /// without `[[body]]` tables, else `[[body]] initial_velocity` (`[dynamics]`'s is refused
-/// with two bodies, a body's and `[dynamics]`'s together with one), `[0, 0]` when absent;
+/// with several bodies, a body's and `[dynamics]`'s together with one), `[0, 0]` when absent;
 /// each finite and bounded.
 fn velocity_of(file: &ProblemFile, k: usize) -> Result<[f64; 2], ProblemError> {
     let own = file.body.get(k).and_then(|b| b.initial_velocity);
@@ -215,24 +217,30 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 }
 
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
-/// axisymmetric; friction on plane bodies only) against rigid obstacles, or two plane bodies
-/// (with or without friction), from rest at their prescribed displacements.
+/// axisymmetric; friction on plane bodies only) against rigid obstacles, or any number of
+/// plane bodies in contact pairs with each other or with rigid obstacles (with or without
+/// friction), from rest at their prescribed displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
-    let spec = problem.contact.as_ref();
-    let pair = problem.second_body.is_some();
-    let refused = if problem.multibody.is_some() {
-        Some(("body", "more than two bodies, or several contact pairs,"))
-    } else if pair && spec.is_some_and(|c| c.interference != 0.0) {
+    let several = problem.body_count() > 1 || problem.multibody.is_some();
+    // Every contact pair: `[contact]`'s, or each `[[contact]]` table's.
+    let specs: Vec<&super::ContactSpec> = match &problem.multibody {
+        Some(m) => m.pairs.iter().map(|p| &p.spec).collect(),
+        None => problem.contact.iter().collect(),
+    };
+    let axisymmetric = (0..problem.body_count())
+        .filter_map(|k| problem.body(k))
+        .any(|p| p.material.is_axisymmetric());
+    let refused = if several && specs.iter().any(|c| c.interference != 0.0) {
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
-    } else if pair && problem.material.is_axisymmetric() {
-        Some(("body[0].material.plane", "two axisymmetric bodies"))
-    } else if pair
+    } else if several && axisymmetric {
+        Some(("body[0].material.plane", "several axisymmetric bodies"))
+    } else if several
         && file.dynamics.as_ref().and_then(|d| d.output.as_ref()).is_some_and(|o| o.every.is_some())
     {
-        Some(("dynamics.output.every", "snapshots of two bodies"))
-    } else if spec.is_some_and(|c| c.friction > 0.0) && problem.material.is_axisymmetric() {
+        Some(("dynamics.output.every", "snapshots of several bodies"))
+    } else if specs.iter().any(|c| c.friction > 0.0) && axisymmetric {
         Some(("contact.friction", "friction on an axisymmetric body"))
-    } else if spec.is_some_and(|c| c.solver == ContactSolver::ActiveSet) {
+    } else if specs.iter().any(|c| c.solver == ContactSolver::ActiveSet) {
         Some((
             "contact.solver",
             "the active-set solver (each step's LCP is solved by Lemke's method)",
@@ -253,7 +261,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles, or two plane bodies in contact with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles, or plane bodies in contact pairs with each other or with rigid obstacles, with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),

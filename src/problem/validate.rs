@@ -262,15 +262,19 @@ impl TryFrom<ProblemFile> for Problem {
                 .as_ref()
                 .is_some_and(|m| m.pairs.iter().any(|p| p.spec.friction > 0.0));
         problem.dynamics = super::dynamics::dynamics(&file, &problem)?;
-        // The second body of a two-body run steps with inertia too, at its own density and
+        // The other bodies of a dynamic run step with inertia too, each at its own density and
         // initial velocity.
-        if let (Some(p2), Some(d)) = (problem.second_body.as_deref_mut(), &problem.dynamics) {
-            p2.dynamics = d.second_body.map(|m| super::dynamics::Dynamics {
-                density: m.density,
-                initial_velocity: m.initial_velocity,
-                second_body: None,
-                ..d.clone()
-            });
+        if let Some(d) = problem.dynamics.clone() {
+            for (k, m) in d.others.iter().enumerate() {
+                if let Some(p) = problem.body_mut(k + 1) {
+                    p.dynamics = Some(super::dynamics::Dynamics {
+                        density: m.density,
+                        initial_velocity: m.initial_velocity,
+                        others: Vec::new(),
+                        ..d.clone()
+                    });
+                }
+            }
         }
         if let (None, Some(k)) =
             (&problem.dynamics, file.body.iter().position(|b| b.initial_velocity.is_some()))
