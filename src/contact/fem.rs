@@ -150,7 +150,8 @@ pub fn target_operator(
     let mut directions = Vec::with_capacity(candidates.len());
     for (c, &x) in candidates.points.iter().enumerate() {
         let t = domain.edge_parameter(edge, x).clamp(0.0, 1.0);
-        let (y, nu, gap) = pairing.pair(x);
+        // A curved target pairs along the candidate's normal (the bisector, `body_pair`).
+        let (y, nu, gap) = pairing.pair_along(x, candidates.normals[c]);
         let (ids, t0, t1) = sides
             .iter()
             .min_by(|p, q| side_distance(t, p.1, p.2).total_cmp(&side_distance(t, q.1, q.2)))

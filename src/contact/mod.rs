@@ -693,7 +693,8 @@ pub fn target_operator(
     let mut gaps = Vec::with_capacity(candidates.len());
     let mut directions = Vec::with_capacity(candidates.len());
     for (c, &x) in candidates.points.iter().enumerate() {
-        let (y, nu, gap) = pairing.pair(x);
+        // A curved target pairs along the candidate's normal (the bisector, `body_pair`).
+        let (y, nu, gap) = pairing.pair_along(x, candidates.normals[c]);
         let (p, q) = candidates.segment_ends[c];
         let (s0, s1) = {
             let (u, v) = (body.domain.edge_parameter(edge, p), body.domain.edge_parameter(edge, q));
@@ -780,6 +781,38 @@ impl<'a> TargetEdge<'a> {
             None => self.curve.outward_normal_at(y).map(|n| if n.abs() <= 1e-12 { 0.0 } else { n }),
         };
         (y, nu, (x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1])
+    }
+
+    /// The pairing of `x` along the candidate side's normal `nu` (docs/method.md §9.6): a
+    /// straight edge as [`Self::pair`] (its own normal); a curved one's closest point `y`,
+    /// `nu` itself and the gap `nu·(x − y)`, so that both operators act along `±nu`.
+    pub fn pair_along(&self, x: Point, nu: Point) -> (Point, Point, f64) {
+        match self.straight {
+            Some(_) => self.pair(x),
+            None => {
+                let (y, _, _) = self.pair(x);
+                (y, nu, (x[0] - y[0]) * nu[0] + (x[1] - y[1]) * nu[1])
+            }
+        }
+    }
+
+    /// The contact normal of a candidate at `x` on a curved target whose own edge's inward
+    /// normal there is `inward` (docs/method.md §9.6): the bisector of the target's outward
+    /// normal at the closest point and `inward`, round-off components dropped (so two
+    /// identical spheres pair along the axis, whichever is the target). A straight target's
+    /// normal is its own.
+    pub fn bisector(&self, x: Point, inward: Point) -> Point {
+        let nu = self.normal(x);
+        if self.straight.is_some() {
+            return nu;
+        }
+        let b = [nu[0] + inward[0], nu[1] + inward[1]];
+        let len = b[0].hypot(b[1]);
+        // Opposite normals (no facing): keep the target's.
+        if len <= 1e-12 {
+            return nu;
+        }
+        [b[0] / len, b[1] / len].map(|n| if n.abs() <= 1e-12 { 0.0 } else { n })
     }
 
     /// A curved axisymmetric target's normal where its force reaches a node on the axis

@@ -49,7 +49,10 @@ pub(super) fn body_pair(
             &|_| (0.0, normal),
             spec.condensation,
         )?,
-        // A curved target: each candidate's normal is the target's at its closest point; a
+        // A curved target: each candidate's normal is the bisector of the target's outward
+        // normal at its closest point and the candidate edge's inward normal at it
+        // (`contact::TargetEdge::bisector`, docs/method.md §9.6), the target's side pairing
+        // along it (`contact::TargetEdge::pair_along`); a
         // candidate on the axis of an axisymmetric body takes the axial one, as the target's
         // side turns it (`contact::TargetEdge::axial`): its radial row is the symmetry
         // condition, so a normal with a radial part (a mesh's polyline target at its end
@@ -59,7 +62,8 @@ pub(super) fn body_pair(
             let axis = AXIS_TOLERANCE * (hi[0] - lo[0]).max(hi[1] - lo[1]);
             let axisymmetric = model.system().axisymmetric;
             let normal = |x: Point| {
-                let nu = pairing.normal(x);
+                let n = problem.domain.outward_normal_at(spec.edge, x);
+                let nu = pairing.bisector(x, [-n[0], -n[1]]);
                 match axisymmetric && x[0].abs() <= axis {
                     true => (0.0, [0.0, nu[1].signum()]),
                     false => (0.0, nu),

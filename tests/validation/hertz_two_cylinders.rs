@@ -1,7 +1,8 @@
 //! Two elastic cylinders in plane strain pressed together along their length (docs/method.md
 //! §4.3 and §9.6, "A curved target"): the candidates are the upper half-disk's arc, the target
 //! the lower half-disk's arc, each candidate paired with its closest point on the lower
-//! circle, the normal the circle's there.
+//! circle, the normal the bisector of the two circles' normals there
+//! (`contact::TargetEdge::bisector`).
 //!
 //! **Hertz, two cylinders** (Johnson, *Contact Mechanics* (1985), §4.2(b), eqs. 4.43–4.45):
 //! with `1/E* = (1 − ν₁²)/E₁ + (1 − ν₂²)/E₂` and `1/R = 1/R₁ + 1/R₂`, for the force per unit
@@ -14,7 +15,8 @@
 //! Measured by the CLI on the same problem (docs/dev/axisymmetric.md, increment 7e; far
 //! spacing 0.05, box `[−0.15, 0.15]` by 0.03 at `h`): `h` = 0.01, 0.005, 0.0025 give `b`
 //! +1.80 %, −0.02 %, +0.20 % and `p₀` −0.65 %, −0.27 %, −0.27 %; a far spacing of 0.025 at
-//! 0.0025 changes them by < 0.02 %. The test runs `h = 0.005` and asks for 2 % (the task's
+//! 0.0025 changes them by < 0.02 % (with the target's normal; with the bisector `h = 0.005`
+//! gives `b` −0.07 %, `p₀` −0.23 %). The test runs `h = 0.005` and asks for 2 % (the task's
 //! bound; at 0.01 only four candidates per side are closed and `b` is at +1.8 %).
 
 use super::common::*;
