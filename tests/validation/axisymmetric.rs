@@ -23,7 +23,9 @@ use super::common::*;
 use mlpg_contact::geometry::{Domain, Point};
 use mlpg_contact::material::{Material, PlaneState};
 use mlpg_contact::nodes::Layout;
-use mlpg_contact::problem::{BodyForce, ComponentCondition, EdgeCondition, Field, Method, Problem};
+use mlpg_contact::problem::{
+    BodyForce, ComponentCondition, EdgeCondition, Field, Method, Problem, RefineBox, Refinement,
+};
 use std::sync::Arc;
 
 const YOUNG: f64 = 1.0e5;
@@ -119,6 +121,27 @@ fn axisymmetric_patch_test_mfvm() {
                 let err = max_error(&p, patch_exact, 5e-3);
                 println!("MFVM patch {name}, {layout:?}, α_s = {alpha}, β = {beta}: {err:.3e}");
                 assert!(err < ROUND_OFF, "{name} {layout:?} β = {beta}: {err:.3e}");
+            }
+        }
+    }
+}
+
+/// The patch field on graded node sets with nodes on the axis: a band of `h₀/2` along the
+/// axis, a box of `h₀/4` at the axis's lower corner (two transition levels meeting the axis),
+/// and both; structured and jittered seeds (the quadtree grades between the spacings).
+#[test]
+fn axisymmetric_patch_test_graded() {
+    let band = RefineBox { x: [0.0, 0.3], y: [0.0, 2.0], spacing: 0.1 };
+    let corner = RefineBox { x: [0.0, 0.5], y: [0.0, 0.4], spacing: 0.05 };
+    let gradings = [("band", vec![band]), ("corner", vec![corner]), ("both", vec![band, corner])];
+    for (name, boxes) in gradings {
+        for layout in [Layout::Structured, JITTER] {
+            for beta in [0.0, 1.0] {
+                let mut p = with_method(patch_problem([0.0, 2.0], 0.2, layout), Method::Mfvm, beta);
+                p.refinement = Refinement { boxes: boxes.clone() };
+                let err = max_error(&p, patch_exact, 5e-3);
+                println!("MFVM graded patch {name}, {layout:?}, β = {beta}: {err:.3e}");
+                assert!(err < ROUND_OFF, "graded {name} {layout:?} β = {beta}: {err:.3e}");
             }
         }
     }
