@@ -397,7 +397,7 @@ pub struct FrictionlessStep {
 }
 
 impl FrictionlessStep {
-    /// Polishes the normal answer on its closed set ([`polish`]); when the polish is
+    /// Polishes the normal answer on its closed set ([`super::polish`]); when the polish is
     /// accepted, the step's answer becomes the polished forces'.
     ///
     /// # Errors
