@@ -59,7 +59,7 @@
 //!
 //! | stage | modules | produces |
 //! |---|---|---|
-//! | 0 | [`progress`], [`random`], [`geometry`], [`material`] | stage timing and progress; a seeded generator; points, curves, the domain; elastic constants `D` |
+//! | 0 | [`progress`], [`random`], [`geometry`], [`material`], [`system`] | stage timing and progress; a seeded generator; points, curves, the domain; elastic constants `D`; the machine's memory limits, resident set and cores |
 //! | 1 | [`problem`] | the validated [`problem::Problem`], from TOML or from a [`problem::ProblemFile`] built in code |
 //! | 2 | [`nodes`] | [`nodes::Nodes`] with boundary tags |
 //! | 3 | [`neighbours`] | [`neighbours::Supports`] (MLS supports, cell grid) |
@@ -124,6 +124,7 @@ pub mod progress;
 pub mod random;
 pub mod refine;
 pub mod solution;
+pub mod system;
 pub mod weak_form;
 
 pub use error::Error;

@@ -31,6 +31,7 @@ use super::plan::{Plan, Shape};
 use crate::contact::ContactSpec;
 use crate::linear_solve::{FactorPrecision, FactorStats, STATIC_PIVOTING_MIN_DOFS};
 use crate::problem::{Method, Precision, Problem};
+use crate::system;
 
 /// The MFVM body's memory with single-precision factors, as a fraction of that with
 /// double-precision ones (docs/dev/performance.md, "10⁶ nodes").
@@ -74,12 +75,12 @@ pub fn estimate(problem: &Problem) -> (f64, f64) {
 }
 
 /// The precision the factors of `problem`'s MFVM bodies will have: `"auto"` is mixed when
-/// the estimate in double precision exceeds what the process may use ([`limit`]).
+/// the estimate in double precision exceeds what the process may use ([`system::limit`]).
 pub fn precision(problem: &Problem) -> FactorPrecision {
     match problem.discretisation.precision {
         Precision::Double => FactorPrecision::Double,
         Precision::Mixed => FactorPrecision::Mixed,
-        Precision::Auto => match limit() {
+        Precision::Auto => match system::limit() {
             Some((available, _)) if estimate_in(problem, FactorPrecision::Double).0 > available => {
                 FactorPrecision::Mixed
             }
@@ -248,118 +249,13 @@ pub fn after_analysis(
     factors + vectors + contact
 }
 
-/// What this process may use, in bytes, and what limits it; `None` where nothing can be read
-/// (not Linux). The address-space limit counts virtual memory (thread stacks, allocator
-/// arenas) too, so 0.5 GB of it is kept for those, or what this process has mapped already
-/// and 0.25 GB when that is more (available memory and the cgroup's limit count the memory in
-/// use already).
-pub fn limit() -> Option<(f64, &'static str)> {
-    let mut limits: Vec<(f64, &'static str)> = Vec::new();
-    if let Some(kb) = read_field("/proc/meminfo", "MemAvailable:") {
-        limits.push((kb * 1024.0, "available memory"));
-    }
-    if let Ok(text) = std::fs::read_to_string("/sys/fs/cgroup/memory.max") {
-        if let Ok(max) = text.trim().parse::<f64>() {
-            let used = std::fs::read_to_string("/sys/fs/cgroup/memory.current")
-                .ok()
-                .and_then(|t| t.trim().parse::<f64>().ok())
-                .unwrap_or(0.0);
-            limits.push((max - used, "the cgroup's memory limit"));
-        }
-    }
-    if let Ok(text) = std::fs::read_to_string("/proc/self/limits") {
-        let soft = text
-            .lines()
-            .find(|l| l.starts_with("Max address space"))
-            .and_then(|l| l.split_whitespace().nth(3))
-            .and_then(|v| v.parse::<f64>().ok());
-        if let Some(bytes) = soft {
-            // At the start the 0.5 GB covers what is mapped; later (after assembly) what is
-            // mapped, and 0.25 GB besides.
-            let mapped = read_field("/proc/self/status", "VmSize:").unwrap_or(0.0) * 1024.0;
-            let kept = (mapped + 0.25e9).max(0.5e9);
-            limits.push((bytes - kept, "the address-space limit (ulimit -v)"));
-        }
-    }
-    limits.into_iter().min_by(|a, b| a.0.total_cmp(&b.0))
-}
-
 /// Address space a solving thread maps besides the problem's own estimate, other than the
-/// dense product kernels' workspace ([`kernel_workspace`]): its malloc arena (64 MiB reserved
-/// by glibc for each thread that allocates) and its stack (8 MiB). Measured from Python:
+/// dense product kernels' workspace ([`system::kernel_workspace`]): its malloc arena (64 MiB
+/// reserved by glibc for each thread that allocates) and its stack (8 MiB). Measured from Python:
 /// each further thread solving the two-block problem at once raised `VmPeak` by ~140 MB
 /// (555, 696 and 978 MB with 1, 2 and 4 threads), of which 64 MiB is the kernels' workspace
 /// on that machine.
 const THREAD_BYTES: f64 = 76e6;
-
-/// The workspace the dense product kernels (faer's x86 matrix product) keep on every thread
-/// that multiplies: two buffers the size of the last-level cache as they count it (the L3 of
-/// one CPU, divided among the CPUs sharing it, times the CPUs sharing an L1, times the
-/// physical cores), allocated on first use without a fallible path, and kept until the thread
-/// ends. 64 MiB on 2 cores with a 32 MiB L3; ~1 GB on large machines, where it is what an
-/// address-space limit meets first when several threads solve at once. 0 where the cache
-/// cannot be read (not Linux).
-pub fn kernel_workspace() -> f64 {
-    let cache = std::path::Path::new("/sys/devices/system/cpu/cpu0/cache");
-    let Ok(entries) = std::fs::read_dir(cache) else { return 0.0 };
-    let read = |dir: &std::path::Path, name: &str| {
-        std::fs::read_to_string(dir.join(name)).map(|t| t.trim().to_string()).unwrap_or_default()
-    };
-    let shared = |list: &str| -> f64 {
-        list.split(',')
-            .map(|item| match item.split_once('-') {
-                Some((a, b)) => match (a.parse::<f64>(), b.parse::<f64>()) {
-                    (Ok(a), Ok(b)) => b + 1.0 - a,
-                    _ => 1.0,
-                },
-                None => 1.0,
-            })
-            .sum::<f64>()
-            .max(1.0)
-    };
-    let (mut l3, mut l1_shared) = (0.0, 1.0);
-    for dir in entries.flatten().map(|e| e.path()) {
-        if !matches!(read(&dir, "type").as_str(), "Data" | "Unified") {
-            continue;
-        }
-        let size = read(&dir, "size");
-        let bytes = match size.chars().last() {
-            Some('K') => size[..size.len() - 1].parse::<f64>().unwrap_or(0.0) * 1024.0,
-            Some('M') => size[..size.len() - 1].parse::<f64>().unwrap_or(0.0) * 1048576.0,
-            Some('G') => size[..size.len() - 1].parse::<f64>().unwrap_or(0.0) * 1073741824.0,
-            _ => size.parse::<f64>().unwrap_or(0.0),
-        };
-        let count = shared(&read(&dir, "shared_cpu_list"));
-        match read(&dir, "level").as_str() {
-            "1" => l1_shared = count,
-            "3" => l3 = bytes / count,
-            _ => {}
-        }
-    }
-    2.0 * l3 * l1_shared * physical_cores()
-}
-
-/// Physical cores: distinct `(physical id, core id)` pairs of /proc/cpuinfo, else the CPUs.
-fn physical_cores() -> f64 {
-    let text = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
-    let mut cores = std::collections::BTreeSet::new();
-    let mut package = String::new();
-    for line in text.lines() {
-        let Some((key, value)) = line.split_once(':') else { continue };
-        match key.trim() {
-            "physical id" => package = value.trim().to_string(),
-            "core id" => {
-                cores.insert((package.clone(), value.trim().to_string()));
-            }
-            _ => {}
-        }
-    }
-    if cores.is_empty() {
-        std::thread::available_parallelism().map_or(1, |n| n.get()) as f64
-    } else {
-        cores.len() as f64
-    }
-}
 
 /// The solves running now in this process (several threads, e.g. from Python): their
 /// reserved bytes, and what the process could use when none ran.
@@ -391,21 +287,23 @@ impl Drop for Admission {
 
 /// Admits one of several solves running at once in this process (the Python front end: one
 /// thread per solve, the GIL released): each reserves its estimate ([`estimate`]), the dense
-/// kernels' workspace of its thread ([`kernel_workspace`]) and the thread's arena and stack.
+/// kernels' workspace of its thread ([`system::kernel_workspace`]) and the thread's arena and
+/// stack.
 /// The first solve is always admitted (the run's own check refuses it if it cannot fit, as
 /// on the command line); a solve that starts while others run is refused when the
-/// reservations together exceed what the process could use when none ran ([`limit`], read
+/// reservations together exceed what the process could use when none ran ([`system::limit`], read
 /// then, less the thread pool's workspace), with the limit named — where it used to run out
 /// of address space in the middle and abort the interpreter.
 pub fn admit(problem: &Problem) -> Result<Admission, crate::Error> {
     let (need, nodes) = estimate(problem);
-    let bytes = need + kernel_workspace() + THREAD_BYTES;
+    let bytes = need + system::kernel_workspace() + THREAD_BYTES;
     let mut ledger = LEDGER.lock().unwrap_or_else(|e| e.into_inner());
     if ledger.running == 0 {
         // The worker threads' workspace, once they have multiplied, is mapped already; before,
         // it is still to come: counted either way.
-        let pool = rayon::current_num_threads() as f64 * (kernel_workspace() + THREAD_BYTES);
-        ledger.base = limit().map(|(available, what)| (available - pool, what));
+        let pool =
+            rayon::current_num_threads() as f64 * (system::kernel_workspace() + THREAD_BYTES);
+        ledger.base = system::limit().map(|(available, what)| (available - pool, what));
     } else if let Some((available, what)) = ledger.base {
         let left = available - ledger.reserved;
         if bytes > left {
@@ -423,7 +321,7 @@ pub fn admit(problem: &Problem) -> Result<Admission, crate::Error> {
     Ok(Admission { bytes })
 }
 
-/// `what` ([`limit`]'s name of a limit) with the solves running beside.
+/// `what` ([`system::limit`]'s name of a limit) with the solves running beside.
 fn concurrent(what: &'static str) -> &'static str {
     match what {
         "available memory" => "available memory, with the other solves running in this process,",
@@ -435,12 +333,6 @@ fn concurrent(what: &'static str) -> &'static str {
              (each thread's dense-kernel workspace counted),"
         }
     }
-}
-
-/// The number after `key` in a `key value unit` file such as /proc/meminfo.
-fn read_field(path: &str, key: &str) -> Option<f64> {
-    let text = std::fs::read_to_string(path).ok()?;
-    text.lines().find(|l| l.starts_with(key))?.split_whitespace().nth(1)?.parse().ok()
 }
 
 #[cfg(test)]

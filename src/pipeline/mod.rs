@@ -28,6 +28,7 @@ use crate::post::{self, Summary};
 use crate::problem::{ContactSpec, Method, Problem};
 use crate::progress::{Clock, Progress, Silent};
 use crate::solution::{self, ContactSolution, Solution};
+use crate::system;
 use crate::weak_form::{self, FaceQuadrature};
 use friction::{StepEnd, Target, solve_frictional, solve_frictional_active_set, step_ends};
 use std::path::{Path, PathBuf};
@@ -206,11 +207,11 @@ fn discretise_fem(
 }
 
 /// Refuses `problem` when its estimated memory ([`memory::estimate`]) exceeds what the
-/// process may use ([`memory::limit`]), unless it is a thin MFVM body whose factors are
+/// process may use ([`system::limit`]), unless it is a thin MFVM body whose factors are
 /// counted after assembly instead ([`memory::defers_to_analysis`], [`check_factor_memory`]).
 fn check_memory(problem: &Problem) -> Result<(), Error> {
     let (need, nodes) = memory::estimate(problem);
-    match memory::limit() {
+    match system::limit() {
         Some((available, _))
             if need > available && memory::defers_to_analysis(problem, available) =>
         {
@@ -239,10 +240,10 @@ fn check_factor_memory(
     system: &assembly::GlobalSystem,
     points: &[geometry::Point],
 ) -> Result<(), Error> {
-    let Some((available_before, _)) = memory::limit() else { return Ok(()) };
+    let Some((available_before, _)) = system::limit() else { return Ok(()) };
     let (estimate, nodes) = memory::estimate(problem);
     // `limit` now is what is left after assembly; the estimate was against the whole.
-    if estimate <= available_before + resident_bytes() {
+    if estimate <= available_before + system::resident_bytes() {
         return Ok(());
     }
     let options = plan::factor_options(problem);
@@ -253,13 +254,13 @@ fn check_factor_memory(
     let releases = system.pinned.is_none();
     let need =
         memory::after_analysis(problem, &stats, system.matrix.n, options.precision, releases);
-    match memory::limit() {
+    match system::limit() {
         Some((available, what)) if need > available => {
             let precision_hint = match options.precision {
                 FactorPrecision::Double => ", or set discretisation.precision = \"mixed\" (MFVM)",
                 FactorPrecision::Mixed => "",
             };
-            let used = resident_bytes();
+            let used = system::resident_bytes();
             Err(Error::Memory {
                 estimate: need + used,
                 nodes,
@@ -270,18 +271,6 @@ fn check_factor_memory(
         }
         _ => Ok(()),
     }
-}
-
-/// The resident set size of this process (`VmRSS`), 0 where it cannot be read.
-fn resident_bytes() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmRSS:"))
-                .and_then(|l| l.split_whitespace().nth(1)?.parse::<f64>().ok())
-        })
-        .map_or(0.0, |kb| kb * 1024.0)
 }
 
 /// The models of `problem` and of its second body, if it has one.
