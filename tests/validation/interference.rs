@@ -261,27 +261,46 @@ pub(super) fn shrink_fit_text(h: f64, method: &str, solver: &str, beta: f64) -> 
 pub(super) fn shrink_fit(h: f64, method: &str, solver: &str, beta: f64) -> (f64, f64) {
     let problem = Problem::from_toml(&shrink_fit_text(h, method, solver, beta)).unwrap();
     let label = format!("shrink fit h = {h} {method} {solver} β = {beta}");
-    let s = mlpg_contact::solve(&problem).unwrap();
+    let s = solved_fit(&problem, &label);
+    let (c, shaft, hub) = pair(&s);
+    // The rings' total force over the interface's area 2π b L.
+    let mean = c.lcp.z.iter().sum::<f64>() / (TAU * B * HEIGHT);
+    let worst = worst_nodal_error(&problem, [shaft, hub], |x, u, hub| {
+        (u[0] - lame_u(x[0], hub)).abs().max(u[1].abs())
+    });
+    (mean / lame_pressure() - 1.0, worst / DELTA)
+}
+
+/// Solves a fit (`label` names it in failures) and checks what every fit must hold: each
+/// candidate closed, the LCP's complementarity to 1e-9 and both bodies' balance to 1e-9.
+fn solved_fit(problem: &Problem, label: &str) -> Solution {
+    let s = mlpg_contact::solve(problem).unwrap();
     let (c, shaft, hub) = pair(&s);
     assert!(c.closed.iter().all(|&k| k), "{label}: an open candidate");
-    assert_lcp_residuals(&label, &c.lcp.residuals, 1e-9);
+    assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     for body in [shaft, hub] {
         assert!(body.equilibrium_error < 1e-9, "{label}: balance {}", body.equilibrium_error);
     }
-    // The rings' total force over the interface's area 2π b L.
-    let mean = c.lcp.z.iter().sum::<f64>() / (TAU * B * HEIGHT);
+    s
+}
+
+/// The largest `error(x, u, hub)` over the nodes of a fit's two bodies (`solutions`: the
+/// shaft's, then the hub's, whose problem is `problem.second_body`).
+fn worst_nodal_error(
+    problem: &Problem,
+    solutions: [&Solution; 2],
+    error: impl Fn([f64; 2], [f64; 2], bool) -> f64,
+) -> f64 {
     let mut silent = mlpg_contact::Silent;
+    let bodies = [(problem, false), (problem.second_body.as_deref().unwrap(), true)];
     let mut worst: f64 = 0.0;
-    for (p, sol, hub) in
-        [(&problem, shaft, false), (problem.second_body.as_deref().unwrap(), hub, true)]
-    {
+    for ((p, hub), sol) in bodies.into_iter().zip(solutions) {
         let model = mlpg_contact::discretise(p, &mut silent).unwrap();
         for (x, u) in model.nodes.points.iter().zip(&sol.displacement) {
-            let e = (u[0] - lame_u(x[0], hub)).abs().max(u[1].abs());
-            worst = worst.max(e / DELTA);
+            worst = worst.max(error(*x, *u, hub));
         }
     }
-    (mean / lame_pressure() - 1.0, worst)
+    worst
 }
 
 /// The refinement series (Lemke): the errors of the mean pressure and of the displacements
@@ -368,13 +387,8 @@ fn annulus_fit(h: f64) -> (f64, f64) {
     );
     let problem = Problem::from_toml(&text).unwrap();
     let label = format!("plane-strain fit h = {h}");
-    let s = mlpg_contact::solve(&problem).unwrap();
+    let s = solved_fit(&problem, &label);
     let (c, shaft, hub) = pair(&s);
-    assert!(c.closed.iter().all(|&k| k), "{label}: an open candidate");
-    assert_lcp_residuals(&label, &c.lcp.residuals, 1e-9);
-    for body in [shaft, hub] {
-        assert!(body.equilibrium_error < 1e-9, "{label}: balance {}", body.equilibrium_error);
-    }
     // Per unit thickness: the candidates' forces over the arc's length π b / 2.
     let mean = c.lcp.z.iter().sum::<f64>() / (0.5 * std::f64::consts::PI * B);
     // The pressure's resultant on the shaft's quarter arc is −p b (1, 1); its own
@@ -383,19 +397,11 @@ fn annulus_fit(h: f64) -> (f64, f64) {
     for r in resultant {
         assert!((r / (-lame_pressure() * B) - 1.0).abs() < 1e-2, "{label}: resultant {r:e}");
     }
-    let mut silent = mlpg_contact::Silent;
-    let mut worst: f64 = 0.0;
-    for (p, sol, hub) in
-        [(&problem, shaft, false), (problem.second_body.as_deref().unwrap(), hub, true)]
-    {
-        let model = mlpg_contact::discretise(p, &mut silent).unwrap();
-        for (x, u) in model.nodes.points.iter().zip(&sol.displacement) {
-            let rho = x[0].hypot(x[1]);
-            let (radial, hoop) =
-                ((u[0] * x[0] + u[1] * x[1]) / rho, (u[1] * x[0] - u[0] * x[1]) / rho);
-            worst = worst.max((radial - lame_u(rho, hub)).abs()).max(hoop.abs());
-        }
-    }
+    let worst = worst_nodal_error(&problem, [shaft, hub], |x, u, hub| {
+        let rho = x[0].hypot(x[1]);
+        let (radial, hoop) = ((u[0] * x[0] + u[1] * x[1]) / rho, (u[1] * x[0] - u[0] * x[1]) / rho);
+        (radial - lame_u(rho, hub)).abs().max(hoop.abs())
+    });
     (mean / lame_pressure() - 1.0, worst / DELTA)
 }
 
