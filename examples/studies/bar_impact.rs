@@ -34,8 +34,8 @@ fn row(spacing: f64, step: f64, theta: f64) {
     let outcome = solve(&bar(spacing, step, theta, 2.6), &mut Silent).expect("run");
     let seconds = t0.elapsed().as_secs_f64();
     let f = outcome.simulation.figures(step);
-    let duration = f.contact_duration.unwrap_or(0.0);
-    let force = f.mean_contact_force.unwrap_or(0.0);
+    let duration = f.contact.contact_duration.unwrap_or(0.0);
+    let force = f.contact.mean_contact_force.unwrap_or(0.0);
     // The force's spread over the middle of the contact (t in [0.5, 1.7]).
     let middle: Vec<f64> = outcome
         .simulation

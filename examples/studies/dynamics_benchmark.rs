@@ -56,6 +56,6 @@ fn main() {
     );
     println!(
         "contact duration {:?}, mean force {:?}, final velocity {:?}",
-        f.contact_duration, f.mean_contact_force, f.final_velocity
+        f.contact.contact_duration, f.contact.mean_contact_force, f.final_velocity
     );
 }

@@ -90,18 +90,10 @@ pub struct Figures {
     pub end_time: f64,
     /// Total mass (per unit thickness).
     pub mass: f64,
-    /// Start of the first step with a contact impulse (`None`: no contact).
-    pub contact_start: Option<f64>,
-    /// End of the last step with a contact impulse.
-    pub contact_end: Option<f64>,
-    /// `contact_end − contact_start`.
-    pub contact_duration: Option<f64>,
-    /// Total contact impulse over the run.
-    pub total_impulse: f64,
-    /// `total_impulse / contact_duration`.
-    pub mean_contact_force: Option<f64>,
-    /// Largest mean force of one step.
-    pub peak_contact_force: f64,
+    /// The contact figures of the total contact force (every pair's together), written in
+    /// line with the others in `summary.json`.
+    #[serde(flatten)]
+    pub contact: PairFigures,
     /// Velocity of the centre of mass at the end (`momentum / mass`).
     pub final_velocity: [f64; 2],
     /// Kinetic plus strain energy at time 0.
@@ -138,24 +130,39 @@ pub struct History {
     pub records: Vec<Record>,
 }
 
-/// The contact figures of one contact pair of a run with several ([`History::pair_figures`]).
+/// The contact figures of one contact force over a run: a pair's in a run with several
+/// ([`History::pair_figures`]), or the total ([`Figures::contact`]).
 #[derive(Clone, Debug, Serialize)]
 pub struct PairFigures {
-    /// Start of the first step with an impulse of the pair (`None`: it never touched).
+    /// Start of the first step with an impulse (`None`: it never touched).
     pub contact_start: Option<f64>,
-    /// End of the last step with an impulse of the pair.
+    /// End of the last step with an impulse.
     pub contact_end: Option<f64>,
     /// `contact_end − contact_start`.
     pub contact_duration: Option<f64>,
-    /// The pair's total impulse over the run.
+    /// The total impulse over the run.
     pub total_impulse: f64,
     /// `total_impulse / contact_duration`.
     pub mean_contact_force: Option<f64>,
-    /// The pair's largest mean force of one step.
+    /// The largest mean force of one step.
     pub peak_contact_force: f64,
 }
 
 impl PairFigures {
+    /// "contact from … to … (duration …), mean force …, peak …" for the console ("–" where
+    /// there was no contact).
+    pub fn describe(&self) -> String {
+        let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
+        format!(
+            "contact from {} to {} (duration {}), mean force {}, peak {:.6}",
+            opt(self.contact_start),
+            opt(self.contact_end),
+            opt(self.contact_duration),
+            opt(self.mean_contact_force),
+            self.peak_contact_force
+        )
+    }
+
     /// The figures of the force `force(record)` over `records` (time 0 first), step `h`.
     fn of(records: &[Record], h: f64, force: impl Fn(&Record) -> f64) -> Self {
         let touching: Vec<&Record> = records[1..].iter().filter(|x| force(x) > 0.0).collect();
@@ -189,14 +196,6 @@ impl History {
     pub fn figures(&self, h: f64, mass: f64) -> Figures {
         let r = &self.records;
         let (first, last) = (&r[0], &r[r.len() - 1]);
-        let PairFigures {
-            contact_start,
-            contact_end,
-            contact_duration,
-            total_impulse,
-            mean_contact_force,
-            peak_contact_force,
-        } = PairFigures::of(r, h, |x| x.contact_force);
         let top = r.iter().map(Record::energy).fold(first.energy(), f64::max);
         let scale = if top > 0.0 { top } else { 1.0 };
         let excess: Vec<f64> = r
@@ -209,12 +208,7 @@ impl History {
             steps: r.len() - 1,
             end_time: last.time,
             mass,
-            contact_start,
-            contact_end,
-            contact_duration,
-            total_impulse,
-            mean_contact_force,
-            peak_contact_force,
+            contact: PairFigures::of(r, h, |x| x.contact_force),
             final_velocity: [last.momentum[0] / mass, last.momentum[1] / mass],
             initial_energy: first.energy(),
             final_energy: last.energy(),
@@ -259,7 +253,7 @@ mod tests {
         assert_eq!((pairs[0].contact_start, pairs[0].contact_end), (Some(0.0), Some(0.2)));
         assert_eq!((pairs[1].contact_start, pairs[1].contact_end), (Some(0.1), Some(0.3)));
         assert_eq!((pairs[0].peak_contact_force, pairs[1].peak_contact_force), (2.0, 3.0));
-        let total = h.figures(0.1, 1.0).total_impulse;
+        let total = h.figures(0.1, 1.0).contact.total_impulse;
         assert!((pairs[0].total_impulse + pairs[1].total_impulse - total).abs() < 1e-15);
         assert!(History { records: vec![record(0.0, 0.0)] }.pair_figures(0.1).is_empty());
     }

@@ -132,17 +132,8 @@ pub struct DynamicReport {
 impl std::fmt::Display for DynamicReport {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let (s, g) = (&self.summary, &self.summary.figures);
-        let opt = |v: Option<f64>| v.map_or_else(|| "–".to_string(), |v| format!("{v:.6}"));
         writeln!(f, "{}: {} nodes, {} time steps to t = {}", s.name, s.nodes, g.steps, g.end_time)?;
-        writeln!(
-            f,
-            "  contact from {} to {} (duration {}), mean force {}, peak {:.6}",
-            opt(g.contact_start),
-            opt(g.contact_end),
-            opt(g.contact_duration),
-            opt(g.mean_contact_force),
-            g.peak_contact_force
-        )?;
+        writeln!(f, "  {}", g.contact.describe())?;
         writeln!(
             f,
             "  final velocity [{:.6}, {:.6}]; energy {:.6e} → {:.6e}, lost at contacts {:.6e}",
@@ -154,18 +145,8 @@ impl std::fmt::Display for DynamicReport {
         )?;
         // Several pairs: each pair's contact and each body's final velocity.
         for (k, p) in s.pairs.iter().flatten().enumerate() {
-            let p_ = &p.figures;
-            writeln!(
-                f,
-                "  pair {k} ({} on {}): contact from {} to {} (duration {}), mean force {}, peak {:.6}",
-                p.body,
-                p.target_body.as_deref().unwrap_or("obstacles"),
-                opt(p_.contact_start),
-                opt(p_.contact_end),
-                opt(p_.contact_duration),
-                opt(p_.mean_contact_force),
-                p_.peak_contact_force
-            )?;
+            let target = p.target_body.as_deref().unwrap_or("obstacles");
+            writeln!(f, "  pair {k} ({} on {target}): {}", p.body, p.figures.describe())?;
         }
         for b in s.bodies.iter().flatten().filter(|_| s.pairs.is_some()) {
             let v = b.final_velocity;

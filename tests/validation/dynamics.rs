@@ -82,10 +82,10 @@ fn bar_impact(spacing: f64, extra: &str) -> Figures {
 fn bar_errors_with(spacing: f64, extra: &str) -> [f64; 3] {
     let c = wave_speed();
     let f = bar_impact(spacing, extra);
-    let duration = f.contact_duration.expect("the bar touches the wall");
-    let force = f.mean_contact_force.expect("a contact force");
+    let duration = f.contact.contact_duration.expect("the bar touches the wall");
+    let force = f.contact.mean_contact_force.expect("a contact force");
     let exact = [2.0 * L / c, DENSITY * c * V0 * H, V0];
-    let start = f.contact_start.expect("contact");
+    let start = f.contact.contact_start.expect("contact");
     assert!((start - GAP / V0).abs() <= outcome_step(spacing) + 1e-12, "contact starts at {start}");
     [
         (duration - exact[0]) / exact[0],
@@ -245,7 +245,10 @@ const FEM: &str = "[discretisation]\nmethod = \"fem\"";
 
 /// The contact duration and the mean contact force of a run.
 fn duration_and_force(f: &Figures) -> [f64; 2] {
-    [f.contact_duration.expect("contact"), f.mean_contact_force.expect("a contact force")]
+    [
+        f.contact.contact_duration.expect("contact"),
+        f.contact.mean_contact_force.expect("a contact force"),
+    ]
 }
 
 /// The bar impact with Q9 finite elements (HRZ lumped mass, the same Moreau–Jean loop): at
@@ -305,10 +308,10 @@ fn ball_errors(fine: f64, step: f64) -> [f64; 3] {
     let [duration, peak] = hertz_impact(210e9, 0.3, 7800.0, 0.01, 1.0);
     let (outcome, f) = run(&ball(fine, step));
     println!("ball: {} nodes, {} steps", outcome.nodes(), f.steps);
-    let measured = f.contact_duration.expect("the ball touches the flat");
+    let measured = f.contact.contact_duration.expect("the ball touches the flat");
     [
         (measured - duration) / duration,
-        (f.peak_contact_force - peak) / peak,
+        (f.contact.peak_contact_force - peak) / peak,
         (f.final_velocity[1] - 1.0) / 1.0,
     ]
 }

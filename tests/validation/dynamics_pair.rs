@@ -49,9 +49,9 @@ fn equal_bars_exchange_their_velocities() {
     let outcome = solve(&problem, &mut Silent).expect("the two-bar run");
     let h = outcome.dynamics.time_step;
     let f = outcome.simulation.figures(h);
-    let duration = f.contact_duration.expect("the bars touch");
-    let force = f.mean_contact_force.expect("a contact force");
-    let start = f.contact_start.expect("contact");
+    let duration = f.contact.contact_duration.expect("the bars touch");
+    let force = f.contact.mean_contact_force.expect("a contact force");
+    let start = f.contact.contact_start.expect("contact");
     assert!((start - GAP / V0).abs() <= h + 1e-12, "contact starts at {start}");
     let rel = |a: f64, b: f64| (a - b) / b;
     let errors = [rel(duration, 2.0 * L), rel(force, V0 / 2.0 * H)];
