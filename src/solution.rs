@@ -561,6 +561,21 @@ impl Solution {
         }
     }
 
+    /// Every body's solution, this one first, numbered as [`Solution::body`].
+    pub fn bodies(&self) -> impl Iterator<Item = &Solution> {
+        let others: &[Solution] = self.multibody.as_deref().map_or(&[], |m| &m.bodies);
+        std::iter::once(self).chain(self.second_body.as_deref()).chain(others)
+    }
+
+    /// Every contact pair's solution in the order of [`crate::problem::Problem::pairs`]: the
+    /// one pair's (`contact`) or each pair's of a scene; empty without contact.
+    pub fn pairs(&self) -> Vec<&ContactSolution> {
+        match &self.multibody {
+            Some(m) => m.pairs.iter().collect(),
+            None => self.contact.iter().collect(),
+        }
+    }
+
     /// The first reported quantity holding a value that is not finite (NaN or infinite), if
     /// any: a singular system that the factorisation did not catch, or magnitudes that overflow.
     pub fn first_non_finite(&self) -> Option<&'static str> {

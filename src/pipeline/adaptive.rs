@@ -147,8 +147,8 @@ pub fn solve_adaptive(
     progress: &mut dyn Progress,
     observe: &mut dyn FnMut(&Problem, &Model, &Solution, &Estimate),
 ) -> Result<AdaptiveRun, Error> {
-    for k in 0..problem.body_count() {
-        check_body(problem.body(k).unwrap_or(problem))?;
+    for body in problem.bodies() {
+        check_body(body)?;
     }
     if let Some(p2) = problem.second_body.as_deref() {
         check_target(problem, p2)?;

@@ -182,12 +182,8 @@ pub fn compare(
 ) -> Result<Comparison, Error> {
     // Both methods must accept the problem before either is solved.
     let fem_problem = with_method(problem, Method::Fem);
-    crate::fem::mesh(&fem_problem)?;
-    if let Some(second) = &fem_problem.second_body {
-        crate::fem::mesh(second)?;
-    }
-    for other in fem_problem.multibody.iter().flat_map(|m| m.bodies.iter()) {
-        crate::fem::mesh(other)?;
+    for body in fem_problem.bodies() {
+        crate::fem::mesh(body)?;
     }
     let staged = post::StagedDir::new(out)?;
     let out = staged.path();

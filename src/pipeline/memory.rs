@@ -123,21 +123,16 @@ fn estimate_in(problem: &Problem, precision: FactorPrecision) -> (f64, f64) {
         };
         (nodes * per_node, nodes)
     };
-    let (mut bytes, mut nodes) = body(problem);
-    if let Some(second) = &problem.second_body {
-        let (b, n) = body(second);
+    let (mut bytes, mut nodes) = (0.0, 0.0);
+    for p in problem.bodies() {
+        let (b, n) = body(p);
         bytes += b;
         nodes += n;
     }
-    if let Some(several) = &problem.multibody {
-        for p in &several.bodies {
-            let (b, n) = body(p);
-            bytes += b;
-            nodes += n;
-        }
+    if problem.is_scene_of_pairs() {
         // One dense M over the candidates of every pair, as for one pair below.
-        let m: f64 = several
-            .pairs
+        let m: f64 = problem
+            .pairs()
             .iter()
             .filter_map(|pair| {
                 let p = problem.body(pair.body)?;
@@ -182,7 +177,7 @@ fn route(problem: &Problem, spec: &ContactSpec) -> Route {
     let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
     // A translation held by the contact is not known before assembly: a held pair is counted
     // as the free pair's route.
-    let shape = Shape::of(!frictionless, problem.second_body.is_some(), false);
+    let shape = Shape::of(!frictionless, problem.body_count() > 1, false);
     let active_set = Plan::new(spec.solver, shape, m as usize).is_sparse();
     Route { m, frictionless, active_set }
 }
@@ -194,8 +189,8 @@ fn route(problem: &Problem, spec: &ContactSpec) -> Route {
 /// static-pivoting LU, and whose assembled data and update columns fit in `available`.
 pub fn defers_to_analysis(problem: &Problem, available: f64) -> bool {
     if problem.discretisation.method != Method::Mfvm
-        || problem.second_body.is_some()
-        || problem.multibody.is_some()
+        || problem.body_count() > 1
+        || problem.is_scene_of_pairs()
     {
         return false;
     }

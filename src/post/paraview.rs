@@ -70,34 +70,26 @@ pub fn write_paraview(
                 }
             }
         };
-    if let (Some(p2), Some(_)) = (problem.second_body.as_deref(), solution.second_body.as_deref()) {
-        bodies.push((p2.name.clone(), format!("{}/solution.vtu", p2.name)));
+    for (p, _) in problem.bodies().zip(solution.bodies()).skip(1) {
+        bodies.push((p.name.clone(), format!("{}/solution.vtu", p.name)));
     }
-    if let (Some(spec), Some(c)) = (problem.contact, &solution.contact) {
-        let file = "contact.vtp".to_string();
-        written.push(save(dir, &file, &contact_vtp(c, &solution.displacement))?);
-        if let Some(f) = c.friction.as_ref().filter(|f| !f.snapshots.is_empty()) {
+    // One pair keeps the names it had before scenes of pairs (`contact.vtp`, with the
+    // increments' series); a scene numbers its pairs.
+    let one_pair = !problem.is_scene_of_pairs();
+    for (k, (pair, c)) in problem.pairs().iter().zip(solution.pairs()).enumerate() {
+        let displacement = solution.body(pair.body).map_or(&[][..], |s| s.displacement.as_slice());
+        let name = problem.body(pair.body).map_or("", |p| p.name.as_str());
+        let (file, title) = if one_pair {
+            ("contact.vtp".to_string(), format!("contact of `{name}`"))
+        } else {
+            (format!("contact_{k}.vtp"), format!("contact {k} of `{name}`"))
+        };
+        written.push(save(dir, &file, &contact_vtp(c, displacement))?);
+        if let Some(f) = c.friction.as_ref().filter(|f| one_pair && !f.snapshots.is_empty()) {
             written.extend(increment_series(dir, c, f)?);
         }
-        contacts.push((format!("contact of `{}`", problem.name), file));
-        add_obstacles(spec.target, &problem.obstacles, c);
-    }
-    if let (Some(several), Some(ms)) = (&problem.multibody, &solution.multibody) {
-        for (p, _) in several.bodies.iter().zip(&ms.bodies) {
-            bodies.push((p.name.clone(), format!("{}/solution.vtu", p.name)));
-        }
-        for (k, (pair, c)) in several.pairs.iter().zip(&ms.pairs).enumerate() {
-            let body = match pair.body {
-                0 => Some(solution),
-                b => ms.bodies.get(b - 1),
-            };
-            let displacement = body.map_or(&[][..], |s| s.displacement.as_slice());
-            let file = format!("contact_{k}.vtp");
-            written.push(save(dir, &file, &contact_vtp(c, displacement))?);
-            let name = problem.body(pair.body).map_or("", |p| p.name.as_str());
-            contacts.push((format!("contact {k} of `{name}`"), file));
-            add_obstacles(pair.spec.target, &pair.obstacles, c);
-        }
+        contacts.push((title, file));
+        add_obstacles(pair.spec.target, pair.obstacles, c);
     }
     let mut blocks = vec![("bodies", bodies)];
     if !contacts.is_empty() {

@@ -4,6 +4,7 @@
 
 use super::{OutputError, Summary, write_text};
 use crate::material::PlaneState;
+use crate::problem::scene::Pair;
 use crate::problem::{ComponentCondition, ContactTarget, EdgeCondition, Field, Method, Problem};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -103,90 +104,89 @@ fn in_words(problem: &Problem) -> String {
         items.iter().map(|s| format!("<li>{}</li>", esc(s))).collect::<String>()
     };
     let _ = write!(html, "<ul>{}</ul>", list(conditions(problem)));
-    if let Some(c) = &problem.contact {
-        let edge = &problem.domain.edge_names()[c.edge];
-        let target = match &c.target {
-            ContactTarget::Rigid(line) => format!(
-                "a rigid straight obstacle through ({}, {}) with normal ({}, {})",
-                g(line.point[0]),
-                g(line.point[1]),
-                g(line.normal[0]),
-                g(line.normal[1])
-            ),
-            ContactTarget::Obstacles => {
-                let each: Vec<String> = problem.obstacles.iter().map(obstacle_text).collect();
-                format!("the rigid obstacle(s) {}", each.join("; "))
-            }
-            ContactTarget::Body { edge: e2 } => match problem.second_body.as_deref() {
-                Some(p2) => format!(
-                    "edge `{}` of body `{}` (E = {}, ν = {}, node spacing {})",
-                    p2.domain.edge_names()[*e2],
-                    p2.name,
-                    g(p2.material.young),
-                    g(p2.material.poisson),
-                    g(p2.node_spacing)
-                ),
-                None => "a second body".into(),
-            },
-        };
-        let friction = if c.friction > 0.0 {
-            format!("with Coulomb friction μ = {}", c.friction)
-        } else {
-            "without friction".into()
-        };
-        let _ = write!(
-            html,
-            "<p>Edge <code>{}</code> may touch {} {friction}.",
-            esc(edge),
-            esc(&target)
-        );
-        if !problem.steps.is_empty() {
-            let increments: usize = problem.steps.iter().map(|s| s.increments).sum();
-            let _ = write!(
-                html,
-                " The load is applied in {} step(s), {increments} increment(s) in all.",
-                problem.steps.len()
-            );
+    let pairs = problem.pairs();
+    let others: Vec<String> = problem
+        .bodies()
+        .skip(1)
+        .map(|p| {
+            format!(
+                "body `{}` (E = {}, ν = {}, node spacing {})",
+                p.name,
+                g(p.material.young),
+                g(p.material.poisson),
+                g(p.node_spacing)
+            )
+        })
+        .collect();
+    let steps = (!pairs.is_empty() && !problem.steps.is_empty()).then(|| {
+        let increments: usize = problem.steps.iter().map(|s| s.increments).sum();
+        format!(
+            " The load is applied in {} step(s), {increments} increment(s) in all.",
+            problem.steps.len()
+        )
+    });
+    if problem.is_scene_of_pairs() {
+        let _ = write!(html, "<p>Other bodies:</p><ul>{}</ul>", list(others));
+        let each: Vec<String> = pairs
+            .iter()
+            .map(|pair| {
+                let body = problem.body(pair.body).map_or("", |b| b.name.as_str());
+                format!("body `{body}`: {}", pair_in_words(problem, pair, false))
+            })
+            .collect();
+        let _ = write!(html, "<p>Contact pairs, solved in one LCP:</p><ul>{}</ul>", list(each));
+        if let Some(steps) = steps {
+            let _ = write!(html, "<p>{}</p>", steps.trim_start());
         }
-        html.push_str("</p>");
-    }
-    if let Some(several) = &problem.multibody {
-        let bodies: Vec<String> = several
-            .bodies
-            .iter()
-            .map(|p| {
-                format!(
-                    "body `{}` (E = {}, ν = {}, node spacing {})",
-                    p.name,
-                    g(p.material.young),
-                    g(p.material.poisson),
-                    g(p.node_spacing)
-                )
-            })
-            .collect();
-        let _ = write!(html, "<p>Other bodies:</p><ul>{}</ul>", list(bodies));
-        let pairs: Vec<String> = several
-            .pairs
-            .iter()
-            .filter_map(|pair| {
-                let body = problem.body(pair.body)?;
-                let target =
-                    match (pair.target_body.and_then(|t| problem.body(t)), pair.spec.target) {
-                        (Some(t), ContactTarget::Body { edge }) => {
-                            format!("edge `{}` of body `{}`", t.domain.edge_names()[edge], t.name)
-                        }
-                        _ => "rigid obstacles".into(),
-                    };
-                Some(format!(
-                    "edge `{}` of body `{}` against {target}, without friction",
-                    body.domain.edge_names()[pair.spec.edge],
-                    body.name
-                ))
-            })
-            .collect();
-        let _ = write!(html, "<p>Contact pairs, solved in one LCP:</p><ul>{}</ul>", list(pairs));
+    } else if let Some(pair) = pairs.first() {
+        let said = capitalised(&pair_in_words(problem, pair, true));
+        let _ = write!(html, "<p>{}.{}</p>", esc(&said), steps.unwrap_or_default());
     }
     html
+}
+
+/// One contact pair in words: "edge `e` may touch <target> with(out) friction", the target
+/// body's material and spacing when `detailed` (a scene lists its bodies apart).
+fn pair_in_words(problem: &Problem, pair: &Pair<'_>, detailed: bool) -> String {
+    let c = pair.spec;
+    let edge = problem.body(pair.body).map_or("", |b| b.domain.edge_names()[c.edge].as_str());
+    let target = match (&c.target, pair.target_body.and_then(|t| problem.body(t))) {
+        (ContactTarget::Rigid(line), _) => format!(
+            "a rigid straight obstacle through ({}, {}) with normal ({}, {})",
+            g(line.point[0]),
+            g(line.point[1]),
+            g(line.normal[0]),
+            g(line.normal[1])
+        ),
+        (ContactTarget::Obstacles, _) => {
+            let each: Vec<String> = pair.obstacles.iter().map(obstacle_text).collect();
+            format!("the rigid obstacle(s) {}", each.join("; "))
+        }
+        (ContactTarget::Body { edge: e2 }, Some(p2)) if detailed => format!(
+            "edge `{}` of body `{}` (E = {}, ν = {}, node spacing {})",
+            p2.domain.edge_names()[*e2],
+            p2.name,
+            g(p2.material.young),
+            g(p2.material.poisson),
+            g(p2.node_spacing)
+        ),
+        (ContactTarget::Body { edge: e2 }, Some(p2)) => {
+            format!("edge `{}` of body `{}`", p2.domain.edge_names()[*e2], p2.name)
+        }
+        (ContactTarget::Body { .. }, None) => "a second body".into(),
+    };
+    let friction = if c.friction > 0.0 {
+        format!("with Coulomb friction μ = {}", c.friction)
+    } else {
+        "without friction".into()
+    };
+    format!("edge `{edge}` may touch {target} {friction}")
+}
+
+/// `text` with its first letter in upper case.
+fn capitalised(text: &str) -> String {
+    let mut chars = text.chars();
+    chars.next().map_or_else(String::new, |c| c.to_uppercase().chain(chars).collect())
 }
 
 /// Rows of the result table.

@@ -343,14 +343,14 @@ fn verdicts(solution: &Solution) -> Vec<Verdict> {
             EQUILIBRIUM_TOLERANCE,
         ));
     };
-    body("checks", solution);
-    if let Some(s2) = solution.second_body.as_deref() {
-        body("second_body", s2);
-    }
-    if let Some(m) = solution.multibody.as_deref() {
-        for (k, s) in m.bodies.iter().enumerate() {
-            body(&format!("bodies[{}]", k + 1), s);
-        }
+    for (k, s) in solution.bodies().enumerate() {
+        // The second body of one pair keeps its `second_body` key (an alias of `bodies[1]`).
+        let prefix = match k {
+            0 => "checks".to_string(),
+            1 if solution.second_body.is_some() => "second_body".to_string(),
+            k => format!("bodies[{k}]"),
+        };
+        body(&prefix, s);
     }
     let lcp = solution
         .contact
@@ -892,32 +892,22 @@ impl BodySummary {
     }
 }
 
-/// Every body's checks, the first body first: the problem's own body, then the second body
-/// of a two-body pair or the further bodies of a scene.
+/// Every body's checks, the first body first (as [`Problem::bodies`]), with the rigid
+/// translation the contact holds for the bodies that have one.
 fn every_body(problem: &Problem, solution: &Solution) -> Vec<BodySummary> {
-    let Some(ms) = solution.multibody.as_deref() else {
-        let second = problem.second_body.as_deref().zip(solution.second_body.as_deref());
-        return std::iter::once((problem, solution))
-            .chain(second)
-            .map(|(p, s)| BodySummary::new(Some(&p.name), s))
-            .collect();
-    };
-    std::iter::once(solution)
-        .chain(ms.bodies.iter())
+    let held = solution.multibody.as_deref().map_or(&[][..], |m| &m.held);
+    problem
+        .bodies()
+        .zip(solution.bodies())
         .enumerate()
-        .map(|(k, s)| BodySummary {
-            rigid_mode: ms
-                .held
-                .iter()
-                .find(|(b, _)| *b == k)
-                .map(|(_, r)| RigidModeSummary::new(r)),
-            ..BodySummary::new(problem.body(k).map(|p| &p.name), s)
+        .map(|(k, (p, s))| BodySummary {
+            rigid_mode: held.iter().find(|(b, _)| *b == k).map(|(_, r)| RigidModeSummary::new(r)),
+            ..BodySummary::new(Some(&p.name), s)
         })
         .collect()
 }
 
-/// Each contact pair's result: the one pair of a `[contact]` table (empty without contact),
-/// or the pairs of a scene in the order of its `[[contact]]` tables.
+/// Each contact pair's result, in the order of [`Problem::pairs`] (empty without contact).
 fn every_pair(problem: &Problem, solution: &Solution) -> Vec<PairSummary> {
     let edge_name = |b: usize, e: usize| {
         problem.body(b).map(|p| p.domain.edge_names()[e].clone()).unwrap_or_default()
@@ -927,22 +917,10 @@ fn every_pair(problem: &Problem, solution: &Solution) -> Vec<PairSummary> {
         _ => None,
     };
     let body_name = |b: Option<usize>| b.and_then(|b| problem.body(b)).map(|p| p.name.clone());
-    let Some((several, ms)) = problem.multibody.as_deref().zip(solution.multibody.as_deref())
-    else {
-        let (Some(spec), Some(c)) = (&problem.contact, &solution.contact) else {
-            return Vec::new();
-        };
-        let target_body = solution.second_body.is_some().then_some(1);
-        return vec![PairSummary {
-            target_body: body_name(target_body),
-            target_edge: target_edge(target_body, spec.target),
-            ..PairSummary::new(problem.name.clone(), edge_name(0, spec.edge), c)
-        }];
-    };
-    several
-        .pairs
+    problem
+        .pairs()
         .iter()
-        .zip(&ms.pairs)
+        .zip(solution.pairs())
         .map(|(pair, c)| PairSummary {
             target_body: body_name(pair.target_body),
             target_edge: target_edge(pair.target_body, pair.spec.target),

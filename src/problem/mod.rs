@@ -17,6 +17,7 @@ pub mod dynamics;
 pub mod file;
 pub mod gmsh;
 pub mod refine;
+pub mod scene;
 pub mod schema;
 mod validate;
 
