@@ -113,7 +113,7 @@ impl TryFrom<ProblemFile> for Problem {
     fn try_from(file: ProblemFile) -> Result<Self, ProblemError> {
         let discretisation = validate_discretisation(&file.discretisation)?;
         let name = file.name.clone().unwrap_or_else(|| "problem".into());
-        let mut bodies = if file.body.is_empty() {
+        let bodies = if file.body.is_empty() {
             let missing = |what: &str| {
                 invalid(
                     what,
@@ -169,31 +169,30 @@ impl TryFrom<ProblemFile> for Problem {
             }
             bodies
         };
+        // One description of every file: the bodies and the contact pairs; `encode` then
+        // chooses how the problem holds them.
         let tables = file.contact.as_ref().map_or(&[][..], |c| c.tables());
-        // The two-body contact of `second_body` (and one body) unless the file asks for more:
-        // more than two bodies, several pairs, or a pair other than body 1 against body 2.
-        let usual = bodies.len() <= 2
-            && tables.len() <= 1
-            && tables.first().is_none_or(|c| {
-                c.body.as_ref().is_none_or(|b| *b == bodies[0].name)
-                    && c.target_body
-                        .as_ref()
-                        .is_none_or(|t| bodies.len() == 2 && *t == bodies[1].name)
-            });
-        let mut problem = if usual {
-            let second = (bodies.len() == 2).then(|| bodies.pop().map(Box::new)).flatten();
-            let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
-            first.second_body = second;
-            first
-        } else {
-            let key =
-                |k: usize| file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k));
-            let pairs = contact_pairs(tables, &key, &file.obstacle, &bodies)?;
-            let rest = bodies.split_off(1);
-            let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
-            first.multibody = Some(Box::new(Multibody { bodies: rest, pairs }));
-            first
+        let key = |k: usize| file.contact.as_ref().map_or_else(|| "contact".into(), |c| c.key(k));
+        if file.contact.is_none() && !file.obstacle.is_empty() {
+            return Err(invalid(
+                "obstacle",
+                format!("{} obstacles", file.obstacle.len()),
+                "obstacles need a [contact] table naming the edge that touches them",
+            ));
+        }
+        let pairs = match bodies.len() {
+            _ if !tables.is_empty() => contact_pairs(tables, &key, &file.obstacle, &bodies)?,
+            1 => Vec::new(),
+            2 => {
+                return Err(invalid(
+                    "contact",
+                    "(missing)",
+                    "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
+                ));
+            }
+            _ => contact_pairs(tables, &key, &file.obstacle, &bodies)?,
         };
+        let mut problem = encode(bodies, pairs, &key)?;
 
         let profile_edge = match &file.output.profile_edge {
             Some(name) => problem.domain.edge_index(name).ok_or_else(|| {
@@ -206,30 +205,6 @@ impl TryFrom<ProblemFile> for Problem {
             None => 0,
         };
         problem.profile_edge = profile_edge;
-        problem.contact = match tables.first() {
-            Some(c) if problem.multibody.is_none() => {
-                let (spec, obstacles) = contact_spec(c, &file.obstacle, &problem).map_err(|e| {
-                    rekeyed(e, &file.contact.as_ref().map_or_else(String::new, |t| t.key(0)))
-                })?;
-                problem.obstacles = obstacles;
-                Some(spec)
-            }
-            _ => None,
-        };
-        if file.contact.is_none() && !file.obstacle.is_empty() {
-            return Err(invalid(
-                "obstacle",
-                format!("{} obstacles", file.obstacle.len()),
-                "obstacles need a [contact] table naming the edge that touches them",
-            ));
-        }
-        if problem.second_body.is_some() && problem.contact.is_none() {
-            return Err(invalid(
-                "contact",
-                "(missing)",
-                "two bodies need a [contact] table with `edge` (body 1) and `target_edge` (body 2)",
-            ));
-        }
         check_young_ratio(&problem)?;
         let mut steps = load_steps(&file, &problem)?.into_iter();
         problem.steps = steps.next().unwrap_or_default();
@@ -1302,6 +1277,8 @@ fn contact_pairs(
         let target_body = match (&c.target_body, &c.target_edge) {
             (Some(name), _) => Some(find(format!("{key}.target_body"), name)?),
             (None, Some(_)) if bodies.len() == 2 => Some(1 - body),
+            // One body: `contact_spec` says that a target edge needs a second body.
+            (None, Some(_)) if bodies.len() == 1 => None,
             (None, Some(_)) => {
                 return Err(invalid(
                     &format!("{key}.target_body"),
@@ -1353,13 +1330,6 @@ fn contact_pairs(
                 ),
             ));
         }
-        if spec.condensation != Condensation::Compliance {
-            return Err(invalid(
-                &format!("{key}.condensation"),
-                "stiffness",
-                "several bodies or contact pairs take the compliance condensation only",
-            ));
-        }
         let target_edge = match spec.target {
             ContactTarget::Body { edge } => Some(edge),
             _ => None,
@@ -1398,6 +1368,43 @@ fn contact_pairs(
         pairs.push(ContactPair { body, spec, target_body, obstacles: chosen });
     }
     Ok(pairs)
+}
+
+/// The problem holding `bodies` (the first first) and their contact `pairs`: the first body
+/// with the one pair's `contact` and `obstacles` and the other body as `second_body` when the
+/// scene is one body, or two bodies in one pair of the first body's edge (against the second
+/// body or rigid obstacles); else the first body with `multibody`. The one place that picks
+/// the shape (docs/dev/contact_core.md: one scene).
+///
+/// # Errors
+/// [`ProblemError`] for a stiffness condensation in a scene of pairs (named by `key`).
+fn encode(
+    mut bodies: Vec<Problem>,
+    mut pairs: Vec<ContactPair>,
+    key: &dyn Fn(usize) -> String,
+) -> Result<Problem, ProblemError> {
+    let one_pair = bodies.len() <= 2
+        && pairs.len() <= 1
+        && pairs.iter().all(|p| p.body == 0 && p.target_body.is_none_or(|t| t == 1));
+    let rest = bodies.split_off(1.min(bodies.len()));
+    let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
+    if one_pair {
+        first.second_body = rest.into_iter().next().map(Box::new);
+        if let Some(pair) = pairs.pop() {
+            first.contact = Some(pair.spec);
+            first.obstacles = pair.obstacles;
+        }
+        return Ok(first);
+    }
+    if let Some(k) = pairs.iter().position(|p| p.spec.condensation != Condensation::Compliance) {
+        return Err(invalid(
+            &format!("{}.condensation", key(k)),
+            "stiffness",
+            "several bodies or contact pairs take the compliance condensation only",
+        ));
+    }
+    first.multibody = Some(Box::new(Multibody { bodies: rest, pairs }));
+    Ok(first)
 }
 
 /// `contact[j]`, for a message about table `key`'s duplicate.
