@@ -206,14 +206,9 @@ impl TryFrom<ProblemFile> for Problem {
         };
         problem.profile_edge = profile_edge;
         check_young_ratio(&problem)?;
-        let mut steps = load_steps(&file, &problem)?.into_iter();
-        problem.steps = steps.next().unwrap_or_default();
-        if let Some(p2) = problem.second_body.as_deref_mut() {
-            p2.steps = steps.next().unwrap_or_default();
-        }
-        if let Some(several) = problem.multibody.as_deref_mut() {
-            for (p, s) in several.bodies.iter_mut().zip(steps) {
-                p.steps = s;
+        for (k, steps) in load_steps(&file, &problem)?.into_iter().enumerate() {
+            if let Some(body) = problem.body_mut(k) {
+                body.steps = steps;
             }
         }
         problem.adaptive = match &file.refinement {
@@ -222,20 +217,14 @@ impl TryFrom<ProblemFile> for Problem {
         };
         problem.write_steps = file.output.steps.unwrap_or(false);
         problem.revolve = revolve(&file.output, &problem)?;
-        problem.units = file.output.units.as_deref().map(units).transpose()?;
-        let named = problem.units.clone();
-        if let Some(p2) = problem.second_body.as_deref_mut() {
-            p2.units = named.clone();
-        }
-        for p in problem.multibody.iter_mut().flat_map(|m| m.bodies.iter_mut()) {
-            p.units = named.clone();
+        let named = file.output.units.as_deref().map(units).transpose()?;
+        for k in 0..problem.body_count() {
+            if let Some(body) = problem.body_mut(k) {
+                body.units = named.clone();
+            }
         }
         super::axisymmetric::refuse_unsupported(&problem)?;
-        let frictional = problem.contact.as_ref().is_some_and(|c| c.friction > 0.0)
-            || problem
-                .multibody
-                .as_ref()
-                .is_some_and(|m| m.pairs.iter().any(|p| p.spec.friction > 0.0));
+        let frictional = problem.pairs().iter().any(|p| p.spec.friction > 0.0);
         problem.dynamics = super::dynamics::dynamics(&file, &problem)?;
         // The other bodies of a dynamic run step with inertia too, each at its own density and
         // initial velocity.
@@ -1857,22 +1846,19 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
         return Ok(Vec::new());
     }
     // The bodies in order (0 is `problem` itself) and whether there are several.
-    let all: Vec<&Problem> = (0..problem.body_count()).filter_map(|k| problem.body(k)).collect();
+    let all: Vec<&Problem> = problem.bodies().collect();
     let second = (all.len() > 1).then_some(());
     // One body given as a `[[body]]` table: its steps may name it.
     let one_table = file.body.len() == 1;
-    // Several contact pairs (`multibody`): each pair keeps its own coefficient unless a step
-    // sets `friction`.
-    let pairs = problem.multibody.is_some();
     let body_force = all.iter().any(|p| p.body_force.is_some());
-    let why = match &problem.contact {
-        None if !pairs => Some(
+    let why = if problem.pairs().is_empty() {
+        Some(
             "load steps need contact: without it the problem is linear and one solve gives the answer",
-        ),
-        _ if body_force => {
-            Some("load steps do not scale the body force yet: remove body_force or the steps")
-        }
-        _ => None,
+        )
+    } else if body_force {
+        Some("load steps do not scale the body force yet: remove body_force or the steps")
+    } else {
+        None
     };
     if let Some(reason) = why {
         return Err(invalid("step", format!("{} steps", file.step.len()), reason));
@@ -1895,10 +1881,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     }
     // A step's obstacle motion or force moves every rigid obstacle of every pair together
     // (docs/method.md §4.6): it needs a pair against rigid obstacles.
-    let movable = match &problem.multibody {
-        Some(several) => several.pairs.iter().any(|p| p.target_body.is_none()),
-        None => second.is_none(),
-    };
+    let movable = problem.pairs().iter().any(|p| p.target_body.is_none());
     let mut states: Vec<(Vec<EdgeCondition>, Vec<LoadStep>)> =
         bodies.iter().map(|b| (b.3.boundary.clone(), Vec::new())).collect();
     let mut obstacle = [0.0, 0.0];
