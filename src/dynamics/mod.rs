@@ -149,27 +149,34 @@ impl Simulation {
     }
 }
 
-/// A snapshot of the body: the displacement and velocity at the nodes (`Φ q`, `Φ v`).
+/// A snapshot of the bodies: each body's displacement and velocity at its nodes.
 pub struct Frame {
     /// Time.
     pub time: f64,
     /// The step.
     pub step: usize,
-    /// `u^h(x_I)`.
+    /// Each body's fields, in body order (one for one body).
+    pub bodies: Vec<BodyFrame>,
+}
+
+/// One body's fields in a [`Frame`].
+pub struct BodyFrame {
+    /// `u^h(x_I)` (`Φ q`).
     pub displacement: Vec<[f64; 2]>,
-    /// `v^h(x_I)`.
+    /// `v^h(x_I)` (`Φ v`).
     pub velocity: Vec<[f64; 2]>,
 }
 
 impl Frame {
-    fn of(body: &Body<'_>, state: &State, step: usize, time: f64) -> Self {
-        let shapes = body.node_shapes;
-        Self {
-            time,
-            step,
-            displacement: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.q)).collect(),
-            velocity: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.v)).collect(),
-        }
+    fn of(bodies: &[&Body<'_>], states: &[State], step: usize, time: f64) -> Self {
+        let of = |body: &Body<'_>, state: &State| {
+            let shapes = body.node_shapes;
+            BodyFrame {
+                displacement: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.q)).collect(),
+                velocity: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.v)).collect(),
+            }
+        };
+        Self { time, step, bodies: bodies.iter().zip(states).map(|(b, s)| of(b, s)).collect() }
     }
 }
 
