@@ -6,7 +6,7 @@
 //! ```text
 //! v_free = v + M̂⁻¹ h (s f − K (q + hθ v))          M̂ = M Φ + h²θ² K, factorised once;
 //!                                                    s = min(t_{n+θ} / T_r, 1) (load ramp)
-//! A      = { c : g_c(q + h/2 v) ≤ 0 }                 index set from the predicted gap
+//! A      = { c : g_c(q + h/2 v) ≤ τ_c }               index set from the predicted gap
 //! Π_A    : 0 ≤ Π ⊥ G v_free + W Π + e G v ≥ 0         W = G M̂⁻¹ E, condensed once
 //! v⁺     = v_free + M̂⁻¹ E Π
 //! q⁺     = q + h ((1 − θ) v + θ v⁺)
@@ -29,7 +29,7 @@ mod stepping;
 
 pub use history::{Figures, History, PairFigures, Record};
 
-pub use impacts::{Friction, Impacts, Term};
+pub use impacts::{ACTIVATION, Friction, Impacts, Term};
 pub use iteration::Iteration;
 pub use pair::{BodiesSimulation, BodyEnd, simulate_bodies};
 pub use stepping::Contacts;
