@@ -11,6 +11,11 @@ use super::{DynamicsError, Iteration};
 use crate::contact::BodyOperator;
 use crate::lcp::{FrictionProblem, Lcp, LemkeParams, lemke, solve_step};
 
+/// The index set's activation threshold relative to the size of a predicted gap's terms
+/// ([`Impacts::index_set`]): far above their round-off (1e-16), far below any gap a step
+/// resolves.
+pub const ACTIVATION: f64 = 1e-9;
+
 /// The candidates `offset .. offset + operator.len()` acting on body `body` through
 /// `operator` (`G` rows, `E` columns).
 #[derive(Clone, Copy)]
@@ -129,7 +134,12 @@ impl<'a> Impacts<'a> {
     }
 
     /// The index set of Moreau–Jean: the candidates whose gap predicted half a step ahead,
-    /// `g0 + Σ_b G_b (q_b + h/2 v_b)`, is not positive.
+    /// `g0 + Σ_b G_b (q_b + h/2 v_b)`, is at most [`ACTIVATION`] times the size of the motion
+    /// it is computed from (`|g0|` plus, for each body it acts on, `max |q_b| + h max |v_b|`).
+    /// A contact resting at a zero gap then stays in the set instead of leaving it on the sign
+    /// of the last step's round-off (`U⁺ = 0` to the LCP solver's accuracy: Lemke's polished
+    /// answer leaves gaps of 1e-20, the frictional step's 1e-15, enough to flip a `≤ 0` test);
+    /// Siconos' "constraint activation threshold", here relative.
     pub fn index_set(&self, q: &[&[f64]], v: &[&[f64]], h: f64) -> Vec<usize> {
         let ahead: Vec<Vec<f64>> = q
             .iter()
@@ -137,7 +147,14 @@ impl<'a> Impacts<'a> {
             .map(|(q, v)| q.iter().zip(*v).map(|(q, v)| q + 0.5 * h * v).collect())
             .collect();
         let g = self.gaps(&ahead.iter().map(Vec::as_slice).collect::<Vec<_>>());
-        (0..g.len()).filter(|&c| g[c] <= 0.0).collect()
+        let largest = |x: &[f64]| x.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        let motion: Vec<f64> = q.iter().zip(v).map(|(q, v)| largest(q) + h * largest(v)).collect();
+        let mut scale: Vec<f64> = self.initial_gap.iter().map(|g| g.abs()).collect();
+        for t in &self.normal {
+            let range = t.term.offset..t.term.offset + t.term.operator.len();
+            scale[range].iter_mut().for_each(|s| *s += motion[t.term.body]);
+        }
+        (0..g.len()).filter(|&c| g[c] <= ACTIVATION * scale[c]).collect()
     }
 
     /// The impulses on the index set `active`: `0 ≤ Π ⊥ U⁺ + e U ≥ 0` with

@@ -6,7 +6,7 @@
 //! ```text
 //! v_free = v + M̂⁻¹ h (s f − K (q + hθ v))          M̂ = M Φ + h²θ² K, factorised once;
 //!                                                    s = min(t_{n+θ} / T_r, 1) (load ramp)
-//! A      = { c : g_c(q + h/2 v) ≤ 0 }                 index set from the predicted gap
+//! A      = { c : g_c(q + h/2 v) ≤ τ_c }               index set from the predicted gap
 //! Π_A    : 0 ≤ Π ⊥ G v_free + W Π + e G v ≥ 0         W = G M̂⁻¹ E, condensed once
 //! v⁺     = v_free + M̂⁻¹ E Π
 //! q⁺     = q + h ((1 − θ) v + θ v⁺)
@@ -29,7 +29,7 @@ mod stepping;
 
 pub use history::{Figures, History, PairFigures, Record};
 
-pub use impacts::{Friction, Impacts, Term};
+pub use impacts::{ACTIVATION, Friction, Impacts, Term};
 pub use iteration::Iteration;
 pub use pair::{BodiesSimulation, BodyEnd, simulate_bodies};
 pub use stepping::Contacts;
@@ -149,27 +149,34 @@ impl Simulation {
     }
 }
 
-/// A snapshot of the body: the displacement and velocity at the nodes (`Φ q`, `Φ v`).
+/// A snapshot of the bodies: each body's displacement and velocity at its nodes.
 pub struct Frame {
     /// Time.
     pub time: f64,
     /// The step.
     pub step: usize,
-    /// `u^h(x_I)`.
+    /// Each body's fields, in body order (one for one body).
+    pub bodies: Vec<BodyFrame>,
+}
+
+/// One body's fields in a [`Frame`].
+pub struct BodyFrame {
+    /// `u^h(x_I)` (`Φ q`).
     pub displacement: Vec<[f64; 2]>,
-    /// `v^h(x_I)`.
+    /// `v^h(x_I)` (`Φ v`).
     pub velocity: Vec<[f64; 2]>,
 }
 
 impl Frame {
-    fn of(body: &Body<'_>, state: &State, step: usize, time: f64) -> Self {
-        let shapes = body.node_shapes;
-        Self {
-            time,
-            step,
-            displacement: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.q)).collect(),
-            velocity: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.v)).collect(),
-        }
+    fn of(bodies: &[&Body<'_>], states: &[State], step: usize, time: f64) -> Self {
+        let of = |body: &Body<'_>, state: &State| {
+            let shapes = body.node_shapes;
+            BodyFrame {
+                displacement: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.q)).collect(),
+                velocity: (0..shapes.len()).map(|i| shapes.interpolate(i, &state.v)).collect(),
+            }
+        };
+        Self { time, step, bodies: bodies.iter().zip(states).map(|(b, s)| of(b, s)).collect() }
     }
 }
 

@@ -44,7 +44,7 @@ impl BodyEnd {
 /// pair's; the energies and momentum summed over the bodies) and each body's end.
 pub struct BodiesSimulation {
     /// The scene's run: `displacement`, `velocity` and `mass` are the bodies' one after the
-    /// other; no frames.
+    /// other; each frame holds every body.
     pub simulation: Simulation,
     /// Each body's end, in body order.
     pub bodies: Vec<BodyEnd>,

@@ -30,7 +30,7 @@ pub struct Contacts<'a> {
 pub(super) struct Run {
     /// Records at time 0 and after every step (the bodies summed).
     pub history: History,
-    /// Snapshots of the first body.
+    /// Snapshots of every body.
     pub frames: Vec<Frame>,
     /// Each body's state at the end.
     pub states: Vec<State>,
@@ -79,7 +79,7 @@ pub(super) fn run(
         |step: usize| params.snapshot_every.is_some_and(|k| step % k == 0 || step == steps);
     let mut frames = Vec::new();
     if snapshot(0) {
-        frames.push(Frame::of(bodies[0], &states[0], 0, 0.0));
+        frames.push(Frame::of(bodies, &states, 0, 0.0));
     }
     let mut final_impulses = Vec::new();
     for step in 1..=steps {
@@ -111,7 +111,7 @@ pub(super) fn run(
         }
         history.records.push(rec);
         if snapshot(step) {
-            frames.push(Frame::of(bodies[0], &states[0], step, step as f64 * h));
+            frames.push(Frame::of(bodies, &states, step, step as f64 * h));
         }
         progress(step, steps);
     }

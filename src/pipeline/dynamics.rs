@@ -115,9 +115,13 @@ impl DynamicOutcome {
             None => self.candidates.as_ref().map_or(0, Candidates::len),
         }
     }
-    /// The nodes' positions.
+    /// The nodes' positions (of the first body).
     pub fn points(&self) -> &[crate::geometry::Point] {
         &self.body.nodes().points
+    }
+    /// Every body, in body order.
+    pub fn all_bodies(&self) -> impl Iterator<Item = &DynamicBody> {
+        std::iter::once(&self.body).chain(self.bodies.iter().flat_map(|b| &b.others))
     }
 }
 
@@ -544,8 +548,14 @@ pub fn run(
             .filter(|b| b.pairs.len() > 1)
             .map(|b| pair_summaries(problem, &outcome, b)),
     };
-    let mut files =
-        post::frames::write_frames(staged.path(), outcome.points(), &outcome.simulation.frames)?;
+    let names: Vec<String> =
+        (0..problem.body_count()).filter_map(|k| problem.body(k)).map(|p| p.name.clone()).collect();
+    let bodies: Vec<(&str, &[Point])> = names
+        .iter()
+        .zip(outcome.all_bodies())
+        .map(|(name, body)| (name.as_str(), body.nodes().points.as_slice()))
+        .collect();
+    let mut files = post::frames::write_frames(staged.path(), &bodies, &outcome.simulation.frames)?;
     files.extend(post::history::write_dynamic(
         staged.path(),
         &outcome.simulation.history,

@@ -282,7 +282,7 @@ fn obstacles_vtp(problem: &Problem, obstacles: &[(String, Shape, Point)]) -> Str
 
 /// The text of a `.vtm` multiblock file: one block per `(name, data sets)`, each data set a
 /// `(name, file)` with the file relative to the `.vtm`.
-fn multiblock(blocks: &[(&str, Vec<(String, String)>)]) -> String {
+pub(crate) fn multiblock(blocks: &[(&str, Vec<(String, String)>)]) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "<?xml version=\"1.0\"?>");
     let _ = writeln!(

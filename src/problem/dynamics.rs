@@ -234,10 +234,6 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
     } else if several && axisymmetric {
         Some(("body[0].material.plane", "several axisymmetric bodies"))
-    } else if several
-        && file.dynamics.as_ref().and_then(|d| d.output.as_ref()).is_some_and(|o| o.every.is_some())
-    {
-        Some(("dynamics.output.every", "snapshots of several bodies"))
     } else if specs.iter().any(|c| c.friction > 0.0) && axisymmetric {
         Some(("contact.friction", "friction on an axisymmetric body"))
     } else if specs.iter().any(|c| c.solver == ContactSolver::ActiveSet) {

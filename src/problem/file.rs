@@ -95,8 +95,9 @@ pub struct DynamicsFile {
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct DynamicsOutputFile {
-    /// Write a snapshot of the body (`frames/frame_<step>.vtp`, indexed by `frames.pvd` for
-    /// ParaView) every this many steps, and at the first and last (default: no snapshots;
+    /// Write a snapshot of the bodies (`frames/frame_<step>.vtp`; several bodies: one
+    /// `frames/frame_<step>_<k>.vtp` per body and `frames/frame_<step>.vtm` naming them;
+    /// indexed by `frames.pvd` for ParaView) every this many steps, and at the first and last (default: no snapshots;
     /// `history.csv` has every step).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub every: Option<usize>,
