@@ -54,6 +54,15 @@ fn main() {
         s.lcp,
         100.0 * s.lcp / stepping
     );
+    let ms = |seconds: f64| 1e3 * seconds / f.steps as f64;
+    println!(
+        "per step: free velocities (K product, M̂ solve) {:.3} ms, records (energies) {:.3} ms, \
+         LCPs {:.3} ms, the rest {:.3} ms",
+        ms(s.free),
+        ms(s.records),
+        ms(s.lcp),
+        1e3 * per_step - ms(s.free + s.records + s.lcp)
+    );
     println!(
         "contact duration {:?}, mean force {:?}, final velocity {:?}",
         f.contact.contact_duration, f.contact.mean_contact_force, f.final_velocity

@@ -140,6 +140,10 @@ pub struct Seconds {
     pub setup: f64,
     /// Forming and solving the steps' LCPs (index sets included).
     pub lcp: f64,
+    /// The steps' free velocities (each the product with `K` and one `M̂` solve).
+    pub free: f64,
+    /// The steps' records (energies, momenta).
+    pub records: f64,
 }
 
 impl Simulation {

@@ -84,11 +84,13 @@ pub(super) fn run(
     let mut final_impulses = Vec::new();
     for step in 1..=steps {
         let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
+        let clock = Instant::now();
         let v_free = iterations
             .iter()
             .zip(&states)
             .map(|(it, s)| it.free_velocity(&s.q, &s.v, factor))
             .collect::<Result<Vec<_>, _>>()?;
+        seconds.free += clock.elapsed().as_secs_f64();
         let answer = match &impacts {
             Some(impacts) => {
                 let clock = Instant::now();
@@ -103,7 +105,9 @@ pub(super) fn run(
         let (next, (external, loss)) =
             advance(&states, v_free, answer.as_ref(), &loads, factor, params, start);
         states = next;
+        let clock = Instant::now();
         let mut rec = summed(bodies, &states, step as f64 * h);
+        seconds.records += clock.elapsed().as_secs_f64();
         (rec.external_work, rec.contact_loss) = (external, loss);
         if let Some((_, answer)) = answer {
             with_contact(&mut rec, &answer, h, &pair_starts);
