@@ -365,7 +365,7 @@ pub(super) fn solve_frictional(
         history.finish(&mut friction);
     }
     friction.target_operator = target_tangential;
-    attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
+    attach_records(&mut contact, problem, Some(friction), pinned, load_driven, rigid_mode);
     Ok((u, u2, contact))
 }
 
@@ -391,21 +391,23 @@ pub(super) fn move_obstacle(candidates: &mut contact::Candidates, d: geometry::P
     }
 }
 
-/// The records both frictional paths end with. A translation held by the contact without
-/// load steps is a frictionless one-step problem (it only took a frictional path for the
-/// search): no frictional record, as on the direct path.
+/// The records both load paths end with. A translation held by the contact without load
+/// steps is a frictionless one-step problem (it only took a frictional path for the search):
+/// no frictional record, as on the direct path; nor has a one-shot sparse path (`friction`
+/// `None`: no tangential operators).
 fn attach_records(
     contact: &mut ContactSolution,
     problem: &Problem,
-    friction: solution::FrictionContact,
+    friction: Option<solution::FrictionContact>,
     pinned: Option<assembly::PinnedMode>,
     load_driven: Option<solution::LoadDriven>,
     rigid_mode: Option<solution::RigidMode>,
 ) {
     // A frictionless held body without steps reports as one-shot contact does.
-    if pinned.is_none() || !problem.steps.is_empty() || friction.coefficient > 0.0 {
-        contact.friction = Some(friction);
-    }
+    let reported = |f: &solution::FrictionContact| {
+        pinned.is_none() || !problem.steps.is_empty() || f.coefficient > 0.0
+    };
+    contact.friction = friction.filter(reported);
     contact.load_driven = load_driven;
     contact.rigid_mode = rigid_mode;
 }

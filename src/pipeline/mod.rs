@@ -492,26 +492,33 @@ fn solve_contact(
     let on_path = spec.friction > 0.0 || steps.is_some() || held;
     let shape = plan::Shape::of(on_path, found.target.is_some(), held);
     let plan = plan::Plan::new(spec.solver, shape, found.candidates.len());
-    if on_path {
-        let Found { candidates, target, paired_points, unpaired } = found;
-        let on_path = (candidates, target, plan);
-        let (u1, u2, mut contact) =
-            solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
-        contact.paired_points = paired_points;
-        contact.unpaired = unpaired;
-        let second_gap = contact.target.as_ref().zip(u2.as_deref());
-        contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
-        return Ok((u1, u2, contact));
-    }
-    if plan.is_sparse() {
-        let Found { candidates, target, paired_points, unpaired } = found;
-        let second = target.zip(second.map(|(_, m2)| m2));
-        let (u1, u2, mut contact) = solve_active_set(spec, model, candidates, second, clock)?;
-        contact.paired_points = paired_points;
-        contact.unpaired = unpaired;
-        return Ok((u1, u2, contact));
+    // The sparse system in one shot is one step of one increment of its load path.
+    if on_path || plan.is_sparse() {
+        return on_load_path(problem, (spec, plan), model, second, steps, found, clock);
     }
     solve_condensed_once(problem, (spec, plan), model, second, found, lemke, clock)
+}
+
+/// [`solve_on_load_path`] with the pair's paired points, unpaired candidates and the MLS gaps
+/// of the final displacements ([`final_gaps`]).
+fn on_load_path(
+    problem: &Problem,
+    (spec, plan): (&ContactSpec, plan::Plan),
+    model: &mut Model,
+    second: Option<(&Problem, &Model)>,
+    steps: Option<&[Vec<StepEnd>]>,
+    found: Found,
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let Found { candidates, target, paired_points, unpaired } = found;
+    let on_path = (candidates, target, plan);
+    let (u1, u2, mut contact) =
+        solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
+    contact.paired_points = paired_points;
+    contact.unpaired = unpaired;
+    let second_gap = contact.target.as_ref().zip(u2.as_deref());
+    contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
+    Ok((u1, u2, contact))
 }
 
 /// One pair's candidates before any solve: the target body's operator, the paired points
@@ -555,12 +562,13 @@ fn find_candidates(
 }
 
 /// Friction, load steps or a held translation: the load path (docs/method.md §8), condensed
-/// or sparse as `plan` says, MFVM or FE, a rigid obstacle or two bodies. Without steps, one
-/// step to the models' loads in one increment.
+/// or sparse as `plan` says, MFVM or FE, a rigid obstacle or two bodies; and frictionless
+/// contact in one shot on the sparse system (one step of one increment of its path). Without
+/// steps, one step to the models' loads in one increment.
 fn solve_on_load_path(
     problem: &Problem,
     spec: &ContactSpec,
-    model: &Model,
+    model: &mut Model,
     second: Option<(&Problem, &Model)>,
     steps: Option<&[Vec<StepEnd>]>,
     (candidates, target, plan): (contact::Candidates, Option<contact::BodyOperator>, plan::Plan),
@@ -579,7 +587,7 @@ fn solve_on_load_path(
     if plan.is_sparse() {
         solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)
     } else {
-        solve_frictional(problem, spec, model, candidates, target, &steps1, clock)
+        solve_frictional(problem, spec, &*model, candidates, target, &steps1, clock)
     }
 }
 
@@ -625,14 +633,14 @@ fn solve_condensed_once(
                 Error::LemkeRefused(refusal) => refusal,
                 other => return Err(other),
             };
-            // Frictionless and one step here: the active-set solver takes the problem.
+            // Frictionless and one step here: the active-set solver takes the problem, one
+            // step of one increment of the sparse path.
             if plan.fallback {
                 drop((terms, condensed));
-                let pair = target.zip(second.map(|(_, m2)| m2));
-                match solve_active_set(spec, model, candidates, pair, clock) {
+                let found = Found { candidates, target, paired_points, unpaired };
+                let sparse = plan::Plan { system: plan::System::Sparse, fallback: false };
+                match on_load_path(problem, (spec, sparse), model, second, None, found, clock) {
                     Ok((u1, u2, mut contact)) => {
-                        contact.paired_points = paired_points;
-                        contact.unpaired = unpaired;
                         contact.warning = warning;
                         contact.fallback_from = Some(refusal.diagnosis_text());
                         return Ok((u1, u2, contact));
@@ -774,92 +782,27 @@ fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> contact::spars
     }
 }
 
-/// The active-set system of one body against rigid obstacles.
+/// The active-set system of one body against rigid obstacles, owning `K`'s factors when
+/// given them (`factors`: it may then release them, [`contact::sparse::ModelFactors`]), else
+/// borrowing the model's.
 fn rigid_obstacle<'a>(
     model: &'a Model,
     candidates: &'a contact::Candidates,
+    factors: Option<Factorisation>,
 ) -> Result<contact::sparse::RigidObstacle<'a>, lcp::active_set::ActiveSetError> {
+    let factors: contact::sparse::ModelFactors<'a> = match factors {
+        Some(f) => f.into(),
+        None => (&model.factorisation).into(),
+    };
     contact::sparse::RigidObstacle::new(
         &model.system.matrix,
         &model.system.rhs,
-        &model.factorisation,
+        factors,
         &candidates.operator,
         &candidates.initial_gap,
         model.system.collocation_scale,
         node_points(model),
     )
-}
-
-/// The active-set solver (docs/method.md §5.1), against a rigid obstacle or, with `second`
-/// (the target's operator and model), between two bodies: no `M`, so none of its checks; the
-/// displacements are those of the final active set's problem (no solve with `K` alone, which
-/// may be too ill-conditioned where the contact is what holds the body).
-///
-/// Against a rigid obstacle the system takes `K`'s factorisation from `model` and gives it
-/// back, its factors released if it factorised a row-replaced matrix
-/// ([`contact::sparse::ModelFactors`]): the peak is then one factorisation of the body, not
-/// two. Only statistics are left of `model.factorisation` then.
-fn solve_active_set(
-    spec: &ContactSpec,
-    model: &mut Model,
-    candidates: contact::Candidates,
-    second: Option<(contact::BodyOperator, &Model)>,
-    clock: &mut Clock<'_>,
-) -> Result<ContactOutcome, Error> {
-    let params = lcp::active_set::ActiveSetParams::default();
-    let (answer, u1, u2, work) = clock.run("active_set", || match &second {
-        None => {
-            let factors = model.factorisation.take();
-            let mut system = contact::sparse::RigidObstacle::new(
-                &model.system.matrix,
-                &model.system.rhs,
-                factors,
-                &candidates.operator,
-                &candidates.initial_gap,
-                model.system.collocation_scale,
-                node_points(model),
-            )?;
-            let answer = lcp::active_set::solve(&mut system, &params)?;
-            let u1 = system.final_displacements(&answer.active)?;
-            let stats = system.stats;
-            if let Some(f) = system.into_factorisation() {
-                model.factorisation = f;
-            }
-            Ok::<_, lcp::LcpError>((answer, u1, None, stats))
-        }
-        Some((op, m2)) => {
-            let mut system = contact::sparse::TwoBodies::two(
-                body_parts(model, &candidates.operator),
-                body_parts(m2, op),
-                &candidates.initial_gap,
-                model.system.collocation_scale,
-            )?;
-            let answer = lcp::active_set::solve(&mut system, &params)?;
-            let (u1, u2) = system.final_displacements(&answer.active)?;
-            Ok((answer, u1, Some(u2), system.stats))
-        }
-    })?;
-    let target = second.map(|(op, _)| op);
-    let gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
-    let mut contact = ContactSolution::new(
-        spec,
-        candidates,
-        target,
-        Vec::new(),
-        None,
-        &answer.free_gap,
-        answer.lcp,
-        gap,
-        None,
-    );
-    contact.active_set = Some(solution::ActiveSetRecord {
-        iterations: answer.iterations,
-        changes: answer.changes,
-        rescues: answer.rescues,
-        end: answer.end,
-        work,
-    });
-    Ok((u1, u2, contact))
 }
 
 /// The run-time checks of `M` (docs/method.md §4.1, §4.3): an error, or the warning to report

@@ -73,6 +73,7 @@ pub(super) fn pair_records(
 }
 
 /// What the path needs of the scene besides the models.
+#[derive(Clone, Copy)]
 pub(super) struct Scene<'s> {
     pub(super) problem: &'s Problem,
     pub(super) pairs: &'s [ContactPair],
