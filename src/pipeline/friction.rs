@@ -246,14 +246,16 @@ pub(super) fn tangential_operators_of(
 /// tangential displacements of each step's end (one solve per step; linear in between), and
 /// the step solver per increment, carrying the tangential displacements `s` and the
 /// accumulated slip. Returns the last increment's solution (whose `gap` the caller replaces
-/// by the MLS gaps) with the nodal parameters of both bodies.
+/// by the MLS gaps) with the nodal parameters of both bodies. Lemke's frictionless steps take
+/// `lemke`'s parameters; its numerical failure is refused with the conditioning of `M_nn`
+/// ([`Error::LemkeRefused`], inside the increment's [`Error::Increment`]).
 pub(super) fn solve_frictional(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     mut candidates: contact::Candidates,
     target: Option<Target<'_>>,
-    steps: &[StepEnd],
+    (steps, lemke): (&[StepEnd], &lcp::LemkeParams),
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let (tangential, free, target_tangential) = tangential_operators(
@@ -307,9 +309,13 @@ pub(super) fn solve_frictional(
         groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
-        lemke: &lcp::LemkeParams::default(),
+        lemke,
     };
-    let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
+    // Lemke's numerical failure as its refusal, with the conditioning of `M_nn`; the active
+    // set applies but to a pair with a held translation (no sparse path holds one).
+    let applies = !matches!(path.held.first(), Some(load_path::Held::Among { .. }));
+    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+        .map_err(|e| refused_on_path(e, &condensed, warning.is_some(), applies))?;
     drop(terms);
     let load_path::PathAnswer {
         step,

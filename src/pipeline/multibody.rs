@@ -361,9 +361,10 @@ impl Numbering {
 }
 
 /// The LCP over all pairs, by the route the scene takes: the load path (condensed or sparse)
-/// with friction or steps; else the active set when a pair asks for it, or Lemke, with
-/// `"auto"`'s fallback to the active set when Lemke fails numerically. Also the frictional
-/// records, a force-driven obstacle's record and the fallback's reason.
+/// with friction or steps, else one shot (Lemke, or the sparse path's one step of one
+/// increment); on the condensed system `"auto"`'s fallback to the sparse one when Lemke fails
+/// numerically ([`super::with_fallback`]). Also the frictional records, a force-driven
+/// obstacle's record and the fallback's reason.
 fn solve_scene(
     scene: &path::Scene<'_>,
     models: &[&Model],
@@ -374,33 +375,20 @@ fn solve_scene(
 ) -> Result<(path::OnPath, Option<String>), Error> {
     let solvers: Vec<ContactSolver> = scene.pairs.iter().map(|p| p.spec.solver).collect();
     let plan = Plan::several(&solvers, on_path, scene.initial_gap.len());
-    if on_path {
-        let on = if plan.is_sparse() {
-            sparse_path::solve(scene, models, held, clock)?
-        } else {
-            path::solve(scene, models, held, clock)?
-        };
-        return Ok((on, None));
-    }
+    let sparse = |clock: &mut Clock<'_>| match on_path {
+        true => sparse_path::solve(scene, models, held, clock),
+        false => sparse_once(scene, models, held, clock).map(|s| (s, Vec::new(), None)),
+    };
     if plan.is_sparse() {
-        let solved = sparse_once(scene, models, held, clock)?;
-        return Ok(((solved, Vec::new(), None), None));
+        return Ok((sparse(clock)?, None));
     }
-    let answer = solve_lemke(scene, models, held, lemke, clock);
+    let condensed = match on_path {
+        true => path::solve(scene, models, held, lemke, clock),
+        false => solve_lemke(scene, models, held, lemke, clock).map(|s| (s, Vec::new(), None)),
+    };
     // Lemke failed numerically: the plan's fallback (`"auto"` on every pair) hands the
     // problem to the active-set method (docs/method.md §5.1) and records why, as for one pair.
-    match answer {
-        Err(Error::LemkeRefused(mut refusal)) if plan.fallback => {
-            match sparse_once(scene, models, held, clock) {
-                Ok(solved) => Ok(((solved, Vec::new(), None), Some(refusal.diagnosis_text()))),
-                Err(e) => {
-                    refusal.active_set_failure = Some(e.to_string());
-                    Err(Error::LemkeRefused(refusal))
-                }
-            }
-        }
-        other => Ok(((other?, Vec::new(), None), None)),
-    }
+    super::with_fallback(condensed, plan.fallback, clock, sparse)
 }
 
 /// Frictionless contact in one shot on the sparse system ([`contact::sparse::Bodies`],
