@@ -126,6 +126,8 @@ impl Error {
                 "contact.target_edge, boundary of the second body"
             }
             Error::Contact(C::NoPartner { .. }) => "contact.edge, contact.target_edge, geometry",
+            // The caller's inconsistency: no input key decides it.
+            Error::Contact(C::MissingTangential { .. }) => return None,
             Error::Contact(_) => "contact.edge, boundary[*].displacement",
             Error::Lcp(L::FrictionNotConverged { .. }) => "contact.friction, step",
             Error::Lcp(L::ActiveSet(_)) => "contact.solver",

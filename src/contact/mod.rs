@@ -94,6 +94,14 @@ pub enum ContactError {
         "the contact's target is missing: a second body without its model, or obstacles without any [[obstacle]]"
     )]
     MissingTarget,
+    /// The frictional condensation (docs/method.md §8) was handed a body without its
+    /// tangential operator, or no body at all: an inconsistency of the caller (a frictionless
+    /// one-shot path builds no tangential operators), not of the input.
+    #[error("the frictional condensation needs every contact body's tangential operator: {what}")]
+    MissingTangential {
+        /// Which body lacks it, or that there is none.
+        what: String,
+    },
     /// MLS failed at a contact point.
     #[error(transparent)]
     Mls(#[from] MlsError),

@@ -246,14 +246,16 @@ pub(super) fn tangential_operators_of(
 /// tangential displacements of each step's end (one solve per step; linear in between), and
 /// the step solver per increment, carrying the tangential displacements `s` and the
 /// accumulated slip. Returns the last increment's solution (whose `gap` the caller replaces
-/// by the MLS gaps) with the nodal parameters of both bodies.
+/// by the MLS gaps) with the nodal parameters of both bodies. Lemke's frictionless steps take
+/// `lemke`'s parameters; its numerical failure is refused with the conditioning of `M_nn`
+/// ([`Error::LemkeRefused`], inside the increment's [`Error::Increment`]).
 pub(super) fn solve_frictional(
     problem: &Problem,
     spec: &ContactSpec,
     model: &Model,
     mut candidates: contact::Candidates,
     target: Option<Target<'_>>,
-    steps: &[StepEnd],
+    (steps, lemke): (&[StepEnd], &lcp::LemkeParams),
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
     let (tangential, free, target_tangential) = tangential_operators(
@@ -307,9 +309,13 @@ pub(super) fn solve_frictional(
         groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
-        lemke: &lcp::LemkeParams::default(),
+        lemke,
     };
-    let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
+    // Lemke's numerical failure as its refusal, with the conditioning of `M_nn`; the active
+    // set applies but to a pair with a held translation (no sparse path holds one).
+    let applies = !matches!(path.held.first(), Some(load_path::Held::Among { .. }));
+    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+        .map_err(|e| refused_on_path(e, &condensed, warning.is_some(), applies))?;
     drop(terms);
     let load_path::PathAnswer {
         step,
@@ -365,7 +371,7 @@ pub(super) fn solve_frictional(
         history.finish(&mut friction);
     }
     friction.target_operator = target_tangential;
-    attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
+    attach_records(&mut contact, problem, Some(friction), pinned, load_driven, rigid_mode);
     Ok((u, u2, contact))
 }
 
@@ -391,21 +397,23 @@ pub(super) fn move_obstacle(candidates: &mut contact::Candidates, d: geometry::P
     }
 }
 
-/// The records both frictional paths end with. A translation held by the contact without
-/// load steps is a frictionless one-step problem (it only took a frictional path for the
-/// search): no frictional record, as on the direct path.
+/// The records both load paths end with. A translation held by the contact without load
+/// steps is a frictionless one-step problem (it only took a frictional path for the search):
+/// no frictional record, as on the direct path; nor has a one-shot sparse path (`friction`
+/// `None`: no tangential operators).
 fn attach_records(
     contact: &mut ContactSolution,
     problem: &Problem,
-    friction: solution::FrictionContact,
+    friction: Option<solution::FrictionContact>,
     pinned: Option<assembly::PinnedMode>,
     load_driven: Option<solution::LoadDriven>,
     rigid_mode: Option<solution::RigidMode>,
 ) {
     // A frictionless held body without steps reports as one-shot contact does.
-    if pinned.is_none() || !problem.steps.is_empty() || friction.coefficient > 0.0 {
-        contact.friction = Some(friction);
-    }
+    let reported = |f: &solution::FrictionContact| {
+        pinned.is_none() || !problem.steps.is_empty() || f.coefficient > 0.0
+    };
+    contact.friction = friction.filter(reported);
     contact.load_driven = load_driven;
     contact.rigid_mode = rigid_mode;
 }

@@ -215,13 +215,15 @@ pub(super) struct Condensed {
 /// frictional path always computed (the first term's blocks, then each other's added).
 ///
 /// # Errors
-/// A failed solve ([`contact::ContactError`]), a compliance check's dense eigenvalue failure.
+/// A failed solve ([`contact::ContactError`]), a compliance check's dense eigenvalue failure;
+/// [`contact::ContactError::MissingTangential`] for a term without its tangential operator
+/// or no term at all.
 pub(super) fn condense(terms: &[Term<'_>], initial_gap: &[f64]) -> Result<Condensed, Error> {
     let m = initial_gap.len();
     let mut total: Option<contact::CondensedBlocks> = None;
     let mut parts = Vec::with_capacity(terms.len());
-    for term in terms {
-        let tangential = term.tangential.ok_or(contact::ContactError::MissingTarget)?;
+    for (k, term) in terms.iter().enumerate() {
+        let tangential = term.tangential.ok_or_else(|| missing_tangential(k))?;
         let b = contact::condense_blocks(
             &term.model.factorisation,
             &term.model.system.rhs,
@@ -256,9 +258,17 @@ pub(super) fn condense(terms: &[Term<'_>], initial_gap: &[f64]) -> Result<Conden
             }
         });
     }
-    let total = total.ok_or(contact::ContactError::MissingTarget)?;
+    let total = total.ok_or_else(|| contact::ContactError::MissingTangential {
+        what: "no contact body was given".into(),
+    })?;
     let compliance = contact::CondensedContact::combine(initial_gap, &parts)?;
     Ok(Condensed { blocks: total.with_initial_gap(initial_gap), compliance })
+}
+
+/// [`condense`]'s error for term `k` without its tangential operator.
+fn missing_tangential(k: usize) -> contact::ContactError {
+    let what = format!("body term {k} has none (frictionless terms condense by `condense_normal`)");
+    contact::ContactError::MissingTangential { what }
 }
 
 /// The frictionless `M = Σ_b scatter(I_b, G_b K_b⁻¹ E_b)` and `q` over the terms with `M`'s
@@ -730,4 +740,59 @@ pub(super) fn normal_lcp(
         z: step.normal.clone(),
         pivots: step.pivots,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A frictionless term (no tangential operator) or no term at all is refused as what it
+    /// is, not as a missing contact target.
+    #[test]
+    fn condense_names_a_missing_tangential_operator() {
+        let problem = crate::problem::Problem::from_toml(
+            r#"
+            [geometry]
+            kind = "rectangle"
+            x = [0.0, 1.0]
+            y = [0.0, 1.0]
+            [nodes]
+            spacing = 0.25
+            [material]
+            young = 1000.0
+            poisson = 0.3
+            plane = "stress"
+            [[boundary]]
+            edge = "bottom"
+            displacement = { x = 0.0, y = 0.0 }
+            [contact]
+            edge = "top"
+            obstacle_point = [0.0, 1.01]
+            obstacle_normal = [0.0, -1.0]
+            "#,
+        )
+        .unwrap();
+        let model = super::super::discretise(&problem, &mut crate::progress::Silent).unwrap();
+        let spec = problem.contact.as_ref().unwrap();
+        let target = |x| contact::rigid_target(&problem, spec, x).unwrap();
+        let candidates =
+            contact::candidates_on(&problem, &model, spec.edge, &target, spec.condensation)
+                .unwrap();
+        let steps = vec![StepEnd::whole(&model, 0.0)];
+        let term = Term {
+            model: &model,
+            normal: &candidates.operator,
+            tangential: None,
+            index: None,
+            steps: &steps,
+        };
+        let message = |e: Error| match e {
+            Error::Contact(e @ contact::ContactError::MissingTangential { .. }) => e.to_string(),
+            other => panic!("not a missing tangential operator: {other}"),
+        };
+        let frictionless = message(condense(&[term], &candidates.initial_gap).err().unwrap());
+        assert!(frictionless.contains("body term 0 has none"), "{frictionless}");
+        let none = message(condense(&[], &[]).err().unwrap());
+        assert!(none.contains("no contact body"), "{none}");
+    }
 }

@@ -492,26 +492,33 @@ fn solve_contact(
     let on_path = spec.friction > 0.0 || steps.is_some() || held;
     let shape = plan::Shape::of(on_path, found.target.is_some(), held);
     let plan = plan::Plan::new(spec.solver, shape, found.candidates.len());
-    if on_path {
-        let Found { candidates, target, paired_points, unpaired } = found;
-        let on_path = (candidates, target, plan);
-        let (u1, u2, mut contact) =
-            solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
-        contact.paired_points = paired_points;
-        contact.unpaired = unpaired;
-        let second_gap = contact.target.as_ref().zip(u2.as_deref());
-        contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
-        return Ok((u1, u2, contact));
-    }
-    if plan.is_sparse() {
-        let Found { candidates, target, paired_points, unpaired } = found;
-        let second = target.zip(second.map(|(_, m2)| m2));
-        let (u1, u2, mut contact) = solve_active_set(spec, model, candidates, second, clock)?;
-        contact.paired_points = paired_points;
-        contact.unpaired = unpaired;
-        return Ok((u1, u2, contact));
+    // The sparse system in one shot is one step of one increment of its load path.
+    if on_path || plan.is_sparse() {
+        return on_load_path(problem, (spec, plan, lemke), model, second, steps, found, clock);
     }
     solve_condensed_once(problem, (spec, plan), model, second, found, lemke, clock)
+}
+
+/// [`solve_on_load_path`] with the pair's paired points, unpaired candidates and the MLS gaps
+/// of the final displacements ([`final_gaps`]).
+fn on_load_path(
+    problem: &Problem,
+    (spec, plan, lemke): (&ContactSpec, plan::Plan, &lcp::LemkeParams),
+    model: &mut Model,
+    second: Option<(&Problem, &Model)>,
+    steps: Option<&[Vec<StepEnd>]>,
+    found: Found,
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let Found { candidates, target, paired_points, unpaired } = found;
+    let on_path = (candidates, target, plan, lemke);
+    let (u1, u2, mut contact) =
+        solve_on_load_path(problem, spec, model, second, steps, on_path, clock)?;
+    contact.paired_points = paired_points;
+    contact.unpaired = unpaired;
+    let second_gap = contact.target.as_ref().zip(u2.as_deref());
+    contact.gap = final_gaps(model, &contact.candidates, &u1, second_gap);
+    Ok((u1, u2, contact))
 }
 
 /// One pair's candidates before any solve: the target body's operator, the paired points
@@ -555,20 +562,25 @@ fn find_candidates(
 }
 
 /// Friction, load steps or a held translation: the load path (docs/method.md §8), condensed
-/// or sparse as `plan` says, MFVM or FE, a rigid obstacle or two bodies. Without steps, one
-/// step to the models' loads in one increment.
+/// or sparse as `plan` says, MFVM or FE, a rigid obstacle or two bodies; and frictionless
+/// contact in one shot on the sparse system (one step of one increment of its path). Without
+/// steps, one step to the models' loads in one increment. On the condensed path Lemke's
+/// frictionless steps take `lemke`'s parameters, and with the plan's fallback (`"auto"`) a
+/// path on which Lemke fails numerically is done again on the sparse system
+/// ([`with_fallback`]).
 fn solve_on_load_path(
     problem: &Problem,
     spec: &ContactSpec,
-    model: &Model,
+    model: &mut Model,
     second: Option<(&Problem, &Model)>,
     steps: Option<&[Vec<StepEnd>]>,
-    (candidates, target, plan): (contact::Candidates, Option<contact::BodyOperator>, plan::Plan),
+    on_path: (contact::Candidates, Option<contact::BodyOperator>, plan::Plan, &lcp::LemkeParams),
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
+    let (candidates, target, plan, lemke) = on_path;
     let one = |m: &Model| vec![StepEnd::whole(m, spec.friction)];
     let steps1 = steps.map_or_else(|| one(model), |s| s[0].clone());
-    let target = match (target, second) {
+    let target_of = |target: Option<contact::BodyOperator>| match (target, second) {
         (Some(op), Some((_, m2))) => Some(Target {
             model: m2,
             operator: op,
@@ -577,9 +589,73 @@ fn solve_on_load_path(
         _ => None,
     };
     if plan.is_sparse() {
+        let target = target_of(target);
+        return solve_frictional_active_set(
+            problem, spec, model, candidates, target, &steps1, clock,
+        );
+    }
+    let kept = plan.fallback.then(|| (candidates.clone(), target.clone()));
+    let on = (&steps1[..], lemke);
+    let condensed =
+        solve_frictional(problem, spec, &*model, candidates, target_of(target), on, clock);
+    let sparse = |clock: &mut Clock<'_>| {
+        let (candidates, target) = kept.expect("kept for the fallback");
+        let target = target_of(target);
         solve_frictional_active_set(problem, spec, model, candidates, target, &steps1, clock)
-    } else {
-        solve_frictional(problem, spec, model, candidates, target, &steps1, clock)
+    };
+    let ((u1, u2, mut contact), fallback_from) =
+        with_fallback(condensed, plan.fallback, clock, sparse)?;
+    if fallback_from.is_some() {
+        contact.fallback_from = fallback_from;
+    }
+    Ok((u1, u2, contact))
+}
+
+/// `condensed`'s answer; or, when it failed as Lemke's numerical failure ([`lemke_refusal`])
+/// and the plan has the fallback (`"auto"`), the sparse system's (`sparse`, docs/method.md
+/// §5.1) with the reason recorded ([`fallback_reason`]). When the sparse system fails too,
+/// the refusal says so ([`crate::error::LemkeRefusal::active_set_failure`]).
+fn with_fallback<T>(
+    condensed: Result<T, Error>,
+    fallback: bool,
+    clock: &mut Clock<'_>,
+    sparse: impl FnOnce(&mut Clock<'_>) -> Result<T, Error>,
+) -> Result<(T, Option<String>), Error> {
+    let mut e = match condensed {
+        Ok(answer) => return Ok((answer, None)),
+        Err(e) => e,
+    };
+    if !fallback || lemke_refusal(&mut e).is_none() {
+        return Err(e);
+    }
+    match sparse(clock) {
+        Ok(answer) => Ok((answer, fallback_reason(&e))),
+        Err(failure) => {
+            if let Some(refusal) = lemke_refusal(&mut e) {
+                refusal.active_set_failure = Some(failure.to_string());
+            }
+            Err(e)
+        }
+    }
+}
+
+/// Lemke's refusal in `e`: `e` itself, or the cause of the increment that failed.
+fn lemke_refusal(e: &mut Error) -> Option<&mut crate::error::LemkeRefusal> {
+    match e {
+        Error::LemkeRefused(refusal) => Some(refusal),
+        Error::Increment { cause, .. } => lemke_refusal(cause),
+        _ => None,
+    }
+}
+
+/// What `fallback_from` records of Lemke's refusal `e`: its diagnosis, after the increment
+/// that failed when the problem has `[[step]]` tables.
+fn fallback_reason(e: &Error) -> Option<String> {
+    match e {
+        Error::LemkeRefused(refusal) => Some(refusal.diagnosis_text()),
+        Error::Increment { step, increment, increments, cause } => fallback_reason(cause)
+            .map(|why| format!("load step {step}, increment {increment} of {increments}: {why}")),
+        _ => None,
     }
 }
 
@@ -625,14 +701,14 @@ fn solve_condensed_once(
                 Error::LemkeRefused(refusal) => refusal,
                 other => return Err(other),
             };
-            // Frictionless and one step here: the active-set solver takes the problem.
+            // Frictionless and one step here: the active-set solver takes the problem, one
+            // step of one increment of the sparse path.
             if plan.fallback {
                 drop((terms, condensed));
-                let pair = target.zip(second.map(|(_, m2)| m2));
-                match solve_active_set(spec, model, candidates, pair, clock) {
+                let found = Found { candidates, target, paired_points, unpaired };
+                let sparse = (spec, plan::Plan::SPARSE, lemke);
+                match on_load_path(problem, sparse, model, second, None, found, clock) {
                     Ok((u1, u2, mut contact)) => {
-                        contact.paired_points = paired_points;
-                        contact.unpaired = unpaired;
                         contact.warning = warning;
                         contact.fallback_from = Some(refusal.diagnosis_text());
                         return Ok((u1, u2, contact));
@@ -707,11 +783,39 @@ fn solve_condensed_once(
     Ok((u1, u2, contact))
 }
 
+/// A load path's error `e` as [`refused`] makes it, inside the increment that failed
+/// ([`Error::Increment`]); `applies`: whether the active-set method applies to the problem
+/// (it does but for a pair with a held translation, which only the condensed path has).
+fn refused_on_path(
+    e: Error,
+    condensed: &contact::CondensedContact,
+    overridden: bool,
+    applies: bool,
+) -> Error {
+    match e {
+        Error::Increment { step, increment, increments, cause } => {
+            let cause = Box::new(refused_on_path(*cause, condensed, overridden, applies));
+            Error::Increment { step, increment, increments, cause }
+        }
+        e => refused_as(e, condensed, overridden, applies),
+    }
+}
+
 /// A frictionless one-shot path's error `e` as Lemke's numerical failure
 /// ([`Error::LemkeRefused`], with the conditioning of `condensed`), or `e` itself: any other
 /// error, and a ray when `M` failed its checks (`overridden`: the ray may then prove that no
 /// solution exists, and stays Lemke's own error).
 fn refused(e: Error, condensed: &contact::CondensedContact, overridden: bool) -> Error {
+    refused_as(e, condensed, overridden, true)
+}
+
+/// [`refused`], saying whether the active-set method applies (`applies`).
+fn refused_as(
+    e: Error,
+    condensed: &contact::CondensedContact,
+    overridden: bool,
+    applies: bool,
+) -> Error {
     let cause = match e {
         Error::Lcp(cause @ lcp::LcpError::RayTermination { .. }) if overridden => {
             return cause.into();
@@ -721,8 +825,7 @@ fn refused(e: Error, condensed: &contact::CondensedContact, overridden: bool) ->
     };
     let m = condensed.free_gap.len();
     let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
-    // Frictionless and one step: the active-set method applies.
-    match crate::error::LemkeRefusal::new(cause, m, extremes, true) {
+    match crate::error::LemkeRefusal::new(cause, m, extremes, applies) {
         Ok(refusal) => Error::LemkeRefused(Box::new(refusal)),
         Err(cause) => cause.into(),
     }
@@ -774,92 +877,27 @@ fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> contact::spars
     }
 }
 
-/// The active-set system of one body against rigid obstacles.
+/// The active-set system of one body against rigid obstacles, owning `K`'s factors when
+/// given them (`factors`: it may then release them, [`contact::sparse::ModelFactors`]), else
+/// borrowing the model's.
 fn rigid_obstacle<'a>(
     model: &'a Model,
     candidates: &'a contact::Candidates,
+    factors: Option<Factorisation>,
 ) -> Result<contact::sparse::RigidObstacle<'a>, lcp::active_set::ActiveSetError> {
+    let factors: contact::sparse::ModelFactors<'a> = match factors {
+        Some(f) => f.into(),
+        None => (&model.factorisation).into(),
+    };
     contact::sparse::RigidObstacle::new(
         &model.system.matrix,
         &model.system.rhs,
-        &model.factorisation,
+        factors,
         &candidates.operator,
         &candidates.initial_gap,
         model.system.collocation_scale,
         node_points(model),
     )
-}
-
-/// The active-set solver (docs/method.md §5.1), against a rigid obstacle or, with `second`
-/// (the target's operator and model), between two bodies: no `M`, so none of its checks; the
-/// displacements are those of the final active set's problem (no solve with `K` alone, which
-/// may be too ill-conditioned where the contact is what holds the body).
-///
-/// Against a rigid obstacle the system takes `K`'s factorisation from `model` and gives it
-/// back, its factors released if it factorised a row-replaced matrix
-/// ([`contact::sparse::ModelFactors`]): the peak is then one factorisation of the body, not
-/// two. Only statistics are left of `model.factorisation` then.
-fn solve_active_set(
-    spec: &ContactSpec,
-    model: &mut Model,
-    candidates: contact::Candidates,
-    second: Option<(contact::BodyOperator, &Model)>,
-    clock: &mut Clock<'_>,
-) -> Result<ContactOutcome, Error> {
-    let params = lcp::active_set::ActiveSetParams::default();
-    let (answer, u1, u2, work) = clock.run("active_set", || match &second {
-        None => {
-            let factors = model.factorisation.take();
-            let mut system = contact::sparse::RigidObstacle::new(
-                &model.system.matrix,
-                &model.system.rhs,
-                factors,
-                &candidates.operator,
-                &candidates.initial_gap,
-                model.system.collocation_scale,
-                node_points(model),
-            )?;
-            let answer = lcp::active_set::solve(&mut system, &params)?;
-            let u1 = system.final_displacements(&answer.active)?;
-            let stats = system.stats;
-            if let Some(f) = system.into_factorisation() {
-                model.factorisation = f;
-            }
-            Ok::<_, lcp::LcpError>((answer, u1, None, stats))
-        }
-        Some((op, m2)) => {
-            let mut system = contact::sparse::TwoBodies::two(
-                body_parts(model, &candidates.operator),
-                body_parts(m2, op),
-                &candidates.initial_gap,
-                model.system.collocation_scale,
-            )?;
-            let answer = lcp::active_set::solve(&mut system, &params)?;
-            let (u1, u2) = system.final_displacements(&answer.active)?;
-            Ok((answer, u1, Some(u2), system.stats))
-        }
-    })?;
-    let target = second.map(|(op, _)| op);
-    let gap = final_gaps(model, &candidates, &u1, target.as_ref().zip(u2.as_deref()));
-    let mut contact = ContactSolution::new(
-        spec,
-        candidates,
-        target,
-        Vec::new(),
-        None,
-        &answer.free_gap,
-        answer.lcp,
-        gap,
-        None,
-    );
-    contact.active_set = Some(solution::ActiveSetRecord {
-        iterations: answer.iterations,
-        changes: answer.changes,
-        rescues: answer.rescues,
-        end: answer.end,
-        work,
-    });
-    Ok((u1, u2, contact))
 }
 
 /// The run-time checks of `M` (docs/method.md §4.1, §4.3): an error, or the warning to report

@@ -200,11 +200,6 @@ fn held_bodies(
     Ok(held)
 }
 
-/// The `(b_c, L)` of each held body, for [`lcp::load_driven::nested::search`].
-fn held_unknowns(held: &[Held]) -> Vec<(&[f64], f64)> {
-    held.iter().map(|(_, _, along, load)| (along.as_slice(), *load)).collect()
-}
-
 /// One pair's candidates and target operator.
 struct PairCandidates {
     candidates: Candidates,
@@ -366,9 +361,10 @@ impl Numbering {
 }
 
 /// The LCP over all pairs, by the route the scene takes: the load path (condensed or sparse)
-/// with friction or steps; else the active set when a pair asks for it, or Lemke, with
-/// `"auto"`'s fallback to the active set when Lemke fails numerically. Also the frictional
-/// records, a force-driven obstacle's record and the fallback's reason.
+/// with friction or steps, else one shot (Lemke, or the sparse path's one step of one
+/// increment); on the condensed system `"auto"`'s fallback to the sparse one when Lemke fails
+/// numerically ([`super::with_fallback`]). Also the frictional records, a force-driven
+/// obstacle's record and the fallback's reason.
 fn solve_scene(
     scene: &path::Scene<'_>,
     models: &[&Model],
@@ -377,37 +373,39 @@ fn solve_scene(
     lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<(path::OnPath, Option<String>), Error> {
-    let (pairs, initial_gap) = (scene.pairs, scene.initial_gap);
-    let solvers: Vec<ContactSolver> = pairs.iter().map(|p| p.spec.solver).collect();
-    let plan = Plan::several(&solvers, on_path, initial_gap.len());
-    if on_path {
-        let on = if plan.is_sparse() {
-            sparse_path::solve(scene, models, held, clock)?
-        } else {
-            path::solve(scene, models, held, clock)?
-        };
-        return Ok((on, None));
-    }
-    let found = scene.found;
+    let solvers: Vec<ContactSolver> = scene.pairs.iter().map(|p| p.spec.solver).collect();
+    let plan = Plan::several(&solvers, on_path, scene.initial_gap.len());
+    let sparse = |clock: &mut Clock<'_>| match on_path {
+        true => sparse_path::solve(scene, models, held, clock),
+        false => sparse_once(scene, models, held, clock).map(|s| (s, Vec::new(), None)),
+    };
     if plan.is_sparse() {
-        let solved = solve_active_set(models, pairs, found, initial_gap, held, clock)?;
-        return Ok(((solved, Vec::new(), None), None));
+        return Ok((sparse(clock)?, None));
     }
-    let answer = solve_lemke(scene, models, held, lemke, clock);
+    let condensed = match on_path {
+        true => path::solve(scene, models, held, lemke, clock),
+        false => solve_lemke(scene, models, held, lemke, clock).map(|s| (s, Vec::new(), None)),
+    };
     // Lemke failed numerically: the plan's fallback (`"auto"` on every pair) hands the
     // problem to the active-set method (docs/method.md §5.1) and records why, as for one pair.
-    match answer {
-        Err(Error::LemkeRefused(mut refusal)) if plan.fallback => {
-            match solve_active_set(models, pairs, found, initial_gap, held, clock) {
-                Ok(solved) => Ok(((solved, Vec::new(), None), Some(refusal.diagnosis_text()))),
-                Err(e) => {
-                    refusal.active_set_failure = Some(e.to_string());
-                    Err(Error::LemkeRefused(refusal))
-                }
-            }
-        }
-        other => Ok(((other?, Vec::new(), None), None)),
-    }
+    super::with_fallback(condensed, plan.fallback, clock, sparse)
+}
+
+/// Frictionless contact in one shot on the sparse system ([`contact::sparse::Bodies`],
+/// docs/method.md §5.1): one step of one increment of the sparse load path
+/// ([`sparse_path::solve`]), each body to its own load; no `M`, so none of its checks; a held
+/// translation (§4.7) found by the nested search over warm-started solves; the displacements
+/// those of the final closed set (with the pins at the translations found).
+fn sparse_once(
+    scene: &path::Scene<'_>,
+    models: &[&Model],
+    held: &[Held],
+    clock: &mut Clock<'_>,
+) -> Result<Solved, Error> {
+    let steps: Vec<Vec<StepEnd>> = models.iter().map(|m| super::one_shot_step(m)).collect();
+    let scene = path::Scene { steps: &steps, ..*scene };
+    let (solved, _, _) = sparse_path::solve(&scene, models, held, clock)?;
+    Ok(solved)
 }
 
 /// The bodies held by the contact alone (docs/method.md §4.7): each one's translation found,
@@ -664,92 +662,6 @@ fn solve_lemke(
         search,
         displacements: u,
         record: None,
-    })
-}
-
-/// The active-set method on all bodies and pairs ([`contact::sparse::Bodies`],
-/// docs/method.md §5.1): no `M`, so none of its checks; a held translation (§4.7) found by
-/// the search of [`lcp::load_driven::find_translation_with`] over warm-started solves; the
-/// displacements those of the final closed set (with the pin at the translation found).
-fn solve_active_set(
-    models: &[&Model],
-    pairs: &[ContactPair],
-    found: &[PairCandidates],
-    initial_gap: &[f64],
-    held: &[Held],
-    clock: &mut Clock<'_>,
-) -> Result<Solved, Error> {
-    let params = lcp::active_set::ActiveSetParams::default();
-    clock.run("active_set", || -> Result<Solved, Error> {
-        let mut system = bodies_system(models, pairs, found, initial_gap)?;
-        let Some((_, _, along, load)) = held.first() else {
-            let answer =
-                lcp::active_set::solve(&mut system, &params).map_err(lcp::LcpError::from)?;
-            let u = system.final_body_displacements(&answer.active).map_err(lcp::LcpError::from)?;
-            return Ok(Solved {
-                free_gap: answer.free_gap,
-                condensed: None,
-                warning: None,
-                search: Vec::new(),
-                displacements: u,
-                record: Some(solution::ActiveSetRecord {
-                    iterations: answer.iterations,
-                    changes: answer.changes,
-                    rescues: answer.rescues,
-                    end: answer.end,
-                    work: system.stats,
-                }),
-                result: answer.lcp,
-            });
-        };
-        let scale = held.iter().fold(load.abs(), |s, h| s.max(h.3.abs()));
-        let mut trials = BodiesTrials::new(
-            &mut system,
-            (initial_gap, along),
-            (vec![0.0; initial_gap.len()], None),
-            (params, scale),
-        );
-        trials.outer = held[1..].iter().map(|h| (h.2.as_slice(), 0.0)).collect();
-        let base = trials.base_gap()?;
-        let unknowns = held_unknowns(held);
-        let unknowns = lcp::load_driven::nested::Unknowns { held: &unknowns, force: None };
-        let found = lcp::load_driven::nested::search(&mut trials, &base, unknowns)?;
-        let (iterations, rescues) = (trials.iterations, trials.rescues);
-        let answer = found.outer.answer;
-        // The translations found: the pins' values, the gaps without the shifts (the system
-        // the displacements answer is the one reported, as on Lemke's path).
-        for ((b, pin, _, _), t) in held.iter().zip(&found.translations) {
-            let model = models[*b];
-            let mut rhs = model.system.rhs.clone();
-            super::load_path::set_pin_value(&mut rhs, model, *pin, *t);
-            system.set_body_load(*b, &rhs);
-        }
-        system.set_initial_gap(initial_gap);
-        let active: Vec<bool> =
-            answer.states.iter().map(|&s| s != lcp::ContactState::Open).collect();
-        let u = system.final_body_displacements(&active).map_err(lcp::LcpError::from)?;
-        let step = answer.step;
-        let result = lcp::LcpSolution {
-            residuals: lcp::active_set::residuals(&base, &step.normal, &step.gap),
-            w: step.gap,
-            z: step.normal,
-            pivots: iterations,
-        };
-        Ok(Solved {
-            result,
-            free_gap: base,
-            condensed: None,
-            warning: None,
-            search: found.translations.iter().map(|&t| (t, found.evaluations)).collect(),
-            displacements: u,
-            record: Some(solution::ActiveSetRecord {
-                iterations,
-                changes: answer.changes,
-                rescues,
-                end: answer.end,
-                work: system.stats,
-            }),
-        })
     })
 }
 

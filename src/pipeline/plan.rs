@@ -52,8 +52,9 @@ impl Shape {
 pub struct Plan {
     /// The contact system.
     pub system: System,
-    /// `"auto"` on a one-shot condensed problem: a numerical failure of Lemke is handed to
-    /// the active-set method, which answers instead (the reason recorded).
+    /// `"auto"` on a condensed problem (in one shot or on the load path; not a pair with a
+    /// held translation, which only the condensed path has): a numerical failure of Lemke is
+    /// handed to the active-set method, which answers instead (the reason recorded).
     pub fallback: bool,
 }
 
@@ -75,11 +76,7 @@ impl Plan {
             ContactSolver::ActiveSet => true,
             ContactSolver::Auto => candidates >= threshold,
         };
-        if sparse {
-            Plan { system: System::Sparse, fallback: false }
-        } else {
-            Plan::condensed(shape == Shape::OneShot && solver == ContactSolver::Auto)
-        }
+        if sparse { Plan::SPARSE } else { Plan::condensed(solver == ContactSolver::Auto) }
     }
 
     /// The plan of several pairs, `solvers` one per pair (validated: none says `"lemke"` when
@@ -91,12 +88,11 @@ impl Plan {
         let asks = solvers.contains(&ContactSolver::ActiveSet);
         let auto = solvers.iter().all(|&s| s == ContactSolver::Auto);
         let by_count = candidates >= ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD;
-        if asks || (on_path && auto && by_count) {
-            Plan { system: System::Sparse, fallback: false }
-        } else {
-            Plan::condensed(!on_path && auto)
-        }
+        if asks || (on_path && auto && by_count) { Plan::SPARSE } else { Plan::condensed(auto) }
     }
+
+    /// The sparse system (without a fallback: nothing comes after it).
+    pub const SPARSE: Plan = Plan { system: System::Sparse, fallback: false };
 
     fn condensed(fallback: bool) -> Plan {
         Plan { system: System::Condensed, fallback }
@@ -196,7 +192,7 @@ mod tests {
         for (shape, threshold) in cases {
             let below = Plan::new(ContactSolver::Auto, shape, threshold - 1);
             assert_eq!(below.system, System::Condensed, "{shape:?}");
-            assert_eq!(below.fallback, shape == Shape::OneShot, "{shape:?}");
+            assert!(below.fallback, "{shape:?}");
             assert!(Plan::new(ContactSolver::Auto, shape, threshold).is_sparse(), "{shape:?}");
             assert!(Plan::new(ContactSolver::ActiveSet, shape, 1).is_sparse(), "{shape:?}");
             assert!(!Plan::new(ContactSolver::Lemke, shape, usize::MAX).is_sparse(), "{shape:?}");
@@ -204,6 +200,7 @@ mod tests {
         }
         let held = Shape::PairPath { held: true };
         assert!(!Plan::new(ContactSolver::ActiveSet, held, usize::MAX).is_sparse());
+        assert!(!Plan::new(ContactSolver::Auto, held, 1).fallback);
     }
 
     #[test]
@@ -215,6 +212,7 @@ mod tests {
         assert!(!Plan::several(&[Auto, Auto], true, from - 1).is_sparse());
         let once = Plan::several(&[Auto, Auto], false, usize::MAX);
         assert_eq!(once, Plan { system: System::Condensed, fallback: true });
-        assert!(!Plan::several(&[Auto, Auto], true, 1).fallback);
+        assert!(Plan::several(&[Auto, Auto], true, 1).fallback);
+        assert!(!Plan::several(&[Auto, ContactSolver::Lemke], true, 1).fallback);
     }
 }

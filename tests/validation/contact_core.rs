@@ -254,6 +254,48 @@ fn several_pairs_fall_back_from_lemke_to_the_active_set_with_auto() {
     assert!(matches!(err, mlpg_contact::Error::LemkeRefused(_)), "{err}");
 }
 
+/// The load path over several pairs falls back as the one-shot does: the stack pressed in one
+/// `[[step]]` of 2 increments (the middle block held by the contacts: Lemke inside its
+/// search) with a pivot limit of 1 on Lemke's frictionless steps; `"auto"` is answered by the
+/// sparse path, equal to `"active_set"` (forces and the held translation to 1e-9), the
+/// record says why; `"lemke"` refuses inside the first increment.
+#[test]
+fn several_pairs_on_the_load_path_fall_back_from_lemke_with_auto() {
+    use mlpg_contact::problem::ContactSolver;
+    let problem = stack(0.0, Some(2));
+    let with = |solver: ContactSolver| {
+        let mut p = problem.clone();
+        p.multibody.as_mut().unwrap().pairs.iter_mut().for_each(|c| c.spec.solver = solver);
+        p
+    };
+    let params = mlpg_contact::lcp::LemkeParams {
+        max_pivots: Some(1),
+        ..mlpg_contact::lcp::LemkeParams::default()
+    };
+    let s = mlpg_contact::solve_with_lemke(&problem, &params).unwrap();
+    let ms = s.multibody.as_deref().unwrap();
+    assert!(ms.active_set.is_some() && ms.condensed.is_none(), "the active set answered");
+    let why = ms.fallback_from.as_deref().expect("the record of Lemke's failure");
+    assert!(why.starts_with("load step 1, increment 1 of 2: Lemke's method"), "{why}");
+    let direct = mlpg_contact::solve(&with(ContactSolver::ActiveSet)).unwrap();
+    let md = direct.multibody.as_deref().unwrap();
+    assert!(md.fallback_from.is_none());
+    let scale = md.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let largest = ms.lcp.z.iter().zip(&md.lcp.z).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let t = |m: &mlpg_contact::solution::MultibodySolution| m.held[0].1.translation[1];
+    println!(
+        "stack on the path, auto after Lemke's failure: forces within {:.1e}",
+        largest / scale
+    );
+    assert!(scale > 0.0 && largest <= 1e-9 * scale, "{largest:e}");
+    assert!((t(ms) - t(md)).abs() <= 1e-9 * t(md).abs(), "{} against {}", t(ms), t(md));
+    let err = mlpg_contact::solve_with_lemke(&with(ContactSolver::Lemke), &params).unwrap_err();
+    let mlpg_contact::Error::Increment { step: 1, increment: 1, cause, .. } = &err else {
+        panic!("not the first increment's failure: {err}")
+    };
+    assert!(matches!(cause.as_ref(), mlpg_contact::Error::LemkeRefused(_)), "{err}");
+}
+
 /// The upper block held by contact with no load at all: every upward translation answers, so
 /// the run is refused naming the body and the mode instead of reporting one of them.
 #[test]

@@ -13,6 +13,11 @@
 //! `AGREEMENT` (as in `active_set.rs`: round-off of two routes through matrices whose
 //! symmetric part has an eigenvalue ratio ≈ 2e-5, times ε).
 //!
+//! On the load path (`[[step]]` tables) the same pivot limit reaches Lemke's frictionless
+//! steps (`Path::lemke`): `"lemke"` refuses inside the increment that failed, `"auto"` does the
+//! path again on the sparse system, whose answer must be the one `"active_set"` gives directly
+//! (the same computation: to 1e-9 of the largest force, equal bits expected).
+//!
 //! The real failures (`InaccurateSolution` on the long strips, where the eigenvalue ratio of
 //! `M`'s symmetric part is down to 1e-10) take minutes and are ignored tests; their timings
 //! are in docs/dev/active_set.md.
@@ -210,4 +215,68 @@ fn long_strip_on_block_lemke_refuses() {
     let err = mlpg_contact::solve(&problem).unwrap_err();
     let ratio = check_inaccurate("strip on block 200 × 1", &err);
     assert!(ratio < 1e-6, "not an ill-conditioned M: ratio {ratio:e}");
+}
+
+/// A shipped problem with its one load step given in `[[step]]` tables of 2 increments: the
+/// two blocks' top edge pushed down by its own displacement (`two_blocks.toml`, the two-body
+/// path), the flat punch's motion (`flat_punch.toml` on coarser nodes, a rigid obstacle).
+fn stepped(file: &str) -> Problem {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems").join(file),
+    )
+    .unwrap();
+    let text = match file {
+        "two_blocks.toml" => {
+            text.replace("displacement = { y = -0.01 }", "displacement = { y = 0.0 }")
+                + "\n[[step]]\nincrements = 2\nboundary = [{ body = \"upper\", edge = \"top\", displacement = { y = -0.01 } }]\n"
+        }
+        // Coarser (38 candidates, a fraction of a second): the route, not the punch's
+        // accuracy, is under test.
+        _ => text
+            .replace("[[step]]\n", "[[step]]\nincrements = 2\n")
+            .replace("[nodes]\nspacing = 0.1\n", "[nodes]\nspacing = 0.2\n")
+            .replace("spacing = 0.003125", "spacing = 0.0125"),
+    };
+    let problem = Problem::from_toml(&text).unwrap();
+    assert_eq!(problem.steps.len(), 1, "{file}");
+    problem
+}
+
+/// The load path with a pivot limit of 1 on Lemke's frictionless steps: `"lemke"` refuses in
+/// the first increment naming the limit; `"auto"` is answered by the sparse path, equal to
+/// `"active_set"` to 1e-9 of the largest force, with the reason recorded.
+#[test]
+fn the_load_path_falls_back_from_lemke_to_the_active_set_with_auto() {
+    let params = LemkeParams { max_pivots: Some(1), ..LemkeParams::default() };
+    for file in ["two_blocks.toml", "flat_punch.toml"] {
+        let problem = stepped(file);
+        let lemke = with_solver(problem.clone(), ContactSolver::Lemke);
+        let err = mlpg_contact::solve_with_lemke(&lemke, &params).unwrap_err();
+        let Error::Increment { step: 1, increment: 1, cause, .. } = &err else {
+            panic!("{file}: not the first increment's failure: {err}")
+        };
+        let Error::LemkeRefused(r) = cause.as_ref() else { panic!("{file}: {err}") };
+        assert!(matches!(r.cause, LcpError::PivotLimit { limit: 1 }), "{file}: {err}");
+        assert!(r.active_set_applies && r.active_set_failure.is_none(), "{file}");
+        let auto = with_solver(problem.clone(), ContactSolver::Auto);
+        let s = mlpg_contact::solve_with_lemke(&auto, &params).unwrap();
+        let c = s.contact.as_ref().unwrap();
+        assert!(c.active_set.is_some() && c.condensed.is_none(), "{file}: no fallback");
+        let why = c.fallback_from.as_deref().expect("the fallback is recorded");
+        assert!(why.starts_with("load step 1, increment 1 of 2: Lemke's method"), "{why}");
+        assert!(why.contains("after 1 pivots"), "{file}: {why}");
+        let direct = with_solver(problem, ContactSolver::ActiveSet);
+        let direct = mlpg_contact::solve(&direct).unwrap();
+        let d = direct.contact.as_ref().unwrap();
+        assert!(d.fallback_from.is_none(), "{file}");
+        let p_max = max_abs(&d.lcp.z);
+        let force = c.lcp.z.iter().zip(&d.lcp.z).fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));
+        assert!(p_max > 0.0 && force <= 1e-9 * p_max, "{file}: forces differ by {force:e}");
+        let increments = |c: &mlpg_contact::solution::ContactSolution| {
+            c.friction.as_ref().map(|f| f.increments.len())
+        };
+        assert_eq!(increments(c), Some(2), "{file}: the path's record");
+        assert_eq!(increments(c), increments(d), "{file}");
+        println!("{file}: the path's fallback within {:.1e} of the active set", force / p_max);
+    }
 }

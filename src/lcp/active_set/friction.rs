@@ -99,6 +99,42 @@ pub struct FrictionStepSolution {
     pub end: ActiveSetEnd,
 }
 
+impl FrictionStepSolution {
+    /// The answer of the frictionless active-set method ([`super::solve`]) as a step's with
+    /// every `μ_c = 0` (a one-shot sparse path: one frictionless step of one increment): its
+    /// forces `P = z` and gaps `g = w` as it gave them, `T = 0` and no tangential
+    /// displacement, each candidate sticking where its final active set closed it and open
+    /// elsewhere, its linear solves as `iterations`.
+    pub fn frictionless(answer: super::ActiveSetSolution) -> Self {
+        let m = answer.active.len();
+        let zeros = vec![0.0; m];
+        let (p, g) = (answer.lcp.z, answer.lcp.w);
+        let residuals =
+            friction_residuals((&answer.free_gap, &zeros), (&p, &zeros), &g, &zeros, (&zeros, 0.0));
+        let states: Vec<ContactState> = answer
+            .active
+            .iter()
+            .map(|&a| if a { ContactState::Stick } else { ContactState::Open })
+            .collect();
+        let step = FrictionSolution {
+            normal: p,
+            tangential: zeros.clone(),
+            gap: g,
+            tangential_displacement: zeros.clone(),
+            slip_increment: zeros,
+            state: states.clone(),
+            residuals,
+            method: FrictionMethod::ActiveSet,
+            pivots: 0,
+            iterations: answer.iterations,
+            lemke_failure: None,
+        };
+        let (free_gap, changes, rescues, end) =
+            (answer.free_gap, answer.changes, answer.rescues, answer.end);
+        Self { step, states, free_gap, changes, rescues, end }
+    }
+}
+
 /// The scaled residuals of a step's answer (docs/method.md §8) without the blocks: the
 /// displacement scale `U = max(‖q_n‖∞, ‖q_t − s_prev‖∞, ‖g − q_n‖∞, ‖Δs − (q_t − s_prev)‖∞)`
 /// (the last two are `M` times the forces, where `lcp::solve_step` uses the bound

@@ -1,7 +1,10 @@
-//! The frictional load path on the sparse system (docs/method.md §5.1, §8): one body against a
-//! rigid obstacle, or two bodies, by the active-set method, increment by increment, with the
+//! The load path on the sparse system (docs/method.md §5.1, §8): one body against a rigid
+//! obstacle, or two bodies, by the active-set method, increment by increment, with the
 //! force-driven obstacle and the held translation of §4.6–4.7 as searches over warm-started
-//! solves.
+//! solves. Frictionless contact in one shot is one step of one increment of it
+//! ([`one_shot`]): the frictionless active-set method on the system as built, no tangential
+//! operators, and against a rigid obstacle the system owns `K`'s factors, which it may
+//! release (docs/method.md §5.1: one factorisation of the body alive at a time).
 
 use super::*;
 
@@ -13,12 +16,30 @@ enum SparseFriction<'a> {
 }
 
 impl SparseFriction<'_> {
-    fn stats(self) -> contact::sparse::RigidObstacleStats {
+    /// The work counters, and `K`'s factorisation when the system owned it
+    /// ([`contact::sparse::RigidObstacle::into_factorisation`]).
+    fn finish(
+        self,
+    ) -> (contact::sparse::RigidObstacleStats, Option<crate::linear_solve::Factorisation>) {
         match self {
-            SparseFriction::Rigid(s) => s.stats,
-            SparseFriction::Pair(s) => s.stats,
+            SparseFriction::Rigid(s) => (s.stats, s.into_factorisation()),
+            SparseFriction::Pair(s) => (s.stats, None),
         }
     }
+}
+
+/// Whether the path is one-shot contact: no `[[step]]` tables, frictionless, no translation
+/// held by the contact (one step to the models' loads in one increment, no search).
+pub(in crate::pipeline) fn one_shot(
+    problem: &Problem,
+    steps: &[StepEnd],
+    model: &Model,
+    target: Option<&Target<'_>>,
+) -> bool {
+    let pinned =
+        model.system.pinned.is_some() || target.is_some_and(|t| t.model.system.pinned.is_some());
+    let plain = |e: &StepEnd| e.increments == 1 && e.friction == 0.0 && e.force.is_none();
+    problem.steps.is_empty() && !pinned && steps.len() == 1 && plain(&steps[0])
 }
 
 /// What stays fixed along the path.
@@ -28,11 +49,14 @@ struct Path<'p, 'a> {
     candidates: &'p contact::Candidates,
     target: Option<&'p Target<'a>>,
     steps: &'p [StepEnd],
-    tangential: &'p contact::BodyOperator,
+    /// The tangential operators (`None` on a one-shot path: frictionless, none built).
+    tangential: Option<&'p contact::BodyOperator>,
     target_tangential: Option<&'p contact::BodyOperator>,
     /// A held translation's projection of the candidates' normals on its axis.
     mode_projection: Option<&'p [f64]>,
     params: lcp::active_set::ActiveSetParams,
+    /// One-shot contact ([`one_shot`]): the frictionless active-set method.
+    once: bool,
 }
 
 /// One increment's answer: the step's solution, both bodies' displacements, the linear
@@ -62,46 +86,70 @@ struct Walk {
     total_evaluations: usize,
 }
 
-/// Frictional contact (or load steps) against a rigid obstacle or a second body (`target`) by
-/// the active-set method on the sparse system (docs/method.md §5.1, §8): no blocks `M_**`, no
-/// condensation. Each increment sets the load `f_λ` (of both bodies), the obstacle's
-/// displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the step's `μ` on one
-/// [`contact::sparse::RigidObstacle`] or [`contact::sparse::TwoBodies`], whose factorisations
-/// and update columns carry over, and starts from the previous increment's states. An
-/// obstacle pressed by a force (§4.6) or a translation held by the contact (§4.7) is found by
-/// the search of `lcp::load_driven` over warm-started solves (rigid obstacle only). The
-/// displacements are those of each increment's final states.
+/// Frictional contact, load steps or a held translation against a rigid obstacle or a second
+/// body (`target`) by the active-set method on the sparse system (docs/method.md §5.1, §8),
+/// and frictionless contact in one shot as one step of one increment of it ([`one_shot`]): no
+/// blocks `M_**`, no condensation. Each increment sets the load `f_λ` (of both bodies), the
+/// obstacle's displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the step's `μ` on
+/// one [`contact::sparse::RigidObstacle`] or [`contact::sparse::TwoBodies`], whose
+/// factorisations and update columns carry over, and starts from the previous increment's
+/// states. An obstacle pressed by a force (§4.6) or a translation held by the contact (§4.7)
+/// is found by the search of `lcp::load_driven` over warm-started solves (rigid obstacle
+/// only). The displacements are those of each increment's final states.
+///
+/// On a one-shot path against a rigid obstacle the system takes `K`'s factorisation from
+/// `model` and gives it back, its factors released if it factorised a row-replaced matrix
+/// ([`contact::sparse::ModelFactors`]): the peak is then one factorisation of the body, not
+/// two. Only statistics are left of `model.factorisation` then.
 pub(in crate::pipeline) fn solve_frictional_active_set(
     problem: &Problem,
     spec: &ContactSpec,
-    model: &Model,
-    mut candidates: contact::Candidates,
+    model: &mut Model,
+    candidates: contact::Candidates,
     target: Option<Target<'_>>,
     steps: &[StepEnd],
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let (tangential, free, target_tangential) = tangential_operators(
-        &candidates,
-        model,
-        target.as_ref().map(|tg| (tg.model, &tg.operator)),
-    );
+    let once = one_shot(problem, steps, model, target.as_ref());
+    let factors = (once && target.is_none()).then(|| model.factorisation.take());
+    let on = (problem, spec, &*model);
+    let (outcome, factors) = walk_path(on, (candidates, target), (steps, once, factors), clock)?;
+    if let Some(f) = factors {
+        model.factorisation = f;
+    }
+    Ok(outcome)
+}
+
+/// [`solve_frictional_active_set`] on the model without the factors the system owns
+/// (`factors`, one-shot against a rigid obstacle), which come back with the outcome.
+fn walk_path(
+    (problem, spec, model): (&Problem, &ContactSpec, &Model),
+    (mut candidates, target): (contact::Candidates, Option<Target<'_>>),
+    (steps, once, factors): (&[StepEnd], bool, Option<crate::linear_solve::Factorisation>),
+    clock: &mut Clock<'_>,
+) -> Result<(ContactOutcome, Option<crate::linear_solve::Factorisation>), Error> {
+    let target_parts = target.as_ref().map(|tg| (tg.model, &tg.operator));
+    let tangents = (!once).then(|| tangential_operators(&candidates, model, target_parts));
     let pinned = model.system.pinned;
     refuse_slanted_force(steps, &candidates)?;
     let mode_projection = held_projection(pinned, steps, target.is_some(), &candidates)?;
+    let free = tangents.as_ref().map_or_else(|| vec![false; candidates.len()], |t| t.1.clone());
     let path = Path {
         problem,
         model,
         candidates: &candidates,
         target: target.as_ref(),
         steps,
-        tangential: &tangential,
-        target_tangential: target_tangential.as_ref(),
+        tangential: tangents.as_ref().map(|t| &t.0),
+        target_tangential: tangents.as_ref().and_then(|t| t.2.as_ref()),
         mode_projection: mode_projection.as_deref(),
         params: lcp::active_set::ActiveSetParams::default(),
+        once,
     };
     let mut walk = Walk::new(&path);
-    let work = clock.run("friction", || -> Result<_, Error> {
-        let mut system = path.system()?;
+    let stage = if once { "active_set" } else { "friction" };
+    let (work, factors) = clock.run(stage, || -> Result<_, Error> {
+        let mut system = path.system(factors)?;
         for (k, end) in steps.iter().enumerate() {
             path.set_friction(&mut system, &free, k)?;
             for i in 1..=end.increments {
@@ -109,7 +157,7 @@ pub(in crate::pipeline) fn solve_frictional_active_set(
             }
             walk.end_step(&path, k);
         }
-        Ok(system.stats())
+        Ok(system.finish())
     })?;
     let Walk { iterations, rescues, end_all, last, history, load_driven, rigid_mode, .. } = walk;
     let Some((answer, u, u2)) = last else {
@@ -144,21 +192,29 @@ pub(in crate::pipeline) fn solve_frictional_active_set(
         end: end_all,
         work,
     });
+    // The frictional record (none on a one-shot path, as on the condensed one-shot route).
     let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
-    let mut friction =
-        solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
-    history.finish(&mut friction);
-    friction.target_operator = target_tangential;
+    let friction = tangents.map(|(tangential, free, target_tangential)| {
+        let mut f =
+            solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
+        history.finish(&mut f);
+        f.target_operator = target_tangential;
+        f
+    });
     attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
-    Ok((u, u2, contact))
+    Ok(((u, u2, contact), factors))
 }
 
 impl<'p> Path<'p, '_> {
-    /// The sparse system: both bodies' with a target, else the body's on its rigid obstacle.
-    fn system(&self) -> Result<SparseFriction<'p>, Error> {
+    /// The sparse system: both bodies' with a target, else the body's on its rigid obstacle,
+    /// which owns `K`'s factors when given them (`factors`), else borrows the model's.
+    fn system(
+        &self,
+        factors: Option<crate::linear_solve::Factorisation>,
+    ) -> Result<SparseFriction<'p>, Error> {
         let (model, candidates) = (self.model, self.candidates);
-        Ok(match (self.target, self.target_tangential) {
-            (Some(tg), Some(_)) => SparseFriction::Pair(
+        Ok(match self.target {
+            Some(tg) => SparseFriction::Pair(
                 contact::sparse::TwoBodies::two(
                     body_parts(model, &candidates.operator),
                     body_parts(tg.model, &tg.operator),
@@ -167,25 +223,27 @@ impl<'p> Path<'p, '_> {
                 )
                 .map_err(lcp::LcpError::from)?,
             ),
-            _ => SparseFriction::Rigid(
-                rigid_obstacle(model, candidates).map_err(lcp::LcpError::from)?,
+            None => SparseFriction::Rigid(
+                rigid_obstacle(model, candidates, factors).map_err(lcp::LcpError::from)?,
             ),
         })
     }
 
     /// Step `k`'s coefficient on every candidate whose tangential row is free (0 where it is
-    /// a displacement condition).
+    /// a displacement condition); nothing on a one-shot path (no tangential operators: the
+    /// system stays frictionless).
     fn set_friction(
         &self,
         system: &mut SparseFriction<'p>,
         free: &[bool],
         k: usize,
     ) -> Result<(), Error> {
+        let Some(tangential) = self.tangential else { return Ok(()) };
         let mu: Vec<f64> =
             free.iter().map(|&f| if f { self.steps[k].friction } else { 0.0 }).collect();
         match (system, self.target_tangential) {
             (SparseFriction::Pair(s), Some(op_t)) => {
-                s.set_friction(&mu, vec![(self.tangential, Some(op_t))])
+                s.set_friction(&mu, vec![(tangential, Some(op_t))])
             }
             (SparseFriction::Rigid(s), _) => s.set_friction(&mu),
             (SparseFriction::Pair(_), None) => unreachable!("two bodies have both operators"),
@@ -230,15 +288,17 @@ impl Walk {
         let end = &path.steps[k];
         let started = std::time::Instant::now();
         let lambda = i as f64 / end.increments as f64;
-        let rhs = lerp(&self.rhs0, &end.rhs, lambda);
         let named = !path.problem.steps.is_empty();
         let at_step = |e| at_increment(named, (k, i, end.increments), e);
         let (answer, u, u2, step_iterations, step_rescues) = match system {
+            _ if path.once => once_increment(system, &path.params).map_err(at_step)?,
             SparseFriction::Rigid(system) => {
+                let rhs = lerp(&self.rhs0, &end.rhs, lambda);
                 self.rigid_increment(path, system, (k, lambda), &rhs, &at_step)?
             }
             SparseFriction::Pair(system) => {
                 let end2 = &path.target.expect("two bodies").steps[k];
+                let rhs = lerp(&self.rhs0, &end.rhs, lambda);
                 system.set_load(&rhs, &lerp(&self.rhs20, &end2.rhs, lambda));
                 let answer = lcp::active_set::solve_friction_step(
                     system,
@@ -283,10 +343,9 @@ impl Walk {
         u2: Option<&[f64]>,
     ) -> f64 {
         let load = lerp(&self.load0, &path.steps[k].load, lambda);
-        let ops = [
-            (&path.candidates.operator, step.normal.as_slice()),
-            (path.tangential, step.tangential.as_slice()),
-        ];
+        let normal = (&path.candidates.operator, step.normal.as_slice());
+        let tangential = path.tangential.map(|op_t| (op_t, step.tangential.as_slice()));
+        let ops: Vec<_> = std::iter::once(normal).chain(tangential).collect();
         let mut equilibrium = solution::equilibrium_error(&path.model.system, &load, u, &ops);
         // The second body: its step k, with the same load factor.
         if let (Some(tg), Some(op_t), Some(u2)) = (path.target, path.target_tangential, u2) {
@@ -396,6 +455,31 @@ impl Walk {
         self.d0 = end.obstacle;
         self.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
     }
+}
+
+/// The increment of a one-shot path: the frictionless active-set method
+/// ([`lcp::active_set::solve`], from the free gaps: there is no earlier increment to start
+/// from) on the system as built (the models' loads, the obstacle where it was given), the
+/// displacements those of its final active set.
+fn once_increment(
+    system: &mut SparseFriction<'_>,
+    params: &lcp::active_set::ActiveSetParams,
+) -> Result<Increment, lcp::LcpError> {
+    let (answer, u, u2) = match system {
+        SparseFriction::Rigid(system) => {
+            let answer = lcp::active_set::solve(system, params)?;
+            let u = system.final_displacements(&answer.active)?;
+            (answer, u, None)
+        }
+        SparseFriction::Pair(system) => {
+            let answer = lcp::active_set::solve(system, params)?;
+            let (u, u2) = system.final_displacements(&answer.active)?;
+            (answer, u, Some(u2))
+        }
+    };
+    let (iterations, rescues) = (answer.iterations, answer.rescues.clone());
+    let step = lcp::active_set::FrictionStepSolution::frictionless(answer);
+    Ok((step, u, u2, iterations, rescues))
 }
 
 /// The search for the body's translation held by the contact (docs/method.md §4.7) under

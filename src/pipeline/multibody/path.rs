@@ -73,6 +73,7 @@ pub(super) fn pair_records(
 }
 
 /// What the path needs of the scene besides the models.
+#[derive(Clone, Copy)]
 pub(super) struct Scene<'s> {
     pub(super) problem: &'s Problem,
     pub(super) pairs: &'s [ContactPair],
@@ -163,14 +164,17 @@ pub(super) fn held_on_path(
 pub(super) type OnPath = (Solved, Vec<FrictionContact>, Option<crate::solution::LoadDriven>);
 
 /// Friction and load steps for several bodies and pairs: the condensed blocks of every body
-/// over all candidates, the load path, one frictional record per pair.
+/// over all candidates, the load path (Lemke's frictionless steps with `lemke`'s parameters),
+/// one frictional record per pair.
 ///
 /// # Errors
-/// The condensation's and the compliance checks' errors, the path's.
+/// The condensation's and the compliance checks' errors, the path's (Lemke's numerical
+/// failure as its refusal, [`Error::LemkeRefused`], inside the increment that failed).
 pub(super) fn solve(
     scene: &Scene<'_>,
     models: &[&Model],
     held_bodies: &[HeldBody],
+    lemke: &lcp::LemkeParams,
     clock: &mut Clock<'_>,
 ) -> Result<OnPath, Error> {
     let pairs = scene.pairs;
@@ -208,9 +212,11 @@ pub(super) fn solve(
         groups: (0..pairs.len()).map(|k| scene.offsets[k]..scene.offsets[k + 1]).collect(),
         write_steps: scene.problem.write_steps,
         named_steps: !scene.problem.steps.is_empty(),
-        lemke: &lcp::LemkeParams::default(),
+        lemke,
     };
-    let answer = load_path::run_condensed(&path, &terms, blocks, clock)?;
+    let overridden = warning.is_some();
+    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+        .map_err(|e| super::super::refused_on_path(e, &compliance, overridden, true))?;
     let last_friction = path.friction.last().cloned().unwrap_or_default();
     drop(terms);
     let result = load_path::normal_lcp(&answer.problem, &answer.step)?;

@@ -77,9 +77,30 @@ type Force = ([f64; 2], f64, Vec<f64>);
 /// Initial gaps and stick offsets per candidate.
 type Gaps = (Vec<f64>, Vec<f64>);
 
+/// Whether the scene is one-shot contact: no `[[step]]` tables and frictionless on every
+/// pair (one step to the models' loads in one increment; bodies held by the contact are
+/// searched inside it, as on the condensed one-shot path).
+fn one_shot(scene: &Scene<'_>) -> bool {
+    scene.problem.steps.is_empty() && scene.pairs.iter().all(|p| p.spec.friction == 0.0)
+}
+
+/// What the increments read: the scene, the models, the held bodies, each body's tangential
+/// operator (none on a one-shot path), every candidate's normal, and whether the path is
+/// one-shot ([`one_shot`]).
+struct Context<'c, 's> {
+    scene: &'c Scene<'s>,
+    models: &'c [&'c Model],
+    held_bodies: &'c [HeldBody],
+    by_body: &'c [Indexed],
+    normals: &'c [crate::geometry::Point],
+    once: bool,
+}
+
 /// Friction and load steps for several bodies and pairs on the sparse system: the path of
 /// [`path::solve`] with each increment an active-set step instead of the step LCP on
-/// condensed blocks.
+/// condensed blocks; and frictionless contact in one shot as one step of one increment of it
+/// ([`one_shot`]: no tangential operators, the frictionless active-set method, or the held
+/// bodies' search over warm-started solves), timed as one `active_set` stage.
 ///
 /// # Errors
 /// The active-set solver's and the search's errors (naming the step and the increment when
@@ -90,9 +111,18 @@ pub(super) fn solve(
     held_bodies: &[HeldBody],
     clock: &mut Clock<'_>,
 ) -> Result<path::OnPath, Error> {
-    let tangential = path::pair_tangential(scene, models);
-    let by_body = path::tangential_by_body(scene, &tangential, models.len());
-    let friction = path::friction_per_step(scene, &tangential);
+    let once = one_shot(scene);
+    let m = scene.initial_gap.len();
+    // A one-shot path builds no tangential operators: the system stays frictionless.
+    let tangential = if once { Vec::new() } else { path::pair_tangential(scene, models) };
+    let by_body = match once {
+        true => (0..models.len()).map(|_| None).collect(),
+        false => path::tangential_by_body(scene, &tangential, models.len()),
+    };
+    let friction = match once {
+        true => vec![vec![0.0; m]],
+        false => path::friction_per_step(scene, &tangential),
+    };
     let normals = path::normals(scene);
     for (_, pin, _, _) in held_bodies {
         path::refuse_slanted(pin, &friction, &normals)?;
@@ -101,137 +131,219 @@ pub(super) fn solve(
     let mut system = super::bodies_system(models, scene.pairs, scene.found, scene.initial_gap)?;
     let pair_tangential: Vec<contact::sparse::PairTangential<'_>> =
         tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
-    let zeros = |m: &&Model| vec![0.0; m.system.rhs.len()];
-    let (mut loads0, mut rhss0): (Vec<_>, Vec<_>) =
-        (models.iter().map(zeros).collect(), models.iter().map(zeros).collect());
-    let m = scene.initial_gap.len();
-    let mut previous = vec![0.0; m];
-    let mut warm: Option<Vec<lcp::ContactState>> = None;
-    let mut histories: Vec<History> = (0..scene.pairs.len())
-        .map(|k| History::new(scene.offsets[k + 1] - scene.offsets[k], scene.problem.write_steps))
-        .collect();
-    let (mut iterations, mut rescues, mut end_all) =
-        (0, Vec::new(), lcp::active_set::ActiveSetEnd::Converged);
-    let mut last: Option<Increment> = None;
-    let params = lcp::active_set::ActiveSetParams::default();
-    // The obstacles' position at the previous step's end, the force pressing them there and
-    // the force search's solves so far.
-    let (mut d0, mut force0, mut evaluations) = ([0.0, 0.0], 0.0, 0);
-    let work = clock.run("friction", || -> Result<_, Error> {
+    let cx = Context { scene, models, held_bodies, by_body: &by_body, normals: &normals, once };
+    let mut walk = Walk::new(scene, models);
+    let stage = if once { "active_set" } else { "friction" };
+    let work = clock.run(stage, || -> Result<_, Error> {
         for (k, end) in scene.steps[0].iter().enumerate() {
-            system
-                .set_friction(&friction[k], pair_tangential.clone())
-                .map_err(lcp::LcpError::from)?;
+            if !once {
+                let tangential = pair_tangential.clone();
+                system.set_friction(&friction[k], tangential).map_err(lcp::LcpError::from)?;
+            }
             for i in 1..=end.increments {
-                let started = std::time::Instant::now();
-                let lambda = i as f64 / end.increments as f64;
-                let named = !scene.problem.steps.is_empty();
-                let at_step = |e| at_increment(named, (k, i, end.increments), e);
-                let at = |ends: &[Vec<f64>], which: fn(&StepEnd) -> &Vec<f64>| -> Vec<Vec<f64>> {
-                    scene
-                        .steps
-                        .iter()
-                        .zip(ends)
-                        .map(|(e, v0)| lerp(v0, which(&e[k]), lambda))
-                        .collect()
-                };
-                let (loads, rhss) = (at(&loads0, |e| &e.load), at(&rhss0, |e| &e.rhs));
-                for (b, rhs) in rhss.iter().enumerate() {
-                    system.set_body_load(b, rhs);
-                }
-                let (moved, force) = obstacle_increment(scene, &normals, (k, lambda), (d0, force0));
-                if let Some((g, o)) = &moved {
-                    system.set_initial_gap(g);
-                    system.set_tangential_offset(o);
-                }
-                let state = Warm {
-                    previous: &previous,
-                    warm: warm.as_deref(),
-                    params,
-                    initial_gap: moved.as_ref().map_or(scene.initial_gap, |(g, _)| g),
-                    force,
-                };
-                let mut solved =
-                    solve_increment(&mut system, models, held_bodies, (&loads, &rhss), state)
-                        .map_err(at_step)?;
-                if let Some(l) = &mut solved.load_driven {
-                    evaluations += l.evaluations;
-                    l.total_evaluations = evaluations;
-                }
-                let step = &solved.answer.step;
-                let equilibrium = models
-                    .iter()
-                    .enumerate()
-                    .map(|(b, model)| {
-                        body_equilibrium(
-                            model,
-                            &loads[b],
-                            &solved.u[b],
-                            (&scene.operators[b], &by_body[b]),
-                            step,
-                        )
-                    })
-                    .fold(0.0, f64::max);
-                let seconds = started.elapsed().as_secs_f64();
-                for (p, h) in histories.iter_mut().enumerate() {
-                    let share = super::super::load_path::select(
-                        step,
-                        scene.offsets[p]..scene.offsets[p + 1],
-                    );
-                    let changes = solved.answer.changes.clone();
-                    h.record(&share, (k, i, lambda), equilibrium, changes, seconds);
-                }
-                previous.clone_from(&step.tangential_displacement);
-                iterations += step.iterations;
-                rescues.extend_from_slice(&solved.answer.rescues);
-                if solved.answer.end != lcp::active_set::ActiveSetEnd::Converged {
-                    end_all = solved.answer.end;
-                }
-                warm = Some(solved.answer.states.clone());
-                last = Some(solved);
+                walk.increment(&cx, &mut system, (k, i))?;
             }
-            for (b, ends) in scene.steps.iter().enumerate() {
-                loads0[b].clone_from(&ends[k].load);
-                rhss0[b].clone_from(&ends[k].rhs);
-            }
-            d0 = scene.steps[0][k].obstacle;
-            force0 = scene.steps[0][k].force.map_or(0.0, |f| f[0].hypot(f[1]));
+            walk.end_step(scene, k);
         }
         Ok(system.stats)
     })?;
-    let Some(Increment { answer, u, held, load_driven }) = last else {
-        unreachable!("validated: at least one step with at least one increment")
-    };
-    let last_friction = friction.last().cloned().unwrap_or_default();
-    let step = answer.step;
-    let (search, free_gap) = match held {
-        Some((t, evaluations, base)) => (t.iter().map(|&t| (t, evaluations)).collect(), base),
-        None => (Vec::new(), answer.free_gap),
-    };
-    let result = lcp::LcpSolution {
-        residuals: lcp::active_set::residuals(&free_gap, &step.normal, &step.gap),
-        w: step.gap.clone(),
-        z: step.normal.clone(),
-        pivots: iterations,
-    };
-    let frictions = path::pair_records(scene, tangential, &step, &last_friction, histories);
-    let record = solution::ActiveSetRecord {
-        iterations,
-        changes: answer.changes,
-        rescues,
-        end: end_all,
-        work,
-    };
-    let solved = Solved {
-        result,
-        free_gap,
-        condensed: None,
-        warning: None,
-        search,
-        displacements: u,
-        record: Some(record),
-    };
-    Ok((solved, frictions, load_driven))
+    Ok(walk.finish(scene, tangential, &friction, work))
+}
+
+/// The path's running state: the previous step's end (each body's load and right-hand side,
+/// the obstacles' position and force), the accumulated tangential displacements and states
+/// to start from, the records, and the last increment's answer.
+struct Walk {
+    loads0: Vec<Vec<f64>>,
+    rhss0: Vec<Vec<f64>>,
+    d0: [f64; 2],
+    force0: f64,
+    /// The force search's solves so far.
+    evaluations: usize,
+    previous: Vec<f64>,
+    warm: Option<Vec<lcp::ContactState>>,
+    histories: Vec<History>,
+    iterations: usize,
+    rescues: Vec<usize>,
+    end_all: lcp::active_set::ActiveSetEnd,
+    last: Option<Increment>,
+}
+
+impl Walk {
+    fn new(scene: &Scene<'_>, models: &[&Model]) -> Self {
+        let zeros = |m: &&Model| vec![0.0; m.system.rhs.len()];
+        let histories = (0..scene.pairs.len())
+            .map(|k| {
+                History::new(scene.offsets[k + 1] - scene.offsets[k], scene.problem.write_steps)
+            })
+            .collect();
+        Self {
+            loads0: models.iter().map(zeros).collect(),
+            rhss0: models.iter().map(zeros).collect(),
+            d0: [0.0, 0.0],
+            force0: 0.0,
+            evaluations: 0,
+            previous: vec![0.0; scene.initial_gap.len()],
+            warm: None,
+            histories,
+            iterations: 0,
+            rescues: Vec::new(),
+            end_all: lcp::active_set::ActiveSetEnd::Converged,
+            last: None,
+        }
+    }
+
+    /// Each body's load and right-hand side at load factor `lambda` of step `k` (on a
+    /// one-shot path the step's end itself, bit for bit: the models' own).
+    fn loads(&self, cx: &Context<'_, '_>, (k, lambda): (usize, f64)) -> [Vec<Vec<f64>>; 2] {
+        let at = |ends: &[Vec<f64>], which: fn(&StepEnd) -> &Vec<f64>| -> Vec<Vec<f64>> {
+            let steps = cx.scene.steps.iter().zip(ends);
+            match cx.once {
+                true => steps.map(|(e, _)| which(&e[k]).clone()).collect(),
+                false => steps.map(|(e, v0)| lerp(v0, which(&e[k]), lambda)).collect(),
+            }
+        };
+        [at(&self.loads0, |e| &e.load), at(&self.rhss0, |e| &e.rhs)]
+    }
+
+    /// Increment `i` of step `k` (0-based): the bodies' loads and the obstacles set, solved,
+    /// recorded (but on a one-shot path, which has no frictional record).
+    fn increment(
+        &mut self,
+        cx: &Context<'_, '_>,
+        system: &mut contact::sparse::Bodies<'_>,
+        (k, i): (usize, usize),
+    ) -> Result<(), Error> {
+        let scene = cx.scene;
+        let end = &scene.steps[0][k];
+        let started = std::time::Instant::now();
+        let lambda = i as f64 / end.increments as f64;
+        let named = !scene.problem.steps.is_empty();
+        let at_step = |e| at_increment(named, (k, i, end.increments), e);
+        let [loads, rhss] = self.loads(cx, (k, lambda));
+        for (b, rhs) in rhss.iter().enumerate() {
+            system.set_body_load(b, rhs);
+        }
+        let (moved, force) =
+            obstacle_increment(scene, cx.normals, (k, lambda), (self.d0, self.force0));
+        if let Some((g, o)) = &moved {
+            system.set_initial_gap(g);
+            system.set_tangential_offset(o);
+        }
+        let state = Warm {
+            previous: &self.previous,
+            warm: self.warm.as_deref(),
+            params: lcp::active_set::ActiveSetParams::default(),
+            initial_gap: moved.as_ref().map_or(scene.initial_gap, |(g, _)| g),
+            force,
+        };
+        let bodies = (cx.models, cx.held_bodies);
+        let mut solved =
+            solve_increment(system, bodies, (&loads, &rhss), state, cx.once).map_err(at_step)?;
+        if let Some(l) = &mut solved.load_driven {
+            self.evaluations += l.evaluations;
+            l.total_evaluations = self.evaluations;
+        }
+        if !cx.once {
+            self.record(cx, &solved, &loads, (k, i, lambda), started);
+        }
+        let answer = &solved.answer;
+        self.previous.clone_from(&answer.step.tangential_displacement);
+        self.iterations += answer.step.iterations;
+        self.rescues.extend_from_slice(&answer.rescues);
+        if answer.end != lcp::active_set::ActiveSetEnd::Converged {
+            self.end_all = answer.end;
+        }
+        self.warm = Some(answer.states.clone());
+        self.last = Some(solved);
+        Ok(())
+    }
+
+    /// Records the increment in every pair's history, with the largest relative equilibrium
+    /// error of the bodies under `loads`.
+    fn record(
+        &mut self,
+        cx: &Context<'_, '_>,
+        solved: &Increment,
+        loads: &[Vec<f64>],
+        (k, i, lambda): (usize, usize, f64),
+        started: std::time::Instant,
+    ) {
+        let (scene, step) = (cx.scene, &solved.answer.step);
+        let equilibrium = cx
+            .models
+            .iter()
+            .enumerate()
+            .map(|(b, model)| {
+                let ops = (&scene.operators[b], &cx.by_body[b]);
+                body_equilibrium(model, &loads[b], &solved.u[b], ops, step)
+            })
+            .fold(0.0, f64::max);
+        let seconds = started.elapsed().as_secs_f64();
+        for (p, h) in self.histories.iter_mut().enumerate() {
+            let share =
+                super::super::load_path::select(step, scene.offsets[p]..scene.offsets[p + 1]);
+            let changes = solved.answer.changes.clone();
+            h.record(&share, (k, i, lambda), equilibrium, changes, seconds);
+        }
+    }
+
+    /// The previous step's end becomes the next step's start.
+    fn end_step(&mut self, scene: &Scene<'_>, k: usize) {
+        for (b, ends) in scene.steps.iter().enumerate() {
+            self.loads0[b].clone_from(&ends[k].load);
+            self.rhss0[b].clone_from(&ends[k].rhs);
+        }
+        let end = &scene.steps[0][k];
+        self.d0 = end.obstacle;
+        self.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
+    }
+
+    /// The path's answer from its last increment: the normal LCP's view, the held bodies'
+    /// translations, one frictional record per pair (none without tangential operators) and
+    /// the active set's record.
+    fn finish(
+        self,
+        scene: &Scene<'_>,
+        tangential: Vec<path::Tangential>,
+        friction: &[Vec<f64>],
+        work: contact::sparse::RigidObstacleStats,
+    ) -> path::OnPath {
+        let Walk { iterations, rescues, end_all, last, histories, .. } = self;
+        let Some(Increment { answer, u, held, load_driven }) = last else {
+            unreachable!("validated: at least one step with at least one increment")
+        };
+        let last_friction = friction.last().cloned().unwrap_or_default();
+        let step = answer.step;
+        let (search, free_gap) = match held {
+            Some((t, evaluations, base)) => (t.iter().map(|&t| (t, evaluations)).collect(), base),
+            None => (Vec::new(), answer.free_gap),
+        };
+        let result = lcp::LcpSolution {
+            residuals: lcp::active_set::residuals(&free_gap, &step.normal, &step.gap),
+            w: step.gap.clone(),
+            z: step.normal.clone(),
+            pivots: iterations,
+        };
+        let frictions = path::pair_records(scene, tangential, &step, &last_friction, histories);
+        let record = solution::ActiveSetRecord {
+            iterations,
+            changes: answer.changes,
+            rescues,
+            end: end_all,
+            work,
+        };
+        let solved = Solved {
+            result,
+            free_gap,
+            condensed: None,
+            warning: None,
+            search,
+            displacements: u,
+            record: Some(record),
+        };
+        (solved, frictions, load_driven)
+    }
 }
 
 /// Where an increment starts: the accumulated tangential displacements and the states of
@@ -247,18 +359,26 @@ struct Warm<'w> {
 }
 
 /// One increment on the system whose bodies' right-hand sides and gaps are set: the
-/// active-set step, or the search for a force-driven obstacle's displacement
-/// ([`force_search`]) or the held bodies' translations ([`held_search`]).
+/// active-set step (on a one-shot path, `once`, the frictionless active-set method), or the
+/// search for a force-driven obstacle's displacement ([`force_search`]) or the held bodies'
+/// translations ([`held_search`]).
 fn solve_increment(
     system: &mut contact::sparse::Bodies<'_>,
-    models: &[&Model],
-    held_bodies: &[HeldBody],
+    (models, held_bodies): (&[&Model], &[HeldBody]),
     (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
     start: Warm<'_>,
+    once: bool,
 ) -> Result<Increment, lcp::LcpError> {
     if held_bodies.is_empty() {
         if start.force.is_some() {
             return force_search(system, start);
+        }
+        if once {
+            // One-shot: the frictionless active-set method from the free gaps.
+            let answer = lcp::active_set::solve(system, &start.params)?;
+            let u = system.final_body_displacements(&answer.active)?;
+            let answer = lcp::active_set::FrictionStepSolution::frictionless(answer);
+            return Ok(Increment { answer, u, held: None, load_driven: None });
         }
         let answer = lcp::active_set::solve_friction_step(
             system,
