@@ -278,7 +278,7 @@ fn shipped_problems_have_shared_points() {
         let out = scratch(file);
         run(&problem, &out);
         let mut bodies = vec![(out.join("solution.vtu"), problem.node_spacing)];
-        if let Some(p2) = &problem.second_body {
+        for p2 in problem.bodies().skip(1) {
             bodies.push((out.join(&p2.name).join("solution.vtu"), p2.node_spacing));
         }
         for (path, h) in bodies {

@@ -221,15 +221,9 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 /// plane bodies in contact pairs with each other or with rigid obstacles (with or without
 /// friction), from rest at their prescribed displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
-    let several = problem.body_count() > 1 || problem.multibody.is_some();
-    // Every contact pair: `[contact]`'s, or each `[[contact]]` table's.
-    let specs: Vec<&super::ContactSpec> = match &problem.multibody {
-        Some(m) => m.pairs.iter().map(|p| &p.spec).collect(),
-        None => problem.contact.iter().collect(),
-    };
-    let axisymmetric = (0..problem.body_count())
-        .filter_map(|k| problem.body(k))
-        .any(|p| p.material.is_axisymmetric());
+    let several = problem.body_count() > 1 || problem.is_scene_of_pairs();
+    let specs: Vec<&super::ContactSpec> = problem.pairs().iter().map(|p| p.spec).collect();
+    let axisymmetric = problem.bodies().any(|p| p.material.is_axisymmetric());
     let refused = if several && specs.iter().any(|c| c.interference != 0.0) {
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
     } else if several && axisymmetric {

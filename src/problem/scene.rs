@@ -57,6 +57,15 @@ impl Problem {
             .collect()
     }
 
+    /// This body with `second` as the other body of its one contact pair (`contact`, whose
+    /// target is an edge of `second`): a two-body scene built in code instead of read from a
+    /// file.
+    #[must_use]
+    pub fn with_second_body(mut self, second: Problem) -> Self {
+        self.second_body = Some(Box::new(second));
+        self
+    }
+
     /// Whether the scene holds more than one body or more than one contact pair (the
     /// `[[contact]]` tables of `multibody`), as opposed to one body, or two bodies in one pair.
     pub fn is_scene_of_pairs(&self) -> bool {

@@ -44,7 +44,7 @@ pub(super) fn check_own(name: &str, s: &Solution) {
     assert!(r.min_z >= -KKT_TOLERANCE && r.min_w >= -KKT_TOLERANCE, "{name}: {r:?}");
     assert!(r.max_complementarity <= KKT_TOLERANCE, "{name}: {r:?}");
     assert!(s.equilibrium_error < EQUILIBRIUM_TOLERANCE, "{name}: {}", s.equilibrium_error);
-    if let Some(s2) = s.second_body.as_deref() {
+    if let Some(s2) = s.body(1) {
         let e2 = s2.equilibrium_error;
         assert!(e2 < EQUILIBRIUM_TOLERANCE, "{name}: second body equilibrium {e2}");
         // The target's forces are the candidates' with the opposite direction: they cancel
@@ -402,7 +402,7 @@ fn two_body_system_equals_the_dense_lcp() {
     let dense = Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone()).unwrap();
     let silent = &mut mlpg_contact::Silent;
     let m1 = mlpg_contact::discretise(&problem, silent).unwrap();
-    let m2 = mlpg_contact::discretise(problem.second_body.as_deref().unwrap(), silent).unwrap();
+    let m2 = mlpg_contact::discretise(problem.body(1).unwrap(), silent).unwrap();
     fn parts<'a>(
         model: &'a mlpg_contact::model::Model,
         operator: &'a mlpg_contact::contact::BodyOperator,

@@ -87,7 +87,7 @@ fn compare(name: &str, problem: &Problem) -> (f64, f64) {
         .fold(0.0_f64, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
     let scale = lemke.displacement.iter().fold(0.0_f64, |m, p| m.max(p[0].hypot(p[1])));
     assert!(du < AGREEMENT * scale, "{name}: displacements differ by {du:e} of {scale:e}");
-    if let (Some(a2), Some(b2)) = (active.second_body.as_deref(), lemke.second_body.as_deref()) {
+    if let (Some(a2), Some(b2)) = (active.body(1), lemke.body(1)) {
         let du2 = a2
             .displacement
             .iter()
@@ -249,7 +249,7 @@ fn two_body_frictional_system_equals_the_dense_blocks() {
     assert!(f.step.state.iter().any(|s| s.is_slip()), "no slip: {:?}", f.step.state);
     let silent = &mut mlpg_contact::Silent;
     let m1 = mlpg_contact::discretise(&problem, silent).unwrap();
-    let m2 = mlpg_contact::discretise(problem.second_body.as_deref().unwrap(), silent).unwrap();
+    let m2 = mlpg_contact::discretise(problem.body(1).unwrap(), silent).unwrap();
     let (target, target_t) = (c.target.as_ref().unwrap(), f.target_operator.as_ref().unwrap());
     let b1 =
         condense_blocks(&m1.factorisation, &m1.system.rhs, &c.candidates.operator, &f.operator)
@@ -445,7 +445,7 @@ fn auto_switches_at_the_pair_friction_threshold() {
         if active_set {
             check_frictional(&s, &format!("frictional pair, {candidates} candidates"));
         }
-        let s2 = s.second_body.as_deref().unwrap();
+        let s2 = s.body(1).unwrap();
         assert!(s2.equilibrium_error <= 1e-8, "body 2 equilibrium {}", s2.equilibrium_error);
     }
 }

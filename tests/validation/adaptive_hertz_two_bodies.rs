@@ -35,14 +35,14 @@ const RATIO: usize = 5;
 
 /// Both bodies' node count of a solution.
 fn nodes(s: &mlpg_contact::Solution) -> usize {
-    s.displacement.len() + s.second_body.as_ref().unwrap().displacement.len()
+    s.displacement.len() + s.body(1).unwrap().displacement.len()
 }
 
 /// Checks both bodies' equilibrium and the force balances and measures the Hertz quantities
 /// (`None` with fewer than four closed candidates, which the fit needs).
 fn checked(label: &str, s: &mlpg_contact::Solution) -> Option<Outcome> {
     let c = s.contact.as_ref().unwrap();
-    let s2 = s.second_body.as_ref().unwrap();
+    let s2 = s.body(1).unwrap();
     assert!(s2.equilibrium_error < 1e-8, "{label}: block equilibrium {}", s2.equilibrium_error);
     let balance = s.reaction_force[1] + c.total_force;
     assert!(balance.abs() < 1e-8 * c.total_force, "{label}: cylinder balance {balance}");
@@ -75,7 +75,7 @@ fn adaptive_cylinder_on_block_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
     // Uniform sets, both bodies at spacing h: halvings of the initial spacing while they have
     // at most RATIO × first nodes, and (bisection on h) the set with the most nodes up to it.
     let cap = RATIO * first;
-    let block = problem.second_body.as_deref().unwrap();
+    let block = problem.body(1).unwrap();
     let count = |h: f64| {
         let generate = |p: &mlpg_contact::problem::Problem| {
             mlpg_contact::nodes::generate(&p.domain, h, p.layout).unwrap().len()
@@ -87,7 +87,7 @@ fn adaptive_cylinder_on_block_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
         let mut uniform = problem.clone();
         uniform.adaptive = None;
         uniform.node_spacing = h;
-        uniform.second_body.as_mut().unwrap().node_spacing = h;
+        uniform.body_mut(1).unwrap().node_spacing = h;
         let s = mlpg_contact::solve(&uniform).unwrap();
         let e = checked(&format!("uniform h = {h:.5}"), &s).as_ref().map(Outcome::max_error);
         (nodes(&s), e)
@@ -141,7 +141,7 @@ fn adaptive_cattaneo_mindlin_stick_zone() {
             let label = format!("adaptive Cattaneo–Mindlin, {n} nodes");
             super::friction::check_frictional(s, &label);
             super::friction::check_increments(s, &label);
-            let s2 = s.second_body.as_ref().unwrap();
+            let s2 = s.body(1).unwrap();
             let total = s.contact.as_ref().unwrap().total_force;
             for k in 0..2 {
                 let pair = s.contact_force[k] + s2.contact_force[k];

@@ -51,7 +51,7 @@ fn checked(label: &str, s: &Solution) -> (f64, f64) {
     assert!(r.max_violation() < TOL, "{label}: KKT residuals {r:?}");
     let mismatch = c.gap.iter().zip(&c.lcp.w).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
     assert!(mismatch < 1e-12, "{label}: gap mismatch {mismatch}");
-    let s2 = s.second_body.as_deref().unwrap();
+    let s2 = s.body(1).unwrap();
     assert!(s.equilibrium_error < TOL, "{label}: beam equilibrium {}", s.equilibrium_error);
     assert!(s2.equilibrium_error < TOL, "{label}: block equilibrium {}", s2.equilibrium_error);
     // The beam: load 16 down = clamp reaction + contact force up; the block: the contact force
@@ -84,7 +84,7 @@ fn uniform(problem: &Problem, h: f64) -> Problem {
     p.adaptive = None;
     p.node_spacing = h;
     p.refinement = Refinement::default();
-    if let Some(p2) = p.second_body.as_deref_mut() {
+    if let Some(p2) = p.body_mut(1) {
         p2.node_spacing = h;
         p2.refinement = Refinement::default();
     }
@@ -103,7 +103,7 @@ fn adaptive_beam_on_block_meets_the_fe_reference_with_a_third_of_the_uniform_nod
         &adaptive,
         &mut mlpg_contact::Silent,
         &mut |_, m, s, _| {
-            let n2 = s.second_body.as_deref().unwrap().displacement.len();
+            let n2 = s.body(1).unwrap().displacement.len();
             let label = format!("adaptive, {} + {n2} nodes", m.nodes.len());
             rows.push((m.nodes.len() + n2, [m.nodes.len(), n2], 0.0, checked(&label, s)));
         },
@@ -145,7 +145,7 @@ fn adaptive_beam_on_block_meets_the_fe_reference_with_a_third_of_the_uniform_nod
     loop {
         let p = uniform(&problem, h);
         let n = mlpg_contact::nodes::for_problem(&p).unwrap().len()
-            + mlpg_contact::nodes::for_problem(p.second_body.as_deref().unwrap()).unwrap().len();
+            + mlpg_contact::nodes::for_problem(p.body(1).unwrap()).unwrap().len();
         if n > cap {
             break;
         }
@@ -174,7 +174,7 @@ fn fe_reference_ladder() {
     for h in [0.25, 0.125, 0.0625, 0.03125] {
         let mut p = uniform(&problem, h);
         p.discretisation.method = Method::Fem;
-        if let Some(p2) = p.second_body.as_deref_mut() {
+        if let Some(p2) = p.body_mut(1) {
             p2.discretisation.method = Method::Fem;
         }
         let s = mlpg_contact::solve(&p).unwrap();
@@ -224,7 +224,7 @@ fn adaptive_beam_on_block_with_friction_and_steps() {
             let label = format!("friction, {} nodes in the beam", m.nodes.len());
             super::friction::check_frictional(s, &label);
             let c = s.contact.as_ref().unwrap();
-            let s2 = s.second_body.as_deref().unwrap();
+            let s2 = s.body(1).unwrap();
             assert!(s2.equilibrium_error <= 1e-8, "{label}: block equilibrium");
             for axis in 0..2 {
                 let action = s.contact_force[axis] + s2.contact_force[axis];

@@ -160,11 +160,9 @@ fn an_axisymmetric_pair_is_refined_body_by_body_and_stays_exact() {
             &mut mlpg_contact::Silent,
             &mut |_, _, s, _| {
                 let label = format!("scene {scene}, solve {}", counts.len());
-                let (c, lower) = match (&s.contact, &s.second_body, &s.multibody) {
-                    (Some(c), Some(lower), _) => (c, lower.as_ref()),
-                    (_, _, Some(m)) => (&m.pairs[0], &m.bodies[0]),
-                    _ => panic!("{label}: not a pair"),
-                };
+                let (pairs, lower) = (s.pairs(), s.body(1).expect("two bodies"));
+                assert_eq!(pairs.len(), 1, "{label}: one pair");
+                let c = pairs[0];
                 let worst = c.pressure.iter().map(|q| (q - p).abs() / p).fold(0.0, f64::max);
                 assert!(worst < 1e-9, "{label}: pressure off by {worst:.2e}");
                 assert_lcp_residuals(&label, &c.lcp.residuals, 1e-9);

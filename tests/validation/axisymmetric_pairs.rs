@@ -80,11 +80,9 @@ pub(super) fn cylinders_text(layout: &str, method: &str, solver: &str, scene: bo
 /// The contact solution of a pair, whether a two-body `[contact]` or a scene's only pair, and
 /// the solutions of the upper and lower bodies.
 fn pair(s: &Solution) -> (&mlpg_contact::solution::ContactSolution, &Solution, &Solution) {
-    match (&s.contact, &s.second_body, &s.multibody) {
-        (Some(c), Some(lower), _) => (c, s, lower),
-        (_, _, Some(m)) => (&m.pairs[0], s, &m.bodies[0]),
-        _ => panic!("not a pair"),
-    }
+    let (pairs, lower) = (s.pairs(), s.body(1).expect("two bodies"));
+    assert_eq!(pairs.len(), 1, "one pair");
+    (pairs[0], s, lower)
 }
 
 #[test]
@@ -318,7 +316,7 @@ fn e_star() -> f64 {
 /// rings' force) and fits Hertz on the sphere's side ([`measure_with`]).
 fn measure_pair(label: &str, s: &Solution) -> Sphere {
     let out = measure_with(label, s, e_star());
-    let block = s.second_body.as_deref().expect("the block");
+    let block = s.body(1).expect("the block");
     assert!(
         block.equilibrium_error < 1e-8,
         "{label}: block equilibrium {}",

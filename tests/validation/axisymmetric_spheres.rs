@@ -180,7 +180,7 @@ pub(super) struct Pair {
 pub(super) fn measure(label: &str, s: &Solution) -> Pair {
     let c = s.contact.as_ref().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
-    let lower = s.second_body.as_deref().expect("the lower sphere");
+    let lower = s.body(1).expect("the lower sphere");
     assert!(s.equilibrium_error < 1e-8, "{label}: upper equilibrium {}", s.equilibrium_error);
     assert!(
         lower.equilibrium_error < 1e-8,

@@ -185,7 +185,7 @@ fn two_blocks_upper_held_by_contact_carries_its_load() {
     let exact = -(1.0 / 1000.0 + 0.5 / 1000.0);
     assert!((r.translation[1] - exact).abs() <= 1e-8 * exact.abs(), "{:?}", r.translation);
     assert!(s.equilibrium_error <= 1e-8);
-    assert!(s.second_body.as_ref().unwrap().equilibrium_error <= 1e-8);
+    assert!(s.body(1).unwrap().equilibrium_error <= 1e-8);
 }
 
 #[test]

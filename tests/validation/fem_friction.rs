@@ -430,7 +430,7 @@ fn two_blocks_in_steps(method: &str, h: f64) -> (f64, f64) {
     let s = solve(&Problem::from_toml(&text).unwrap()).unwrap();
     let case = format!("two blocks in steps, {method}, h = {h}");
     check_frictional(&s, &case);
-    let second = s.second_body.as_deref().unwrap();
+    let second = s.body(1).unwrap();
     assert!(
         second.equilibrium_error <= 1e-8,
         "{case}: lower body {:.3e}",

@@ -41,8 +41,7 @@ pub fn fem_two_blocks(h_upper: f64, h_lower: f64) -> Problem {
         solver: Default::default(),
         interference: 0.0,
     });
-    upper.second_body = Some(Box::new(lower));
-    upper
+    upper.with_second_body(lower)
 }
 
 /// (max |p − p_exact| / p_exact, |ΣP − exact| / exact).
@@ -52,7 +51,7 @@ fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
     let c = s.contact.as_ref().unwrap();
     assert!(c.lcp.residuals.max_violation() < 1e-9);
     assert!(s.equilibrium_error < 1e-9, "upper body equilibrium {}", s.equilibrium_error);
-    let s2 = s.second_body.as_deref().unwrap();
+    let s2 = s.body(1).unwrap();
     assert!(s2.equilibrium_error < 1e-9, "lower body equilibrium {}", s2.equilibrium_error);
     let exact = YOUNG * PRESS / 2.0;
     let pointwise = c.pressure.iter().map(|p| (p - exact).abs()).fold(0.0, f64::max) / exact;

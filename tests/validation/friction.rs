@@ -283,7 +283,7 @@ fn two_body_steps_are_validated() {
     let step = |entry: &str| format!("{two}\n[[step]]\nincrements = 2\nboundary = [{entry}]\n");
     let ok = step(r#"{ body = "upper", edge = "top", displacement = { y = -0.01 } }"#);
     let p = Problem::from_toml(&ok).unwrap();
-    let p2 = p.second_body.as_deref().unwrap();
+    let p2 = p.body(1).unwrap();
     assert_eq!((p.steps.len(), p2.steps.len()), (1, 1));
     assert_eq!((p.steps[0].increments, p2.steps[0].increments), (2, 2));
     for (text, key, what) in [
@@ -617,7 +617,7 @@ pub(super) fn two_blocks_pressed_and_sheared_on(method: &str, normal_tolerance: 
         let case = format!("two blocks ({method}), {kind}");
         let s = solve(&two_blocks(method, shift, mu)).unwrap();
         check_frictional(&s, &case);
-        let s2 = s.second_body.as_deref().unwrap();
+        let s2 = s.body(1).unwrap();
         let c = s.contact.as_ref().unwrap();
         let f = c.friction.as_ref().unwrap();
         // The contact forces on the two bodies balance: body 1 gets +ν P + t T, body 2 the
@@ -683,7 +683,7 @@ pub(super) fn cattaneo_mindlin(h: f64, mu: f64, steps: &str) -> Problem {
     let head = head.replace("friction = 0.3\n", &format!("friction = {mu:e}\n"));
     let mut p = Problem::from_toml(&format!("{head}\n{steps}")).unwrap();
     p.node_spacing = h;
-    p.second_body.as_mut().unwrap().node_spacing = h;
+    p.body_mut(1).unwrap().node_spacing = h;
     p
 }
 
@@ -990,7 +990,7 @@ fn two_body_steps_move_either_body() {
         assert!((x - y).abs() <= 1e-9 * scale, "ΣT per increment {ta:?} vs {tb:?}");
     }
     // Body 2's own equilibrium, with the contact forces it receives.
-    let s2 = b.second_body.as_deref().unwrap();
+    let s2 = b.body(1).unwrap();
     assert!(s2.equilibrium_error <= 1e-8, "body 2 equilibrium {}", s2.equilibrium_error);
 }
 
@@ -1041,7 +1041,7 @@ fn explicit_zero_friction_is_frictionless() {
         let flat = |s: &Solution| s.displacement.iter().flatten().copied().collect::<Vec<f64>>();
         let mut diffs =
             vec![worst(&ca.lcp.z, &cb.lcp.z), worst(&ca.gap, &cb.gap), worst(&flat(&a), &flat(&b))];
-        if let (Some(a2), Some(b2)) = (a.second_body.as_deref(), b.second_body.as_deref()) {
+        if let (Some(a2), Some(b2)) = (a.body(1), b.body(1)) {
             diffs.push(worst(&flat(a2), &flat(b2)));
         }
         println!(

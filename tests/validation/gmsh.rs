@@ -271,8 +271,8 @@ fn two_bodies_from_one_file() {
     );
     assert!(worst < 1e-8, "pressure {worst:e}");
     assert!((c.total_force / (2.0 * p) - 1.0).abs() < 1e-8, "total {}", c.total_force);
-    let lower = s.second_body.as_deref().unwrap();
-    let lower_problem = problem.second_body.as_deref().unwrap();
+    let lower = s.body(1).unwrap();
+    let lower_problem = problem.body(1).unwrap();
     for (label, sol, prob, shift) in
         [("upper", &s, &problem, -p / young), ("lower", lower, lower_problem, 0.0)]
     {

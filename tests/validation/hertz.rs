@@ -335,8 +335,7 @@ pub fn cylinder_on_block(h: f64) -> Problem {
         solver: Default::default(),
         interference: 0.0,
     });
-    upper.second_body = Some(Box::new(lower));
-    upper
+    upper.with_second_body(lower)
 }
 
 // Observed (h = 0.02 / 0.01 / 0.005 on the cylinder, 1.25 h on the block; a/R = 0.146):
@@ -358,7 +357,7 @@ fn hertz_two_elastic_bodies() {
     let mut out = Vec::new();
     for h in [0.02, 0.01, 0.005] {
         let s = mlpg_contact::solve(&cylinder_on_block(h)).unwrap();
-        let s2 = s.second_body.as_ref().unwrap();
+        let s2 = s.body(1).unwrap();
         assert!(s2.equilibrium_error < 1e-8, "block equilibrium {}", s2.equilibrium_error);
         let c = s.contact.as_ref().unwrap();
         assert!((s.contact_force[1] + s2.contact_force[1]).abs() < 1e-12 * c.total_force);

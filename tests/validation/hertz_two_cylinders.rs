@@ -99,7 +99,7 @@ fn two_elastic_cylinders_against_hertz() {
     let s = mlpg_contact::solve(&cylinders(0.005)).unwrap();
     let c = s.contact.as_ref().unwrap();
     assert_lcp_residuals("cylinders", &c.lcp.residuals, 1e-9);
-    let lower = s.second_body.as_deref().expect("the lower cylinder");
+    let lower = s.body(1).expect("the lower cylinder");
     assert!(s.equilibrium_error < 1e-8, "upper equilibrium {}", s.equilibrium_error);
     assert!(lower.equilibrium_error < 1e-8, "lower equilibrium {}", lower.equilibrium_error);
     let resultant = c.candidates.operator.resultant(&c.lcp.z);

@@ -37,11 +37,9 @@ use std::f64::consts::TAU;
 /// The contact solution of a pair, a two-body `[contact]` or a scene's only pair, and both
 /// bodies' solutions (the contact body first).
 fn pair(s: &Solution) -> (&mlpg_contact::solution::ContactSolution, &Solution, &Solution) {
-    match (&s.contact, &s.second_body, &s.multibody) {
-        (Some(c), Some(other), _) => (c, s, other),
-        (_, _, Some(m)) => (&m.pairs[0], s, &m.bodies[0]),
-        _ => panic!("not a pair"),
-    }
+    let (pairs, other) = (s.pairs(), s.body(1).expect("two bodies"));
+    assert_eq!(pairs.len(), 1, "one pair");
+    (pairs[0], s, other)
 }
 
 fn contact_table(scene: bool, edge: &str, target: &str, extra: &str) -> String {
@@ -292,7 +290,7 @@ fn worst_nodal_error(
     error: impl Fn([f64; 2], [f64; 2], bool) -> f64,
 ) -> f64 {
     let mut silent = mlpg_contact::Silent;
-    let bodies = [(problem, false), (problem.second_body.as_deref().unwrap(), true)];
+    let bodies = [(problem, false), (problem.body(1).unwrap(), true)];
     let mut worst: f64 = 0.0;
     for ((p, hub), sol) in bodies.into_iter().zip(solutions) {
         let model = mlpg_contact::discretise(p, &mut silent).unwrap();

@@ -65,7 +65,7 @@ fn a_soft_target_solves_with_the_default_discretisation() {
     // The case this test is about: M indefinite, yet accepted.
     assert!(m.min_diagonal > 0.0 && m.min_symmetric_eigenvalue < 0.0, "{m:?}");
     assert!(c.lcp.residuals.max_violation() < TOL, "KKT residuals {:?}", c.lcp.residuals);
-    let s2 = s.second_body.as_deref().unwrap();
+    let s2 = s.body(1).unwrap();
     assert!(s.equilibrium_error < TOL && s2.equilibrium_error < TOL);
     let action = s.contact_force[1] + s2.contact_force[1];
     assert!(action.abs() < 1e-12 * c.total_force, "action and reaction {action}");
@@ -97,7 +97,7 @@ fn soft_target_fe_reference_ladder() {
         p.adaptive = None;
         p.node_spacing = h;
         p.discretisation.method = Method::Fem;
-        let p2 = p.second_body.as_deref_mut().unwrap();
+        let p2 = p.body_mut(1).unwrap();
         p2.node_spacing = h;
         p2.discretisation.method = Method::Fem;
         let s = mlpg_contact::solve(&p).unwrap();

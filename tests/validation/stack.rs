@@ -232,7 +232,7 @@ fn reversed_pair_reproduces_the_two_blocks() {
         let worst = c.pressure.iter().map(|v| (v / 5.0 - 1.0).abs()).fold(0.0, f64::max);
         println!("{method}: reversed pair, max |p/5 − 1| = {worst:.2e}, total {}", c.total_force);
         assert!(worst < 1e-8 && (c.total_force / 10.0 - 1.0).abs() < 1e-8);
-        let lower_usual = s_usual.second_body.as_deref().unwrap();
+        let lower_usual = s_usual.body(1).unwrap();
         for (a, b, what) in [(&s_usual, &s_rev, "upper"), (lower_usual, &ms.bodies[0], "lower")] {
             let worst = a
                 .displacement

@@ -59,8 +59,7 @@ pub fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
     });
     let mut lower = lower;
     lower.name = "lower".into();
-    upper.second_body = Some(Box::new(lower));
-    upper
+    upper.with_second_body(lower)
 }
 
 fn pressures(problem: &Problem) -> (Vec<f64>, f64, f64) {
@@ -69,7 +68,7 @@ fn pressures(problem: &Problem) -> (Vec<f64>, f64, f64) {
     let r = &c.lcp.residuals;
     assert!(r.max_violation() < 1e-9, "KKT residuals {r:?}");
     assert!(s.equilibrium_error < 1e-9, "body 1 equilibrium {}", s.equilibrium_error);
-    let s2 = s.second_body.as_ref().unwrap();
+    let s2 = s.body(1).unwrap();
     assert!(s2.equilibrium_error < 1e-9, "body 2 equilibrium {}", s2.equilibrium_error);
     // Action and reaction: the forces on the two bodies cancel.
     assert!((s.contact_force[1] + s2.contact_force[1]).abs() < 1e-12 * c.total_force);
@@ -91,11 +90,10 @@ fn identical_blocks_give_uniform_pressure() {
 
 /// Sets `α_s` and `β` on both bodies of a two-body problem.
 pub fn with_variant(mut problem: Problem, support_factor: f64, beta: f64) -> Problem {
-    for p in std::iter::once(&mut problem.discretisation)
-        .chain(problem.second_body.as_deref_mut().map(|b| &mut b.discretisation))
-    {
-        p.mls.support_factor = support_factor;
-        p.beta = beta;
+    for k in 0..problem.body_count() {
+        let d = &mut problem.body_mut(k).expect("a body").discretisation;
+        d.mls.support_factor = support_factor;
+        d.beta = beta;
     }
     problem
 }
@@ -168,8 +166,7 @@ pub fn mirror_problems() -> (Problem, Problem) {
         solver: Default::default(),
         interference: 0.0,
     });
-    pair.second_body = Some(Box::new(mirror));
-    (rigid, pair)
+    (rigid, pair.with_second_body(mirror))
 }
 
 #[test]
@@ -205,7 +202,7 @@ fn graded_blocks_give_uniform_pressure() {
         let mut problem = with_variant(two_blocks(0.1, 0.125), 2.0, beta);
         problem.refinement =
             Refinement { boxes: vec![RefineBox { x: [0.0, 2.0], y: [1.0, 1.2], spacing: 0.05 }] };
-        if let Some(lower) = problem.second_body.as_deref_mut() {
+        if let Some(lower) = problem.body_mut(1) {
             lower.refinement = Refinement {
                 boxes: vec![RefineBox { x: [0.0, 2.0], y: [0.75, 1.0], spacing: 0.0625 }],
             };
@@ -231,7 +228,7 @@ fn adaptive_gradings(layout: Layout) -> (Refinement, Refinement) {
     let top = Field::Linear { start: -PRESS, end: PRESS };
     problem.boundary[2] =
         EdgeCondition::Components([free(), ComponentCondition::Displacement(top)]);
-    if let Some(lower) = problem.second_body.as_deref_mut() {
+    if let Some(lower) = problem.body_mut(1) {
         lower.layout = layout;
     }
     let adaptive = mlpg_contact::problem::Adaptive {
@@ -268,7 +265,7 @@ fn adaptive_gradings(layout: Layout) -> (Refinement, Refinement) {
     for (b, h0) in last.iter().zip([0.2, 0.25]) {
         assert!(h0 / b.min_spacing >= 4.0, "{}: finest spacing {}", b.name, b.min_spacing);
     }
-    let lower = run.problem.second_body.as_deref().unwrap().refinement.clone();
+    let lower = run.problem.body(1).unwrap().refinement.clone();
     (run.problem.refinement, lower)
 }
 
@@ -290,7 +287,7 @@ fn adaptively_graded_blocks_give_uniform_pressure() {
             let mut problem = with_variant(two_blocks(0.2, 0.25), alpha, beta);
             problem.layout = layout;
             problem.refinement = upper.clone();
-            if let Some(p2) = problem.second_body.as_deref_mut() {
+            if let Some(p2) = problem.body_mut(1) {
                 p2.layout = layout;
                 p2.refinement = lower.clone();
             }
