@@ -31,19 +31,24 @@ pub fn write_frames(
     }
     let folder = dir.join("frames");
     create_dir(&folder)?;
+    // Each body's vertices (one per node), the same in every frame.
+    let verts: Vec<Vec<Vec<usize>>> =
+        bodies.iter().map(|(_, points)| (0..points.len()).map(|i| vec![i]).collect()).collect();
     let mut files = Vec::new();
     let mut entries = Vec::new();
     for f in frames {
         let stem = format!("frame_{:06}", f.step);
         let name = if let [(_, points)] = bodies {
             let name = format!("{stem}.vtp");
-            files.push(write_body(&folder.join(&name), points, &f.bodies[0])?);
+            let set = (*points, &verts[0][..]);
+            files.push(write_body(&folder.join(&name), set, &f.bodies[0])?);
             name
         } else {
             let mut sets = Vec::with_capacity(bodies.len());
             for (k, ((body, points), fields)) in bodies.iter().zip(&f.bodies).enumerate() {
                 let name = format!("{stem}_{k}.vtp");
-                files.push(write_body(&folder.join(&name), points, fields)?);
+                let set = (*points, &verts[k][..]);
+                files.push(write_body(&folder.join(&name), set, fields)?);
                 sets.push((body.to_string(), name));
             }
             let name = format!("{stem}.vtm");
@@ -61,13 +66,17 @@ pub fn write_frames(
     Ok(files)
 }
 
-/// Writes one body's point set with its `fields` to `path`; returns the path.
-fn write_body(path: &Path, points: &[Point], fields: &BodyFrame) -> Result<PathBuf, OutputError> {
-    let verts: Vec<Vec<usize>> = (0..points.len()).map(|i| vec![i]).collect();
+/// Writes one body's point set (its nodes and their vertices) with its `fields` to `path`;
+/// returns the path.
+fn write_body(
+    path: &Path,
+    (points, verts): (&[Point], &[Vec<usize>]),
+    fields: &BodyFrame,
+) -> Result<PathBuf, OutputError> {
     let point_data = [
         Array::Vector("displacement".into(), fields.displacement.clone()),
         Array::Vector("velocity".into(), fields.velocity.clone()),
     ];
-    write_text(path, &poly_data(points, &verts, &[], &point_data, &[], &[]))?;
+    write_text(path, &poly_data(points, verts, &[], &point_data, &[], &[]))?;
     Ok(path.to_path_buf())
 }

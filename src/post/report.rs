@@ -105,19 +105,6 @@ fn in_words(problem: &Problem) -> String {
     };
     let _ = write!(html, "<ul>{}</ul>", list(conditions(problem)));
     let pairs = problem.pairs();
-    let others: Vec<String> = problem
-        .bodies()
-        .skip(1)
-        .map(|p| {
-            format!(
-                "body `{}` (E = {}, ν = {}, node spacing {})",
-                p.name,
-                g(p.material.young),
-                g(p.material.poisson),
-                g(p.node_spacing)
-            )
-        })
-        .collect();
     let steps = (!pairs.is_empty() && !problem.steps.is_empty()).then(|| {
         let increments: usize = problem.steps.iter().map(|s| s.increments).sum();
         format!(
@@ -126,6 +113,7 @@ fn in_words(problem: &Problem) -> String {
         )
     });
     if problem.is_scene_of_pairs() {
+        let others: Vec<String> = problem.bodies().skip(1).map(body_in_words).collect();
         let _ = write!(html, "<p>Other bodies:</p><ul>{}</ul>", list(others));
         let each: Vec<String> = pairs
             .iter()
@@ -162,14 +150,9 @@ fn pair_in_words(problem: &Problem, pair: &Pair<'_>, detailed: bool) -> String {
             let each: Vec<String> = pair.obstacles.iter().map(obstacle_text).collect();
             format!("the rigid obstacle(s) {}", each.join("; "))
         }
-        (ContactTarget::Body { edge: e2 }, Some(p2)) if detailed => format!(
-            "edge `{}` of body `{}` (E = {}, ν = {}, node spacing {})",
-            p2.domain.edge_names()[*e2],
-            p2.name,
-            g(p2.material.young),
-            g(p2.material.poisson),
-            g(p2.node_spacing)
-        ),
+        (ContactTarget::Body { edge: e2 }, Some(p2)) if detailed => {
+            format!("edge `{}` of {}", p2.domain.edge_names()[*e2], body_in_words(p2))
+        }
         (ContactTarget::Body { edge: e2 }, Some(p2)) => {
             format!("edge `{}` of body `{}`", p2.domain.edge_names()[*e2], p2.name)
         }
@@ -181,6 +164,17 @@ fn pair_in_words(problem: &Problem, pair: &Pair<'_>, detailed: bool) -> String {
         "without friction".into()
     };
     format!("edge `{edge}` may touch {target} {friction}")
+}
+
+/// "body `name` (E = …, ν = …, node spacing …)".
+fn body_in_words(p: &Problem) -> String {
+    format!(
+        "body `{}` (E = {}, ν = {}, node spacing {})",
+        p.name,
+        g(p.material.young),
+        g(p.material.poisson),
+        g(p.node_spacing)
+    )
 }
 
 /// `text` with its first letter in upper case.
