@@ -276,10 +276,9 @@ impl<'a> Body<'a> {
             contact_may_hold: !problem.material.is_axisymmetric()
                 && problem.dynamics.is_none()
                 && (problem
-                    .contact
-                    .as_ref()
+                    .contact()
                     .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. }))
-                    || problem.multibody.as_ref().is_some_and(|m| {
+                    || problem.multibody().is_some_and(|m| {
                         m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0))
                     })),
             hoop: problem.material.hoop(),

@@ -45,7 +45,7 @@ fn run_with(
     condensation: Condensation,
 ) -> (Row, f64) {
     let mut p = base.clone();
-    if let Some(c) = p.contact.as_mut() {
+    if let Some(c) = p.contact_mut() {
         c.condensation = condensation;
     }
     p.node_spacing = h;

@@ -91,8 +91,8 @@ fn main() {
         "auto" => ContactSolver::Auto,
         other => panic!("unknown solver {other}"),
     };
-    problem.contact.as_mut().expect("a contact problem").solver = solver;
-    problem.contact.as_mut().expect("a contact problem").friction = cli.friction;
+    problem.contact_mut().expect("a contact problem").solver = solver;
+    problem.contact_mut().expect("a contact problem").friction = cli.friction;
     if cli.header {
         println!(
             "| case | h | candidates | nodes | solver | discretise s | contact stages s | iterations | changes per iteration | factorisations / update columns | total force | complementarity | equilibrium | peak GB |"
@@ -102,8 +102,7 @@ fn main() {
     let t = Instant::now();
     let model = discretise(&problem, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
     let second = problem
-        .second_body
-        .as_deref()
+        .second_body()
         .map(|p2| discretise(p2, &mut Silent).unwrap_or_else(|e| panic!("{e}")));
     let t_disc = t.elapsed().as_secs_f64();
     let nodes = model.nodes.len() + second.as_ref().map_or(0, |m| m.nodes.len());

@@ -94,7 +94,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         stages.join(", ")
     );
     println!("factorisation: {:?}", model.factorisation.stats());
-    let spec = problem.contact.ok_or("the strip has contact")?;
+    let spec = problem.contact().ok_or("the strip has contact")?;
     let ContactTarget::Rigid(line) = spec.target else { return Err("rigid obstacle".into()) };
     let t = Instant::now();
     let cand = contact::candidates_on(

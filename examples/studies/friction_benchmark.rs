@@ -59,7 +59,7 @@ fn beam(h: f64, method: Method, mu: f64, increments: usize) -> Problem {
     let mut p = Problem::from_toml(&text).expect("a valid problem");
     p.node_spacing = h;
     p.discretisation.method = method;
-    p.contact.as_mut().expect("contact").friction = mu;
+    p.contact_mut().expect("contact").friction = mu;
     p
 }
 

@@ -114,7 +114,7 @@ impl Variant {
         d.quadrature_points = self.quadrature_points;
         d.beta = self.beta;
         d.allow_unstable = true;
-        if let Some(c) = &mut p.contact {
+        if let Some(c) = p.contact_mut() {
             c.allow_indefinite = true;
         }
         p

@@ -228,7 +228,7 @@ pub fn rigid_target(problem: &Problem, spec: &ContactSpec, x: Point) -> Option<(
     match spec.target {
         ContactTarget::Rigid(line) => Some((line.gap(x), line.normal)),
         ContactTarget::Obstacles => {
-            closest_obstacle(&problem.obstacles, x).map(|(_, c)| (c.gap, c.normal))
+            closest_obstacle(problem.obstacles(), x).map(|(_, c)| (c.gap, c.normal))
         }
         ContactTarget::Body { .. } => None,
     }

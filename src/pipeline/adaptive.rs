@@ -74,7 +74,7 @@ fn check_body(problem: &Problem) -> Result<(), Error> {
 /// [`paired_marks`] projects onto it as a segment. The first body (the candidates') may be
 /// curved.
 fn check_target(problem: &Problem, second: &Problem) -> Result<(), Error> {
-    let edge = problem.contact.as_ref().and_then(|c| match c.target {
+    let edge = problem.contact().and_then(|c| match c.target {
         ContactTarget::Body { edge } => Some(edge),
         _ => None,
     });
@@ -150,7 +150,7 @@ pub fn solve_adaptive(
     for body in problem.bodies() {
         check_body(body)?;
     }
-    if let Some(p2) = problem.second_body.as_deref() {
+    if let Some(p2) = problem.second_body() {
         check_target(problem, p2)?;
     }
     let mut current = problem.clone();
@@ -498,11 +498,11 @@ mod tests {
         let mut p = Problem::from_toml(&format!("{text}\n[refinement]\n")).unwrap();
         let a = p.adaptive.unwrap();
         let mut cylinder = p.clone();
-        cylinder.second_body = None;
-        cylinder.contact = None;
+        cylinder.others.clear();
+        cylinder.contact_pairs.clear();
         let arc = cylinder.domain.edge_index("arc").unwrap();
-        p.second_body = Some(Box::new(cylinder));
-        p.contact.as_mut().unwrap().target = ContactTarget::Body { edge: arc };
+        p.others = vec![cylinder];
+        p.contact_mut().unwrap().target = ContactTarget::Body { edge: arc };
         let mut silent = crate::Silent;
         let Err(e) = solve_adaptive(&p, &a, &mut silent, &mut |_, _, _, _| {}) else {
             panic!("a curved target edge must be refused");

@@ -311,7 +311,7 @@ fn overlay_plots(
             ],
         },
     ));
-    if let Some(spec) = &problem.contact {
+    if let Some(spec) = problem.contact() {
         let edge = &names[spec.edge];
         charts.push((
             "compare_pressure",

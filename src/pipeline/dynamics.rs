@@ -200,10 +200,10 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         })?;
     let mut clock = Clock::new(progress, Vec::new());
     let body = discretise_any(problem, &mut clock)?;
-    if problem.body_count() > 1 || problem.multibody.is_some() {
+    if problem.body_count() > 1 || problem.is_scene_of_pairs() {
         return solve_bodies(problem, body, dynamics, clock);
     }
-    let candidates = match &problem.contact {
+    let candidates = match problem.contact() {
         Some(spec) => Some(clock.run("candidates", || {
             let target =
                 |x| contact::rigid_target(problem, spec, x).unwrap_or((f64::INFINITY, [0.0, 1.0]));
@@ -239,7 +239,7 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
     let stepped = stepped_body(problem, &body, dynamics.density);
     // Coulomb friction: the tangential operator (a candidate whose owner is held along `t`
     // is frictionless, as in the static solve).
-    let mu = problem.contact.as_ref().map_or(0.0, |c| c.friction);
+    let mu = problem.contact().map_or(0.0, |c| c.friction);
     let system = stepped.system;
     let tangential =
         candidates.as_ref().filter(|_| mu > 0.0).map(|c| c.tangential_operator(system));
@@ -287,7 +287,7 @@ struct ScenePair<'a> {
 /// The contact pairs of `problem`'s bodies: `[contact]` between the two bodies of
 /// `second_body`, or every `[[contact]]` table of `multibody`.
 fn scene_pairs(problem: &Problem) -> Result<Vec<ScenePair<'_>>, contact::ContactError> {
-    Ok(match &problem.multibody {
+    Ok(match problem.multibody() {
         Some(m) => m
             .pairs
             .iter()
@@ -299,8 +299,8 @@ fn scene_pairs(problem: &Problem) -> Result<Vec<ScenePair<'_>>, contact::Contact
             })
             .collect(),
         None => {
-            let spec = problem.contact.as_ref().ok_or(contact::ContactError::MissingTarget)?;
-            vec![ScenePair { body: 0, target_body: Some(1), spec, obstacles: &problem.obstacles }]
+            let spec = problem.contact().ok_or(contact::ContactError::MissingTarget)?;
+            vec![ScenePair { body: 0, target_body: Some(1), spec, obstacles: problem.obstacles() }]
         }
     })
 }

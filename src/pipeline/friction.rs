@@ -337,7 +337,7 @@ pub(super) fn solve_frictional(
     {
         let name = match term {
             0 => problem.name.as_str(),
-            _ => problem.second_body.as_deref().map_or("second body", |p| p.name.as_str()),
+            _ => problem.second_body().map_or("second body", |p| p.name.as_str()),
         };
         load_path::check_determined(
             (name, pin.name()),
@@ -541,7 +541,7 @@ fn held_between(
     steps: &[StepEnd],
 ) -> Result<Option<load_path::Held>, Error> {
     use lcp::load_driven::LoadDrivenError as L;
-    let second = problem.second_body.as_deref().map_or("second body", |p| p.name.as_str());
+    let second = problem.second_body().map_or("second body", |p| p.name.as_str());
     let (term, pin, op, sign) = match (model.system.pinned, target.model.system.pinned) {
         (None, None) => return Ok(None),
         (Some(a), Some(b)) => {

@@ -773,7 +773,7 @@ mod tests {
         )
         .unwrap();
         let model = super::super::discretise(&problem, &mut crate::progress::Silent).unwrap();
-        let spec = problem.contact.as_ref().unwrap();
+        let spec = problem.contact().unwrap();
         let target = |x| contact::rigid_target(&problem, spec, x).unwrap();
         let candidates =
             contact::candidates_on(&problem, &model, spec.edge, &target, spec.condensation)

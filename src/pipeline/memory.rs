@@ -144,7 +144,7 @@ fn estimate_in(problem: &Problem, precision: FactorPrecision) -> (f64, f64) {
             .sum();
         bytes += 4.0 * 8.0 * m * m;
     }
-    if let Some(spec) = &problem.contact {
+    if let Some(spec) = problem.contact() {
         let Route { m, active_set, .. } = route(problem, spec);
         if active_set {
             // A second factorisation (of the row-replaced matrix) and at most 1 GB of stored
@@ -230,7 +230,7 @@ pub fn after_analysis(
         FactorPrecision::Mixed => 44.0,
     } * 8.0
         * unknowns as f64;
-    let contact = match &problem.contact {
+    let contact = match problem.contact() {
         None => 0.0,
         Some(spec) => {
             let Route { m, frictionless, active_set } = route(problem, spec);

@@ -283,13 +283,13 @@ fn discretise_all(
         Method::Mfvm => "MFVM",
         Method::Fem => "FE",
     };
-    let several = problem.second_body.is_some() || problem.multibody.is_some();
+    let several = problem.second_body().is_some() || problem.is_scene_of_pairs();
     if several {
         progress.section(&format!("body `{}` ({method})", problem.name));
     }
-    let paired = problem.second_body.is_some();
+    let paired = problem.second_body().is_some();
     let model =
-        discretise_held(problem, paired, progress).map_err(|e| match &problem.multibody {
+        discretise_held(problem, paired, progress).map_err(|e| match problem.multibody() {
             Some(m) => {
                 let held = m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0));
                 multibody::named(problem, held, e)
@@ -299,14 +299,14 @@ fn discretise_all(
         })?;
     // Two bodies in one pair: the contact may hold one free translation of either body
     // (docs/method.md §4.7), as between several bodies.
-    let second = match &problem.second_body {
+    let second = match problem.second_body() {
         Some(p2) => {
             progress.section(&format!("body `{}` ({method})", p2.name));
             Some(discretise_held(p2, true, progress).map_err(|e| multibody::named(p2, true, e))?)
         }
         None => None,
     };
-    if problem.second_body.is_some() {
+    if problem.second_body().is_some() {
         progress.section("contact and recovery");
     }
     Ok((model, second))
@@ -337,7 +337,7 @@ pub fn solve_with_lemke(problem: &Problem, lemke: &lcp::LemkeParams) -> Result<S
         return Ok(run.solution);
     }
     let (model, second) = discretise_all(problem, &mut silent)?;
-    if problem.multibody.is_some() {
+    if problem.is_scene_of_pairs() {
         let others = multibody::discretise_others(problem, &mut silent)?;
         return multibody::solve_bodies(problem, model, others, &mut silent, lemke)
             .map(|(_, _, s)| s);
@@ -375,7 +375,7 @@ pub fn solve_model_with(
     progress: &mut dyn Progress,
     lemke: &lcp::LemkeParams,
 ) -> Result<(Model, Option<Model>, Solution), Error> {
-    if second.is_some() != problem.second_body.is_some() || problem.multibody.is_some() {
+    if second.is_some() != problem.second_body().is_some() || problem.is_scene_of_pairs() {
         return Err(crate::problem::ProblemError::Invalid {
             field: "body".into(),
             value: format!("{} models", 1 + usize::from(second.is_some())),
@@ -385,7 +385,7 @@ pub fn solve_model_with(
         .into());
     }
     let mut clock = Clock::new(progress, std::mem::take(&mut model.timings));
-    let Some(spec) = &problem.contact else {
+    let Some(spec) = problem.contact() else {
         let u_hat = clock.run("solve", || model.factorisation.solve(&model.system.rhs))?;
         let mut solution = clock.run("recovery", || solution::recover(problem, &model, u_hat, &[]));
         solution.timings = clock.timings.clone();
@@ -398,7 +398,7 @@ pub fn solve_model_with(
         None
     } else {
         let mut ends = vec![clock.run("load_steps", || step_ends(problem, &model))?];
-        if let (Some(p2), Some(m2)) = (problem.second_body.as_deref(), second.as_mut()) {
+        if let (Some(p2), Some(m2)) = (problem.second_body(), second.as_mut()) {
             ends.push(clock.run("load_steps", || step_ends(p2, m2))?);
         }
         for (m, e) in std::iter::once(&mut model).chain(second.as_mut()).zip(&ends) {
@@ -409,7 +409,7 @@ pub fn solve_model_with(
         }
         Some(ends)
     };
-    let pair = problem.second_body.as_deref().zip(second.as_ref());
+    let pair = problem.second_body().zip(second.as_ref());
     let (u1, u2, contact) =
         solve_contact(problem, spec, &mut model, pair, steps.as_deref(), lemke, &mut clock)?;
     // A translation held by the contact: the pin's value is the translation found
@@ -420,7 +420,7 @@ pub fn solve_model_with(
             set_pin(m, r);
         }
     }
-    let pair = problem.second_body.as_deref().zip(second.as_ref());
+    let pair = problem.second_body().zip(second.as_ref());
     let mut solution = clock.run("recovery", || {
         let forces = &contact.lcp.z;
         let mut ops = vec![(&contact.candidates.operator, forces.as_slice())];
@@ -538,7 +538,7 @@ fn find_candidates(
     second: Option<(&Problem, &Model)>,
 ) -> Result<Found, contact::ContactError> {
     match (&spec.target, second) {
-        (ContactTarget::Obstacles, _) if problem.obstacles.is_empty() => {
+        (ContactTarget::Obstacles, _) if problem.obstacles().is_empty() => {
             // A library-built problem may name obstacles it does not have.
             Err(contact::ContactError::MissingTarget)
         }
@@ -1087,7 +1087,7 @@ impl Outcome {
             return Ok(Self { problem, model, second, others, solution, summary });
         }
         let (model, second) = discretise_all(&problem, progress)?;
-        if problem.multibody.is_some() {
+        if problem.is_scene_of_pairs() {
             let others = multibody::discretise_others(&problem, progress)?;
             let lemke = lcp::LemkeParams::default();
             let (model, others, solution) =
@@ -1129,20 +1129,20 @@ impl Outcome {
 /// Writes the files of a solved problem into `out` (`summary.json` last).
 fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
     let (problem, second, solution) = (&o.problem, o.second.as_ref(), &o.solution);
-    let mut files = match &problem.multibody {
+    let mut files = match problem.multibody() {
         Some(_) => post::write_multibody(out, problem, &o.model, &o.others, solution)?,
         None => post::write_solution(out, problem, &o.model, second, solution)?,
     };
     if o.summary.refinement.is_some() {
         files.extend(post::write_node_spacing(out, problem, &o.model.nodes)?);
-        if let Some(several) = &problem.multibody {
+        if let Some(several) = problem.multibody() {
             for (p, m) in several.bodies.iter().zip(&o.others) {
                 files.extend(post::write_node_spacing(&out.join(&p.name), p, &m.nodes)?);
             }
         }
     }
     if let (Some(p2), Some(m2), Some(s2)) =
-        (problem.second_body.as_deref(), second, solution.second_body.as_deref())
+        (problem.second_body(), second, solution.second_body.as_deref())
     {
         files.extend(post::write_solution(&out.join(&p2.name), p2, m2, None, s2)?);
         if o.summary.refinement.is_some() {

@@ -112,7 +112,7 @@ pub fn discretise_others(
     problem: &Problem,
     progress: &mut dyn Progress,
 ) -> Result<Vec<Model>, Error> {
-    let Some(several) = &problem.multibody else { return Ok(Vec::new()) };
+    let Some(several) = problem.multibody() else { return Ok(Vec::new()) };
     let mut models = Vec::with_capacity(several.bodies.len());
     for (k, p) in several.bodies.iter().enumerate() {
         progress.section(&format!("body `{}` ({})", p.name, crate::post::method_label(p)));
@@ -289,8 +289,8 @@ pub fn solve_bodies(
 }
 
 /// `problem`'s several bodies and pairs, when `others` holds one model per further body.
-fn multibody_of(problem: &Problem, others: usize) -> Result<&Multibody, Error> {
-    match &problem.multibody {
+fn multibody_of(problem: &Problem, others: usize) -> Result<Multibody<'_>, Error> {
+    match problem.multibody() {
         Some(m) if m.bodies.len() == others => Ok(m),
         _ => Err(ProblemError::Invalid {
             field: "body".into(),

@@ -146,11 +146,11 @@ pub(super) fn factor_options(problem: &Problem) -> FactorOptions {
 /// of 84k unknowns less (docs/dev/performance.md, "Lemke's final accuracy and one
 /// factorisation at 2 000 candidates").
 pub(super) fn condensed_sparsely(problem: &Problem, nodes: &nodes::Nodes, pinned: bool) -> bool {
-    let Some(spec) = &problem.contact else { return false };
+    let Some(spec) = problem.contact() else { return false };
     if spec.friction > 0.0
         || !problem.steps.is_empty()
         || pinned
-        || problem.multibody.is_some()
+        || problem.is_scene_of_pairs()
         || super::memory::precision(problem) != FactorPrecision::Double
     {
         return false;

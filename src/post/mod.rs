@@ -266,7 +266,7 @@ pub fn write_multibody(
     others: &[Model],
     solution: &Solution,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    let (Some(several), Some(ms)) = (&problem.multibody, &solution.multibody) else {
+    let (Some(several), Some(ms)) = (problem.multibody(), &solution.multibody) else {
         return write_solution(dir, problem, model, None, solution);
     };
     let drawn: Vec<Drawn<'_>> =
@@ -349,7 +349,7 @@ fn contact_outputs(
     }
     let plots = dir.join("plots");
     create_dir(&plots)?;
-    let edge = &problem.domain.edge_names()[problem.contact.as_ref().map_or(0, |s| s.edge)];
+    let edge = &problem.domain.edge_names()[problem.contact().map_or(0, |s| s.edge)];
     let window = zoom::contact_window(&cand.arc_length, &c.closed);
     // Deflection of the contact edge along each candidate's normal, and the obstacle at −g0.
     let deflection: Vec<(f64, f64)> = (0..cand.len())
@@ -361,7 +361,7 @@ fn contact_outputs(
         .collect();
     // The target in the same coordinate: contact where ν·u_1 = −g0 (a rigid obstacle) or
     // −g0 + ν·u_2^h(y_c) (a second body, whose displacement at the paired points moves it).
-    let second = problem.second_body.as_deref().zip(solution.second_body.as_deref());
+    let second = problem.second_body().zip(solution.second_body.as_deref());
     let target_motion = match (second, &c.target) {
         (Some((_, s2)), Some(op)) if op.len() == cand.len() => {
             op.gap_contribution(&s2.nodal_parameters)
@@ -371,7 +371,7 @@ fn contact_outputs(
     let obstacle: Vec<(f64, f64)> = (0..cand.len())
         .map(|k| (cand.arc_length[k], -cand.initial_gap[k] - target_motion[k]))
         .collect();
-    let (target_label, target_title) = match (problem.contact.map(|s| s.target), second) {
+    let (target_label, target_title) = match (problem.contact().map(|s| s.target), second) {
         (Some(ContactTarget::Body { edge: e2 }), Some((p2, _))) => {
             let edge2 = &p2.domain.edge_names()[e2];
             (format!("body {}, edge {edge2}: ν·u^h − g0", p2.name), format!("body {}", p2.name))
@@ -687,7 +687,7 @@ fn deformed_map(
         labels: Vec::new(),
     };
     map.lines.extend(hole_outlines(&problem.domain, min_spacing));
-    match (problem.contact.map(|s| s.target), &solution.contact) {
+    match (problem.contact().map(|s| s.target), &solution.contact) {
         (Some(ContactTarget::Rigid(line)), Some(c)) => {
             map.lines.push(obstacle_line(&line, c, m, &points));
         }
@@ -695,7 +695,7 @@ fn deformed_map(
             map.lines.extend(obstacle_shapes(problem, c, m, &points));
         }
         (Some(ContactTarget::Body { .. }), _) => {
-            let p2 = problem.second_body.as_deref();
+            let p2 = problem.second_body();
             if let (Some(p2), Some(s2), Some(m2)) = (p2, solution.second_body.as_deref(), second) {
                 map.labels.push(body_label(&problem.name, &points));
                 add_body(&mut map, (p2, m2, s2), m);
@@ -889,11 +889,11 @@ fn obstacle_shapes(
     };
     let cand = &c.candidates;
     let mut out = Vec::new();
-    for (k, o) in problem.obstacles.iter().enumerate() {
+    for (k, o) in problem.obstacles().iter().enumerate() {
         // The candidate of this obstacle with the smallest gap.
         let closest = (0..cand.len())
             .filter(|&i| {
-                crate::problem::closest_obstacle(&problem.obstacles, cand.points[i])
+                crate::problem::closest_obstacle(problem.obstacles(), cand.points[i])
                     .is_some_and(|(j, _)| j == k)
             })
             .min_by(|&a, &b| cand.initial_gap[a].total_cmp(&cand.initial_gap[b]));

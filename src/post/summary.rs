@@ -835,7 +835,7 @@ impl Summary {
             second_body: solution
                 .second_body
                 .as_deref()
-                .map(|s2| BodySummary::new(problem.second_body.as_ref().map(|p| &p.name), s2)),
+                .map(|s2| BodySummary::new(problem.second_body().map(|p| &p.name), s2)),
             bodies: every_body(problem, solution),
             pairs: every_pair(problem, solution),
             steps: solution

@@ -193,7 +193,7 @@ mod tests {
     fn contact_with_a_rigid_obstacle_is_accepted() {
         let contact = "[contact]\nedge = \"top\"\nobstacle_point = [0.0, 1.01]\nobstacle_normal = [0.0, -1.0]";
         let p = Problem::from_toml(&file("[0.0, 1.0]", contact)).expect("valid");
-        assert!(p.contact.is_some());
+        assert!(p.contact().is_some());
     }
 
     #[test]
@@ -239,7 +239,7 @@ mod tests {
     fn elastic_pairs_are_accepted_mixed_bodies_refused() {
         let held = "{ edge = \"bottom\", displacement = { y = 0.0 } }";
         let p = Problem::from_toml(&pair("axisymmetric", held)).expect("valid");
-        assert!(p.second_body.is_some());
+        assert!(p.second_body().is_some());
         let e = refusal(&pair("strain", held));
         assert!(e.contains("body[0].material.plane") && e.contains("axisymmetric too"), "{e}");
         let free = "{ edge = \"bottom\", traction = { y = 0.0 } }";
@@ -255,6 +255,6 @@ mod tests {
         let held = "{ edge = \"bottom\", displacement = { y = 0.0 } }";
         let p = Problem::from_toml(&format!("{}\n[refinement]\n", pair("axisymmetric", held)))
             .expect("valid");
-        assert!(p.adaptive.is_some() && p.second_body.is_some());
+        assert!(p.adaptive.is_some() && p.second_body().is_some());
     }
 }

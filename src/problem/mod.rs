@@ -159,19 +159,13 @@ pub struct Problem {
     pub revolve: Option<Revolve>,
     /// The units named in axis labels (`[output] units`; `None`: "length", "units of E").
     pub units: Option<Units>,
-    /// Frictionless contact, if any.
-    pub contact: Option<ContactSpec>,
-    /// The rigid obstacles the contact edge touches when its target is
-    /// [`ContactTarget::Obstacles`] (`[[obstacle]]` named by `[contact] target`; otherwise
-    /// empty).
-    pub obstacles: Vec<Obstacle>,
-    /// The second elastic body of a two-body contact (its own `contact` is `None`).
-    pub second_body: Option<Box<Problem>>,
-    /// Several bodies or several contact pairs (`[[contact]]` tables): the other bodies and
-    /// every pair, condensed into one LCP (docs/method.md §4.5). `None` for one body or the
-    /// two-body contact of `second_body`; when `Some`, this problem is the first body and its
-    /// `contact` and `second_body` are `None`.
-    pub multibody: Option<Box<Multibody>>,
+    /// The other bodies of the scene, in file order (body `k ≥ 1` is `others[k − 1]`); empty
+    /// for one body. Each holds no bodies and no pairs of its own.
+    pub others: Vec<Problem>,
+    /// The contact pairs of the scene, in file order (empty without contact): one `[contact]`
+    /// table is one pair of this body (against the second body's edge when there is one),
+    /// and `[[contact]]` tables are one pair each. Read them through [`Problem::pairs`].
+    pub contact_pairs: Vec<ContactPair>,
     /// The nodes of a Gmsh body read with `nodes.from = "mesh"` (absent: the nodes are
     /// generated from `node_spacing` and `layout`).
     pub mesh_nodes: Option<Arc<MeshNodes>>,
@@ -183,21 +177,22 @@ pub struct Problem {
     pub dynamics: Option<dynamics::Dynamics>,
 }
 
-/// The bodies and contact pairs of a problem with several of them (`Problem::multibody`).
-#[derive(Clone, Debug)]
-pub struct Multibody {
-    /// Bodies 2, 3, … in file order (body 1 is the problem itself). Each has no `contact`.
-    pub bodies: Vec<Problem>,
+/// The bodies and contact pairs of a scene of pairs ([`Problem::multibody`]), borrowed from
+/// the problem.
+#[derive(Clone, Copy, Debug)]
+pub struct Multibody<'a> {
+    /// Bodies 2, 3, … in file order (body 1 is the problem itself). Each has no contact.
+    pub bodies: &'a [Problem],
     /// The contact pairs, in file order.
-    pub pairs: Vec<ContactPair>,
+    pub pairs: &'a [ContactPair],
 }
 
-/// One contact pair of a [`Multibody`] problem: an edge of one body (carrying the
+/// One contact pair of a scene: an edge of one body (carrying the
 /// candidates) against an edge of another body or against rigid obstacles.
 #[derive(Clone, Debug)]
 pub struct ContactPair {
     /// The body carrying the candidates: 0 for the first body (the problem itself), `k` for
-    /// `Multibody::bodies[k − 1]`.
+    /// `Problem::others[k − 1]`.
     pub body: usize,
     /// The contact edge of `body` and its target: [`ContactTarget::Body`] (an edge of
     /// `target_body`), [`ContactTarget::Obstacles`] (`obstacles`) or [`ContactTarget::Rigid`].
@@ -209,33 +204,23 @@ pub struct ContactPair {
 }
 
 impl Problem {
-    /// Body `k` of a problem with several bodies: 0 is the problem itself, `k ≥ 1` the
-    /// `k`-th other body (`multibody`, else `second_body` for `k = 1`).
+    /// Body `k` of the scene: 0 is the problem itself, `k ≥ 1` the `k`-th other body.
     pub fn body(&self, k: usize) -> Option<&Problem> {
-        match (k, &self.multibody) {
-            (0, _) => Some(self),
-            (k, Some(m)) => m.bodies.get(k - 1),
-            (1, None) => self.second_body.as_deref(),
-            _ => None,
+        match k {
+            0 => Some(self),
+            k => self.others.get(k - 1),
         }
     }
     /// Body `k`, mutable (as [`Problem::body`]).
     pub fn body_mut(&mut self, k: usize) -> Option<&mut Problem> {
-        if k == 0 {
-            return Some(self);
-        }
-        match &mut self.multibody {
-            Some(m) => m.bodies.get_mut(k - 1),
-            None if k == 1 => self.second_body.as_deref_mut(),
-            None => None,
+        match k {
+            0 => Some(self),
+            k => self.others.get_mut(k - 1),
         }
     }
     /// Number of bodies.
     pub fn body_count(&self) -> usize {
-        match &self.multibody {
-            Some(m) => 1 + m.bodies.len(),
-            None => 1 + usize::from(self.second_body.is_some()),
-        }
+        1 + self.others.len()
     }
 }
 
@@ -461,7 +446,7 @@ plane = "stress"
         assert!(text.contains("\ncentre = "));
         let british = Problem::from_toml(&text).unwrap();
         let american = Problem::from_toml(&text.replace("\ncentre = ", "\ncenter = ")).unwrap();
-        assert_eq!(format!("{:?}", british.obstacles), format!("{:?}", american.obstacles));
+        assert_eq!(format!("{:?}", british.obstacles()), format!("{:?}", american.obstacles()));
         let disk = |key: &str| {
             format!(
                 "[geometry]\nkind = \"disk\"\n{key} = [0.0, 0.0]\nradius = 1.0\n[nodes]\nspacing = 0.25\n[material]\nyoung = 1.0\npoisson = 0.3\nplane = \"strain\"\n[[boundary]]\nedge = \"rim\"\ndisplacement = {{ x = 0.0, y = 0.0 }}\n"
@@ -556,14 +541,14 @@ plane = "stress"
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/two_blocks.toml");
         let two = std::fs::read_to_string(path).unwrap();
         let p = Problem::from_toml(&format!("{two}\n[refinement]\n")).unwrap();
-        assert!(p.adaptive.is_some() && p.second_body.is_some());
+        assert!(p.adaptive.is_some() && p.second_body().is_some());
         // A curved first body on a block (the Cattaneo–Mindlin pair) is accepted; a second
         // body with a hole is refused, naming it.
         let path =
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems/cattaneo_mindlin.toml");
         let cm = std::fs::read_to_string(path).unwrap();
         let p = Problem::from_toml(&format!("{cm}\n[refinement]\n")).unwrap();
-        assert!(p.adaptive.is_some() && p.second_body.is_some());
+        assert!(p.adaptive.is_some() && p.second_body().is_some());
         let block = "geometry = { kind = \"rectangle\", x = [-0.6, 0.6], y = [-0.4, 0.0] }";
         assert!(cm.contains(block));
         let holed = cm.replace(
@@ -577,7 +562,7 @@ plane = "stress"
         let three = std::fs::read_to_string(path).unwrap();
         // Three bodies in two pairs are accepted; one of them with a hole is refused, naming it.
         let p = Problem::from_toml(&format!("{three}\n[refinement]\n")).unwrap();
-        assert!(p.adaptive.is_some() && p.multibody.is_some());
+        assert!(p.adaptive.is_some() && p.multibody().is_some());
         let top = "geometry = { kind = \"rectangle\", x = [0.0, 2.0], y = [2.0, 3.0] }";
         assert!(three.contains(top));
         let holed = three.replace(

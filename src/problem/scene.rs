@@ -1,14 +1,15 @@
-//! The scene of a problem: its bodies and its contact pairs as two lists, whichever way the
-//! problem holds them (one body with a `[contact]` table, two bodies in one pair, or the
-//! `[[contact]]` tables of several pairs).
+//! The scene of a problem: its bodies and its contact pairs as two lists.
 //!
-//! A [`Problem`] still stores a scene in one of three shapes (the first body with `contact`
-//! and `obstacles`; `second_body`; `multibody`). Code that only needs "every body" and "every
-//! pair" reads them through [`Problem::bodies`] and [`Problem::pairs`], so that it treats the
-//! shapes alike; the shapes themselves are what the contact core replaces next
-//! (docs/dev/contact_core.md).
+//! A [`Problem`] is the first body and the scene: [`Problem::others`] holds the other bodies,
+//! [`Problem::contact_pairs`] every pair, whatever the file said (one body with a `[contact]`
+//! table, two bodies in one pair, or `[[contact]]` tables). Code that treats the pairs alike
+//! reads [`Problem::pairs`]; the routes that still differ between one pair of the first body
+//! (one body on a rigid target, or two bodies in one pair) and a scene of several pairs ask
+//! [`Problem::is_scene_of_pairs`], and read the one pair through [`Problem::contact`],
+//! [`Problem::obstacles`] and [`Problem::second_body`] or the scene through
+//! [`Problem::multibody`].
 
-use super::{ContactSpec, Obstacle, Problem};
+use super::{ContactPair, ContactSpec, ContactTarget, Multibody, Obstacle, Problem};
 
 /// One contact pair of a scene, borrowed from its problem: the edge of `body` carrying the
 /// candidates and its target (an edge of `target_body`, rigid obstacles or a rigid line).
@@ -27,34 +28,77 @@ pub struct Pair<'a> {
 impl Problem {
     /// Every body of the scene, the first (this problem) first, numbered as [`Problem::body`].
     pub fn bodies(&self) -> impl Iterator<Item = &Problem> {
-        (0..self.body_count()).filter_map(|k| self.body(k))
+        std::iter::once(self).chain(&self.others)
     }
 
-    /// Every contact pair of the scene, in file order: the one pair of a `[contact]` table
-    /// (against the second body when there is one), or the pairs of the `[[contact]]` tables;
-    /// empty without contact.
+    /// Every contact pair of the scene, in file order; empty without contact.
     pub fn pairs(&self) -> Vec<Pair<'_>> {
-        if let Some(several) = &self.multibody {
-            return several
-                .pairs
-                .iter()
-                .map(|p| Pair {
-                    body: p.body,
-                    spec: &p.spec,
-                    target_body: p.target_body,
-                    obstacles: &p.obstacles,
-                })
-                .collect();
-        }
-        self.contact
+        self.contact_pairs
             .iter()
-            .map(|spec| Pair {
-                body: 0,
-                spec,
-                target_body: self.second_body.as_ref().map(|_| 1),
-                obstacles: &self.obstacles,
+            .map(|p| Pair {
+                body: p.body,
+                spec: &p.spec,
+                target_body: p.target_body,
+                obstacles: &p.obstacles,
             })
             .collect()
+    }
+
+    /// Whether the scene holds more than two bodies, more than one contact pair, or a pair
+    /// that is not the first body's edge against the second body or a rigid target — the
+    /// scenes solved as several pairs, as opposed to one body (with or without contact) or
+    /// two bodies in one pair of the first body.
+    pub fn is_scene_of_pairs(&self) -> bool {
+        !(self.others.len() <= 1
+            && self.contact_pairs.len() <= 1
+            && self
+                .contact_pairs
+                .iter()
+                .all(|p| p.body == 0 && p.target_body.is_none_or(|t| t == 1)))
+    }
+
+    /// The contact of the first body's one pair (`None` without contact and for a scene of
+    /// pairs, [`Problem::is_scene_of_pairs`]).
+    pub fn contact(&self) -> Option<&ContactSpec> {
+        self.one_pair().map(|p| &p.spec)
+    }
+
+    /// The contact of the first body's one pair, mutable (as [`Problem::contact`]).
+    pub fn contact_mut(&mut self) -> Option<&mut ContactSpec> {
+        if self.is_scene_of_pairs() {
+            return None;
+        }
+        self.contact_pairs.first_mut().map(|p| &mut p.spec)
+    }
+
+    /// The rigid obstacles of the first body's one pair (empty for another target, without
+    /// contact and for a scene of pairs).
+    pub fn obstacles(&self) -> &[Obstacle] {
+        self.one_pair().map_or(&[], |p| &p.obstacles)
+    }
+
+    /// The second body of a two-body scene of one pair (`None` for one body and for a scene
+    /// of pairs).
+    pub fn second_body(&self) -> Option<&Problem> {
+        if self.is_scene_of_pairs() {
+            return None;
+        }
+        self.others.first()
+    }
+
+    /// The bodies and pairs of a scene of pairs (`None` unless
+    /// [`Problem::is_scene_of_pairs`]).
+    pub fn multibody(&self) -> Option<Multibody<'_>> {
+        self.is_scene_of_pairs()
+            .then_some(Multibody { bodies: &self.others, pairs: &self.contact_pairs })
+    }
+
+    /// Gives the first body one contact pair, `spec` (against the second body's edge when
+    /// its target is [`ContactTarget::Body`]), replacing any pairs: a scene built in code.
+    pub fn set_contact(&mut self, spec: ContactSpec) {
+        let target_body = matches!(spec.target, ContactTarget::Body { .. }).then_some(1);
+        self.contact_pairs =
+            vec![ContactPair { body: 0, spec, target_body, obstacles: Vec::new() }];
     }
 
     /// This body with `second` as the other body of its one contact pair (`contact`, whose
@@ -62,14 +106,16 @@ impl Problem {
     /// file.
     #[must_use]
     pub fn with_second_body(mut self, second: Problem) -> Self {
-        self.second_body = Some(Box::new(second));
+        self.others = vec![second];
         self
     }
 
-    /// Whether the scene holds more than one body or more than one contact pair (the
-    /// `[[contact]]` tables of `multibody`), as opposed to one body, or two bodies in one pair.
-    pub fn is_scene_of_pairs(&self) -> bool {
-        self.multibody.is_some()
+    /// The one pair of the first body, unless the scene is a scene of pairs.
+    fn one_pair(&self) -> Option<&ContactPair> {
+        if self.is_scene_of_pairs() {
+            return None;
+        }
+        self.contact_pairs.first()
     }
 }
 
@@ -107,7 +153,7 @@ mod tests {
         let p = shipped("two_blocks.toml");
         let names: Vec<&str> = p.bodies().map(|b| b.name.as_str()).collect();
         assert_eq!(names.len(), 2);
-        assert_eq!(names[1], p.second_body.as_ref().unwrap().name);
+        assert_eq!(names[1], p.second_body().unwrap().name);
         assert_eq!(ends(&p), [(0, Some(1))]);
     }
 
@@ -115,7 +161,7 @@ mod tests {
     fn a_stack_lists_its_bodies_and_pairs_in_file_order() {
         let p = shipped("three_block_stack.toml");
         assert_eq!(p.bodies().count(), 3);
-        let several = p.multibody.as_ref().unwrap();
+        let several = p.multibody().unwrap();
         let expected: Vec<_> = several.pairs.iter().map(|q| (q.body, q.target_body)).collect();
         assert_eq!(ends(&p), expected);
         assert_eq!(expected.len(), 2);

@@ -375,10 +375,8 @@ fn validate_body(
         write_steps: false,
         revolve: None,
         units: None,
-        contact: None,
-        obstacles: Vec::new(),
-        second_body: None,
-        multibody: None,
+        others: Vec::new(),
+        contact_pairs: Vec::new(),
         mesh_nodes,
         steps: Vec::new(),
         dynamics: None,
@@ -833,7 +831,7 @@ fn accuracy_goal(
         return Err(invalid(field, v, what));
     }
     let single = problem.body_count() == 1
-        && problem.contact.is_some()
+        && problem.contact().is_some()
         && problem.discretisation.method == Method::Mfvm;
     if !single {
         return Err(invalid(
@@ -1297,7 +1295,7 @@ fn contact_pairs(
             ));
         }
         let mut view = bodies[body].clone();
-        view.second_body = target_body.map(|t| Box::new(bodies[t].clone()));
+        view.others = target_body.map(|t| bodies[t].clone()).into_iter().collect();
         let (spec, chosen) = contact_spec(c, obstacles, &view).map_err(|e| rekeyed(e, &key))?;
         // All pairs are one LCP: one solver for all ("auto" is Lemke's method here).
         let other = |wanted: ContactSolver| pairs.iter().position(|q| q.spec.solver == wanted);
@@ -1360,39 +1358,33 @@ fn contact_pairs(
 }
 
 /// The problem holding `bodies` (the first first) and their contact `pairs`: the first body
-/// with the one pair's `contact` and `obstacles` and the other body as `second_body` when the
-/// scene is one body, or two bodies in one pair of the first body's edge (against the second
-/// body or rigid obstacles); else the first body with `multibody`. The one place that picks
-/// the shape (docs/dev/contact_core.md: one scene).
+/// with the others and the pairs as its scene ([`Problem::others`],
+/// [`Problem::contact_pairs`]).
 ///
 /// # Errors
 /// [`ProblemError`] for a stiffness condensation in a scene of pairs (named by `key`).
 fn encode(
     mut bodies: Vec<Problem>,
-    mut pairs: Vec<ContactPair>,
+    pairs: Vec<ContactPair>,
     key: &dyn Fn(usize) -> String,
 ) -> Result<Problem, ProblemError> {
-    let one_pair = bodies.len() <= 2
-        && pairs.len() <= 1
-        && pairs.iter().all(|p| p.body == 0 && p.target_body.is_none_or(|t| t == 1));
-    let rest = bodies.split_off(1.min(bodies.len()));
+    let others = bodies.split_off(1.min(bodies.len()));
     let mut first = bodies.pop().ok_or_else(|| invalid("body", 0, "missing"))?;
-    if one_pair {
-        first.second_body = rest.into_iter().next().map(Box::new);
-        if let Some(pair) = pairs.pop() {
-            first.contact = Some(pair.spec);
-            first.obstacles = pair.obstacles;
+    first.others = others;
+    first.contact_pairs = pairs;
+    if first.is_scene_of_pairs() {
+        let stiffness = first
+            .contact_pairs
+            .iter()
+            .position(|p| p.spec.condensation != Condensation::Compliance);
+        if let Some(k) = stiffness {
+            return Err(invalid(
+                &format!("{}.condensation", key(k)),
+                "stiffness",
+                "several bodies or contact pairs take the compliance condensation only",
+            ));
         }
-        return Ok(first);
     }
-    if let Some(k) = pairs.iter().position(|p| p.spec.condensation != Condensation::Compliance) {
-        return Err(invalid(
-            &format!("{}.condensation", key(k)),
-            "stiffness",
-            "several bodies or contact pairs take the compliance condensation only",
-        ));
-    }
-    first.multibody = Some(Box::new(Multibody { bodies: rest, pairs }));
     Ok(first)
 }
 
@@ -1448,7 +1440,7 @@ fn contact_spec(
             "the Coulomb friction coefficient must be a finite number ≥ 0",
         ));
     }
-    if let Some(second) = problem.second_body.as_deref() {
+    if let Some(second) = problem.second_body() {
         if !obstacles.is_empty() || c.target.is_some() {
             return Err(invalid(
                 if c.target.is_some() { "contact.target" } else { "obstacle" },
@@ -1920,7 +1912,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
             obstacle = d;
         }
         let friction = match step.friction {
-            None => problem.contact.as_ref().map_or(0.0, |c| c.friction),
+            None => problem.contact().map_or(0.0, |c| c.friction),
             Some(mu) if mu.is_finite() && mu >= 0.0 => mu,
             Some(mu) => {
                 return Err(invalid(

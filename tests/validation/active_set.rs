@@ -30,7 +30,7 @@ pub(super) fn shipped(file: &str) -> Problem {
 
 fn solve_with(problem: &Problem, solver: ContactSolver) -> Solution {
     let mut p = problem.clone();
-    p.contact.as_mut().unwrap().solver = solver;
+    p.contact_mut().unwrap().solver = solver;
     mlpg_contact::solve(&p).unwrap()
 }
 
@@ -240,7 +240,7 @@ fn two_body_problems_equal_lemke() {
     let with = text.replace("[contact]\n", "[contact]\nsolver = \"active_set\"\n");
     assert_ne!(with, text);
     let from_file = Problem::from_toml(&with).unwrap();
-    assert_eq!(from_file.contact.as_ref().unwrap().solver, ContactSolver::ActiveSet);
+    assert_eq!(from_file.contact().unwrap().solver, ContactSolver::ActiveSet);
     let cases = [
         ("two_blocks.toml", from_file, false),
         ("blocks 0.1 / 0.1", two_blocks(0.1, 0.1), false),
@@ -279,7 +279,7 @@ fn two_body_problems_equal_lemke() {
 fn auto_switches_at_the_threshold() {
     let strip = |length: f64| plain_strip(length, 0.1, "");
     let at = strip(100.0);
-    assert_eq!(at.contact.unwrap().solver, ContactSolver::Auto);
+    assert_eq!(at.contact().unwrap().solver, ContactSolver::Auto);
     let s = mlpg_contact::solve(&at).unwrap();
     let c = s.contact.as_ref().unwrap();
     assert_eq!(c.candidates.len(), ContactSolver::AUTO_THRESHOLD);
@@ -304,7 +304,7 @@ fn summary_records_the_solver() {
         ["beam_on_foundation.toml", "two_blocks.toml"].map(|f| (f, shipped(f)))
     {
         for solver in [ContactSolver::ActiveSet, ContactSolver::Lemke] {
-            problem.contact.as_mut().unwrap().solver = solver;
+            problem.contact_mut().unwrap().solver = solver;
             let out = std::env::temp_dir()
                 .join(format!("mlpg-as-{file}-{solver:?}-{}", std::process::id()));
             let input = serde_json::Value::Null;
@@ -339,7 +339,7 @@ fn summary_records_the_solver() {
 /// Solves `problem` with `"auto"`, which must take the active-set solver, and checks the
 /// answer on its own (residuals, equilibrium of both bodies, a partial contact zone).
 fn long_pair(name: &str, problem: &Problem) {
-    assert_eq!(problem.contact.as_ref().unwrap().solver, ContactSolver::Auto);
+    assert_eq!(problem.contact().unwrap().solver, ContactSolver::Auto);
     let s = mlpg_contact::solve(problem).unwrap();
     let c = s.contact.as_ref().unwrap();
     assert!(c.candidates.len() >= 2000, "{name}: {} candidates", c.candidates.len());
@@ -506,12 +506,12 @@ fn releasing_k_factors_changes_nothing_but_memory() {
     use mlpg_contact::problem::ContactTarget;
 
     let mut problem = plain_strip(50.0, 0.1, "");
-    problem.contact.as_mut().unwrap().solver = ContactSolver::ActiveSet;
-    let spec = problem.contact.unwrap();
+    problem.contact_mut().unwrap().solver = ContactSolver::ActiveSet;
+    let spec = problem.contact().unwrap();
     assert!(matches!(spec.target, ContactTarget::Rigid(_)));
     let mut model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
     let factors = model.factorisation.take();
-    let target = |x| rigid_target(&problem, &spec, x).unwrap();
+    let target = |x| rigid_target(&problem, spec, x).unwrap();
     let candidates =
         candidates_on(&problem, &model, spec.edge, &target, spec.condensation).unwrap();
     let points = Some(model.nodes.points.as_slice());

@@ -28,7 +28,7 @@ const AGREEMENT: f64 = 1e-10;
 
 fn solve_with(problem: &Problem, solver: ContactSolver) -> Solution {
     let mut p = problem.clone();
-    p.contact.as_mut().unwrap().solver = solver;
+    p.contact_mut().unwrap().solver = solver;
     p.write_steps = true;
     mlpg_contact::solve(&p).unwrap()
 }
@@ -150,7 +150,7 @@ fn moving_obstacle_equals_lemke() {
 #[test]
 fn fem_beam_with_friction_equals_lemke() {
     let mut problem = shipped("beam_on_foundation_fem.toml");
-    problem.contact.as_mut().unwrap().friction = 0.3;
+    problem.contact_mut().unwrap().friction = 0.3;
     compare("beam_on_foundation_fem.toml, μ = 0.3", &problem);
 }
 
@@ -370,7 +370,7 @@ fn fem_two_blocks_press_shear_and_reverse_equal_lemke() {
 fn frictional_summary_records_the_solver() {
     let steps = "[[step]]\nincrements = 2\nboundary = [{ edge = \"top\", displacement = { x = 0.003, y = -0.01 } }]\n";
     let mut problem = Problem::from_toml(&block_text("mfvm", 0.0, Some(0.3), steps)).unwrap();
-    problem.contact.as_mut().unwrap().solver = ContactSolver::ActiveSet;
+    problem.contact_mut().unwrap().solver = ContactSolver::ActiveSet;
     let out = std::env::temp_dir().join(format!("mlpg-asf-summary-{}", std::process::id()));
     let report =
         mlpg_contact::run(&problem, &out, serde_json::Value::Null, &mut mlpg_contact::Silent)
@@ -429,7 +429,7 @@ fn auto_switches_at_the_friction_threshold() {
 fn auto_switches_at_the_pair_friction_threshold() {
     let pair = |length: f64| {
         let mut p = super::strip::strip_on_block(0.25, length);
-        p.contact.as_mut().unwrap().friction = 0.3;
+        p.contact_mut().unwrap().friction = 0.3;
         p
     };
     let threshold = ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD;

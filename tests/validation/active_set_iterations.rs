@@ -16,7 +16,7 @@ use mlpg_contact::problem::{ContactSolver, Problem};
 const MAX_ITERATIONS: usize = 30;
 
 fn iterations(name: &str, mut problem: Problem) -> (usize, usize) {
-    problem.contact.as_mut().unwrap().solver = ContactSolver::ActiveSet;
+    problem.contact_mut().unwrap().solver = ContactSolver::ActiveSet;
     let s = mlpg_contact::solve(&problem).unwrap();
     check_own(name, &s);
     let c = s.contact.as_ref().unwrap();

@@ -128,7 +128,7 @@ fn stiffness_form_is_close_but_not_mls_exact() {
     use mlpg_contact::contact::Condensation;
     let default = mlpg_contact::solve(&beam(0.25)).unwrap().contact.unwrap();
     let mut p = beam(0.25);
-    if let Some(c) = p.contact.as_mut() {
+    if let Some(c) = p.contact_mut() {
         c.condensation = Condensation::Stiffness;
     }
     let stiff = mlpg_contact::solve(&p).unwrap().contact.unwrap();

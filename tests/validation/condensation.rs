@@ -10,7 +10,7 @@ fn condensed_compliance_equals_dense_computation() {
     let problem = shipped_problem("beam_on_foundation.toml", 1.0);
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
-    let spec = problem.contact.unwrap();
+    let spec = problem.contact().unwrap();
     let contact::ContactTarget::Rigid(line) = spec.target else { panic!("rigid obstacle") };
     let target = |x| (line.gap(x), line.normal);
     let cand =
@@ -72,7 +72,7 @@ fn frictional_blocks_equal_dense_computation() {
         let problem = shipped_problem(file, 1.0);
         let mut silent = mlpg_contact::Silent;
         let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
-        let spec = problem.contact.unwrap();
+        let spec = problem.contact().unwrap();
         let contact::ContactTarget::Rigid(line) = spec.target else { panic!("rigid obstacle") };
         let target = |x| (line.gap(x), line.normal);
         let cand = contact::candidates_on(&problem, &model, spec.edge, &target, spec.condensation)
@@ -162,7 +162,7 @@ fn tangentially_clamped_candidate_is_frictionless() {
         mlpg_contact::problem::Problem::from_toml(&std::fs::read_to_string(path).unwrap()).unwrap();
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
-    let spec = problem.contact.unwrap();
+    let spec = problem.contact().unwrap();
     let cand = contact::candidates_on(
         &problem,
         &model,
@@ -215,7 +215,7 @@ fn sparse_condensation_equals_blocked_solves_on_shipped_problems() {
         let h = if file.starts_with("hertz") { 0.05 } else { 1.0 };
         let problem = mlpg_contact::problem::Problem { node_spacing: h, ..shipped };
         let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
-        let spec = problem.contact.unwrap();
+        let spec = problem.contact().unwrap();
         let contact::ContactTarget::Rigid(line) = spec.target else { panic!("{file}: rigid line") };
         let target = |x| (line.gap(x), line.normal);
         let cand = contact::candidates_on(&problem, &model, spec.edge, &target, spec.condensation)

@@ -151,7 +151,7 @@ fn a_pair_on_the_several_pairs_path_equals_the_two_body_path() {
     let several = text.replace("[contact]\n", "[[contact]]\n")
         + "\n[[contact]]\nbody = \"block\"\nedge = \"left\"\nobstacle_point = [-5.0, 0.0]\nobstacle_normal = [1.0, 0.0]\n";
     let problem = Problem::from_toml(&several).unwrap();
-    assert!(problem.multibody.is_some());
+    assert!(problem.multibody().is_some());
     let many = mlpg_contact::solve(&problem).unwrap();
     let c2 = two.contact.as_ref().unwrap();
     let ms = many.multibody.as_deref().unwrap();
@@ -247,7 +247,7 @@ fn several_pairs_fall_back_from_lemke_to_the_active_set_with_auto() {
     println!("several pairs, auto after Lemke's failure: forces within {:.1e}", largest / scale);
     assert!(largest <= 1e-10 * scale);
     let mut lemke_only = problem.clone();
-    for pair in &mut lemke_only.multibody.as_mut().unwrap().pairs {
+    for pair in &mut lemke_only.contact_pairs {
         pair.spec.solver = mlpg_contact::problem::ContactSolver::Lemke;
     }
     let err = mlpg_contact::solve_with_lemke(&lemke_only, &params).unwrap_err();
@@ -265,7 +265,7 @@ fn several_pairs_on_the_load_path_fall_back_from_lemke_with_auto() {
     let problem = stack(0.0, Some(2));
     let with = |solver: ContactSolver| {
         let mut p = problem.clone();
-        p.multibody.as_mut().unwrap().pairs.iter_mut().for_each(|c| c.spec.solver = solver);
+        p.contact_pairs.iter_mut().for_each(|c| c.spec.solver = solver);
         p
     };
     let params = mlpg_contact::lcp::LemkeParams {

@@ -154,7 +154,7 @@ fn bad_obstacles_are_refused() {
 #[test]
 fn a_contact_without_its_obstacles_is_an_error() {
     let mut p = problem(0.1, 2.0);
-    p.obstacles.clear();
+    p.contact_pairs[0].obstacles.clear();
     let e = mlpg_contact::solve(&p).unwrap_err();
     assert!(
         matches!(
@@ -238,7 +238,7 @@ fn two_circles_share_the_load_symmetrically() {
         "#,
     )
     .unwrap();
-    assert_eq!(problem.obstacles.len(), 2);
+    assert_eq!(problem.obstacles().len(), 2);
     let s = mlpg_contact::solve(&problem).unwrap();
     let c = s.contact.as_ref().unwrap();
     let r = &c.lcp.residuals;
@@ -249,7 +249,7 @@ fn two_circles_share_the_load_symmetrically() {
     let mut sides = [0.0; 2];
     for k in 0..c.closed.len() {
         let (which, _) =
-            mlpg_contact::problem::closest_obstacle(&problem.obstacles, c.candidates.points[k])
+            mlpg_contact::problem::closest_obstacle(problem.obstacles(), c.candidates.points[k])
                 .unwrap();
         if x(k) != 0.0 {
             assert_eq!(which, usize::from(x(k) > 0.0), "candidate at x = {}", x(k));

@@ -33,7 +33,7 @@ fn fe_block(shift: f64, mu: Option<f64>, steps: &str) -> Problem {
 fn fe_tiny_friction_gives_the_frictionless_forces() {
     let frictionless = shipped_problem("beam_on_foundation_fem.toml", 0.5);
     let mut tiny = frictionless.clone();
-    tiny.contact.as_mut().unwrap().friction = 1e-12;
+    tiny.contact_mut().unwrap().friction = 1e-12;
     let (a, b) = (solve(&frictionless).unwrap(), solve(&tiny).unwrap());
     check_frictional(&b, "FE beam, μ = 1e-12");
     let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
@@ -151,7 +151,7 @@ const QUANTITIES: [&str; 5] = ["onset", "ΣP", "ΣT", "stick start", "stick end"
 fn frictional_beam(method: Method, mu: f64, h: f64) -> [f64; 5] {
     let mut p = shipped_problem("beam_on_foundation_friction.toml", h);
     p.discretisation.method = method;
-    p.contact.as_mut().unwrap().friction = mu;
+    p.contact_mut().unwrap().friction = mu;
     let s = solve(&p).unwrap();
     check_frictional(&s, &format!("{method:?} beam, μ = {mu}, h = {h}"));
     let c = s.contact.as_ref().unwrap();

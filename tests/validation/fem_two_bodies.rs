@@ -31,7 +31,7 @@ pub fn fem_two_blocks(h_upper: f64, h_lower: f64) -> Problem {
     let mut upper = block([1.0, 2.0], h_upper, true);
     let mut lower = block([0.0, 1.0], h_lower, false);
     lower.name = "lower".into();
-    upper.contact = Some(ContactSpec {
+    upper.set_contact(ContactSpec {
         edge: 0,
         target: ContactTarget::Body { edge: 2 },
         gap_tolerance: None,

@@ -145,7 +145,7 @@ fn tiny_friction_gives_the_frictionless_forces() {
     ] {
         let frictionless = shipped_problem(file, h);
         let mut tiny = frictionless.clone();
-        tiny.contact.as_mut().unwrap().friction = 1e-12;
+        tiny.contact_mut().unwrap().friction = 1e-12;
         let (a, b) = (solve(&frictionless).unwrap(), solve(&tiny).unwrap());
         check_frictional(&b, file);
         let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
@@ -259,8 +259,8 @@ fn friction_key_is_validated() {
         assert!(e.contains("contact.friction"), "{bad}: {e}");
     }
     let p = Problem::from_toml(&with("friction = 0.3")).unwrap();
-    assert_eq!(p.contact.unwrap().friction, 0.3);
-    assert_eq!(Problem::from_toml(&text).unwrap().contact.unwrap().friction, 0.0);
+    assert_eq!(p.contact().unwrap().friction, 0.3);
+    assert_eq!(Problem::from_toml(&text).unwrap().contact().unwrap().friction, 0.0);
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("problems");
     let with_friction = |file: &str| {
         let t = std::fs::read_to_string(root.join(file)).unwrap();
@@ -268,9 +268,9 @@ fn friction_key_is_validated() {
     };
     // The finite elements take friction too (validation/fem_friction.rs).
     let fe = Problem::from_toml(&with_friction("beam_on_foundation_fem.toml")).unwrap();
-    assert_eq!(fe.contact.unwrap().friction, 0.3);
+    assert_eq!(fe.contact().unwrap().friction, 0.3);
     let two = with_friction("two_blocks.toml");
-    assert_eq!(Problem::from_toml(&two).unwrap().contact.unwrap().friction, 0.3);
+    assert_eq!(Problem::from_toml(&two).unwrap().contact().unwrap().friction, 0.3);
 }
 
 #[test]
@@ -382,7 +382,7 @@ fn frictionless_steps_reproduce_the_one_step_answer() {
     // one-step solve at the final load (the frictionless path, no steps).
     let stepped = solve(&stepped_block(0.0, &press_then_shear(3, 4, 0.004))).unwrap();
     let mut reference = block(0.004, Some(0.0));
-    reference.contact.as_mut().unwrap().friction = 0.0;
+    reference.contact_mut().unwrap().friction = 0.0;
     let reference = solve(&reference).unwrap();
     assert!(reference.contact.as_ref().unwrap().friction.is_none());
     check_increments(&stepped, "μ = 0 steps");
@@ -1028,7 +1028,7 @@ fn explicit_zero_friction_is_frictionless() {
         }
         let zero = text.replacen("\n[contact]\n", "\n[contact]\nfriction = 0.0\n", 1);
         let (a, b) = (Problem::from_toml(&text).unwrap(), Problem::from_toml(&zero).unwrap());
-        assert_eq!(b.contact.as_ref().unwrap().friction, 0.0);
+        assert_eq!(b.contact().unwrap().friction, 0.0);
         let (a, b) = (solve(&a).unwrap(), solve(&b).unwrap());
         let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
         assert!(ca.friction.is_none() && cb.friction.is_none(), "{name}");

@@ -66,7 +66,7 @@ pub fn hertz_problem_on(domain: Domain, h: f64, layout: Layout) -> Problem {
         ComponentCondition::Displacement(zero()),
         ComponentCondition::Traction(zero()),
     ]);
-    p.contact = Some(ContactSpec {
+    p.set_contact(ContactSpec {
         edge: arc,
         target: ContactTarget::Rigid(RigidLine { point: [0.0, 0.0], normal: [0.0, 1.0] }),
         gap_tolerance: None,
@@ -325,7 +325,7 @@ pub fn cylinder_on_block(h: f64) -> Problem {
         ComponentCondition::Traction(zero()),
     ]);
     lower.name = "block".into();
-    upper.contact = Some(ContactSpec {
+    upper.set_contact(ContactSpec {
         edge: 0,
         target: ContactTarget::Body { edge: 2 },
         gap_tolerance: None,

@@ -36,7 +36,7 @@ const AGREEMENT: f64 = 1e-10;
 const FILES: [&str; 2] = ["beam_on_foundation.toml", "two_blocks.toml"];
 
 fn with_solver(mut problem: Problem, solver: ContactSolver) -> Problem {
-    problem.contact.as_mut().unwrap().solver = solver;
+    problem.contact_mut().unwrap().solver = solver;
     problem
 }
 

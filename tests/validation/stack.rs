@@ -69,7 +69,7 @@ fn solve_on(threads: usize, problem: &Problem) -> Solution {
 #[test]
 fn three_block_stack_is_uniaxial_to_round_off() {
     let problem = stack();
-    let several = problem.multibody.as_deref().expect("several bodies");
+    let several = problem.multibody().expect("several bodies");
     assert_eq!(several.bodies.len(), 2);
     assert_eq!(several.pairs.len(), 2);
     let s = mlpg_contact::solve(&problem).unwrap();
@@ -225,7 +225,7 @@ fn reversed_pair_reproduces_the_two_blocks() {
         };
         let (p_usual, s_usual) = with(&usual);
         let (p_rev, s_rev) = with(&reversed);
-        assert!(p_usual.multibody.is_none() && p_rev.multibody.is_some());
+        assert!(p_usual.multibody().is_none() && p_rev.multibody().is_some());
         let ms = s_rev.multibody.as_deref().unwrap();
         let c = &ms.pairs[0];
         assert_lcp_residuals(method, &ms.lcp.residuals, 1e-10);

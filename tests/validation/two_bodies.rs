@@ -47,7 +47,7 @@ fn block(y: [f64; 2], h: f64, top_uy: Option<Field>, bottom_uy: Option<Field>) -
 pub fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
     let mut upper = block([1.0, 2.0], h_upper, Some(Field::Constant(-PRESS)), None);
     let lower = block([0.0, 1.0], h_lower, None, Some(Field::Constant(0.0)));
-    upper.contact = Some(ContactSpec {
+    upper.set_contact(ContactSpec {
         edge: 0,
         target: ContactTarget::Body { edge: 2 },
         gap_tolerance: None,
@@ -143,7 +143,7 @@ pub fn mirror_problems() -> (Problem, Problem) {
         b
     };
     let mut rigid = upper("rigid");
-    rigid.contact = Some(ContactSpec {
+    rigid.set_contact(ContactSpec {
         edge: 0,
         target: ContactTarget::Rigid(RigidLine { point: [0.0, 0.0], normal: [0.0, 1.0] }),
         gap_tolerance: None,
@@ -156,7 +156,7 @@ pub fn mirror_problems() -> (Problem, Problem) {
     let mut pair = upper("upper");
     let mut mirror = block([-1.0 - gap, -gap], 0.1, None, Some(bottom));
     mirror.name = "mirror".into();
-    pair.contact = Some(ContactSpec {
+    pair.set_contact(ContactSpec {
         edge: 0,
         target: ContactTarget::Body { edge: 2 },
         gap_tolerance: None,

@@ -49,7 +49,7 @@ impl Solved {
             }
             _ => discretise_all(&problem, progress)?,
         };
-        let (models, solution) = if problem.multibody.is_some() {
+        let (models, solution) = if problem.is_scene_of_pairs() {
             let others = multibody::discretise_others(&problem, progress)?;
             let lemke = LemkeParams::default();
             let (model, others, solution) =
@@ -83,7 +83,8 @@ impl Solved {
             ContactTarget::Body { edge } => Some(edge),
             _ => None,
         };
-        if let (Some(several), Some(solved)) = (&self.problem.multibody, &self.solution.multibody) {
+        if let (Some(several), Some(solved)) = (self.problem.multibody(), &self.solution.multibody)
+        {
             return several
                 .pairs
                 .iter()
@@ -95,10 +96,10 @@ impl Solved {
                 })
                 .collect();
         }
-        let (Some(spec), Some(contact)) = (&self.problem.contact, &self.solution.contact) else {
+        let (Some(spec), Some(contact)) = (self.problem.contact(), &self.solution.contact) else {
             return Vec::new();
         };
-        let target = body_edge(spec.target).filter(|_| self.problem.second_body.is_some());
+        let target = body_edge(spec.target).filter(|_| self.problem.second_body().is_some());
         vec![PairView { body: 0, target: target.map(|edge| (1, edge)), contact }]
     }
 
@@ -108,7 +109,7 @@ impl Solved {
         let mut models = self.models.into_iter();
         let first = models.next().expect("a solved problem has a first body");
         let rest: Vec<Model> = models.collect();
-        if self.problem.multibody.is_some() {
+        if self.problem.is_scene_of_pairs() {
             (self.problem, first, None, rest, self.solution)
         } else {
             (self.problem, first, rest.into_iter().next(), Vec::new(), self.solution)
