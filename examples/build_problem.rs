@@ -63,7 +63,7 @@ fn main() -> anyhow::Result<()> {
     // to vary it.
     let problem = Problem::try_from(file.clone())?;
     let solution = mlpg_contact::solve(&problem)?;
-    let contact = solution.contact.as_ref().expect("the problem has a [contact] table");
+    let contact = solution.contact().expect("the problem has a [contact] table");
     let lowest = solution.displacement.iter().map(|u| u[1]).fold(f64::INFINITY, f64::min);
     println!("{} nodes; largest downward displacement {:.4}", solution.displacement.len(), -lowest);
     println!(

@@ -54,7 +54,7 @@ fn main() -> anyhow::Result<()> {
 
         let problem = Problem::try_from(file)?;
         let solution = mlpg_contact::solve(&problem)?;
-        let contact = solution.contact.as_ref().context("no contact solution")?;
+        let contact = solution.contact().context("no contact solution")?;
         rows.push(Row {
             gap,
             force: contact.total_force,

@@ -58,7 +58,7 @@ fn main() -> anyhow::Result<()> {
     // from the edge's first vertex: `from_gap` (the one summary.json reports as onset_x)
     // extrapolates from the open side, and is `None` when no open candidate precedes the
     // first closed one.
-    match &solution.contact {
+    match solution.contact() {
         Some(contact) => {
             let closed = contact.closed.iter().filter(|&&c| c).count();
             println!("  contact candidates:  {} ({closed} closed)", contact.closed.len());

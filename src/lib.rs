@@ -40,7 +40,7 @@
 //!     obstacle_normal = [0.0, 1.0]
 //! "#).unwrap();
 //! let solution = mlpg_contact::solve(&problem).unwrap();
-//! let contact = solution.contact.as_ref().unwrap();
+//! let contact = solution.contact().unwrap();
 //! // Uniform compression once the gap is closed: strain (0.03 − 0.01) / 1, stress E · 0.02 = 20
 //! // over the width 2, so the line carries 40 and every candidate is closed.
 //! assert!((contact.total_force - 40.0).abs() < 1e-6, "F = {}", contact.total_force);

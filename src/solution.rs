@@ -59,14 +59,17 @@ pub struct Solution {
     /// Total contact force on the body `Σ ν P_c` (zero without contact; per radian for an
     /// axisymmetric body, as the applied and reaction totals, `contact::rings`).
     pub contact_force: [f64; 2],
-    /// The contact solution, when the problem has contact.
-    pub contact: Option<ContactSolution>,
-    /// The second body's solution (two-body contact).
-    pub second_body: Option<Box<Solution>>,
-    /// Several bodies or contact pairs (`Problem::multibody`): the other bodies' solutions and
-    /// every pair's contact solution; this solution is the first body's (its `contact` is
-    /// `None`).
-    pub multibody: Option<Box<MultibodySolution>>,
+    /// The other bodies' solutions, as [`crate::problem::Problem::others`] (empty for one
+    /// body; each holds no bodies and no pairs of its own).
+    pub others: Vec<Solution>,
+    /// Every contact pair's solution, as [`crate::problem::Problem::contact_pairs`] (empty
+    /// without contact). In a scene of pairs each holds its share of the one LCP (`lcp.z`,
+    /// `lcp.w`; pivots and residuals are the whole LCP's).
+    pub contact_pairs: Vec<ContactSolution>,
+    /// The one LCP of a scene of pairs over every pair's candidates
+    /// ([`crate::problem::Problem::is_scene_of_pairs`]); `None` for one pair of the first
+    /// body, whose record is its [`ContactSolution`].
+    pub scene: Option<Box<SceneContact>>,
     /// `‖K û − f‖ / ‖f‖` of the solved system (checked against [`RESIDUAL_TOLERANCE`]).
     pub relative_residual: f64,
     /// `|Σ f + Σ R + Σ ν P| / max(|Σ f|, Σ |R|, Σ P)`: global force balance (checked against
@@ -91,16 +94,11 @@ impl Solution {
     }
 }
 
-/// The solution of a problem with several bodies or contact pairs: one LCP over the
-/// candidates of every pair, in pair order (docs/method.md §4.5).
+/// The contact solution of a scene of several bodies or contact pairs: one LCP over the
+/// candidates of every pair, in pair order (docs/method.md §4.5). Each pair's own share is
+/// its [`ContactSolution`] in [`Solution::contact_pairs`].
 #[derive(Debug)]
-pub struct MultibodySolution {
-    /// Bodies 2, 3, … (as `Multibody::bodies`).
-    pub bodies: Vec<Solution>,
-    /// One contact solution per pair: its candidates, the target body's operator, its share
-    /// of `z` and `w` (`lcp.z`, `lcp.w`; pivots and residuals are the whole LCP's), gaps,
-    /// pressures, closed set.
-    pub pairs: Vec<ContactSolution>,
+pub struct SceneContact {
     /// The condensed problem over all candidates and its run-time checks (`None`: solved by
     /// the active-set method, which forms no `M`).
     pub condensed: Option<contact::CondensedContact>,
@@ -117,6 +115,19 @@ pub struct MultibodySolution {
     /// Why Lemke failed before the active-set method answered instead (`"auto"` on every
     /// pair; `None` when the answering solver was the first one tried).
     pub fallback_from: Option<String>,
+}
+
+/// The solution of a scene of pairs ([`Solution::multibody`]), borrowed: the other bodies,
+/// every pair's share and the scene's one LCP.
+#[derive(Clone, Copy, Debug)]
+pub struct MultibodySolution<'a> {
+    /// Bodies 2, 3, … (as [`crate::problem::Multibody::bodies`]).
+    pub bodies: &'a [Solution],
+    /// One contact solution per pair: its candidates, the target body's operator, its share
+    /// of `z` and `w`, gaps, pressures, closed set.
+    pub pairs: &'a [ContactSolution],
+    /// The one LCP over every pair's candidates and its record.
+    pub contact: &'a SceneContact,
 }
 
 /// The solution of the contact problem on the candidates.
@@ -551,29 +562,50 @@ impl ContactSolution {
 
 impl Solution {
     /// Body `k`'s solution, numbered as [`crate::problem::Problem::body`]: 0 is this one,
-    /// then the second body's (one pair) or the other bodies' (several pairs).
+    /// then the other bodies'.
     pub fn body(&self, k: usize) -> Option<&Solution> {
-        match (k, &self.multibody) {
-            (0, _) => Some(self),
-            (k, Some(m)) => m.bodies.get(k - 1),
-            (1, None) => self.second_body.as_deref(),
-            _ => None,
+        match k {
+            0 => Some(self),
+            k => self.others.get(k - 1),
         }
     }
 
     /// Every body's solution, this one first, numbered as [`Solution::body`].
     pub fn bodies(&self) -> impl Iterator<Item = &Solution> {
-        let others: &[Solution] = self.multibody.as_deref().map_or(&[], |m| &m.bodies);
-        std::iter::once(self).chain(self.second_body.as_deref()).chain(others)
+        std::iter::once(self).chain(&self.others)
     }
 
-    /// Every contact pair's solution in the order of [`crate::problem::Problem::pairs`]: the
-    /// one pair's (`contact`) or each pair's of a scene; empty without contact.
+    /// Every contact pair's solution in the order of [`crate::problem::Problem::pairs`];
+    /// empty without contact.
     pub fn pairs(&self) -> Vec<&ContactSolution> {
-        match &self.multibody {
-            Some(m) => m.pairs.iter().collect(),
-            None => self.contact.iter().collect(),
+        self.contact_pairs.iter().collect()
+    }
+
+    /// The contact solution of the first body's one pair (`None` without contact and for a
+    /// scene of pairs, whose pairs share one LCP: [`Solution::multibody`]).
+    pub fn contact(&self) -> Option<&ContactSolution> {
+        if self.scene.is_some() {
+            return None;
         }
+        self.contact_pairs.first()
+    }
+
+    /// The second body's solution of a two-body scene of one pair (`None` for one body and
+    /// for a scene of pairs).
+    pub fn second_body(&self) -> Option<&Solution> {
+        if self.scene.is_some() {
+            return None;
+        }
+        self.others.first()
+    }
+
+    /// The other bodies, the pairs and the one LCP of a scene of pairs (`None` otherwise).
+    pub fn multibody(&self) -> Option<MultibodySolution<'_>> {
+        self.scene.as_deref().map(|contact| MultibodySolution {
+            bodies: &self.others,
+            pairs: &self.contact_pairs,
+            contact,
+        })
     }
 
     /// The first reported quantity holding a value that is not finite (NaN or infinite), if
@@ -586,24 +618,23 @@ impl Solution {
             ("reactions", self.reactions.iter().all(|r| r.2.is_finite())),
             ("relative residual", self.relative_residual.is_finite()),
             ("equilibrium error", self.equilibrium_error.is_finite()),
-            ("contact force", self.contact.as_ref().is_none_or(|c| finite(&c.lcp.z))),
+            ("contact force", self.contact().is_none_or(|c| finite(&c.lcp.z))),
             (
                 "tangential contact force",
-                self.contact
-                    .as_ref()
+                self.contact()
                     .and_then(|c| c.friction.as_ref())
                     .is_none_or(|f| finite(&f.step.tangential)),
             ),
-            ("contact gap", self.contact.as_ref().is_none_or(|c| finite(&c.gap))),
+            ("contact gap", self.contact().is_none_or(|c| finite(&c.gap))),
         ];
         let own = checks.into_iter().find(|(_, ok)| !ok).map(|(what, _)| what);
-        let several = self.multibody.as_ref().and_then(|m| {
+        let several = self.multibody().and_then(|m| {
             let gaps = m.pairs.iter().all(|c| finite(&c.gap));
-            let forces = finite(&m.lcp.z);
+            let forces = finite(&m.contact.lcp.z);
             let bodies = m.bodies.iter().find_map(|s| s.first_non_finite());
             bodies.or((!forces).then_some("contact force")).or((!gaps).then_some("contact gap"))
         });
-        own.or(several).or_else(|| self.second_body.as_ref().and_then(|s| s.first_non_finite()))
+        own.or(several).or_else(|| self.second_body().and_then(|s| s.first_non_finite()))
     }
 }
 
@@ -647,9 +678,9 @@ pub fn recover(
         applied_force: applied,
         reaction_force: reaction,
         contact_force,
-        contact: None,
-        second_body: None,
-        multibody: None,
+        others: Vec::new(),
+        contact_pairs: Vec::new(),
+        scene: None,
         relative_residual: res / rhs_norm,
         equilibrium_error: imbalance / scale,
         timings: Vec::new(),

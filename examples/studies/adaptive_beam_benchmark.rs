@@ -44,7 +44,7 @@ fn read() -> Problem {
 }
 
 fn onset(s: &Solution) -> f64 {
-    s.contact.as_ref().and_then(|c| c.onset.from_gap).unwrap_or(f64::NAN)
+    s.contact().and_then(|c| c.onset.from_gap).unwrap_or(f64::NAN)
 }
 
 /// What a table row shows of one solution.
@@ -59,7 +59,7 @@ struct Row {
 
 impl Row {
     fn of(s: &Solution, nodes: usize) -> Self {
-        let c = s.contact.as_ref().expect("contact");
+        let c = s.contact().expect("contact");
         Row {
             nodes,
             force: c.total_force,

@@ -203,7 +203,7 @@ fn beam_study(quick: bool) {
     );
     println!("|---|---|---|---|---|---|---|---|---|---|");
     let row = |name: &str, s: &Solution, nodes: usize, seconds: f64| {
-        let c = s.contact.as_ref().expect("contact");
+        let c = s.contact().expect("contact");
         let lc = c.onset.from_gap.unwrap_or(f64::NAN);
         println!(
             "| {name} | {nodes} | {:.6} | {:+.1e} | {lc:.4} | {:+.4} | [{}, {}] | {:.1e} | {:.1e} | {seconds:.2} |",

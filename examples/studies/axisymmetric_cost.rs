@@ -74,7 +74,7 @@ fn main() {
             let model = discretise(problem, &mut record).unwrap();
             let (model, _, s) = solve_model(problem, model, None, &mut record).unwrap();
             let wall = start.elapsed().as_secs_f64();
-            let c = s.contact.as_ref().unwrap();
+            let c = s.contact().unwrap();
             if round == 0 {
                 println!(
                     "{name:<13} nodes {}  candidates {}  closed {}  total_force {:.6e}",

@@ -54,7 +54,7 @@ fn run_with(
     let t0 = Instant::now();
     let s = mlpg_contact::solve(&p).expect("solve");
     let seconds = t0.elapsed().as_secs_f64();
-    let c = s.contact.as_ref().expect("contact");
+    let c = s.contact().expect("contact");
     let nodes = s.displacement.len();
     let points = mlpg_contact::nodes::generate(&p.domain, h, p.layout).expect("nodes").points;
     let tip = points

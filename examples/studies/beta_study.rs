@@ -51,7 +51,7 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, mlpg_contact::Error> 
     let nonzeros = model.system.matrix.values.len();
     let (_, _, s) = mlpg_contact::solve_model(&p, model, None, &mut silent)?;
     let total = t0.elapsed().as_secs_f64();
-    let c = s.contact.as_ref().expect("contact");
+    let c = s.contact().expect("contact");
     let points = mlpg_contact::nodes::generate(&p.domain, h, p.layout).expect("nodes").points;
     let tip = points
         .iter()

@@ -63,7 +63,7 @@ fn run(base: &Problem, v: &Variant, h: f64) -> Result<Row, String> {
     let (_, _, s) =
         mlpg_contact::solve_model(&p, model, None, &mut silent).map_err(|e| e.to_string())?;
     let total = t0.elapsed().as_secs_f64();
-    let c = s.contact.as_ref().ok_or("no contact solution")?;
+    let c = s.contact().ok_or("no contact solution")?;
 
     let e_star = p.material.young / (1.0 - p.material.poisson.powi(2));
     let load = 2.0 * c.total_force;

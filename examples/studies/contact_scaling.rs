@@ -118,7 +118,7 @@ fn main() {
     );
     let (_, _, s) =
         solve_model(&problem, model, second, &mut Silent).unwrap_or_else(|e| panic!("{e}"));
-    let c = s.contact.as_ref().expect("contact");
+    let c = s.contact().expect("contact");
     let stages: Vec<String> = s
         .timings
         .iter()
@@ -183,8 +183,7 @@ fn main() {
         work,
         c.total_force,
         c.lcp.residuals.max_complementarity,
-        s.second_body
-            .as_ref()
+        s.second_body()
             .map_or(s.equilibrium_error, |s2| s.equilibrium_error.max(s2.equilibrium_error)),
         peak_gb()
     );

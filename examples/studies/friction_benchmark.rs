@@ -79,7 +79,7 @@ fn timed(problem: &Problem, repeats: usize) -> (f64, Solution) {
 }
 
 fn report(label: &str, seconds: f64, s: &Solution) {
-    let c = s.contact.as_ref().expect("contact");
+    let c = s.contact().expect("contact");
     let stages: Vec<String> =
         s.timings.iter().map(|t| format!("{} {:.3}", t.stage, t.seconds)).collect();
     println!("\n{label}: {seconds:.3} s total; m = {} candidates", c.candidates.len());

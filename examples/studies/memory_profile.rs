@@ -156,7 +156,7 @@ fn main() {
         gb(predicted.1)
     );
     println!("| peak (VmHWM) | {} |", gb(status_bytes("VmHWM:") as f64));
-    if let Some(a) = solution.contact.as_ref().and_then(|c| c.active_set.as_ref()) {
+    if let Some(a) = solution.contact().and_then(|c| c.active_set.as_ref()) {
         println!(
             "active set: {} iterations, {} factorisations ({:.1} s), {} update columns ({:.1} s)",
             a.iterations,

@@ -312,7 +312,7 @@ fn beam(p: &Problem) -> Result<BeamRow, String> {
     let (model, _, s) =
         mlpg_contact::solve_model(p, model, None, &mut silent).map_err(|e| e.to_string())?;
     let seconds = t0.elapsed().as_secs_f64();
-    let c = s.contact.as_ref().ok_or("no contact solution")?;
+    let c = s.contact().ok_or("no contact solution")?;
     let (lo, hi) = p.domain.bounding_box();
     let tip_point = [hi[0], 0.5 * (lo[1] + hi[1])];
     let tip = model

@@ -30,7 +30,7 @@ fn main() {
     let h = 0.7;
     let reference = mlpg_contact::solve(&Problem::try_from(beam(gap)).expect("valid"))
         .expect("the static solve");
-    let contact = reference.contact.as_ref().expect("contact");
+    let contact = reference.contact().expect("contact");
     let total = contact.total_force;
     println!("gap,T_r,steps,force,candidate_force,displacement,least_gap,seconds");
     for ramp in ramps {

@@ -80,7 +80,7 @@ fn main() {
         let start = Instant::now();
         let s = mlpg_contact::solve(&p).expect("solve");
         let time = start.elapsed().as_secs_f64();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         let f = c.friction.as_ref().unwrap();
         for r in &f.increments {
             assert!(r.complementarity < 1e-9 && r.equilibrium_error < 1e-8, "{r:?}");

@@ -66,7 +66,7 @@ fn run(base: &Problem, fe: bool, v: usize, h: f64) -> Result<Run, mlpg_contact::
     let dofs = model.system.matrix.n;
     let (_, _, s) = mlpg_contact::solve_model(&p, model, None, &mut silent)?;
     let seconds = t0.elapsed().as_secs_f64();
-    let c = s.contact.as_ref().expect("the beam has contact");
+    let c = s.contact().expect("the beam has contact");
     Ok(Run {
         h,
         nodes: s.displacement.len(),

@@ -68,8 +68,7 @@ fn main() {
         let s = mlpg_contact::solve(problem).expect("solve");
         let time = start.elapsed().as_secs_f64();
         let m = measure(label, &s);
-        let nodes =
-            s.displacement.len() + s.second_body.as_deref().map_or(0, |b| b.displacement.len());
+        let nodes = s.displacement.len() + s.second_body().map_or(0, |b| b.displacement.len());
         println!(
             "{label:<28} {:>13.6e} {:>10.6} {:>10.6} {:>+8.3}% {:>+8.3}% {:>6} {:>7} {:>6.2}s",
             m.force,

@@ -86,7 +86,7 @@ fn matrix<'py, const N: usize>(
 impl Solved {
     fn body(&self, second: bool) -> PyResult<(&mlpg_contact::Model, &Solution)> {
         let o = &self.outcome;
-        match (second, o.second.as_ref(), o.solution.second_body.as_deref()) {
+        match (second, o.second.as_ref(), o.solution.second_body()) {
             (false, _, _) => Ok((&o.model, &o.solution)),
             (true, Some(m), Some(s)) => Ok((m, s)),
             (true, _, _) => Err(PyValueError::new_err("the problem has no second body")),
@@ -131,7 +131,7 @@ impl Solved {
 
     /// The columns of `contact.csv` as numpy arrays in a dict, or `None` without contact.
     fn contact<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
-        let Some(c) = &self.outcome.solution.contact else { return Ok(None) };
+        let Some(c) = self.outcome.solution.contact() else { return Ok(None) };
         let cand = &c.candidates;
         let d = PyDict::new(py);
         let column = |v: Vec<f64>| PyArray1::from_vec(py, v);

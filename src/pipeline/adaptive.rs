@@ -199,7 +199,7 @@ pub fn solve_adaptive(
             rows.push(unmarked(row));
             return Ok(finish(solved, adaptive, "tolerance", rows));
         }
-        let onset = solved.solution.contact.as_ref().map(|c| &c.onset);
+        let onset = solved.solution.contact().map(|c| &c.onset);
         if goals_met(adaptive, &row, onset, rows.last()) {
             rows.push(unmarked(row));
             return Ok(finish(solved, adaptive, "accuracy", rows));
@@ -262,8 +262,8 @@ fn step_row(step: usize, solved: &Solved, estimates: &[Estimate]) -> AdaptiveSte
     let norm: f64 = estimates.iter().map(|e| e.energy).sum();
     let total: f64 = estimates.iter().flat_map(|e| &e.node).sum();
     let relative = if norm > 0.0 { (total / norm).sqrt() } else { 0.0 };
-    let contact = solved.solution.contact.as_ref();
-    let pairs = solved.solution.multibody.as_ref().map(|m| {
+    let contact = solved.solution.contact();
+    let pairs = solved.solution.multibody().map(|m| {
         m.pairs
             .iter()
             .enumerate()
@@ -409,7 +409,7 @@ fn finish(
     why: &'static str,
     rows: Vec<AdaptiveStep>,
 ) -> AdaptiveRun {
-    let onset = solved.solution.contact.as_ref().map(|c| {
+    let onset = solved.solution.contact().map(|c| {
         let o = &c.onset;
         OnsetEstimate {
             estimate: o.from_gap,

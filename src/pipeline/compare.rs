@@ -116,13 +116,11 @@ fn run_one(
     let (model, solution, report) = super::solve_and_write(problem, dir, input.clone(), progress)?;
     let (deflection, component) = profile(problem, &model.nodes, &solution);
     let pressure = solution
-        .contact
-        .as_ref()
+        .contact()
         .map(|c| c.candidates.arc_length.iter().copied().zip(c.pressure.iter().copied()).collect())
         .unwrap_or_default();
     let tangential = solution
-        .contact
-        .as_ref()
+        .contact()
         .and_then(|c| {
             let f = c.friction.as_ref()?;
             Some(c.candidates.arc_length.iter().copied().zip(f.traction.iter().copied()).collect())
@@ -135,10 +133,9 @@ fn run_one(
         deflection,
         component,
         tangential,
-        stick_extent: solution.contact.as_ref().and_then(stick_extent),
+        stick_extent: solution.contact().and_then(stick_extent),
         contact_window: solution
-            .contact
-            .as_ref()
+            .contact()
             .and_then(|c| post::zoom::contact_window(&c.candidates.arc_length, &c.closed)),
     };
     Ok((run, report.files))

@@ -346,13 +346,13 @@ pub fn solve_with_lemke(problem: &Problem, lemke: &lcp::LemkeParams) -> Result<S
 }
 
 /// Solves a discretised model (with contact when the problem has it; `second` is the model of
-/// `problem.second_body` for a two-body contact) and recovers displacements, stresses,
+/// `problem.second_body()` for a two-body contact) and recovers displacements, stresses,
 /// reactions and contact forces.
 ///
 /// # Errors
 /// [`Error::Solve`] when `K` is numerically singular; [`Error::Contact`] and [`Error::Lcp`]
 /// when the contact problem cannot be solved or its compliance fails the run-time checks;
-/// [`Error::Problem`] when `second` is given without `problem.second_body`, or the other way
+/// [`Error::Problem`] when `second` is given without `problem.second_body()`, or the other way
 /// round; [`Error::LemkeRefused`] when Lemke fails numerically on a frictionless problem
 /// (with `contact.solver = "auto"` only when the active-set solver then fails too).
 pub fn solve_model(
@@ -435,11 +435,11 @@ pub fn solve_model_with(
             {
                 ops2.push((op, f.step.tangential.as_slice()));
             }
-            s.second_body = Some(Box::new(solution::recover(p2, m2, u2, &ops2)));
+            s.others.push(solution::recover(p2, m2, u2, &ops2));
         }
         s
     });
-    solution.contact = Some(contact);
+    solution.contact_pairs.push(contact);
     solution.timings = clock.timings.clone();
     model.timings = clock.timings;
     finite(solution).map(|s| (model, second, s))
@@ -1141,8 +1141,7 @@ fn write_outcome(out: &Path, o: &Outcome) -> Result<Vec<PathBuf>, Error> {
             }
         }
     }
-    if let (Some(p2), Some(m2), Some(s2)) =
-        (problem.second_body(), second, solution.second_body.as_deref())
+    if let (Some(p2), Some(m2), Some(s2)) = (problem.second_body(), second, solution.second_body())
     {
         files.extend(post::write_solution(&out.join(&p2.name), p2, m2, None, s2)?);
         if o.summary.refinement.is_some() {

@@ -22,7 +22,7 @@ use crate::mls::ShapeSet;
 use crate::model::Model;
 use crate::problem::{ContactPair, ContactSolver, Multibody, Problem, ProblemError};
 use crate::progress::{Clock, Progress};
-use crate::solution::{self, ContactSolution, MultibodySolution, Solution};
+use crate::solution::{self, ContactSolution, SceneContact, Solution};
 
 /// The candidates of `edge` of `problem`'s body against the edge `target_edge` of `target`,
 /// straight or curved (docs/method.md §4.3): the candidates whose projection falls on the target edge
@@ -208,7 +208,7 @@ struct PairCandidates {
     unpaired: usize,
 }
 
-/// Solves a problem with several bodies or contact pairs (`problem.multibody`): `model` is
+/// Solves a problem with several bodies or contact pairs (`problem.multibody()`): `model` is
 /// the first body's, `others` the other bodies' (as [`discretise_others`] builds them).
 /// Returns the models and the first body's solution, the others' and the pairs' inside its
 /// `multibody`.
@@ -273,9 +273,9 @@ pub fn solve_bodies(
         clock.run("recovery", || recover_bodies(&problems, &models, pairs, &contacts, u));
     let rest = solutions.split_off(1);
     let mut solution = solutions.pop().expect("the first body's solution");
-    solution.multibody = Some(Box::new(MultibodySolution {
-        bodies: rest,
-        pairs: contacts,
+    solution.others = rest;
+    solution.contact_pairs = contacts;
+    solution.scene = Some(Box::new(SceneContact {
         condensed,
         lcp: result,
         active_set: record,

@@ -204,7 +204,7 @@ fn write_body(
     }
 
     written.extend(solution_plots(dir, problem, model, second, solution, others)?);
-    if let Some(c) = &solution.contact {
+    if let Some(c) = solution.contact() {
         written.extend(contact_outputs(dir, problem, solution, c)?);
     }
     Ok(written)
@@ -266,18 +266,18 @@ pub fn write_multibody(
     others: &[Model],
     solution: &Solution,
 ) -> Result<Vec<PathBuf>, OutputError> {
-    let (Some(several), Some(ms)) = (problem.multibody(), &solution.multibody) else {
+    let (Some(several), Some(ms)) = (problem.multibody(), solution.multibody()) else {
         return write_solution(dir, problem, model, None, solution);
     };
     let drawn: Vec<Drawn<'_>> =
-        several.bodies.iter().zip(others).zip(&ms.bodies).map(|((p, m), s)| (p, m, s)).collect();
+        several.bodies.iter().zip(others).zip(ms.bodies).map(|((p, m), s)| (p, m, s)).collect();
     let mut written = write_body(dir, problem, model, None, solution, &drawn)?;
     for &(p, m, s) in &drawn {
         written.extend(write_solution(&dir.join(&p.name), p, m, None, s)?);
     }
     let plots = dir.join("plots");
     create_dir(&plots)?;
-    for (k, (pair, c)) in several.pairs.iter().zip(&ms.pairs).enumerate() {
+    for (k, (pair, c)) in several.pairs.iter().zip(ms.pairs).enumerate() {
         let body = problem.body(pair.body).unwrap_or(problem);
         let table = contact_table(c, coordinate_names(body));
         written.push(save(dir, &format!("contact_{k}.csv"), &table)?);
@@ -310,7 +310,7 @@ pub fn write_multibody(
     let histories: Vec<load_history::PairHistory<'_>> = several
         .pairs
         .iter()
-        .zip(&ms.pairs)
+        .zip(ms.pairs)
         .enumerate()
         .filter_map(|(k, (pair, c))| {
             let body = problem.body(pair.body).unwrap_or(problem);
@@ -361,7 +361,7 @@ fn contact_outputs(
         .collect();
     // The target in the same coordinate: contact where ν·u_1 = −g0 (a rigid obstacle) or
     // −g0 + ν·u_2^h(y_c) (a second body, whose displacement at the paired points moves it).
-    let second = problem.second_body().zip(solution.second_body.as_deref());
+    let second = problem.second_body().zip(solution.second_body());
     let target_motion = match (second, &c.target) {
         (Some((_, s2)), Some(op)) if op.len() == cand.len() => {
             op.gap_contribution(&s2.nodal_parameters)
@@ -687,7 +687,7 @@ fn deformed_map(
         labels: Vec::new(),
     };
     map.lines.extend(hole_outlines(&problem.domain, min_spacing));
-    match (problem.contact().map(|s| s.target), &solution.contact) {
+    match (problem.contact().map(|s| s.target), solution.contact()) {
         (Some(ContactTarget::Rigid(line)), Some(c)) => {
             map.lines.push(obstacle_line(&line, c, m, &points));
         }
@@ -696,7 +696,7 @@ fn deformed_map(
         }
         (Some(ContactTarget::Body { .. }), _) => {
             let p2 = problem.second_body();
-            if let (Some(p2), Some(s2), Some(m2)) = (p2, solution.second_body.as_deref(), second) {
+            if let (Some(p2), Some(s2), Some(m2)) = (p2, solution.second_body(), second) {
                 map.labels.push(body_label(&problem.name, &points));
                 add_body(&mut map, (p2, m2, s2), m);
             }

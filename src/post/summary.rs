@@ -347,21 +347,18 @@ fn verdicts(solution: &Solution) -> Vec<Verdict> {
         // The second body of one pair keeps its `second_body` key (an alias of `bodies[1]`).
         let prefix = match k {
             0 => "checks".to_string(),
-            1 if solution.second_body.is_some() => "second_body".to_string(),
+            1 if solution.second_body().is_some() => "second_body".to_string(),
             k => format!("bodies[{k}]"),
         };
         body(&prefix, s);
     }
-    let lcp = solution
-        .contact
-        .as_ref()
-        .map(|c| &c.lcp)
-        .or_else(|| solution.multibody.as_deref().map(|m| &m.lcp));
+    let lcp =
+        solution.contact().map(|c| &c.lcp).or_else(|| solution.multibody().map(|m| &m.contact.lcp));
     if let Some(l) = lcp {
         let value = l.residuals.max_violation();
         out.push(Verdict::new("complementarity", "lcp".into(), value, COMPLEMENTARITY_TOLERANCE));
     }
-    if let Some(f) = solution.contact.as_ref().and_then(|c| c.friction.as_ref()) {
+    if let Some(f) = solution.contact().and_then(|c| c.friction.as_ref()) {
         out.push(Verdict::new(
             "complementarity",
             "contact.friction_residual".into(),
@@ -758,8 +755,7 @@ impl Summary {
                     .fold(0.0, f64::max),
             },
             lcp: solution
-                .contact
-                .as_ref()
+                .contact()
                 .map(|c| LcpSummary {
                     size: c.candidates.len(),
                     pivots: c.lcp.pivots,
@@ -792,7 +788,7 @@ impl Summary {
                     gap_correction: c.gap_correction,
                 })
                 .or_else(|| multibody_lcp(solution)),
-            contact: solution.contact.as_ref().map(|c| ContactSummary {
+            contact: solution.contact().map(|c| ContactSummary {
                 candidates: c.candidates.len(),
                 closed: c.closed.iter().filter(|&&v| v).count(),
                 closed_intervals: c.onset.closed_intervals,
@@ -833,14 +829,12 @@ impl Summary {
                 rigid_mode: c.rigid_mode.as_ref().map(RigidModeSummary::new),
             }),
             second_body: solution
-                .second_body
-                .as_deref()
+                .second_body()
                 .map(|s2| BodySummary::new(problem.second_body().map(|p| &p.name), s2)),
             bodies: every_body(problem, solution),
             pairs: every_pair(problem, solution),
             steps: solution
-                .contact
-                .as_ref()
+                .contact()
                 .and_then(|c| c.friction.as_ref())
                 .map(|f| f.increments.clone()),
             refinement: None,
@@ -895,7 +889,7 @@ impl BodySummary {
 /// Every body's checks, the first body first (as [`Problem::bodies`]), with the rigid
 /// translation the contact holds for the bodies that have one.
 fn every_body(problem: &Problem, solution: &Solution) -> Vec<BodySummary> {
-    let held = solution.multibody.as_deref().map_or(&[][..], |m| &m.held);
+    let held = solution.multibody().map_or(&[][..], |m| &m.contact.held);
     problem
         .bodies()
         .zip(solution.bodies())
@@ -976,11 +970,11 @@ impl PairSummary {
 
 /// The LCP of a problem with several bodies or pairs (`None` otherwise).
 fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
-    let ms = solution.multibody.as_deref()?;
-    let (r, m) = (&ms.lcp.residuals, ms.condensed.as_ref());
+    let ms = solution.multibody()?;
+    let (r, m) = (&ms.contact.lcp.residuals, ms.contact.condensed.as_ref());
     Some(LcpSummary {
-        size: ms.lcp.z.len(),
-        pivots: ms.lcp.pivots,
+        size: ms.contact.lcp.z.len(),
+        pivots: ms.contact.lcp.pivots,
         min_z: r.min_z,
         min_w: r.min_w,
         max_complementarity: r.max_complementarity,
@@ -991,9 +985,9 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
         compliance_max_symmetric_eigenvalue: m.map(|m| m.max_symmetric_eigenvalue),
         compliance_eigenvalue_method: m.map(|m| m.eigenvalue_method),
         compliance_skew_ratio: m.map(|m| m.skew_ratio),
-        solver: if ms.active_set.is_some() { "active_set" } else { "lemke" },
-        fallback_from: ms.fallback_from.clone(),
-        active_set: ms.active_set.as_ref().map(|a| ActiveSetSummary {
+        solver: if ms.contact.active_set.is_some() { "active_set" } else { "lemke" },
+        fallback_from: ms.contact.fallback_from.clone(),
+        active_set: ms.contact.active_set.as_ref().map(|a| ActiveSetSummary {
             iterations: a.iterations,
             changes_per_iteration: a.changes.clone(),
             rescues: a.rescues.clone(),
@@ -1011,19 +1005,19 @@ fn multibody_lcp(solution: &Solution) -> Option<LcpSummary> {
 /// by fewer candidates than [`super::resolution::MIN_CLOSED`].
 fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
     let disc = problem.discretisation.stability_warning().map(|w| format!("discretisation: {w}"));
-    let contact = solution.contact.as_ref().and_then(|c| c.warning.clone());
-    let unpaired = solution.contact.as_ref().filter(|c| c.unpaired > 0).map(|c| {
+    let contact = solution.contact().and_then(|c| c.warning.clone());
+    let unpaired = solution.contact().filter(|c| c.unpaired > 0).map(|c| {
         format!(
             "contact: {} nodes of the contact edge lie beside the target edge; they have no partner and cannot close",
             c.unpaired
         )
     });
-    let fallback = solution.contact.as_ref().and_then(|c| c.fallback_from.as_ref()).map(|w| {
+    let fallback = solution.contact().and_then(|c| c.fallback_from.as_ref()).map(|w| {
         format!("contact: {w}; the active-set solver answered instead (contact.solver = \"auto\")")
     });
-    let several = solution.multibody.as_deref();
-    let several_warning = several.and_then(|m| m.warning.clone());
-    let several_fallback = several.and_then(|m| m.fallback_from.as_ref()).map(|w| {
+    let several = solution.multibody();
+    let several_warning = several.and_then(|m| m.contact.warning.clone());
+    let several_fallback = several.and_then(|m| m.contact.fallback_from.as_ref()).map(|w| {
         format!(
             "contact: {w}; the active-set solver answered instead (contact[k].solver = \"auto\")"
         )
@@ -1035,7 +1029,7 @@ fn warnings(problem: &Problem, solution: &Solution) -> Vec<String> {
         )
     });
     let resolution =
-        solution.contact.iter().filter_map(|c| super::resolution::warning("contact", c));
+        solution.contact().into_iter().filter_map(|c| super::resolution::warning("contact", c));
     let several_resolution = several
         .into_iter()
         .flat_map(|m| m.pairs.iter().enumerate())

@@ -157,7 +157,7 @@ pub fn mark(eta2: &[f64], fraction: f64) -> Vec<usize> {
 /// open/closed, and with friction stick/slip; the two candidates on either side of each
 /// change (so that the onset's bracket is halved by each refinement).
 pub fn contact_marks(solution: &Solution) -> Vec<usize> {
-    let Some(c) = &solution.contact else { return Vec::new() };
+    let Some(c) = solution.contact() else { return Vec::new() };
     let mut marked: Vec<usize> =
         transition_candidates(solution).iter().map(|&k| c.candidates.nodes[k] as usize).collect();
     marked.sort_unstable();
@@ -168,7 +168,7 @@ pub fn contact_marks(solution: &Solution) -> Vec<usize> {
 /// The candidates (indices into the contact table) of [`contact_marks`]: the two on either
 /// side of every change of state along the contact edge, ascending.
 pub fn transition_candidates(solution: &Solution) -> Vec<usize> {
-    solution.contact.as_ref().map_or_else(Vec::new, transitions_of)
+    solution.contact().map_or_else(Vec::new, transitions_of)
 }
 
 /// [`transition_candidates`] of one contact solution (one pair's).

@@ -39,7 +39,7 @@ pub(super) fn max_abs(v: &[f64]) -> f64 {
 }
 
 pub(super) fn check_own(name: &str, s: &Solution) {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.min_z >= -KKT_TOLERANCE && r.min_w >= -KKT_TOLERANCE, "{name}: {r:?}");
     assert!(r.max_complementarity <= KKT_TOLERANCE, "{name}: {r:?}");
@@ -66,7 +66,7 @@ pub(super) fn compare(name: &str, problem: &Problem) -> (f64, f64) {
 pub(super) fn compare_solutions(name: &str, lemke: &Solution, active: &Solution) -> (f64, f64) {
     check_own(name, lemke);
     check_own(name, active);
-    let (a, b) = (active.contact.as_ref().unwrap(), lemke.contact.as_ref().unwrap());
+    let (a, b) = (active.contact().unwrap(), lemke.contact().unwrap());
     assert!(a.condensed.is_none() && a.active_set.is_some(), "{name}: not the active-set path");
     assert!(b.condensed.is_some() && b.active_set.is_none(), "{name}: not the Lemke path");
     let diff =
@@ -111,21 +111,27 @@ pub(super) fn compare_multibody(
     lemke: &Solution,
     active: &Solution,
 ) -> (f64, f64, f64) {
-    let (a, b) = (active.multibody.as_deref().unwrap(), lemke.multibody.as_deref().unwrap());
-    assert!(a.condensed.is_none() && a.active_set.is_some(), "{name}: not the active-set path");
-    assert!(b.condensed.is_some() && b.active_set.is_none(), "{name}: not the Lemke path");
+    let (a, b) = (active.multibody().unwrap(), lemke.multibody().unwrap());
+    assert!(
+        a.contact.condensed.is_none() && a.contact.active_set.is_some(),
+        "{name}: not the active-set path"
+    );
+    assert!(
+        b.contact.condensed.is_some() && b.contact.active_set.is_none(),
+        "{name}: not the Lemke path"
+    );
     for (s, ms) in [(active, a), (lemke, b)] {
-        let r = &ms.lcp.residuals;
+        let r = &ms.contact.lcp.residuals;
         assert!(r.min_z >= -KKT_TOLERANCE && r.min_w >= -KKT_TOLERANCE, "{name}: {r:?}");
         assert!(r.max_complementarity <= KKT_TOLERANCE, "{name}: {r:?}");
-        for body in std::iter::once(s).chain(&ms.bodies) {
+        for body in std::iter::once(s).chain(ms.bodies) {
             let e = body.equilibrium_error;
             assert!(e < EQUILIBRIUM_TOLERANCE, "{name}: equilibrium {e:e}");
         }
     }
     let diff =
         |x: &[f64], y: &[f64]| x.iter().zip(y).fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));
-    let all = |ms: &mlpg_contact::solution::MultibodySolution| -> (Vec<f64>, Vec<f64>) {
+    let all = |ms: mlpg_contact::solution::MultibodySolution| -> (Vec<f64>, Vec<f64>) {
         let gaps = ms.pairs.iter().flat_map(|c| c.gap.iter().copied()).collect();
         let closed = ms
             .pairs
@@ -135,10 +141,10 @@ pub(super) fn compare_multibody(
     };
     let ((gap_a, closed_a), (gap_b, closed_b)) = (all(a), all(b));
     let (ga, gb) = (max_abs(&closed_a), max_abs(&closed_b));
-    let condensed = b.condensed.as_ref().unwrap();
-    let p_max = max_abs(&b.lcp.z);
+    let condensed = b.contact.condensed.as_ref().unwrap();
+    let p_max = max_abs(&b.contact.lcp.z);
     let conditioned = 4.0 * ga.max(gb) / condensed.min_symmetric_eigenvalue / p_max;
-    let force = diff(&a.lcp.z, &b.lcp.z) / p_max;
+    let force = diff(&a.contact.lcp.z, &b.contact.lcp.z) / p_max;
     let initial: Vec<f64> =
         b.pairs.iter().flat_map(|c| c.candidates.initial_gap.iter().copied()).collect();
     let gap_scale = max_abs(&gap_b).max(max_abs(&initial)).max(max_abs(&condensed.free_gap));
@@ -150,7 +156,7 @@ pub(super) fn compare_multibody(
         "{name}: forces differ by {force:e} (bound {conditioned:e})"
     );
     assert!(gap < AGREEMENT.max(gap_bound), "{name}: gaps differ by {gap:e} (bound {gap_bound:e})");
-    for (k, (pa, pb)) in a.pairs.iter().zip(&b.pairs).enumerate() {
+    for (k, (pa, pb)) in a.pairs.iter().zip(b.pairs).enumerate() {
         assert_eq!(pa.closed, pb.closed, "{name}: contact[{k}]: closed sets differ");
         match (&pa.friction, &pb.friction) {
             (Some(fa), Some(fb)) => {
@@ -162,9 +168,13 @@ pub(super) fn compare_multibody(
             _ => panic!("{name}: contact[{k}]: one answer has friction, the other not"),
         }
     }
-    assert_eq!(a.held.len(), b.held.len(), "{name}: different numbers of held bodies");
+    assert_eq!(
+        a.contact.held.len(),
+        b.contact.held.len(),
+        "{name}: different numbers of held bodies"
+    );
     let mut translation: f64 = 0.0;
-    for ((ba, ra), (bb, rb)) in a.held.iter().zip(&b.held) {
+    for ((ba, ra), (bb, rb)) in a.contact.held.iter().zip(&b.contact.held) {
         assert_eq!(ba, bb, "{name}: different held bodies");
         let scale = max_abs(&ra.translation).max(max_abs(&rb.translation));
         let d = diff(&ra.translation, &rb.translation) / scale.max(f64::MIN_POSITIVE);
@@ -221,7 +231,7 @@ fn inclined_obstacle_equals_lemke() {
     let (force, gap) = compare("inclined", &problem);
     println!("inclined: forces {force:.1e}, gaps {gap:.1e}");
     let s = solve_with(&problem, ContactSolver::ActiveSet);
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let closed = c.closed.iter().filter(|&&v| v).count();
     assert!(closed > 0 && closed < c.closed.len(), "a partial contact zone: {closed}");
 }
@@ -254,7 +264,7 @@ fn two_body_problems_equal_lemke() {
     for (name, problem, partial) in cases {
         let (force, gap) = compare(name, &problem);
         let s = solve_with(&problem, ContactSolver::ActiveSet);
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         let a = c.active_set.as_ref().unwrap();
         println!(
             "{name}: forces {force:.1e}, gaps {gap:.1e}; {} iterations, changes {:?}, {} factorisations, {} update columns",
@@ -281,7 +291,7 @@ fn auto_switches_at_the_threshold() {
     let at = strip(100.0);
     assert_eq!(at.contact().unwrap().solver, ContactSolver::Auto);
     let s = mlpg_contact::solve(&at).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_eq!(c.candidates.len(), ContactSolver::AUTO_THRESHOLD);
     assert!(c.active_set.is_some(), "auto did not take the active-set solver");
     check_own("strip at the threshold", &s);
@@ -289,7 +299,7 @@ fn auto_switches_at_the_threshold() {
     println!("strip 100 × 1: forces {force:.1e}, gaps {gap:.1e}");
     let below = strip(99.9);
     let s = mlpg_contact::solve(&below).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_eq!(c.candidates.len(), ContactSolver::AUTO_THRESHOLD - 1);
     assert!(c.active_set.is_none(), "auto left Lemke below the threshold");
 }
@@ -341,7 +351,7 @@ fn summary_records_the_solver() {
 fn long_pair(name: &str, problem: &Problem) {
     assert_eq!(problem.contact().unwrap().solver, ContactSolver::Auto);
     let s = mlpg_contact::solve(problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert!(c.candidates.len() >= 2000, "{name}: {} candidates", c.candidates.len());
     let a = c.active_set.as_ref().expect("auto did not take the active-set solver");
     println!(
@@ -396,7 +406,7 @@ fn two_body_system_equals_the_dense_lcp() {
     };
     let problem = mirror_problems().1;
     let lemke = solve_with(&problem, ContactSolver::Lemke);
-    let c = lemke.contact.as_ref().unwrap();
+    let c = lemke.contact().unwrap();
     let condensed = c.condensed.as_ref().unwrap();
     let m = c.candidates.len();
     let dense = Lcp::new(m, condensed.compliance.clone(), condensed.free_gap.clone()).unwrap();
@@ -552,6 +562,6 @@ fn releasing_k_factors_changes_nothing_but_memory() {
     assert_eq!(model.factorisation.stats().factor_nnz, nnz);
     assert!(model.factorisation.solve(&model.system.rhs).is_err());
     check_own("strip 50 × 1", &s);
-    let z = &s.contact.as_ref().unwrap().lcp.z;
+    let z = &s.contact().unwrap().lcp.z;
     assert_eq!(z, &released.lcp.z);
 }

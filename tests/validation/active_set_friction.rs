@@ -49,7 +49,7 @@ fn compare(name: &str, problem: &Problem) -> (f64, f64) {
     check_frictional(&lemke, name);
     check_frictional(&active, name);
     check_increments(&active, name);
-    let (a, b) = (active.contact.as_ref().unwrap(), lemke.contact.as_ref().unwrap());
+    let (a, b) = (active.contact().unwrap(), lemke.contact().unwrap());
     assert!(a.condensed.is_none() && a.active_set.is_some(), "{name}: not the active-set path");
     assert!(b.condensed.is_some() && b.active_set.is_none(), "{name}: not the Lemke path");
     let (fa, fb) = (a.friction.as_ref().unwrap(), b.friction.as_ref().unwrap());
@@ -128,7 +128,7 @@ fn block_press_shear_and_reverse_equals_lemke() {
     compare("block press, shear, reverse", &problem);
     // The path visits stick, both slip directions and a mixed state.
     let s = solve_with(&problem, ContactSolver::ActiveSet);
-    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = s.contact().unwrap().friction.as_ref().unwrap();
     let seen = |state: ContactState| f.snapshots.iter().any(|x| x.state.contains(&state));
     assert!(seen(ContactState::Stick) && seen(ContactState::SlipPositive));
     assert!(seen(ContactState::SlipNegative), "no reversal");
@@ -164,7 +164,7 @@ fn cattaneo_mindlin_equals_lemke() {
     let problem = shipped("cattaneo_mindlin.toml");
     compare("cattaneo_mindlin.toml", &problem);
     let s = solve_with(&problem, ContactSolver::ActiveSet);
-    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = s.contact().unwrap().friction.as_ref().unwrap();
     assert!(f.increments.iter().any(|r| r.stick > 0 && r.slip > 0), "no partial slip");
 }
 
@@ -244,7 +244,7 @@ fn two_body_frictional_system_equals_the_dense_blocks() {
     let text = two_blocks_text("mfvm", 0.08, 0.3, "{ x = -0.009, y = -0.01 }", "");
     let problem = Problem::from_toml(&text).unwrap();
     let lemke = solve_with(&problem, ContactSolver::Lemke);
-    let c = lemke.contact.as_ref().unwrap();
+    let c = lemke.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert!(f.step.state.iter().any(|s| s.is_slip()), "no slip: {:?}", f.step.state);
     let silent = &mut mlpg_contact::Silent;
@@ -348,7 +348,7 @@ fn two_blocks_press_shear_and_reverse_equal_lemke() {
         let name = format!("two blocks, {name} layouts");
         compare(&name, &problem);
         let s = solve_with(&problem, ContactSolver::ActiveSet);
-        let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+        let f = s.contact().unwrap().friction.as_ref().unwrap();
         let seen = |state: ContactState| f.snapshots.iter().any(|x| x.state.contains(&state));
         assert!(seen(ContactState::Stick), "{name}: no stick");
         assert!(seen(ContactState::SlipPositive), "{name}: no slip+");
@@ -406,13 +406,13 @@ fn auto_switches_at_the_friction_threshold() {
     let threshold = ContactSolver::FRICTION_AUTO_THRESHOLD;
     let at = strip(threshold as f64 / 4.0);
     let s = mlpg_contact::solve(&at).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_eq!(c.candidates.len(), threshold);
     assert!(c.active_set.is_some(), "auto did not take the active-set solver");
     check_frictional(&s, "frictional strip at the threshold");
     let below = strip((threshold - 1) as f64 / 4.0);
     let s = mlpg_contact::solve(&below).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_eq!(c.candidates.len(), threshold - 1);
     assert!(c.active_set.is_none(), "auto left Lemke below the threshold");
     assert_eq!(c.friction.as_ref().unwrap().step.method, FrictionMethod::Lemke);
@@ -435,7 +435,7 @@ fn auto_switches_at_the_pair_friction_threshold() {
     let threshold = ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD;
     for (candidates, active_set) in [(threshold, true), (threshold - 1, false)] {
         let s = mlpg_contact::solve(&pair(candidates as f64 / 4.0)).unwrap();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         assert_eq!(c.candidates.len(), candidates);
         assert_eq!(c.active_set.is_some(), active_set, "{candidates} candidates");
         let method = c.friction.as_ref().unwrap().step.method;

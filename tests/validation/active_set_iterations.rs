@@ -19,7 +19,7 @@ fn iterations(name: &str, mut problem: Problem) -> (usize, usize) {
     problem.contact_mut().unwrap().solver = ContactSolver::ActiveSet;
     let s = mlpg_contact::solve(&problem).unwrap();
     check_own(name, &s);
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let a = c.active_set.as_ref().expect("the active-set solver ran");
     let closed = c.closed.iter().filter(|&&v| v).count();
     assert!(closed > 0 && closed < c.closed.len(), "{name}: a partial contact zone: {closed}");

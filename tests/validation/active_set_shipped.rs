@@ -140,11 +140,11 @@ fn every_shipped_contact_problem_equals_lemke_or_is_refused() {
         }
         let lemke = solve(file, text, "lemke").unwrap();
         let active = solve(file, text, "active_set").unwrap();
-        if lemke.multibody.is_some() {
+        if lemke.multibody().is_some() {
             let (force, gap, t) = compare_multibody(file, &lemke, &active);
-            let ms = active.multibody.as_deref().unwrap();
-            let solves = ms.active_set.as_ref().map_or(0, |r| r.iterations);
-            let held = ms.held.first().map_or(String::new(), |(_, r)| {
+            let ms = active.multibody().unwrap();
+            let solves = ms.contact.active_set.as_ref().map_or(0, |r| r.iterations);
+            let held = ms.contact.held.first().map_or(String::new(), |(_, r)| {
                 format!(
                     ", translation {t:.1e} ({} LCP solves, {solves} linear solves)",
                     r.evaluations
@@ -156,7 +156,7 @@ fn every_shipped_contact_problem_equals_lemke_or_is_refused() {
         let (force, gap) = compare_solutions(file, &lemke, &active);
         assert!(force < AGREEMENT, "{file}: forces differ by {force:e} of the largest");
         assert!(gap < AGREEMENT, "{file}: gaps differ by {gap:e} of the largest");
-        let (a, b) = (active.contact.as_ref().unwrap(), lemke.contact.as_ref().unwrap());
+        let (a, b) = (active.contact().unwrap(), lemke.contact().unwrap());
         let mut extra = String::new();
         match (&a.friction, &b.friction) {
             (Some(fa), Some(fb)) => {

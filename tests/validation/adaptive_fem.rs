@@ -28,7 +28,7 @@ fn adaptive_fem_indenter_converges_to_hertz() {
     let problem = mlpg_contact::problem::Problem::from_toml(&text).unwrap();
     assert_eq!(problem.discretisation.method, mlpg_contact::problem::Method::Fem);
     let (rows, stopped_by) = adaptive_rows(&problem, BOUND, |s| {
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         let closed = c.closed.iter().filter(|&&b| b).count();
         let n = s.displacement.len();
         (n, (closed >= 4).then(|| checked(&format!("adaptive FE, {n} nodes"), s).max_error()))

@@ -39,7 +39,7 @@ const RATIO: usize = 5;
 fn adaptive_indenter_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
     let problem = shipped_problem("cylinder_indenter_adaptive.toml", 0.1);
     let (rows, stopped_by) = adaptive_rows(&problem, BOUND, |s| {
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         // The fit needs four closed candidates; the first steps have fewer.
         let closed = c.closed.iter().filter(|&&b| b).count();
         let n = s.displacement.len();
@@ -63,7 +63,7 @@ fn adaptive_indenter_meets_hertz_with_a_fifth_of_the_uniform_nodes() {
         uniform.adaptive = None;
         uniform.node_spacing = h;
         let s = mlpg_contact::solve(&uniform).unwrap();
-        let closed = s.contact.as_ref().unwrap().closed.iter().filter(|&&b| b).count();
+        let closed = s.contact().unwrap().closed.iter().filter(|&&b| b).count();
         let e = (closed >= 4).then(|| checked(&format!("uniform h = {h}"), &s).max_error());
         (s.displacement.len(), e)
     });

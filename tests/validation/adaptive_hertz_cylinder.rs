@@ -29,7 +29,7 @@ const RATIO: usize = 5;
 /// Checks the force balance and measures the Hertz quantities (`None` with fewer than four
 /// closed candidates, which the fit needs).
 fn checked(label: &str, s: &mlpg_contact::Solution) -> Option<Outcome> {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let balance = s.reaction_force[1] + c.total_force;
     assert!(balance.abs() < 1e-8 * c.total_force, "{label}: balance {balance}");
     let closed = c.closed.iter().filter(|&&b| b).count();

@@ -41,7 +41,7 @@ fn nodes(s: &mlpg_contact::Solution) -> usize {
 /// Checks both bodies' equilibrium and the force balances and measures the Hertz quantities
 /// (`None` with fewer than four closed candidates, which the fit needs).
 fn checked(label: &str, s: &mlpg_contact::Solution) -> Option<Outcome> {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let s2 = s.body(1).unwrap();
     assert!(s2.equilibrium_error < 1e-8, "{label}: block equilibrium {}", s2.equilibrium_error);
     let balance = s.reaction_force[1] + c.total_force;
@@ -142,7 +142,7 @@ fn adaptive_cattaneo_mindlin_stick_zone() {
             super::friction::check_frictional(s, &label);
             super::friction::check_increments(s, &label);
             let s2 = s.body(1).unwrap();
-            let total = s.contact.as_ref().unwrap().total_force;
+            let total = s.contact().unwrap().total_force;
             for k in 0..2 {
                 let pair = s.contact_force[k] + s2.contact_force[k];
                 assert!(pair.abs() <= 1e-12 * total, "{label}: contact forces differ by {pair}");

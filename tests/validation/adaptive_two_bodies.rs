@@ -46,7 +46,7 @@ const TOL: f64 = 1e-9;
 
 /// The contact checks of every contact case on a two-body solution; `(ΣP, l_c)`.
 fn checked(label: &str, s: &Solution) -> (f64, f64) {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.max_violation() < TOL, "{label}: KKT residuals {r:?}");
     let mismatch = c.gap.iter().zip(&c.lcp.w).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
@@ -134,7 +134,7 @@ fn adaptive_beam_on_block_meets_the_fe_reference_with_a_third_of_the_uniform_nod
     let &(nodes, _, _, last) = rows.last().unwrap();
     assert!(nodes <= adaptive.max_nodes);
     assert!(meets(last), "final set ({nodes} nodes): ΣP {:.6}, l_c {:.4}", last.0, last.1);
-    let c = run.solution.contact.as_ref().unwrap();
+    let c = run.solution.contact().unwrap();
     let (lo, hi) = (c.onset.last_open.unwrap(), c.onset.first_closed.unwrap());
     assert!(lo <= last.1 && last.1 <= hi, "onset {} outside its bracket [{lo}, {hi}]", last.1);
 
@@ -179,7 +179,7 @@ fn fe_reference_ladder() {
         }
         let s = mlpg_contact::solve(&p).unwrap();
         last = checked(&format!("FE h = {h}"), &s);
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         println!(
             "FE h = {h:<8} {} nodes per body: ΣP {:.7}, l_c {:.4} in [{}, {}], from the pressures {:?}",
             s.displacement.len(),
@@ -223,7 +223,7 @@ fn adaptive_beam_on_block_with_friction_and_steps() {
             solves += 1;
             let label = format!("friction, {} nodes in the beam", m.nodes.len());
             super::friction::check_frictional(s, &label);
-            let c = s.contact.as_ref().unwrap();
+            let c = s.contact().unwrap();
             let s2 = s.body(1).unwrap();
             assert!(s2.equilibrium_error <= 1e-8, "{label}: block equilibrium");
             for axis in 0..2 {

@@ -71,7 +71,7 @@ impl Row {
 /// Checks `s` (complementarity to 1e-9, the per-radian axial balance to 1e-8) and measures it
 /// ([`measure`] checks the same again when it fits).
 pub(super) fn row(label: &str, s: &mlpg_contact::Solution) -> Row {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
     let balance = s.reaction_force[1] + c.total_force / std::f64::consts::TAU;

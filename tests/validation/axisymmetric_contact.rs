@@ -70,7 +70,7 @@ fn a_solid_cylinder_on_a_flat_carries_a_uniform_pressure_over_rings() {
         for solver in ["lemke", "active_set"] {
             let label = format!("{layout} {method} {solver}");
             let s = mlpg_contact::solve(&cylinder(layout, method, solver)).unwrap();
-            let c = s.contact.as_ref().unwrap();
+            let c = s.contact().unwrap();
             let worst = c.pressure.iter().map(|q| (q - p).abs() / p).fold(0.0, f64::max);
             assert!(worst < 1e-10, "{label}: pressure off by {worst:.2e}");
             assert!(c.closed.iter().all(|&k| k), "{label}: an open candidate");
@@ -193,7 +193,7 @@ pub(super) fn measure(label: &str, s: &Solution) -> Sphere {
 /// [`measure`] against Hertz with the contact modulus `e_star` (`1/E* = Σ (1 − ν_i²)/E_i`
 /// for two elastic bodies).
 pub(super) fn measure_with(label: &str, s: &Solution, e_star: f64) -> Sphere {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
     assert_eq!(c.onset.closed_intervals, 1, "{label}");
@@ -245,7 +245,7 @@ fn hertz_sphere_on_a_flat_mfvm_and_fe() {
         (0..3).map(|l| measure(&format!("FE level {l}"), &solve(sphere_fem(l, "lemke")))).collect();
     // On a flat the rings' forces are axial: their axial resultant is their total.
     let flat = solve(sphere_mfvm(0.02, "lemke"));
-    let total = flat.contact.as_ref().unwrap().total_force;
+    let total = flat.contact().unwrap().total_force;
     assert!((mfvm[0].force - total).abs() < 1e-12 * total, "{} against {total}", mfvm[0].force);
     assert_converging("MFVM", &mfvm);
     assert_converging("FE", &fem);
@@ -272,12 +272,12 @@ fn hertz_sphere_active_set_equals_lemke() {
         ("FE", sphere_fem(1, "lemke"), sphere_fem(1, "active_set")),
     ] {
         let (a, b) = (solve(lemke), solve(active));
-        let (za, zb) = (&a.contact.as_ref().unwrap().lcp.z, &b.contact.as_ref().unwrap().lcp.z);
+        let (za, zb) = (&a.contact().unwrap().lcp.z, &b.contact().unwrap().lcp.z);
         let scale = za.iter().copied().fold(0.0, f64::max);
         let worst = za.iter().zip(zb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale;
         println!("hertz sphere {label}: active set against Lemke {worst:.2e}");
         assert!(worst < 1e-9, "{label}: {worst:.3e}");
-        assert!(b.contact.as_ref().unwrap().active_set.is_some(), "{label}: not the active set");
+        assert!(b.contact().unwrap().active_set.is_some(), "{label}: not the active set");
     }
 }
 

@@ -77,7 +77,7 @@ fn solve(p: &Problem) -> Solution {
 
 /// The largest difference of two force vectors over the largest force.
 fn difference(a: &Solution, b: &Solution) -> f64 {
-    let (za, zb) = (&a.contact.as_ref().unwrap().lcp.z, &b.contact.as_ref().unwrap().lcp.z);
+    let (za, zb) = (&a.contact().unwrap().lcp.z, &b.contact().unwrap().lcp.z);
     assert_eq!(za.len(), zb.len());
     let scale = za.iter().copied().fold(0.0, f64::max);
     za.iter().zip(zb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale
@@ -109,7 +109,7 @@ fn frictionless_steps_and_vanishing_friction_equal_one_step() {
         let d = difference(&one, s);
         println!("axisymmetric sphere: {label} against one step {d:.2e}");
         assert!(d < 1e-10, "{label}: {d:.3e}");
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
         assert!(s.equilibrium_error < 1e-8, "{label}: {}", s.equilibrium_error);
     }
@@ -120,7 +120,7 @@ fn a_rigid_flat_pressed_by_a_force_carries_it_over_the_rings() {
     let force = 2.88e-3;
     let by_force =
         solve(&sphere("0.0", "", &format!("[[step]]\nobstacle_force = [0.0, {force:?}]")));
-    let c = by_force.contact.as_ref().unwrap();
+    let c = by_force.contact().unwrap();
     assert!((c.total_force - force).abs() < 1e-10 * force, "{}", c.total_force);
     let per_radian = force / TAU;
     let reaction = by_force.reaction_force[1];
@@ -179,7 +179,7 @@ fn a_rigid_sphere_pressed_into_a_cylinder_meets_hertz() {
     let d = difference(&lemke, &active);
     assert!(d < 1e-9, "active set against Lemke {d:.3e}");
     let out = super::axisymmetric_contact::measure("rigid sphere h = 0.005", &lemke);
-    let c = lemke.contact.as_ref().unwrap();
+    let c = lemke.contact().unwrap();
     let axial = c.candidates.normals.iter().zip(&c.lcp.z).map(|(n, f)| n[1] * f).sum::<f64>();
     println!("rigid sphere: total {:.6e}, axial {axial:.6e}", c.total_force);
     assert!(out.radius_error.abs() < 0.02, "a error {}", out.radius_error);
@@ -210,7 +210,7 @@ fn friction_keeps_a_central_stick_zone_inside_a_slip_annulus() {
 /// `c/a` and `a` of each increment: `a` the outermost closed and `c` the outermost sticking
 /// candidate's radius, after checking Coulomb's cone on every ring.
 fn stick_ratios(s: &Solution, mu: f64) -> Vec<(f64, f64)> {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert!(f.increments.iter().all(|r| r.complementarity < 1e-9 && r.equilibrium_error < 1e-8));
     let r = |k: usize| c.candidates.points[k][0];

@@ -202,16 +202,16 @@ fn a_middle_cylinder_held_by_contact_alone_carries_the_uniaxial_pressure() {
                 "#
             );
             let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
-            let m = s.multibody.as_ref().unwrap();
-            for c in &m.pairs {
+            let m = s.multibody().unwrap();
+            for c in m.pairs {
                 let worst = c.pressure.iter().map(|q| (q - p).abs() / p).fold(0.0, f64::max);
                 println!("{label}: pressure off by {worst:.2e}");
                 assert!(worst < 1e-8, "{label}: pressure off by {worst:.2e}");
             }
-            for body in std::iter::once(&s).chain(&m.bodies) {
+            for body in std::iter::once(&s).chain(m.bodies) {
                 assert!(body.equilibrium_error < 1e-8, "{label}: {}", body.equilibrium_error);
             }
-            let (held, rigid) = m.held.first().expect("the middle body is held");
+            let (held, rigid) = m.contact.held.first().expect("the middle body is held");
             assert_eq!(*held, 1, "{label}: the held body");
             // The pin's displacement: the bottom's shortening plus the middle's own strain.
             let z = rigid.pin_point[1];
@@ -390,12 +390,12 @@ fn hertz_pair_active_set_equals_lemke() {
         ),
     ] {
         let (a, b) = (solve(lemke), solve(active));
-        let (za, zb) = (&a.contact.as_ref().unwrap().lcp.z, &b.contact.as_ref().unwrap().lcp.z);
+        let (za, zb) = (&a.contact().unwrap().lcp.z, &b.contact().unwrap().lcp.z);
         let scale = za.iter().copied().fold(0.0, f64::max);
         let worst = za.iter().zip(zb).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max) / scale;
         println!("hertz pair {label}: active set against Lemke {worst:.2e}");
         assert!(worst < 1e-8, "{label}: {worst:.3e}");
-        assert!(b.contact.as_ref().unwrap().active_set.is_some(), "{label}: not the active set");
+        assert!(b.contact().unwrap().active_set.is_some(), "{label}: not the active set");
     }
 }
 

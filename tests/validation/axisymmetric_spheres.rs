@@ -178,7 +178,7 @@ pub(super) struct Pair {
 /// each ring's target weights sum to its own `1/2π`), Newton's third law ring by ring, one
 /// closed interval of at least 6 rings — and fits Hertz (see the header).
 pub(super) fn measure(label: &str, s: &Solution) -> Pair {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     let lower = s.body(1).expect("the lower sphere");
     assert!(s.equilibrium_error < 1e-8, "{label}: upper equilibrium {}", s.equilibrium_error);
@@ -251,7 +251,7 @@ fn two_elastic_spheres_fe_against_hertz_and_mfvm() {
     let fe = measure("FE mesh 1", &s);
     // The upper sphere's axis node is a candidate (its normal the axial one, not the lower
     // polyline's end piece's, which would leave it out, free to overlap) and closed.
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let axis = c.candidates.points.iter().position(|p| p[0] == 0.0).expect("the axis ring");
     assert_eq!(c.candidates.normals[axis], [0.0, 1.0]);
     assert!(c.closed[axis], "the axis ring is open: gap {:e}", c.gap[axis]);
@@ -304,7 +304,7 @@ fn identical_spheres_pair_along_the_axis_in_either_order() {
     );
     let axial = |text: &str| {
         let s = mlpg_contact::solve(&Problem::from_toml(text).unwrap()).unwrap();
-        let c = s.contact.unwrap();
+        let c = s.contact().unwrap();
         for (p, n) in c.candidates.points.iter().zip(&c.candidates.normals) {
             // The closest point on the other circle lies on the line through its centre, not
             // at `x_c`'s mirror image: the bisector's radial part is `O((r/R)³)`, not zero.

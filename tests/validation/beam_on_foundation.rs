@@ -54,7 +54,7 @@ fn run(h: f64) -> Outcome {
 
 fn run_problem(h: f64, problem: &Problem) -> Outcome {
     let s = mlpg_contact::solve(problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.min_z >= -KKT_TOLERANCE, "h = {h}: min z {}", r.min_z);
     assert!(r.min_w >= -KKT_TOLERANCE, "h = {h}: min w {}", r.min_w);
@@ -126,20 +126,22 @@ fn beam_on_foundation_kkt_equilibrium_and_convergence() {
 #[test]
 fn stiffness_form_is_close_but_not_mls_exact() {
     use mlpg_contact::contact::Condensation;
-    let default = mlpg_contact::solve(&beam(0.25)).unwrap().contact.unwrap();
+    let default = mlpg_contact::solve(&beam(0.25)).unwrap();
+    let default = default.contact().unwrap();
     let mut p = beam(0.25);
     if let Some(c) = p.contact_mut() {
         c.condensation = Condensation::Stiffness;
     }
-    let stiff = mlpg_contact::solve(&p).unwrap().contact.unwrap();
+    let stiff = mlpg_contact::solve(&p).unwrap();
+    let stiff = stiff.contact().unwrap();
     assert!(stiff.lcp.residuals.max_violation() < KKT_TOLERANCE);
     let df = (stiff.total_force - default.total_force).abs();
     assert!(df < 1e-3, "F_c differs by {df}");
     let mismatch = |c: &mlpg_contact::ContactSolution| {
         c.gap.iter().zip(&c.lcp.w).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
     };
-    assert!(mismatch(&default) < 1e-12, "compliance form: {}", mismatch(&default));
-    let m = mismatch(&stiff);
+    assert!(mismatch(default) < 1e-12, "compliance form: {}", mismatch(default));
+    let m = mismatch(stiff);
     assert!(m > 1e-6 && m < 1e-4, "stiffness form gap mismatch {m:.3e}");
 }
 
@@ -285,7 +287,7 @@ fn adaptive_beam_with_accuracy_goals_stops_within_the_level() {
         &mut |_, _, _, _| solves += 1,
     )
     .unwrap();
-    let c = run.solution.contact.as_ref().unwrap();
+    let c = run.solution.contact().unwrap();
     let onset = c.onset.from_gap.unwrap();
     println!(
         "{solves} solves, {} nodes, F_c {:.6}, l_c {onset:.4}, stopped by {}",
@@ -316,7 +318,7 @@ fn adaptive_beam_meets_the_fe_reference() {
         &adaptive,
         &mut mlpg_contact::Silent,
         &mut |_, m, s, e| {
-            let c = s.contact.as_ref().unwrap();
+            let c = s.contact().unwrap();
             rows.push((m.nodes.len(), e.relative, c.total_force, c.onset.from_gap.unwrap()));
         },
     )
@@ -332,7 +334,7 @@ fn adaptive_beam_meets_the_fe_reference() {
     let mut last = run.problem.clone();
     last.adaptive = None;
     let o = run_problem(0.5, &last);
-    let c = run.solution.contact.as_ref().unwrap();
+    let c = run.solution.contact().unwrap();
     assert_eq!(o.total_force, c.total_force);
     assert!((o.total_force / FE_CONTACT_FORCE - 1.0).abs() <= 1e-5, "F_c {}", o.total_force);
     assert!((o.onset - FE_ONSET).abs() <= 0.01, "l_c {}", o.onset);

@@ -160,7 +160,7 @@ fn outcome(text: &str) -> Result<(Vec<f64>, bool), String> {
     let problem = Problem::from_toml(text).map_err(|e| e.to_string())?;
     let o =
         Outcome::solve(problem, serde_json::Value::Null, &mut Silent).map_err(|e| e.to_string())?;
-    let forces = match (&o.solution.multibody, &o.solution.contact) {
+    let forces = match (o.solution.multibody(), o.solution.contact()) {
         (Some(m), _) => m.pairs.iter().map(|c| c.total_force).collect(),
         (None, Some(c)) => vec![c.total_force],
         (None, None) => Vec::new(),

@@ -59,12 +59,12 @@ fn stack_text(mu: f64, increments: Option<usize>) -> String {
 
 /// Every pair's total normal force.
 fn pair_forces(s: &Solution) -> Vec<f64> {
-    s.multibody.as_deref().unwrap().pairs.iter().map(|c| c.total_force).collect()
+    s.multibody().unwrap().pairs.iter().map(|c| c.total_force).collect()
 }
 
 /// The checks every frictional several-pairs answer must pass (module docs).
 fn assert_frictional_checks(label: &str, s: &Solution, mu: f64) {
-    let ms = s.multibody.as_deref().unwrap();
+    let ms = s.multibody().unwrap();
     for (k, c) in ms.pairs.iter().enumerate() {
         let f = c
             .friction
@@ -94,7 +94,7 @@ fn assert_frictional_checks(label: &str, s: &Solution, mu: f64) {
     let balance = (forces[0] - forces[1]).abs() / forces[0];
     println!("{label}: pair forces {forces:?}, middle block balance {balance:.1e}");
     assert!(balance <= 1e-9, "{label}: the middle block's y balance {balance:e}");
-    let held = ms.held.first().expect("the middle block is held by the contacts");
+    let held = ms.contact.held.first().expect("the middle block is held by the contacts");
     assert_eq!(held.0, 1);
 }
 
@@ -104,7 +104,7 @@ fn stack_with_friction_solves_with_its_checks() {
     assert_frictional_checks("friction", &s, 0.3);
     // Friction acts: the interfaces carry tangential forces and the stack is stiffer than
     // the frictionless one (the rollers and the blocks' different lateral strains).
-    let ms = s.multibody.as_deref().unwrap();
+    let ms = s.multibody().unwrap();
     let tangential: f64 =
         ms.pairs.iter().map(|c| c.friction.as_ref().unwrap().total_force.abs()).sum();
     assert!(tangential > 1e-2, "tangential forces {tangential:e}");
@@ -120,13 +120,13 @@ fn stack_in_two_increments_equals_one_step() {
     for (a, b) in f1.iter().zip(&f2) {
         assert!((a - b).abs() <= 1e-9 * a.abs(), "one step {f1:?}, two increments {f2:?}");
     }
-    let t = |s: &Solution| s.multibody.as_deref().unwrap().held.first().unwrap().1.translation[1];
+    let t = |s: &Solution| s.multibody().unwrap().contact.held.first().unwrap().1.translation[1];
     let (t1, t2) = (t(&one), t(&two));
     println!("held translation: one step {t1:.15e}, two increments {t2:.15e}");
     assert!((t1 - t2).abs() <= 1e-9 * t1.abs());
     // Every candidate's force, not only the totals.
-    let ms = (one.multibody.as_deref().unwrap(), two.multibody.as_deref().unwrap());
-    for (c1, c2) in ms.0.pairs.iter().zip(&ms.1.pairs) {
+    let ms = (one.multibody().unwrap(), two.multibody().unwrap());
+    for (c1, c2) in ms.0.pairs.iter().zip(ms.1.pairs) {
         let scale = c1.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
         for (a, b) in c1.lcp.z.iter().zip(&c2.lcp.z) {
             assert!((a - b).abs() <= 1e-9 * scale, "{a} against {b}");
@@ -138,8 +138,8 @@ fn stack_in_two_increments_equals_one_step() {
 fn stack_with_friction_in_two_increments_solves_with_its_checks() {
     let s = mlpg_contact::solve(&stack(0.3, Some(2))).unwrap();
     assert_frictional_checks("friction, two increments", &s, 0.3);
-    let ms = s.multibody.as_deref().unwrap();
-    for c in &ms.pairs {
+    let ms = s.multibody().unwrap();
+    for c in ms.pairs {
         assert_eq!(c.friction.as_ref().unwrap().increments.len(), 2);
     }
 }
@@ -153,8 +153,8 @@ fn a_pair_on_the_several_pairs_path_equals_the_two_body_path() {
     let problem = Problem::from_toml(&several).unwrap();
     assert!(problem.multibody().is_some());
     let many = mlpg_contact::solve(&problem).unwrap();
-    let c2 = two.contact.as_ref().unwrap();
-    let ms = many.multibody.as_deref().unwrap();
+    let c2 = two.contact().unwrap();
+    let ms = many.multibody().unwrap();
     let cm = &ms.pairs[0];
     assert!(ms.pairs[1].lcp.z.iter().all(|&p| p == 0.0), "the far pair stays open");
     let (f2, fm) = (c2.friction.as_ref().unwrap(), cm.friction.as_ref().unwrap());
@@ -178,7 +178,7 @@ fn two_blocks_upper_held_by_contact_carries_its_load() {
         "{ edge = \"top\", pressure = 1.0 }",
     );
     let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     println!("held upper block: contact force {:.15e}", c.total_force);
     assert!((c.total_force - 2.0).abs() <= 1e-8 * 2.0);
     let r = c.rigid_mode.as_ref().expect("the upper block's translation in y is held");
@@ -197,10 +197,13 @@ fn several_pairs_with_friction_and_steps_on_the_active_set_equal_lemkes_path() {
             .replace("target_edge = \"top\"\n", "target_edge = \"top\"\nsolver = \"active_set\"\n");
         let sparse = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
         assert_frictional_checks(&label, &sparse, mu);
-        let (ml, ms) = (lemke.multibody.as_deref().unwrap(), sparse.multibody.as_deref().unwrap());
-        assert!(ml.active_set.is_none() && ms.active_set.is_some(), "{label}: the solvers taken");
+        let (ml, ms) = (lemke.multibody().unwrap(), sparse.multibody().unwrap());
+        assert!(
+            ml.contact.active_set.is_none() && ms.contact.active_set.is_some(),
+            "{label}: the solvers taken"
+        );
         let mut largest: f64 = 0.0;
-        for (cl, cs) in ml.pairs.iter().zip(&ms.pairs) {
+        for (cl, cs) in ml.pairs.iter().zip(ms.pairs) {
             let scale = cl.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
             let (fl, fs) = (cl.friction.as_ref().unwrap(), cs.friction.as_ref().unwrap());
             for c in 0..cl.lcp.z.len() {
@@ -211,8 +214,8 @@ fn several_pairs_with_friction_and_steps_on_the_active_set_equal_lemkes_path() {
             }
             assert_eq!(fl.increments.len(), fs.increments.len(), "{label}");
         }
-        let t = |m: &mlpg_contact::solution::MultibodySolution| {
-            m.held.first().unwrap().1.translation[1]
+        let t = |m: mlpg_contact::solution::MultibodySolution| {
+            m.contact.held.first().unwrap().1.translation[1]
         };
         let (tl, ts) = (t(ml), t(ms));
         println!(
@@ -231,17 +234,17 @@ fn several_pairs_with_friction_and_steps_on_the_active_set_equal_lemkes_path() {
 fn several_pairs_fall_back_from_lemke_to_the_active_set_with_auto() {
     let problem = stack(0.0, None);
     let reference = mlpg_contact::solve(&problem).unwrap();
-    let pivots = reference.multibody.as_deref().unwrap().lcp.pivots;
+    let pivots = reference.multibody().unwrap().contact.lcp.pivots;
     let params = mlpg_contact::lcp::LemkeParams {
         max_pivots: Some(pivots / 2),
         ..mlpg_contact::lcp::LemkeParams::default()
     };
     let s = mlpg_contact::solve_with_lemke(&problem, &params).unwrap();
-    let ms = s.multibody.as_deref().unwrap();
-    assert!(ms.active_set.is_some(), "the active set answered");
-    let why = ms.fallback_from.as_deref().expect("the record of Lemke's failure");
+    let ms = s.multibody().unwrap();
+    assert!(ms.contact.active_set.is_some(), "the active set answered");
+    let why = ms.contact.fallback_from.as_deref().expect("the record of Lemke's failure");
     assert!(why.contains("pivot"), "{why}");
-    let (z, z_ref) = (&ms.lcp.z, &reference.multibody.as_deref().unwrap().lcp.z);
+    let (z, z_ref) = (&ms.contact.lcp.z, &reference.multibody().unwrap().contact.lcp.z);
     let scale = z_ref.iter().fold(0.0f64, |m, p| m.max(p.abs()));
     let largest = z.iter().zip(z_ref).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     println!("several pairs, auto after Lemke's failure: forces within {:.1e}", largest / scale);
@@ -273,16 +276,25 @@ fn several_pairs_on_the_load_path_fall_back_from_lemke_with_auto() {
         ..mlpg_contact::lcp::LemkeParams::default()
     };
     let s = mlpg_contact::solve_with_lemke(&problem, &params).unwrap();
-    let ms = s.multibody.as_deref().unwrap();
-    assert!(ms.active_set.is_some() && ms.condensed.is_none(), "the active set answered");
-    let why = ms.fallback_from.as_deref().expect("the record of Lemke's failure");
+    let ms = s.multibody().unwrap();
+    assert!(
+        ms.contact.active_set.is_some() && ms.contact.condensed.is_none(),
+        "the active set answered"
+    );
+    let why = ms.contact.fallback_from.as_deref().expect("the record of Lemke's failure");
     assert!(why.starts_with("load step 1, increment 1 of 2: Lemke's method"), "{why}");
     let direct = mlpg_contact::solve(&with(ContactSolver::ActiveSet)).unwrap();
-    let md = direct.multibody.as_deref().unwrap();
-    assert!(md.fallback_from.is_none());
-    let scale = md.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
-    let largest = ms.lcp.z.iter().zip(&md.lcp.z).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    let t = |m: &mlpg_contact::solution::MultibodySolution| m.held[0].1.translation[1];
+    let md = direct.multibody().unwrap();
+    assert!(md.contact.fallback_from.is_none());
+    let scale = md.contact.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let largest = ms
+        .contact
+        .lcp
+        .z
+        .iter()
+        .zip(&md.contact.lcp.z)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    let t = |m: mlpg_contact::solution::MultibodySolution| m.contact.held[0].1.translation[1];
     println!(
         "stack on the path, auto after Lemke's failure: forces within {:.1e}",
         largest / scale
@@ -435,14 +447,14 @@ fn two_bodies_held_by_contact_carry_their_load() {
                 );
             let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap())
                 .unwrap_or_else(|e| panic!("{label}: {e}"));
-            let ms = s.multibody.as_deref().unwrap();
+            let ms = s.multibody().unwrap();
             let forces = pair_forces(&s);
             println!("{label}: pair forces {forces:?}");
             for f in &forces {
                 assert!((f - 2.0 * p).abs() <= 1e-8 * 2.0 * p, "{label}: {forces:?}");
             }
-            assert_eq!(ms.held.iter().map(|h| h.0).collect::<Vec<_>>(), [1, 2], "{label}");
-            for (b, r) in &ms.held {
+            assert_eq!(ms.contact.held.iter().map(|h| h.0).collect::<Vec<_>>(), [1, 2], "{label}");
+            for (b, r) in &ms.contact.held {
                 let u = exact(r.pin_point[1]);
                 println!(
                     "{label}: body {b} translation {:.15e} (frictionless {u:.15e})",
@@ -456,11 +468,12 @@ fn two_bodies_held_by_contact_carry_their_load() {
             for (b, body) in bodies.enumerate() {
                 assert!(body.equilibrium_error <= 1e-8, "{label}: body {b}");
             }
-            let r = &ms.lcp.residuals;
+            let r = &ms.contact.lcp.residuals;
             assert!(r.max_complementarity <= 1e-9, "{label}: {r:?}");
             assert!(r.min_z >= -1e-12 && r.min_w >= -1e-9, "{label}: {r:?}");
             let forces = ms.pairs.iter().flat_map(|c| c.lcp.z.clone()).collect::<Vec<f64>>();
-            let translations: Vec<f64> = ms.held.iter().map(|h| h.1.translation[1]).collect();
+            let translations: Vec<f64> =
+                ms.contact.held.iter().map(|h| h.1.translation[1]).collect();
             answers.push((forces, translations));
         }
         let scale = answers[0].0.iter().fold(0.0f64, |m, z| m.max(z.abs()));

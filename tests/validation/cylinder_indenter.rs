@@ -46,7 +46,7 @@ fn run(h: f64, size: f64) -> Outcome {
 /// along its own normal, against the support reactions) and its Hertz quantities, with the
 /// checks of `measure` (complementarity, equilibrium, one closed zone).
 pub(super) fn checked(label: &str, s: &mlpg_contact::Solution) -> Outcome {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     // The resultant from the candidates' own normals (independent of the library's sum).
     let mut f = [0.0; 2];
     for (k, &pc) in c.lcp.z.iter().enumerate() {
@@ -240,7 +240,7 @@ fn two_circles_share_the_load_symmetrically() {
     .unwrap();
     assert_eq!(problem.obstacles().len(), 2);
     let s = mlpg_contact::solve(&problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.min_z >= -1e-9 && r.min_w >= -1e-9 && r.max_complementarity <= 1e-9, "{r:?}");
     assert!(s.equilibrium_error < 1e-8, "equilibrium {}", s.equilibrium_error);
@@ -290,7 +290,7 @@ fn fe_path_agrees_on_the_indenter() {
     for (method, line) in [("mfvm", "beta = 0.5"), ("fem", "method = \"fem\"")] {
         let p = Problem::from_toml(&text.replace("beta = 0.5", line)).unwrap();
         let s = mlpg_contact::solve(&p).unwrap();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         let r = &c.lcp.residuals;
         assert!(r.min_z >= -1e-9 && r.min_w >= -1e-9 && r.max_complementarity <= 1e-9, "{r:?}");
         assert!(s.equilibrium_error < 1e-8, "{method}: equilibrium {}", s.equilibrium_error);

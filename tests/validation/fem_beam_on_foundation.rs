@@ -47,7 +47,7 @@ fn run(h: f64, method: Method) -> Outcome {
     let mut silent = mlpg_contact::Silent;
     let model = mlpg_contact::discretise(&problem, &mut silent).unwrap();
     let (model, _, s) = mlpg_contact::solve_model(&problem, model, None, &mut silent).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.min_z >= -KKT_TOLERANCE, "h = {h}: min z {}", r.min_z);
     assert!(r.min_w >= -KKT_TOLERANCE, "h = {h}: min w {}", r.min_w);

@@ -36,7 +36,7 @@ fn fe_tiny_friction_gives_the_frictionless_forces() {
     tiny.contact_mut().unwrap().friction = 1e-12;
     let (a, b) = (solve(&frictionless).unwrap(), solve(&tiny).unwrap());
     check_frictional(&b, "FE beam, μ = 1e-12");
-    let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
+    let (ca, cb) = (a.contact().unwrap(), b.contact().unwrap());
     let scale = ca.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
     let worst = ca.lcp.z.iter().zip(&cb.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
     let t_max =
@@ -56,7 +56,7 @@ fn fe_huge_friction_gives_the_bonded_solution() {
     let stuck = solve(&fe_block(shift, Some(1e6), "")).unwrap();
     check_frictional(&stuck, "FE stick");
     let bonded = solve(&fe_block(shift, None, "")).unwrap();
-    let c = stuck.contact.as_ref().unwrap();
+    let c = stuck.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert!(f.step.state.iter().all(|&s| s == ContactState::Stick), "{:?}", f.step.state);
     // ν = (0, 1), t = (1, 0): R_y = P, R_x = T at the same node (E = Gᵀ in the FE).
@@ -83,8 +83,8 @@ fn fe_gross_sliding_slips_everywhere_on_the_cone() {
 fn fe_frictionless_steps_reproduce_the_one_step_answer() {
     let stepped = solve(&fe_block(0.0, Some(0.0), &press_then_shear(3, 4, 0.004))).unwrap();
     let reference = solve(&fe_block(0.004, Some(0.0), "")).unwrap();
-    assert!(reference.contact.as_ref().unwrap().friction.is_none());
-    let (a, b) = (stepped.contact.as_ref().unwrap(), reference.contact.as_ref().unwrap());
+    assert!(reference.contact().unwrap().friction.is_none());
+    let (a, b) = (stepped.contact().unwrap(), reference.contact().unwrap());
     assert_eq!(a.friction.as_ref().unwrap().increments.len(), 7);
     let scale = b.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
     let dp = a.lcp.z.iter().zip(&b.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
@@ -107,7 +107,7 @@ fn fe_frictionless_steps_reproduce_the_one_step_answer() {
 fn fe_press_then_shear_meets_every_condition_at_every_increment() {
     let s = solve(&fe_block(0.0, Some(0.3), &press_then_shear(4, 8, 0.004))).unwrap();
     check_frictional(&s, "FE press then shear");
-    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = s.contact().unwrap().friction.as_ref().unwrap();
     assert_eq!(f.increments.len(), 12);
     let t: Vec<f64> = f.increments.iter().map(|r| r.tangential_force).collect();
     println!("FE press then shear: ΣT per increment {t:?}");
@@ -124,7 +124,7 @@ fn fe_beam_with_friction_in_load_steps() {
     p.discretisation.method = Method::Fem;
     let s = solve(&p).unwrap();
     check_frictional(&s, "FE frictional beam, h = 0.5");
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert_eq!(f.increments.len(), 10);
     assert!(f.total_force < 0.0, "friction resists the stretching bottom fibre: {}", f.total_force);
@@ -154,7 +154,7 @@ fn frictional_beam(method: Method, mu: f64, h: f64) -> [f64; 5] {
     p.contact_mut().unwrap().friction = mu;
     let s = solve(&p).unwrap();
     check_frictional(&s, &format!("{method:?} beam, μ = {mu}, h = {h}"));
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert_eq!(f.stick_zones, 1, "{:?}", f.step.state);
     let (start, end) = stick_extent(c).unwrap();
@@ -334,7 +334,7 @@ fn spence_stick_fraction_is_self_similar() {
             let s = solve(&pressed_block(method, h, mu, &path)).unwrap();
             let case = format!("Spence block, {method:?}, h = {h}");
             check_frictional(&s, &case);
-            let c = s.contact.as_ref().unwrap();
+            let c = s.contact().unwrap();
             let f = c.friction.as_ref().unwrap();
             assert_eq!(f.increments.len(), 7);
             // The load at each increment (fraction of the final press).
@@ -356,7 +356,7 @@ fn spence_stick_fraction_is_self_similar() {
             }
             // The path's end equals the one-step answer at the full press.
             let one = solve(&pressed_block(method, h, mu, &[(1, -0.01)])).unwrap();
-            let f1 = one.contact.as_ref().unwrap().friction.as_ref().unwrap();
+            let f1 = one.contact().unwrap().friction.as_ref().unwrap();
             let scale = f.step.normal.iter().fold(0.0f64, |a, p| a.max(p.abs()));
             let worst = (0..f.step.normal.len())
                 .map(|k| {
@@ -443,7 +443,7 @@ fn two_blocks_in_steps(method: &str, h: f64) -> (f64, f64) {
         (f1[0] + f2[0]).abs() <= 1e-10 * scale && (f1[1] + f2[1]).abs() <= 1e-10 * scale,
         "{case}"
     );
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert_eq!(f.increments.len(), 6, "{case}");
     assert!(f.step.state.contains(&ContactState::Stick), "{case}: partial slip");

@@ -48,7 +48,7 @@ pub fn fem_two_blocks(h_upper: f64, h_lower: f64) -> Problem {
 fn run(h_upper: f64, h_lower: f64) -> (f64, f64) {
     let upper = fem_two_blocks(h_upper, h_lower);
     let s = mlpg_contact::solve(&upper).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert!(c.lcp.residuals.max_violation() < 1e-9);
     assert!(s.equilibrium_error < 1e-9, "upper body equilibrium {}", s.equilibrium_error);
     let s2 = s.body(1).unwrap();

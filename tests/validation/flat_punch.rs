@@ -48,7 +48,7 @@ struct Outcome {
 fn run(h: f64, size: f64) -> Outcome {
     let label = format!("punch h = {h}, W = {size}");
     let s = mlpg_contact::solve(&problem(h, size)).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals(&label, &c.lcp.residuals, 1e-9);
     assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
     assert_eq!(c.onset.closed_intervals, 1, "{label}");

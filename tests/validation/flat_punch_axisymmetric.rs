@@ -55,7 +55,7 @@ pub struct Punch {
 /// Checks a punch solution (complementarity, the per-radian axial balance, one closed interval
 /// ending exactly at the punch's edge) and returns its force.
 pub fn measure(label: &str, s: &Solution) -> Punch {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
     assert_eq!(c.onset.closed_intervals, 1, "{label}");

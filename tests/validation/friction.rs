@@ -80,7 +80,7 @@ pub(super) fn block_text(method: &str, shift: f64, mu: Option<f64>, steps: &str)
 
 /// (d): the step residual and the global equilibrium of a frictional solution.
 pub(super) fn check_frictional(s: &Solution, case: &str) {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().expect("a frictional solution");
     let r = f.step.residuals.max();
     println!(
@@ -112,7 +112,7 @@ pub(super) fn check_frictional(s: &Solution, case: &str) {
 /// with its contact edge clamped: the largest difference of each candidate's forces `(T, P)`
 /// from the clamped node's reactions `(R_x, R_y)`, and of the displacements.
 pub(super) fn bonded_difference(stuck: &Solution, bonded: &Solution) -> (f64, f64) {
-    let c = stuck.contact.as_ref().unwrap();
+    let c = stuck.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     let reaction = |node: u32, axis: usize| {
         bonded
@@ -148,7 +148,7 @@ fn tiny_friction_gives_the_frictionless_forces() {
         tiny.contact_mut().unwrap().friction = 1e-12;
         let (a, b) = (solve(&frictionless).unwrap(), solve(&tiny).unwrap());
         check_frictional(&b, file);
-        let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
+        let (ca, cb) = (a.contact().unwrap(), b.contact().unwrap());
         let scale = ca.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
         let worst = ca.lcp.z.iter().zip(&cb.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
         let f = cb.friction.as_ref().unwrap();
@@ -187,7 +187,7 @@ fn huge_friction_gives_the_bonded_solution() {
     let stuck = solve(&block(shift, Some(1e6))).unwrap();
     check_frictional(&stuck, "stick");
     let bonded = solve(&block(shift, None)).unwrap();
-    let c = stuck.contact.as_ref().unwrap();
+    let c = stuck.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     assert!(f.step.state.iter().all(|&s| s == ContactState::Stick), "{:?}", f.step.state);
     assert_eq!((f.stick_zones, f.slip_zones), (1, 0));
@@ -215,7 +215,7 @@ pub(super) fn gross_sliding_on(method: &str) {
     let mu = 0.2;
     let s = solve(&Problem::from_toml(&block_text(method, 0.05, Some(mu), "")).unwrap()).unwrap();
     check_frictional(&s, &format!("gross sliding ({method})"));
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     let closed = f.step.normal.iter().filter(|&&p| p > 0.0).count();
     assert!(closed > c.candidates.len() / 2, "only {closed} candidates closed");
@@ -243,7 +243,7 @@ fn partial_slip_meets_every_condition() {
     // Between the two: a stick zone inside, slip towards the ends.
     let s = solve(&block(0.004, Some(0.3))).unwrap();
     check_frictional(&s, "partial slip");
-    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = s.contact().unwrap().friction.as_ref().unwrap();
     assert!(f.stick_zones >= 1 && f.slip_zones >= 1, "{:?}", f.step.state);
 }
 
@@ -359,7 +359,7 @@ pub(super) fn press_then_shear(k: usize, m: usize, shift: f64) -> String {
 
 /// Every increment of a stepped solution: complementarity ≤ 1e-9, equilibrium ≤ 1e-8.
 pub(super) fn check_increments(s: &Solution, case: &str) -> Vec<f64> {
-    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = s.contact().unwrap().friction.as_ref().unwrap();
     let mut worst = (0.0f64, 0.0f64);
     for r in &f.increments {
         assert!(r.complementarity <= 1e-9, "{case}: {r:?}");
@@ -384,9 +384,9 @@ fn frictionless_steps_reproduce_the_one_step_answer() {
     let mut reference = block(0.004, Some(0.0));
     reference.contact_mut().unwrap().friction = 0.0;
     let reference = solve(&reference).unwrap();
-    assert!(reference.contact.as_ref().unwrap().friction.is_none());
+    assert!(reference.contact().unwrap().friction.is_none());
     check_increments(&stepped, "μ = 0 steps");
-    let (a, b) = (stepped.contact.as_ref().unwrap(), reference.contact.as_ref().unwrap());
+    let (a, b) = (stepped.contact().unwrap(), reference.contact().unwrap());
     let scale = b.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
     let dp = a.lcp.z.iter().zip(&b.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
     let du = stepped
@@ -428,28 +428,28 @@ fn step_friction_applies_to_its_step() {
         s
     };
     let press_end = |s: &Solution| -> f64 {
-        let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+        let f = s.contact().unwrap().friction.as_ref().unwrap();
         let snap = f.snapshots.iter().rfind(|r| r.step == 1).unwrap();
         snap.tangential.iter().fold(0.0f64, |m, t| m.max(t.abs()))
     };
     let with = run(0.3, &path(""));
     let without = run(0.3, &path("friction = 0.0\n"));
     let (t_with, t_without) = (press_end(&with), press_end(&without));
-    let p_max = with.contact.as_ref().unwrap().lcp.z.iter().fold(0.0f64, |m, p| m.max(*p));
+    let p_max = with.contact().unwrap().lcp.z.iter().fold(0.0f64, |m, p| m.max(*p));
     println!(
         "max |T| after the press: {t_with:.3e} with μ = 0.3, {t_without:.1e} with μ = 0 (max P {p_max:.3e})"
     );
     assert!(t_with > 1e-3 * p_max, "the frictional press leaves no tangential force: {t_with}");
     assert_eq!(t_without, 0.0);
     // The shear step ran with μ = 0.3: something sticks or slips with |T| = μP.
-    let f = without.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = without.contact().unwrap().friction.as_ref().unwrap();
     assert_eq!(f.coefficient, 0.3);
     assert!(f.step.tangential.iter().any(|t| t.abs() > 1e-3 * p_max));
     // μ from the step equals μ from [contact].
     let stepped_mu = press_then_shear(2, 2, 0.004)
         .replace("increments = 2\n", "increments = 2\nfriction = 0.3\n");
     let a = run(0.0, &stepped_mu);
-    let (fa, fb) = (a.contact.as_ref().unwrap(), with.contact.as_ref().unwrap());
+    let (fa, fb) = (a.contact().unwrap(), with.contact().unwrap());
     assert_eq!(fa.lcp.z, fb.lcp.z);
     assert_eq!(
         fa.friction.as_ref().unwrap().step.tangential,
@@ -462,7 +462,7 @@ fn press_then_shear_meets_every_condition_at_every_increment() {
     let s = solve(&stepped_block(0.3, &press_then_shear(4, 8, 0.004))).unwrap();
     check_frictional(&s, "press then shear");
     let t = check_increments(&s, "press then shear");
-    let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+    let f = s.contact().unwrap().friction.as_ref().unwrap();
     assert_eq!(f.increments.len(), 12);
     // The shear builds up monotonically (T opposes the shift, so ΣT decreases).
     assert!(t[4..].windows(2).all(|w| w[1] < w[0]), "{t:?}");
@@ -503,7 +503,7 @@ fn the_path_matters_only_when_something_slips() {
             .map(|(case, steps)| {
                 let s = solve(&stepped_block(mu, steps)).unwrap();
                 check_increments(&s, &format!("μ = {mu}, {case}"));
-                let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+                let f = s.contact().unwrap().friction.as_ref().unwrap();
                 (f.total_force, f.increments.iter().map(|r| r.slip).sum())
             })
             .collect()
@@ -609,7 +609,7 @@ fn two_blocks(method: &str, shift: f64, mu: f64) -> Problem {
 /// `normal_tolerance` of the largest (the blocks are mirror images about the interface, so the
 /// summed coupling `M_nt`, `M_tn` vanishes where the two bodies' operators are alike).
 pub(super) fn two_blocks_pressed_and_sheared_on(method: &str, normal_tolerance: f64) {
-    let p0 = solve(&two_blocks(method, 0.0, 0.0)).unwrap().contact.unwrap().lcp.z;
+    let p0 = solve(&two_blocks(method, 0.0, 0.0)).unwrap().contact().unwrap().lcp.z.clone();
     let p_max = p0.iter().fold(0.0f64, |m, p| m.max(p.abs()));
     for (shift, mu, kind) in
         [(0.009, 0.3, "partial slip"), (0.05, 0.2, "gross sliding"), (0.002, 1e3, "stick")]
@@ -618,7 +618,7 @@ pub(super) fn two_blocks_pressed_and_sheared_on(method: &str, normal_tolerance: 
         let s = solve(&two_blocks(method, shift, mu)).unwrap();
         check_frictional(&s, &case);
         let s2 = s.body(1).unwrap();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         let f = c.friction.as_ref().unwrap();
         // The contact forces on the two bodies balance: body 1 gets +ν P + t T, body 2 the
         // opposite (ν = (0, 1), t = (1, 0)).
@@ -755,7 +755,7 @@ pub(super) struct Contact {
 }
 
 pub(super) fn read_contact(s: &Solution) -> Contact {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let f = c.friction.as_ref().unwrap();
     // The target is the block's top, ν = (0, 1), so t = (1, 0): x is the coordinate along t.
     assert!((0..c.candidates.len()).all(|k| c.candidates.tangent(k) == [1.0, 0.0]));
@@ -890,7 +890,7 @@ fn cattaneo_mindlin_unloading() {
         let s = solve(&cattaneo_mindlin(h, mu, &cylinder_path(&[loaded, unloaded], 4))).unwrap();
         check_frictional(&s, "Cattaneo–Mindlin unloading");
         check_increments(&s, &format!("Cattaneo–Mindlin unloaded to {unloaded}"));
-        let f = s.contact.as_ref().unwrap().friction.as_ref().unwrap();
+        let f = s.contact().unwrap().friction.as_ref().unwrap();
         let k = read_contact(&s);
         // Q* is the last increment of the loading step.
         let q_star = -f.increments.iter().rfind(|r| r.step == 2).unwrap().tangential_force;
@@ -966,7 +966,7 @@ fn two_body_steps_move_either_body() {
     .unwrap();
     let ta = check_increments(&a, "two blocks, upper sheared");
     let tb = check_increments(&b, "two blocks, lower sheared");
-    let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
+    let (ca, cb) = (a.contact().unwrap(), b.contact().unwrap());
     let (fa, fb) = (ca.friction.as_ref().unwrap(), cb.friction.as_ref().unwrap());
     let scale = ca.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
     let worst = ca
@@ -1030,7 +1030,7 @@ fn explicit_zero_friction_is_frictionless() {
         let (a, b) = (Problem::from_toml(&text).unwrap(), Problem::from_toml(&zero).unwrap());
         assert_eq!(b.contact().unwrap().friction, 0.0);
         let (a, b) = (solve(&a).unwrap(), solve(&b).unwrap());
-        let (ca, cb) = (a.contact.as_ref().unwrap(), b.contact.as_ref().unwrap());
+        let (ca, cb) = (a.contact().unwrap(), b.contact().unwrap());
         assert!(ca.friction.is_none() && cb.friction.is_none(), "{name}");
         let worst = |x: &[f64], y: &[f64]| {
             let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -195,14 +195,14 @@ fn gmsh_obstacle_equals_its_polyline_twin() {
     let solve = |label: &str, text: &str| {
         let s = mlpg_contact::solve(&mlpg_contact::problem::Problem::from_toml(text).unwrap())
             .unwrap_or_else(|e| panic!("{label}: {e}"));
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         super::common::assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
         assert!(s.equilibrium_error < 1e-8, "{label}: equilibrium {}", s.equilibrium_error);
         s
     };
     let twin = solve("polyline", &toml);
     let mesh = solve("gmsh", &gmsh);
-    let (ct, cm) = (twin.contact.as_ref().unwrap(), mesh.contact.as_ref().unwrap());
+    let (ct, cm) = (twin.contact().unwrap(), mesh.contact().unwrap());
     assert_eq!(ct.closed, cm.closed, "the same candidates close");
     let closed = ct.closed.iter().filter(|&&c| c).count();
     assert!(closed >= 5, "{closed} closed candidates");
@@ -258,7 +258,7 @@ fn two_bodies_from_one_file() {
     );
     let problem = mlpg_contact::problem::Problem::from_toml(&text).unwrap();
     let s = mlpg_contact::solve(&problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     super::common::assert_lcp_residuals("two bodies from one file", &c.lcp.residuals, 1e-9);
     let (young, nu, delta) = (1000.0, 0.3, 0.01);
     let p = young * delta / 2.0;

@@ -62,7 +62,7 @@ fn a_graded_gmsh_half_disk_solves_with_the_default_discretisation() {
     assert!(warnings.contains("beta = \"auto\": at beta = 0"), "{warnings}");
     assert!(outcome.summary.checks.passed, "{:?}", outcome.summary.checks);
     let s = &outcome.solution;
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let balance = s.reaction_force[1] + c.total_force;
     assert!(balance.abs() < 1e-8 * c.total_force, "balance {balance}");
     let e_star = YOUNG / (1.0 - POISSON * POISSON);

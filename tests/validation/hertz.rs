@@ -178,7 +178,7 @@ fn run(h: f64, layout: Layout) -> Outcome {
 /// Solves a Hertz problem (rigid flat), checks its equilibrium and measures it.
 pub(super) fn run_problem(problem: Problem, label: &str) -> Outcome {
     let s = mlpg_contact::solve(&problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let balance = s.reaction_force[1] + c.total_force;
     assert!(balance.abs() < 1e-8 * c.total_force, "{label}: balance {balance}");
     let e_star = YOUNG / (1.0 - POISSON * POISSON);
@@ -195,7 +195,7 @@ pub(super) fn measure(
     radius: f64,
     load: f64,
 ) -> Outcome {
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
     assert!(
         c.condensed.as_ref().unwrap().min_diagonal > 0.0
@@ -359,7 +359,7 @@ fn hertz_two_elastic_bodies() {
         let s = mlpg_contact::solve(&cylinder_on_block(h)).unwrap();
         let s2 = s.body(1).unwrap();
         assert!(s2.equilibrium_error < 1e-8, "block equilibrium {}", s2.equilibrium_error);
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         assert!((s.contact_force[1] + s2.contact_force[1]).abs() < 1e-12 * c.total_force);
         let load = 2.0 * c.total_force;
         out.push(measure(&format!("two bodies, h = {h}"), &s, e_star, RADIUS, load));

@@ -97,7 +97,7 @@ fn cylinders(h: f64) -> Problem {
 #[test]
 fn two_elastic_cylinders_against_hertz() {
     let s = mlpg_contact::solve(&cylinders(0.005)).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert_lcp_residuals("cylinders", &c.lcp.residuals, 1e-9);
     let lower = s.body(1).expect("the lower cylinder");
     assert!(s.equilibrium_error < 1e-8, "upper equilibrium {}", s.equilibrium_error);

@@ -43,7 +43,7 @@ fn with_solver(mut problem: Problem, solver: ContactSolver) -> Problem {
 /// Lemke's unconstrained answer and a pivot limit of half its pivots.
 fn reference(problem: &Problem) -> (Solution, LemkeParams) {
     let s = mlpg_contact::solve(&with_solver(problem.clone(), ContactSolver::Lemke)).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert!(c.active_set.is_none() && c.condensed.is_some(), "not the Lemke path");
     assert!(c.lcp.pivots >= 4, "too few pivots to cut: {}", c.lcp.pivots);
     let limit = c.lcp.pivots / 2;
@@ -54,7 +54,7 @@ fn reference(problem: &Problem) -> (Solution, LemkeParams) {
 fn check_refusal(name: &str, err: &Error, reference: &Solution, limit: usize) {
     let Error::LemkeRefused(r) = err else { panic!("{name}: not a Lemke refusal: {err}") };
     let r: &LemkeRefusal = r;
-    let c = reference.contact.as_ref().unwrap();
+    let c = reference.contact().unwrap();
     let m = c.condensed.as_ref().unwrap();
     assert!(matches!(r.cause, LcpError::PivotLimit { limit: l } if l == limit), "{name}");
     assert_eq!((r.pivots, r.candidates, r.residual), (limit, c.candidates.len(), None), "{name}");
@@ -97,14 +97,14 @@ fn auto_falls_back_to_the_active_set_when_lemke_fails() {
         let (reference, params) = reference(&problem);
         let limit = params.max_pivots.unwrap();
         let s = mlpg_contact::solve_with_lemke(&problem, &params).unwrap();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         assert!(c.candidates.len() < ContactSolver::AUTO_THRESHOLD, "{file}: Lemke is not first");
         assert!(c.active_set.is_some() && c.condensed.is_none(), "{file}: no fallback");
         let why = c.fallback_from.as_deref().expect("the fallback is recorded");
         assert!(why.contains(&format!("after {limit} pivots")), "{file}: {why}");
         assert!(why.contains("eigenvalues of its symmetric part"), "{file}: {why}");
         check_own(file, &s);
-        let b = reference.contact.as_ref().unwrap();
+        let b = reference.contact().unwrap();
         assert!(b.fallback_from.is_none(), "{file}: the unconstrained run fell back");
         let p_max = max_abs(&b.lcp.z);
         let force = c.lcp.z.iter().zip(&b.lcp.z).fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));
@@ -174,7 +174,7 @@ fn long_strip_below_the_threshold_falls_back() {
     let ratio = check_inaccurate("strip 249 × 1", &err);
     assert!(ratio < 1e-6, "not an ill-conditioned M: ratio {ratio:e}");
     let auto = mlpg_contact::solve(&problem).unwrap();
-    let c = auto.contact.as_ref().unwrap();
+    let c = auto.contact().unwrap();
     assert!(c.candidates.len() < ContactSolver::AUTO_THRESHOLD);
     assert!(c.active_set.is_some(), "auto did not fall back");
     let why = c.fallback_from.as_deref().unwrap();
@@ -183,7 +183,7 @@ fn long_strip_below_the_threshold_falls_back() {
     let closed = c.closed.iter().filter(|&&v| v).count();
     assert!(closed > 0 && closed < c.closed.len(), "a partial contact zone: {closed}");
     let direct = mlpg_contact::solve(&with_solver(problem, ContactSolver::ActiveSet)).unwrap();
-    assert_eq!(c.lcp.z, direct.contact.as_ref().unwrap().lcp.z);
+    assert_eq!(c.lcp.z, direct.contact().unwrap().lcp.z);
 }
 
 /// The 4 000-candidate strip 200 × 1 at spacing 0.05 (84 021 nodes): `"lemke"` refuses
@@ -197,7 +197,7 @@ fn strip_of_4000_candidates() {
     let err = mlpg_contact::solve(&with_solver(problem.clone(), ContactSolver::Lemke)).unwrap_err();
     check_inaccurate("strip 200 × 1", &err);
     let s = mlpg_contact::solve(&problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     assert!(c.candidates.len() >= 4000, "{} candidates", c.candidates.len());
     assert!(c.active_set.is_some() && c.fallback_from.is_none());
     check_own("strip 200 × 1", &s);
@@ -260,14 +260,14 @@ fn the_load_path_falls_back_from_lemke_to_the_active_set_with_auto() {
         assert!(r.active_set_applies && r.active_set_failure.is_none(), "{file}");
         let auto = with_solver(problem.clone(), ContactSolver::Auto);
         let s = mlpg_contact::solve_with_lemke(&auto, &params).unwrap();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         assert!(c.active_set.is_some() && c.condensed.is_none(), "{file}: no fallback");
         let why = c.fallback_from.as_deref().expect("the fallback is recorded");
         assert!(why.starts_with("load step 1, increment 1 of 2: Lemke's method"), "{why}");
         assert!(why.contains("after 1 pivots"), "{file}: {why}");
         let direct = with_solver(problem, ContactSolver::ActiveSet);
         let direct = mlpg_contact::solve(&direct).unwrap();
-        let d = direct.contact.as_ref().unwrap();
+        let d = direct.contact().unwrap();
         assert!(d.fallback_from.is_none(), "{file}");
         let p_max = max_abs(&d.lcp.z);
         let force = c.lcp.z.iter().zip(&d.lcp.z).fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()));

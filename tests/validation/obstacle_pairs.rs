@@ -69,7 +69,7 @@ fn solve(keys: &str, step: &str) -> Solution {
 
 /// Both pairs' normal and tangential forces, candidate by candidate.
 fn forces(s: &Solution) -> (Vec<f64>, Vec<f64>) {
-    let ms = s.multibody.as_deref().unwrap();
+    let ms = s.multibody().unwrap();
     let normal = ms.pairs.iter().flat_map(|c| c.lcp.z.iter().copied()).collect();
     let tangential = ms
         .pairs
@@ -82,7 +82,7 @@ fn forces(s: &Solution) -> (Vec<f64>, Vec<f64>) {
 }
 
 fn totals(s: &Solution) -> Vec<f64> {
-    s.multibody.as_deref().unwrap().pairs.iter().map(|c| c.total_force).collect()
+    s.multibody().unwrap().pairs.iter().map(|c| c.total_force).collect()
 }
 
 fn assert_totals(label: &str, s: &Solution, exact: f64) {
@@ -93,8 +93,8 @@ fn assert_totals(label: &str, s: &Solution, exact: f64) {
 
 /// `|T| ≤ μP`, `P ≥ 0` and each body's equilibrium.
 fn assert_checks(label: &str, s: &Solution, mu: f64) {
-    let ms = s.multibody.as_deref().unwrap();
-    for c in &ms.pairs {
+    let ms = s.multibody().unwrap();
+    for c in ms.pairs {
         let scale = c.lcp.z.iter().fold(0.0f64, |m, p| m.max(p.abs()));
         let t = c.friction.as_ref().map_or(vec![0.0; c.lcp.z.len()], |f| f.step.tangential.clone());
         for (p, t) in c.lcp.z.iter().zip(&t) {
@@ -143,12 +143,12 @@ fn a_flat_pressed_by_a_force_moves_as_far_as_the_motion_that_carries_it() {
     let active = solve(&keys("active_set"), "obstacle_force = [0.0, 20.0]");
     assert_totals("pressed, active set", &active, 20.0);
     assert_same("pressed", &pressed, &active);
-    let found = pressed.multibody.as_deref().unwrap().pairs[0].load_driven.clone().unwrap();
+    let found = pressed.multibody().unwrap().pairs[0].load_driven.clone().unwrap();
     let d = found.displacement;
     let moved = solve(&keys("lemke"), &format!("obstacle_displacement = [{:?}, {:?}]", d[0], d[1]));
     println!("pressed by 20: displaced by {d:?}; moved as far: {:?}", totals(&moved));
     assert_totals("moved as far", &moved, 20.0);
-    assert!(moved.multibody.as_deref().unwrap().pairs[0].load_driven.is_none());
+    assert!(moved.multibody().unwrap().pairs[0].load_driven.is_none());
 }
 
 #[test]
@@ -160,7 +160,7 @@ fn a_slanted_motion_with_friction_is_the_same_on_both_solvers() {
     assert_checks("slanted, active set", &active, 0.3);
     assert_same("slanted", &lemke, &active);
     // The flat's tangential motion drags the lower block: tangential forces on its pair.
-    let t = lemke.multibody.as_deref().unwrap().pairs[0].friction.as_ref().unwrap().total_force;
+    let t = lemke.multibody().unwrap().pairs[0].friction.as_ref().unwrap().total_force;
     println!("slanted motion: normal {:?}, tangential {t}", totals(&lemke));
     assert!(t.abs() > 1e-2, "tangential force {t}");
 }

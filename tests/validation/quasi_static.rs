@@ -81,7 +81,7 @@ struct Limit {
 fn limit(ramp: f64, h: f64, theta: f64, gap: f64, spacing: f64) -> Limit {
     let static_problem = Problem::try_from(shipped_with_gap(gap, spacing)).expect("valid");
     let reference = mlpg_contact::solve(&static_problem).expect("the static solve");
-    let contact = reference.contact.as_ref().expect("contact");
+    let contact = reference.contact().expect("contact");
     let problem = dynamic_beam(ramp, ramp, h, theta, gap, spacing);
     let outcome = solve(&problem, &mut Silent).expect("dynamic run");
     let sim = &outcome.simulation;

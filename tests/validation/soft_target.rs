@@ -60,7 +60,7 @@ fn a_soft_target_solves_with_the_default_discretisation() {
     let warnings = summary.warnings.join("\n");
     assert!(warnings.contains("beta = \"auto\": at beta = 0"), "{warnings}");
     assert!(warnings.contains("negative only in contact-force patterns"), "{warnings}");
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let m = c.condensed.as_ref().unwrap();
     // The case this test is about: M indefinite, yet accepted.
     assert!(m.min_diagonal > 0.0 && m.min_symmetric_eigenvalue < 0.0, "{m:?}");
@@ -101,7 +101,7 @@ fn soft_target_fe_reference_ladder() {
         p2.node_spacing = h;
         p2.discretisation.method = Method::Fem;
         let s = mlpg_contact::solve(&p).unwrap();
-        let c = s.contact.as_ref().unwrap();
+        let c = s.contact().unwrap();
         assert!(c.lcp.residuals.max_violation() < TOL);
         last = (c.total_force, c.onset.from_gap.unwrap());
         println!(

@@ -73,13 +73,13 @@ fn three_block_stack_is_uniaxial_to_round_off() {
     assert_eq!(several.bodies.len(), 2);
     assert_eq!(several.pairs.len(), 2);
     let s = mlpg_contact::solve(&problem).unwrap();
-    let ms = s.multibody.as_deref().unwrap();
+    let ms = s.multibody().unwrap();
     let p = exact_pressure();
     assert!((p - 15.0 / 7.0).abs() < 1e-14);
 
     // One LCP over both pairs: complementarity, every candidate closed, pressures uniform.
-    assert_lcp_residuals("stack", &ms.lcp.residuals, 1e-10);
-    assert_eq!(ms.lcp.z.len(), ms.pairs.iter().map(|c| c.candidates.len()).sum::<usize>());
+    assert_lcp_residuals("stack", &ms.contact.lcp.residuals, 1e-10);
+    assert_eq!(ms.contact.lcp.z.len(), ms.pairs.iter().map(|c| c.candidates.len()).sum::<usize>());
     for (k, c) in ms.pairs.iter().enumerate() {
         let worst = c.pressure.iter().map(|v| (v / p - 1.0).abs()).fold(0.0, f64::max);
         println!(
@@ -162,7 +162,7 @@ fn three_block_stack_is_uniaxial_to_round_off() {
     println!("middle block: pin reaction {pin_reaction:.2e} (contact force {force})");
     assert!(pin_reaction.abs() < 1e-8 * force, "pin reaction {pin_reaction:.3e}");
     assert!(middle.reactions.iter().all(|r| r.2.abs() < 1e-8 * force), "middle reactions");
-    let (held, mode) = ms.held.first().expect("the middle block is held by contact");
+    let (held, mode) = ms.contact.held.first().expect("the middle block is held by contact");
     assert_eq!((*held, mode.mode), (1, "translation in y"));
     let x_pin = models[1].nodes.points[pin.node as usize];
     assert_eq!(mode.pin_point, x_pin);
@@ -182,19 +182,19 @@ fn three_block_stack_is_uniaxial_to_round_off() {
 fn three_block_stack_is_identical_on_one_and_two_threads() {
     let problem = stack();
     let (a, b) = (solve_on(1, &problem), solve_on(2, &problem));
-    let (ma, mb) = (a.multibody.as_deref().unwrap(), b.multibody.as_deref().unwrap());
-    assert_eq!(ma.lcp.z, mb.lcp.z);
+    let (ma, mb) = (a.multibody().unwrap(), b.multibody().unwrap());
+    assert_eq!(ma.contact.lcp.z, mb.contact.lcp.z);
     assert_eq!(
-        ma.condensed.as_ref().unwrap().compliance,
-        mb.condensed.as_ref().unwrap().compliance
+        ma.contact.condensed.as_ref().unwrap().compliance,
+        mb.contact.condensed.as_ref().unwrap().compliance
     );
-    let bodies = |s: &Solution, m: &mlpg_contact::solution::MultibodySolution| {
+    let bodies = |s: &Solution, m: mlpg_contact::solution::MultibodySolution| {
         std::iter::once(s.displacement.clone())
             .chain(m.bodies.iter().map(|b| b.displacement.clone()))
             .collect::<Vec<_>>()
     };
     assert_eq!(bodies(&a, ma), bodies(&b, mb));
-    assert_eq!(ma.held, mb.held, "the middle block's translation");
+    assert_eq!(ma.contact.held, mb.contact.held, "the middle block's translation");
 }
 
 /// Two blocks pressed together (`problems/two_blocks.toml`, identical blocks, non-matching
@@ -226,9 +226,9 @@ fn reversed_pair_reproduces_the_two_blocks() {
         let (p_usual, s_usual) = with(&usual);
         let (p_rev, s_rev) = with(&reversed);
         assert!(p_usual.multibody().is_none() && p_rev.multibody().is_some());
-        let ms = s_rev.multibody.as_deref().unwrap();
+        let ms = s_rev.multibody().unwrap();
         let c = &ms.pairs[0];
-        assert_lcp_residuals(method, &ms.lcp.residuals, 1e-10);
+        assert_lcp_residuals(method, &ms.contact.lcp.residuals, 1e-10);
         let worst = c.pressure.iter().map(|v| (v / 5.0 - 1.0).abs()).fold(0.0, f64::max);
         println!("{method}: reversed pair, max |p/5 − 1| = {worst:.2e}, total {}", c.total_force);
         assert!(worst < 1e-8 && (c.total_force / 10.0 - 1.0).abs() < 1e-8);
@@ -265,9 +265,9 @@ fn block_between_floor_and_wall_is_exact() {
     let problem = Problem::from_toml(&text).unwrap();
     let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
     let s = mlpg_contact::solve(&problem).unwrap();
-    let ms = s.multibody.as_deref().unwrap();
+    let ms = s.multibody().unwrap();
     assert!(ms.bodies.is_empty());
-    assert_lcp_residuals("walls", &ms.lcp.residuals, 1e-10);
+    assert_lcp_residuals("walls", &ms.contact.lcp.residuals, 1e-10);
     let floor = 1000.0 * DELTA / (1.0 - POISSON * POISSON);
     for (k, (c, exact)) in
         [(&ms.pairs[0], floor), (&ms.pairs[1], POISSON * floor)].into_iter().enumerate()
@@ -319,8 +319,8 @@ fn block_pressed_between_floor_and_wall_is_held_by_them() {
     let model = mlpg_contact::discretise(&problem, &mut mlpg_contact::Silent).unwrap();
     let pin = model.system.pinned.expect("y is left to the contacts");
     let s = mlpg_contact::solve(&problem).unwrap();
-    let ms = s.multibody.as_deref().unwrap();
-    assert_lcp_residuals("walls pressed", &ms.lcp.residuals, 1e-10);
+    let ms = s.multibody().unwrap();
+    assert_lcp_residuals("walls pressed", &ms.contact.lcp.residuals, 1e-10);
     for (k, (c, exact)) in [(&ms.pairs[0], q), (&ms.pairs[1], POISSON * q)].into_iter().enumerate()
     {
         let worst = c.pressure.iter().map(|v| (v / exact - 1.0).abs()).fold(0.0, f64::max);
@@ -335,7 +335,7 @@ fn block_pressed_between_floor_and_wall_is_held_by_them() {
         .zip(&s.displacement)
         .map(|(x, u)| u[0].abs().max((u[1] + strain * x[1]).abs()))
         .fold(0.0, f64::max);
-    let (held, mode) = ms.held.first().expect("held by the contacts");
+    let (held, mode) = ms.contact.held.first().expect("held by the contacts");
     let x_pin = model.nodes.points[pin.node as usize];
     let pin_reaction =
         s.reactions.iter().find(|r| r.0 == pin.node && r.1 == pin.axis).expect("pin").2;
@@ -427,8 +427,8 @@ fn several_pairs_on_the_active_set_equal_lemke() {
         };
         let (lemke, active) = (solve("lemke"), solve("active_set"));
         let (force, gap, t) = compare_multibody(name, &lemke, &active);
-        let ms = active.multibody.as_deref().unwrap();
-        let record = ms.active_set.as_ref().unwrap();
+        let ms = active.multibody().unwrap();
+        let record = ms.contact.active_set.as_ref().unwrap();
         println!(
             "{name}: forces {force:.1e}, gaps {gap:.1e}, translation {t:.1e}; {} linear solves, {} factorisations, {} update columns",
             record.iterations, record.work.factorisations, record.work.update_columns
@@ -440,7 +440,7 @@ fn several_pairs_on_the_active_set_equal_lemke() {
                 let worst = c.pressure.iter().map(|v| (v / p - 1.0).abs()).fold(0.0, f64::max);
                 assert!(worst < 1e-8, "pair {k}: max |p/p_exact − 1| = {worst:.3e}");
             }
-            let (held, mode) = ms.held.first().expect("the middle block is held");
+            let (held, mode) = ms.contact.held.first().expect("the middle block is held");
             assert_eq!(*held, 1);
             let exact_t = exact(1, mode.pin_point)[1];
             assert!((mode.translation[1] - exact_t).abs() < 1e-8 * DELTA, "{mode:?}");

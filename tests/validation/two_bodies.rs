@@ -64,7 +64,7 @@ pub fn two_blocks(h_upper: f64, h_lower: f64) -> Problem {
 
 fn pressures(problem: &Problem) -> (Vec<f64>, f64, f64) {
     let s = mlpg_contact::solve(problem).unwrap();
-    let c = s.contact.as_ref().unwrap();
+    let c = s.contact().unwrap();
     let r = &c.lcp.residuals;
     assert!(r.max_violation() < 1e-9, "KKT residuals {r:?}");
     assert!(s.equilibrium_error < 1e-9, "body 1 equilibrium {}", s.equilibrium_error);
@@ -174,7 +174,7 @@ fn mirror_image_equals_rigid_line() {
     let (rigid, pair) = mirror_problems();
     let a = mlpg_contact::solve(&rigid).unwrap();
     let b = mlpg_contact::solve(&pair).unwrap();
-    let (ca, cb) = (a.contact.unwrap(), b.contact.unwrap());
+    let (ca, cb) = (a.contact().unwrap(), b.contact().unwrap());
     assert_eq!(ca.lcp.z.len(), cb.lcp.z.len());
     let scale = ca.lcp.z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let worst = ca.lcp.z.iter().zip(&cb.lcp.z).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
@@ -244,7 +244,7 @@ fn adaptive_gradings(layout: Layout) -> (Refinement, Refinement) {
         &adaptive,
         &mut mlpg_contact::Silent,
         &mut |_, _, s, _| {
-            let c = s.contact.as_ref().unwrap();
+            let c = s.contact().unwrap();
             assert!(c.closed.iter().any(|&b| b) && c.closed.iter().any(|&b| !b), "partial contact");
         },
     )

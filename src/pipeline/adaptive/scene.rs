@@ -83,12 +83,12 @@ impl Solved {
             ContactTarget::Body { edge } => Some(edge),
             _ => None,
         };
-        if let (Some(several), Some(solved)) = (self.problem.multibody(), &self.solution.multibody)
+        if let (Some(several), Some(solved)) = (self.problem.multibody(), self.solution.multibody())
         {
             return several
                 .pairs
                 .iter()
-                .zip(&solved.pairs)
+                .zip(solved.pairs)
                 .map(|(pair, contact)| PairView {
                     body: pair.body,
                     target: pair.target_body.zip(body_edge(pair.spec.target)),
@@ -96,7 +96,7 @@ impl Solved {
                 })
                 .collect();
         }
-        let (Some(spec), Some(contact)) = (self.problem.contact(), &self.solution.contact) else {
+        let (Some(spec), Some(contact)) = (self.problem.contact(), self.solution.contact()) else {
             return Vec::new();
         };
         let target = body_edge(spec.target).filter(|_| self.problem.second_body().is_some());
