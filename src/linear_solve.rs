@@ -156,6 +156,11 @@ pub struct FactorOptions {
     /// (`bound_flops`) is below 0.8 times the earlier one's. Default `[2, ∞]`: nested
     /// dissection, or a banded order of the whole domain (thin beams and strips).
     pub thin_boxes: Vec<f64>,
+    /// [`FactorMethod::StaticPivoting`] with node coordinates: also build the approximate
+    /// minimum degree order of the node graph (faer's AMD) as the last candidate, kept under
+    /// the same rule (its fill bound below 0.8 times the kept one's). Default `false`; the
+    /// graded node sets of the adaptive loop take it (docs/dev/time_to_accuracy.md).
+    pub amd: bool,
 }
 
 impl FactorOptions {
@@ -185,6 +190,7 @@ impl Default for FactorOptions {
             leaf_nodes: 64,
             separator_scale: 1.0,
             thin_boxes: vec![2.0, f64::INFINITY],
+            amd: false,
         }
     }
 }
@@ -561,6 +567,12 @@ impl Plan {
             // Fill of the Cholesky factor of `P(K + Kᵀ)Pᵀ`.
             let graph = symmetric::NodeGraph::new(&pruned);
             let mut best: Option<(Vec<usize>, usize, f64)> = None;
+            let mut candidates = candidates;
+            if options.amd && matches!(ordering, ColumnOrdering::NestedDissection(_)) {
+                if let Some(g) = &graph {
+                    candidates.push(g.amd_order()?);
+                }
+            }
             for perm in candidates {
                 let (nnz, flops) = symmetric::symmetric_fill(&pruned, graph.as_ref(), &perm)?;
                 if best.as_ref().is_none_or(|b| flops < PREFER_FIRST * b.2) {
@@ -1014,6 +1026,34 @@ mod tests {
             assert!(r < 1e-14, "tasks {tasks}, block: residual {r:e}");
         }
         assert_eq!(hashes[0], hashes[1]);
+    }
+
+    #[test]
+    fn the_minimum_degree_candidate_keeps_node_dofs_together_and_solves() {
+        // Alone (no geometric candidate) and as a third candidate: a permutation that keeps
+        // each node's DOFs adjacent (so the analysis runs on the node graph), kept only when
+        // its bound is lower, solving to round-off.
+        let (m, points) = grid(30);
+        let b: Vec<f64> = (0..m.n).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
+        let graph = symmetric::NodeGraph::new(&m).unwrap();
+        let order = graph.amd_order().unwrap();
+        assert!(is_permutation(&order, m.n));
+        assert!(order.chunks(2).all(|p| p[0] % 2 == 0 && p[1] == p[0] + 1));
+        let nd = FactorOptions::nested_dissection_static();
+        let alone = FactorOptions { thin_boxes: Vec::new(), amd: true, ..static_options() };
+        let third = FactorOptions { amd: true, ..nd.clone() };
+        let mut flops = Vec::new();
+        for options in [&nd, &alone, &third] {
+            let ordering = ColumnOrdering::NestedDissection(&points);
+            let f = Factorisation::with_options(&m, ordering, options).unwrap();
+            let x = f.solve(&b).unwrap();
+            let r = residual(&m, &x, &b);
+            assert!(r < 1e-14, "amd {}: residual {r:e}", options.amd);
+            flops.push(f.stats().bound_flops);
+        }
+        let (nd, alone, third) = (flops[0], flops[1], flops[2]);
+        assert!(alone > 0.0);
+        assert!(third == nd || (third == alone && alone < PREFER_FIRST * nd), "{flops:?}");
     }
 
     #[test]

@@ -11,14 +11,16 @@
 //! this many separator widths are not cut; a comma list builds one ordering per value and
 //! keeps the least fill), `method=static|partial|auto` (`static`: the static-pivoting LU with the structure of
 //! `K + Kᵀ`; its bound is then that of the Cholesky factor of `P(K + Kᵀ)Pᵀ`), `pivot=1.5e-8`
-//! (its pivot tolerance), `precision=double|mixed` (its factors' precision), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
+//! (its pivot tolerance), `precision=double|mixed` (its factors' precision), `amd=1` (the approximate minimum degree order of the node graph as a further candidate), `analyse=1` (ordering and fill bound only, no factorisation). Default variants: `nd` and
 //! `colamd`. Each variant prints its stage times, nonzeros, supernodes, the relative residual
 //! of one solve against the full `K`, the solve time and a hash of the solution (equal hashes
 //! = bit-identical solutions). The last line is the peak resident memory of the process
 //! (`VmHWM`): run one variant per process to measure its memory. `--beta 1` and
 //! `--support-factor 1.5` override the problem's `discretisation.beta` and
 //! `discretisation.support_factor`; `--graded` keeps the file's refinement regions (its
-//! graded node set, e.g. `problems/beam_on_foundation_refined.toml 0.25 --graded`).
+//! graded node set, e.g. `problems/beam_on_foundation_refined.toml 0.25 --graded`); `--adaptive`
+//! runs the file's adaptive loop first and takes its final node set (e.g.
+//! `benches/peer/beam_goals.toml 0.5 --adaptive`).
 
 mod args;
 
@@ -52,6 +54,10 @@ struct Cli {
     /// Use the file's graded node set (`nodes::for_problem`: its `[[nodes.refine]]` regions)
     #[arg(long)]
     graded: bool,
+    /// Run the file's adaptive loop (`[refinement]`) and take its final node set (its
+    /// refinement regions; implies `--graded`)
+    #[arg(long)]
+    adaptive: bool,
     /// `nd` or `colamd`, each followed by optional `:key=value` settings (see the file header)
     #[arg(default_values = ["nd", "colamd"])]
     variants: Vec<String>,
@@ -73,7 +79,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let t = Instant::now();
     let disc = &problem.discretisation;
-    let nodes = if cli.graded {
+    if cli.adaptive {
+        let a = problem.adaptive.ok_or("--adaptive needs a [refinement] table")?;
+        let mut silent = mlpg_contact::Silent;
+        let run = mlpg_contact::pipeline::adaptive::solve_adaptive(
+            &problem,
+            &a,
+            &mut silent,
+            &mut |_, _, _, _| {},
+        )?;
+        problem.refinement = run.problem.refinement.clone();
+    }
+    let nodes = if cli.graded || cli.adaptive {
         nodes::for_problem(&problem)?
     } else {
         nodes::generate(&problem.domain, problem.node_spacing, problem.layout)?
@@ -129,6 +146,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     opt.thin_boxes = value.split(',').map(str::parse).collect::<Result<_, _>>()?;
                 }
                 "analyse" => analyse_only = value == "1",
+                "amd" => opt.amd = value == "1",
                 "method" => {
                     opt.method = match value {
                         "static" => FactorMethod::StaticPivoting,

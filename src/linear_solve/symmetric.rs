@@ -8,8 +8,10 @@
 //!   all rows (displacement rows and traction rows differ by ~10⁷ in `K`).
 //! - **Ordering.** Nested dissection of the nodes with separators as wide as `K`'s own reach
 //!   (half of [`super::separator_width`], which is sized for `KᵀK`), or a banded order when
-//!   its fill is clearly lower; the orders are compared by the flops of the Cholesky factor
-//!   of `P(K + Kᵀ)Pᵀ` (faer's column counts), the static structure used here.
+//!   its fill is clearly lower, and on request ([`super::FactorOptions::amd`], the adaptive
+//!   loop's graded sets) the approximate minimum degree order of the node graph; the orders
+//!   are compared by the flops of the Cholesky factor of `P(K + Kᵀ)Pᵀ` (faer's column
+//!   counts), the static structure used here.
 //! - **Symbolic.** faer's supernodal Cholesky analysis of `P(Â + Âᵀ)Pᵀ` (postordered
 //!   elimination tree, relaxed supernodes). `L` and `Uᵀ` have this structure. When the order
 //!   keeps each node's two DOFs together (nested dissection does), the analysis runs on the
@@ -50,8 +52,8 @@ use faer::linalg::triangular_solve::{
 };
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::SymbolicSparseColMatRef;
-use faer::sparse::linalg::SymbolicSupernodalParams;
 use faer::sparse::linalg::cholesky::{simplicial, supernodal};
+use faer::sparse::linalg::{SymbolicSupernodalParams, amd};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
@@ -238,6 +240,24 @@ impl NodeGraph {
             ptr.push(adj.len());
         }
         Some(Self { ptr, adj })
+    }
+
+    /// The approximate-minimum-degree order of the node graph (faer's AMD on the pattern of
+    /// `A + Aᵀ` at node level), expanded to DOFs (node `i` gives `2i`, `2i + 1`, adjacent).
+    pub(super) fn amd_order(&self) -> Result<Vec<usize>, SolveError> {
+        let nn = self.ptr.len() - 1;
+        let a = SymbolicSparseColMatRef::new_unsorted_checked(nn, nn, &self.ptr, None, &self.adj);
+        let (mut perm, mut inv) = (vec![0usize; nn], vec![0usize; nn]);
+        let mut buf = buffer(amd::order_maybe_unsorted_scratch::<usize>(nn, self.adj.len()))?;
+        amd::order_maybe_unsorted(
+            &mut perm,
+            &mut inv,
+            a,
+            amd::Control::default(),
+            MemStack::new(&mut buf),
+        )
+        .map_err(backend)?;
+        Ok(perm.iter().flat_map(|&i| [2 * i, 2 * i + 1]).collect())
     }
 
     /// Upper-triangular pattern (diagonal included, columns sorted) of the graph permuted
