@@ -15,6 +15,8 @@
 //! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
 //! - `iteration` (private): `M̂` and the free velocity;
 //! - [`Impacts`]: `W`, the index set and each step's LCP, over the bodies' [`Term`]s;
+//! - `sparse` (private): the step's contact on the sparse system without `W`
+//!   (`contact.solver = "active_set"`);
 //! - `stepping` (private): the step loop of one body and of bodies in contact;
 //! - [`energy`]: kinetic and strain energies, momentum;
 //! - [`history`]: one record per step and the run's figures.
@@ -25,6 +27,7 @@ mod impacts;
 mod iteration;
 pub mod mass;
 mod pair;
+mod sparse;
 mod stepping;
 
 pub use history::{Figures, History, PairFigures, Record};
@@ -38,6 +41,7 @@ use crate::assembly::{BlockRows, GlobalSystem};
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
 use crate::lcp::LcpError;
+use crate::lcp::active_set::ActiveSetError;
 use crate::linear_solve::SolveError;
 use crate::material::Constitutive;
 use crate::mls::ShapeSet;
@@ -59,6 +63,15 @@ pub enum DynamicsError {
         step: usize,
         /// Lemke's error.
         source: LcpError,
+    },
+    /// A step's contact on the sparse system failed (`contact.solver = "active_set"`; step 0:
+    /// the system could not be built).
+    #[error("time step {step}: the active-set contact step failed ({source})")]
+    ActiveSet {
+        /// The step.
+        step: usize,
+        /// The active-set method's error.
+        source: ActiveSetError,
     },
 }
 
