@@ -122,9 +122,22 @@ impl<'a> Impacts<'a> {
     /// The candidates of the `normal` terms without `W` (no solve with `M̂`): the index set,
     /// the gaps, their rates and the impulses' work, for a step solved on the sparse system
     /// (`super::sparse`); [`Self::impulses`] and [`Self::apply`] are not available.
-    pub(super) fn uncondensed(normal: &[Term<'a>], initial_gap: Vec<f64>) -> Self {
-        let normal = normal.iter().map(|&term| Condensed { term, columns: Vec::new() }).collect();
-        Self { initial_gap, normal, compliance: Vec::new(), friction: None }
+    pub(super) fn uncondensed(
+        normal: &[Term<'a>],
+        initial_gap: Vec<f64>,
+        friction: Option<Friction<'a>>,
+    ) -> Self {
+        let bare = |terms: &[Term<'a>]| -> Vec<Condensed<'a>> {
+            terms.iter().map(|&term| Condensed { term, columns: Vec::new() }).collect()
+        };
+        let friction = friction.map(|f| Tangential {
+            terms: bare(&f.terms),
+            coefficients: f.coefficients,
+            nt: Vec::new(),
+            tn: Vec::new(),
+            tt: Vec::new(),
+        });
+        Self { initial_gap, normal: bare(normal), compliance: Vec::new(), friction }
     }
 
     /// Number of candidates.

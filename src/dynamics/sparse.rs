@@ -25,18 +25,24 @@
 //! docs/dev/dynamics.md every contact step then settles in one solve.
 
 use super::impacts::StepImpulses;
-use super::{DynamicsError, Impacts, Iteration, Term};
+use super::{DynamicsError, Friction, Impacts, Iteration, Term};
 use crate::contact::BodyOperator;
-use crate::contact::sparse::{Bodies, BodyParts, PairParts};
+use crate::contact::sparse::{Bodies, BodyParts, PairParts, PairTangential};
 use crate::geometry::Point;
-use crate::lcp::Lcp;
-use crate::lcp::active_set::{ActiveSetError, ActiveSetParams, ActiveSetSystem, solve};
+use crate::lcp::active_set::{
+    ActiveSetError, ActiveSetParams, ActiveSetSystem, FreeResponse, FrictionSystem, StateResponse,
+    solve, solve_friction_step,
+};
+use crate::lcp::{ContactState, FrictionProblem, Lcp};
 
 /// The sparse system of the bodies' `M̂` and the contact pairs.
 pub(super) struct SparseStep<'a> {
     system: Bodies<'a>,
     /// Every candidate's `g0` held for [`Bodies::set_initial_gap`].
     gaps: Vec<f64>,
+    /// With friction: the tangential terms (the rates `U_t`) and each candidate's state at
+    /// the last step it was in the index set (the next step's start).
+    friction: Option<(Vec<Term<'a>>, Vec<ContactState>)>,
 }
 
 impl<'a> SparseStep<'a> {
@@ -54,6 +60,7 @@ impl<'a> SparseStep<'a> {
         zeros: &'a [Vec<f64>],
         normal: &[Term<'a>],
         candidates: usize,
+        friction: Option<&Friction<'a>>,
     ) -> Result<Self, DynamicsError> {
         let refused = |e| DynamicsError::ActiveSet { step: 0, source: e };
         let unsupported = || refused(ActiveSetError::Unsupported { candidate: 0 });
@@ -70,36 +77,32 @@ impl<'a> SparseStep<'a> {
                 points: Some(points),
             })
             .collect();
-        let mut pairs: Vec<PairParts<'a>> = Vec::new();
-        let mut next = 0;
-        let mut k = 0;
-        while k < normal.len() {
-            let term = normal[k];
-            if term.offset != next {
-                return Err(unsupported());
-            }
-            let target = match normal.get(k + 1) {
-                Some(t) if t.offset == term.offset => {
-                    k += 1;
-                    Some((t.body, t.operator))
-                }
-                _ => None,
-            };
-            pairs.push(PairParts {
+        let grouped = pairs_of(normal, candidates).ok_or_else(unsupported)?;
+        let pairs = grouped
+            .iter()
+            .map(|&(term, target)| PairParts {
                 body: term.body,
                 operator: term.operator,
-                target,
+                target: target.map(|t| (t.body, t.operator)),
                 scale: iterations[term.body].gap_row_scale(),
-            });
-            next += term.operator.len();
-            k += 1;
-        }
-        if next != candidates {
-            return Err(unsupported());
-        }
+            })
+            .collect();
         let gaps = vec![0.0; candidates];
-        let system = Bodies::new(bodies, pairs, &gaps).map_err(refused)?;
-        Ok(Self { system, gaps })
+        let mut system = Bodies::new(bodies, pairs, &gaps).map_err(refused)?;
+        let friction = match friction {
+            Some(f) => {
+                let tangential: Vec<PairTangential<'a>> = pairs_of(&f.terms, candidates)
+                    .filter(|t| t.len() == grouped.len())
+                    .ok_or_else(unsupported)?
+                    .into_iter()
+                    .map(|(t1, t2)| (t1.operator, t2.map(|t| t.operator)))
+                    .collect();
+                system.set_friction(&f.coefficients, tangential).map_err(refused)?;
+                Some((f.terms.clone(), vec![ContactState::Stick; candidates]))
+            }
+            None => None,
+        };
+        Ok(Self { system, gaps, friction })
     }
 
     /// The step on the index set `active` (not empty): each body's velocity `v_b⁺` and the
@@ -128,6 +131,9 @@ impl<'a> SparseStep<'a> {
         }
         self.system.set_initial_gap(&self.gaps);
         let m = self.gaps.len();
+        if let Some((terms, last)) = &mut self.friction {
+            return frictional(&mut self.system, terms, last, active, v, step);
+        }
         let mut on = OnSet { inner: &mut self.system, set: active, m };
         let answer = solve(&mut on, &ActiveSetParams::default()).map_err(failed)?;
         let closed = on.expand(&answer.active);
@@ -154,6 +160,75 @@ impl<'a> SparseStep<'a> {
     }
 }
 
+/// Each pair's terms, the candidate body's and the target's (same offset, next in `terms`),
+/// when the pairs follow each other from candidate 0 to `candidates`.
+fn pairs_of<'a>(
+    terms: &[Term<'a>],
+    candidates: usize,
+) -> Option<Vec<(Term<'a>, Option<Term<'a>>)>> {
+    let (mut pairs, mut next, mut k) = (Vec::new(), 0, 0);
+    while k < terms.len() {
+        let term = terms[k];
+        if term.offset != next {
+            return None;
+        }
+        let target = terms.get(k + 1).filter(|t| t.offset == term.offset).copied();
+        k += 1 + usize::from(target.is_some());
+        next += term.operator.len();
+        pairs.push((term, target));
+    }
+    (next == candidates).then_some(pairs)
+}
+
+/// The frictional step on the index set `active` (Moreau's law at the velocity level, as
+/// Lemke's `Impacts` step): the stick rows hold `G_t Δv = −U_t` (`U_t = Σ G_t,b v_b` at the
+/// step's start, so the slip increment `s − s_prev` is the end-of-step tangential velocity
+/// `U_t⁺`), started from each candidate's state at its last step in the set (stick when
+/// new); the gaps and loads are set by the caller.
+fn frictional(
+    system: &mut Bodies<'_>,
+    terms: &[Term<'_>],
+    last: &mut [ContactState],
+    active: &[usize],
+    v: &[&[f64]],
+    step: usize,
+) -> Result<(Vec<Vec<f64>>, StepImpulses), DynamicsError> {
+    let failed = |e| DynamicsError::ActiveSet { step, source: e };
+    let m = last.len();
+    let mut u_t = vec![0.0; m];
+    for t in terms {
+        let g = t.operator.gap_contribution(v[t.body]);
+        u_t[t.offset..].iter_mut().zip(g).for_each(|(u, g)| *u += g);
+    }
+    let previous: Vec<f64> = active.iter().map(|&c| -u_t[c]).collect();
+    let start: Vec<ContactState> = active.iter().map(|&c| last[c]).collect();
+    let mut on = OnSet { inner: system, set: active, m };
+    let answer = solve_friction_step(&mut on, &previous, Some(&start), &ActiveSetParams::default())
+        .map_err(failed)?;
+    let states = on.expand_states(&answer.states);
+    for (&c, &s) in active.iter().zip(&answer.states) {
+        last[c] = s;
+    }
+    let dv = system.final_body_friction_displacements(&states).map_err(failed)?;
+    let velocities =
+        v.iter().zip(dv).map(|(v, dv)| v.iter().zip(&dv).map(|(v, dv)| v + dv).collect()).collect();
+    let (mut impulses, mut tangential) = (vec![0.0; m], vec![0.0; m]);
+    for (k, &c) in active.iter().enumerate() {
+        impulses[c] = answer.step.normal[k];
+        tangential[c] = answer.step.tangential[k];
+    }
+    Ok((
+        velocities,
+        StepImpulses {
+            impulses,
+            tangential,
+            active: active.len(),
+            pivots: answer.step.iterations,
+            residual: answer.step.residuals.max(),
+        },
+    ))
+}
+
 /// The candidates `set` of a system of `m` as a problem of their own, the others held open.
 struct OnSet<'s, 'a> {
     inner: &'s mut Bodies<'a>,
@@ -174,6 +249,64 @@ impl OnSet<'_, '_> {
     fn restrict(&self, x: &[f64]) -> Vec<f64> {
         self.set.iter().map(|&c| x[c]).collect()
     }
+
+    /// `states` on the set as the states of all `m` candidates (open off the set).
+    fn expand_states(&self, states: &[ContactState]) -> Vec<ContactState> {
+        let mut all = vec![ContactState::Open; self.m];
+        for (&c, &s) in self.set.iter().zip(states) {
+            all[c] = s;
+        }
+        all
+    }
+
+    /// `x` on the set as values of all `m` candidates (0 off the set).
+    fn expand_values(&self, x: &[f64]) -> Vec<f64> {
+        let mut all = vec![0.0; self.m];
+        for (&c, &v) in self.set.iter().zip(x) {
+            all[c] = v;
+        }
+        all
+    }
+}
+
+impl FrictionSystem for OnSet<'_, '_> {
+    fn size(&self) -> usize {
+        self.set.len()
+    }
+    fn friction(&self) -> Vec<f64> {
+        self.restrict(&FrictionSystem::friction(&*self.inner))
+    }
+    /// `None`: the step starts from the last states (see [`ActiveSetSystem::free_gap`]).
+    fn free_response(&mut self) -> Result<Option<FreeResponse>, ActiveSetError> {
+        Ok(None)
+    }
+    fn initial_gap(&self) -> Vec<f64> {
+        self.restrict(&FrictionSystem::initial_gap(&*self.inner))
+    }
+    fn solve_states(
+        &mut self,
+        states: &[ContactState],
+        previous: &[f64],
+    ) -> Result<StateResponse, ActiveSetError> {
+        let (all, previous) = (self.expand_states(states), self.expand_values(previous));
+        let r = self.inner.solve_states(&all, &previous)?;
+        Ok(StateResponse {
+            normal: self.restrict(&r.normal),
+            tangential: self.restrict(&r.tangential),
+            gap: self.restrict(&r.gap),
+            tangential_displacement: self.restrict(&r.tangential_displacement),
+        })
+    }
+    fn reduced_problem(
+        &mut self,
+        states: &[ContactState],
+        free: &[usize],
+        previous: &[f64],
+    ) -> Result<FrictionProblem, ActiveSetError> {
+        let (all, previous) = (self.expand_states(states), self.expand_values(previous));
+        let free: Vec<usize> = free.iter().map(|&k| self.set[k]).collect();
+        self.inner.reduced_problem(&all, &free, &previous)
+    }
 }
 
 impl ActiveSetSystem for OnSet<'_, '_> {
@@ -188,7 +321,7 @@ impl ActiveSetSystem for OnSet<'_, '_> {
         Ok(None)
     }
     fn initial_gap(&self) -> Vec<f64> {
-        self.restrict(&self.inner.initial_gap())
+        self.restrict(&ActiveSetSystem::initial_gap(&*self.inner))
     }
     fn solve_active(&mut self, active: &[bool]) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
         let all = self.expand(active);

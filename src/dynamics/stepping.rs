@@ -76,8 +76,9 @@ pub(super) fn run(
     let impacts = match contacts {
         Some(c) if active_set => {
             let m = c.initial_gap.len();
-            sparse = Some(SparseStep::new(&iterations, &points, &zeros, &c.normal, m)?);
-            Some(Impacts::uncondensed(&c.normal, c.initial_gap))
+            let friction = c.friction.as_ref();
+            sparse = Some(SparseStep::new(&iterations, &points, &zeros, &c.normal, m, friction)?);
+            Some(Impacts::uncondensed(&c.normal, c.initial_gap, c.friction))
         }
         Some(c) => Some(Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction)?),
         None => None,

@@ -33,7 +33,7 @@ pub struct Dynamics {
     /// above are body 0's).
     pub others: Vec<Motion>,
     /// How each step's contact is solved: [`ContactSolver::ActiveSet`] on the sparse system
-    /// of the bodies' `M̂` (frictionless plane MFVM bodies), otherwise Lemke's method on the
+    /// of the bodies' `M̂` (plane MFVM bodies), otherwise Lemke's method on the
     /// condensed `W` (`Auto` takes Lemke).
     pub solver: ContactSolver,
 }
@@ -270,8 +270,8 @@ fn solver_of(problem: &Problem) -> ContactSolver {
 }
 
 /// Why the active-set step (docs/dev/dynamics.md increment 11) cannot take `problem`'s
-/// pairs `specs`, when a pair asks for it: it is built and tested for frictionless plane MFVM
-/// bodies, all pairs on one solver.
+/// pairs `specs`, when a pair asks for it: it is built and tested for plane MFVM bodies, with
+/// or without friction, all pairs on one solver.
 fn refused_active_set(problem: &Problem, specs: &[&super::ContactSpec]) -> Option<&'static str> {
     let asked = |s: ContactSolver| specs.iter().any(|c| c.solver == s);
     if !asked(ContactSolver::ActiveSet) {
@@ -280,10 +280,6 @@ fn refused_active_set(problem: &Problem, specs: &[&super::ContactSpec]) -> Optio
     if asked(ContactSolver::Lemke) {
         Some(
             "the active-set solver on some pairs and Lemke's on others (each step solves all pairs together: give every pair the same solver)",
-        )
-    } else if specs.iter().any(|c| c.friction > 0.0) {
-        Some(
-            "the active-set solver with friction (each step's frictional LCP is solved by Lemke's method; use contact.solver = \"lemke\")",
         )
     } else if problem.bodies().any(|p| p.material.is_axisymmetric()) {
         Some(
