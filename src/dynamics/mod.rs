@@ -12,6 +12,9 @@
 //! q⁺     = q + h ((1 − θ) v + θ v⁺)
 //! ```
 //!
+//! With `contact.solver = "active_set"` no `W` is formed: a step with a non-empty index set
+//! solves `M̂` with the active candidates' rows replaced by their gap rows (`sparse`).
+//!
 //! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
 //! - `iteration` (private): `M̂` and the free velocity;
 //! - [`Impacts`]: `W`, the index set and each step's LCP, over the bodies' [`Term`]s;
@@ -151,7 +154,8 @@ pub struct Simulation {
 pub struct Seconds {
     /// Factorising `M̂` and condensing `W`.
     pub setup: f64,
-    /// Forming and solving the steps' LCPs (index sets included).
+    /// Forming and solving the steps' LCPs (index sets included); with the active-set
+    /// solver the whole step on a non-empty index set (its `M̂` solves included).
     pub lcp: f64,
     /// The steps' free velocities (each the product with `K` and one `M̂` solve).
     pub free: f64,
