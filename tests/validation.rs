@@ -62,6 +62,8 @@ mod validation {
     mod dynamics;
     // Elastodynamics of two bodies: equal bars exchange their velocities (St Venant).
     mod dynamics_pair;
+    // The active-set solver per time step equals Lemke's: the bar impact, Newton's cradle, the block on a slab.
+    mod dynamics_active_set;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
     mod quasi_static;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.

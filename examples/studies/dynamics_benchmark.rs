@@ -5,7 +5,10 @@
 //! steps' LCPs, the whole stage), the time per step and the LCPs' share, and the load average
 //! (the machine may be shared).
 //!
-//! `cargo run --release --features studies --example dynamics_benchmark [spacing_divisor steps]`
+//! `cargo run --release --features studies --example dynamics_benchmark [spacing_divisor steps
+//! height solver]`: `height` replaces the bar's `H = 0.1` (a taller bar has more candidates on
+//! its left edge, `H × divisor + 1`), `solver` is the contact's `solver` (`lemke`,
+//! `active_set`; default the file's, Lemke: docs/dev/dynamics.md increment 11).
 
 use mlpg_contact::pipeline::dynamics::solve;
 use mlpg_contact::problem::{Problem, ProblemFile};
@@ -13,12 +16,19 @@ use mlpg_contact::progress::Silent;
 use std::time::Instant;
 
 fn main() {
-    let args: Vec<f64> = std::env::args().skip(1).map(|a| a.parse().expect("a number")).collect();
+    let words: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<f64> = words.iter().take(3).map(|a| a.parse().expect("a number")).collect();
     let divisor = args.first().copied().unwrap_or(320.0);
     let steps = args.get(1).copied().unwrap_or(10_000.0);
     let h = 1.0 / (2.0 * divisor);
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/bar_impact.toml");
-    let text = std::fs::read_to_string(path).expect("read problems/bar_impact.toml");
+    let mut text = std::fs::read_to_string(path).expect("read problems/bar_impact.toml");
+    if let Some(height) = args.get(2) {
+        text = text.replace("y = [0.0, 0.1]", &format!("y = [0.0, {height}]"));
+    }
+    if let Some(solver) = words.get(3) {
+        text = text.replace("[contact]\n", &format!("[contact]\nsolver = \"{solver}\"\n"));
+    }
     let mut file = ProblemFile::from_toml(&text).expect("parse");
     file.nodes.as_mut().expect("nodes").spacing = Some(1.0 / divisor);
     let d = file.dynamics.as_mut().expect("dynamics");
@@ -39,7 +49,14 @@ fn main() {
     let total = clock.elapsed().as_secs_f64();
     load("after");
     let f = outcome.simulation.figures(h);
-    println!("nodes {}, steps {}, h {h}", outcome.nodes(), f.steps);
+    let contact_steps = outcome.simulation.history.records.iter().filter(|r| r.active > 0).count();
+    println!(
+        "nodes {}, candidates {}, steps {} ({contact_steps} with contact), h {h}, solver {:?}",
+        outcome.nodes(),
+        outcome.candidates(),
+        f.steps,
+        outcome.dynamics.solver
+    );
     for t in &outcome.timings {
         println!("  {:<32} {:>9.3} s", t.stage, t.seconds);
     }

@@ -80,6 +80,13 @@ pub struct StepImpulses {
     pub residual: f64,
 }
 
+impl StepImpulses {
+    /// No candidate in the index set, among `m`.
+    pub(super) fn none(m: usize) -> Self {
+        Self { impulses: vec![0.0; m], tangential: Vec::new(), active: 0, pivots: 0, residual: 0.0 }
+    }
+}
+
 impl<'a> Impacts<'a> {
     /// Condenses the `normal` terms (the candidates' `G` and `E` on each body), and the
     /// tangential terms of `friction`, with the bodies' iteration matrices `iterations`;
@@ -110,6 +117,27 @@ impl<'a> Impacts<'a> {
             None => None,
         };
         Ok(Self { initial_gap, normal, compliance, friction })
+    }
+
+    /// The candidates of the `normal` terms without `W` (no solve with `M̂`): the index set,
+    /// the gaps, their rates and the impulses' work, for a step solved on the sparse system
+    /// (`super::sparse`); [`Self::impulses`] and [`Self::apply`] are not available.
+    pub(super) fn uncondensed(
+        normal: &[Term<'a>],
+        initial_gap: Vec<f64>,
+        friction: Option<Friction<'a>>,
+    ) -> Self {
+        let bare = |terms: &[Term<'a>]| -> Vec<Condensed<'a>> {
+            terms.iter().map(|&term| Condensed { term, columns: Vec::new() }).collect()
+        };
+        let friction = friction.map(|f| Tangential {
+            terms: bare(&f.terms),
+            coefficients: f.coefficients,
+            nt: Vec::new(),
+            tn: Vec::new(),
+            tt: Vec::new(),
+        });
+        Self { initial_gap, normal: bare(normal), compliance: Vec::new(), friction }
     }
 
     /// Number of candidates.
@@ -172,16 +200,10 @@ impl<'a> Impacts<'a> {
         step: usize,
     ) -> Result<StepImpulses, DynamicsError> {
         let m = self.len();
-        let mut impulses = vec![0.0; m];
         if active.is_empty() {
-            return Ok(StepImpulses {
-                impulses,
-                tangential: Vec::new(),
-                active: 0,
-                pivots: 0,
-                residual: 0.0,
-            });
+            return Ok(StepImpulses::none(m));
         }
+        let mut impulses = vec![0.0; m];
         let (u_free, u) = (self.normal_velocities(v_free), self.normal_velocities(v));
         let q: Vec<f64> = active.iter().map(|&c| u_free[c] + restitution * u[c]).collect();
         if let Some(f) =
@@ -258,7 +280,7 @@ impl<'a> Impacts<'a> {
         let t = t_terms.into_iter().flat_map(|f| f.terms.iter()).map(move |t| (t, tangential));
         normal.chain(t).filter(move |(t, _)| t.term.body == b).map(|(t, p)| {
             let o = t.term.offset;
-            (t, &p[o..o + t.columns.len()])
+            (t, &p[o..o + t.term.operator.len()])
         })
     }
 

@@ -18,6 +18,8 @@ pub struct Iteration<'a> {
     system: &'a GlobalSystem,
     /// The LU of `M̂`.
     pub factorisation: Factorisation,
+    /// `M̂` itself (the active-set step replaces its rows, `contact::sparse::Bodies`).
+    matrix: SystemMatrix,
     h: f64,
     theta: f64,
 }
@@ -61,7 +63,7 @@ impl<'a> Iteration<'a> {
         let matrix = compressed_columns(n, entries);
         let factorisation =
             Factorisation::with_ordering(&matrix, ColumnOrdering::NestedDissection(points))?;
-        Ok(Self { system, factorisation, h, theta })
+        Ok(Self { system, factorisation, matrix, h, theta })
     }
 
     /// The velocity at the end of the step without contact impulses:
@@ -76,17 +78,34 @@ impl<'a> Iteration<'a> {
         v: &[f64],
         load_factor: f64,
     ) -> Result<Vec<f64>, DynamicsError> {
+        let rhs = self.free_rhs(q, v, load_factor);
+        let dv = self.factorisation.solve(&rhs)?;
+        Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
+    }
+
+    /// The right-hand side of the step's velocity change without contact,
+    /// `h (s f − K (q + hθ v))` (`M̂ (v_free − v)`; see [`Self::free_velocity`]).
+    pub fn free_rhs(&self, q: &[f64], v: &[f64], load_factor: f64) -> Vec<f64> {
         let (h, theta, system) = (self.h, self.theta, self.system);
         let ahead: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + h * theta * v).collect();
         let k_ahead = mul(&system.matrix, &ahead);
-        let rhs: Vec<f64> = (0..q.len())
+        (0..q.len())
             .map(|d| {
                 let s = if system.is_constrained(d) { 1.0 } else { load_factor };
                 h * (s * system.rhs[d] - k_ahead[d])
             })
-            .collect();
-        let dv = self.factorisation.solve(&rhs)?;
-        Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
+            .collect()
+    }
+
+    /// `M̂`.
+    pub fn matrix(&self) -> &SystemMatrix {
+        &self.matrix
+    }
+
+    /// The scale of a gap row replacing a row of `M̂`: the body's collocation scale times
+    /// `h²θ²`, as its collocation rows enter `M̂`.
+    pub fn gap_row_scale(&self) -> f64 {
+        self.system.collocation_scale * self.h * self.h * self.theta * self.theta
     }
 
     /// Number of degrees of freedom.

@@ -12,9 +12,14 @@
 //! q⁺     = q + h ((1 − θ) v + θ v⁺)
 //! ```
 //!
+//! With `contact.solver = "active_set"` no `W` is formed: a step with a non-empty index set
+//! solves `M̂` with the active candidates' rows replaced by their gap rows (`sparse`).
+//!
 //! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
 //! - `iteration` (private): `M̂` and the free velocity;
 //! - [`Impacts`]: `W`, the index set and each step's LCP, over the bodies' [`Term`]s;
+//! - `sparse` (private): the step's contact on the sparse system without `W`
+//!   (`contact.solver = "active_set"`);
 //! - `stepping` (private): the step loop of one body and of bodies in contact;
 //! - [`energy`]: kinetic and strain energies, momentum;
 //! - [`history`]: one record per step and the run's figures.
@@ -25,6 +30,7 @@ mod impacts;
 mod iteration;
 pub mod mass;
 mod pair;
+mod sparse;
 mod stepping;
 
 pub use history::{Figures, History, PairFigures, Record};
@@ -38,6 +44,7 @@ use crate::assembly::{BlockRows, GlobalSystem};
 use crate::contact::BodyOperator;
 use crate::geometry::Point;
 use crate::lcp::LcpError;
+use crate::lcp::active_set::ActiveSetError;
 use crate::linear_solve::SolveError;
 use crate::material::Constitutive;
 use crate::mls::ShapeSet;
@@ -59,6 +66,15 @@ pub enum DynamicsError {
         step: usize,
         /// Lemke's error.
         source: LcpError,
+    },
+    /// A step's contact on the sparse system failed (`contact.solver = "active_set"`; step 0:
+    /// the system could not be built).
+    #[error("time step {step}: the active-set contact step failed ({source})")]
+    ActiveSet {
+        /// The step.
+        step: usize,
+        /// The active-set method's error.
+        source: ActiveSetError,
     },
 }
 
@@ -138,7 +154,8 @@ pub struct Simulation {
 pub struct Seconds {
     /// Factorising `M̂` and condensing `W`.
     pub setup: f64,
-    /// Forming and solving the steps' LCPs (index sets included).
+    /// Forming and solving the steps' LCPs (index sets included); with the active-set
+    /// solver the whole step on a non-empty index set (its `M̂` solves included).
     pub lcp: f64,
     /// The steps' free velocities (each the product with `K` and one `M̂` solve).
     pub free: f64,

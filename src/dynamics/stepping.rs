@@ -5,8 +5,11 @@
 //! [`Term`]s through which the candidates act on them.
 
 use super::impacts::StepImpulses;
+use super::sparse::SparseStep;
 use super::{Body, DynamicsError, Frame, History, Impacts, Iteration, Record, Seconds, State};
 use super::{Friction, Term, free_load, record};
+use crate::geometry::Point;
+use crate::problem::ContactSolver;
 use crate::problem::dynamics::Dynamics;
 use std::time::Instant;
 
@@ -63,9 +66,23 @@ pub(super) fn run(
         .map(|b| Iteration::new(b.system, &b.mass, b.node_shapes, h, theta, b.points))
         .collect::<Result<Vec<_>, _>>()?;
     let pair_starts = contacts.as_ref().map_or_else(Vec::new, |c| c.pair_starts.clone());
-    let impacts = contacts
-        .map(|c| Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction))
-        .transpose()?;
+    let active_set = params.solver == ContactSolver::ActiveSet;
+    let points: Vec<&[Point]> = bodies.iter().map(|b| b.points).collect();
+    let zeros: Vec<Vec<f64>> = match active_set {
+        true => bodies.iter().map(|b| vec![0.0; b.system.matrix.n]).collect(),
+        false => Vec::new(),
+    };
+    let mut sparse = None;
+    let impacts = match contacts {
+        Some(c) if active_set => {
+            let m = c.initial_gap.len();
+            let friction = c.friction.as_ref();
+            sparse = Some(SparseStep::new(&iterations, &points, &zeros, &c.normal, m, friction)?);
+            Some(Impacts::uncondensed(&c.normal, c.initial_gap, c.friction))
+        }
+        Some(c) => Some(Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction)?),
+        None => None,
+    };
     seconds.setup = clock.elapsed().as_secs_f64();
     let loads: Vec<Vec<f64>> = bodies.iter().map(|b| free_load(b.system)).collect();
     let mut states = initial_states(bodies, velocities);
@@ -84,26 +101,61 @@ pub(super) fn run(
     let mut final_impulses = Vec::new();
     for step in 1..=steps {
         let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
-        let clock = Instant::now();
-        let v_free = iterations
-            .iter()
-            .zip(&states)
-            .map(|(it, s)| it.free_velocity(&s.q, &s.v, factor))
-            .collect::<Result<Vec<_>, _>>()?;
-        seconds.free += clock.elapsed().as_secs_f64();
-        let answer = match &impacts {
-            Some(impacts) => {
+        // The sparse step: on a non-empty index set the step's velocities come from the
+        // sparse system (its free solve included), timed as the LCP.
+        let sparse_step = match (&impacts, sparse.as_mut()) {
+            (Some(impacts), Some(sparse)) => {
                 let clock = Instant::now();
-                let answer = contact_step(impacts, &states, &v_free, params, step)?;
+                let (q, v) = (positions(&states), self::velocities(&states));
+                let active = impacts.index_set(&q, &v, h);
+                let answer = if active.is_empty() {
+                    None
+                } else {
+                    let rhs: Vec<Vec<f64>> = iterations
+                        .iter()
+                        .zip(&states)
+                        .map(|(it, s)| it.free_rhs(&s.q, &s.v, factor))
+                        .collect();
+                    Some(sparse.step(impacts, &active, &rhs, &v, params.restitution, step)?)
+                };
                 seconds.lcp += clock.elapsed().as_secs_f64();
-                Some((impacts, answer))
+                answer.map(|(v, a)| (v, (impacts, a)))
             }
-            None => None,
+            _ => None,
+        };
+        let (v_next, answer) = match sparse_step {
+            Some((v_next, answer)) => (v_next, Some(answer)),
+            None => {
+                let clock = Instant::now();
+                let v_free = iterations
+                    .iter()
+                    .zip(&states)
+                    .map(|(it, s)| it.free_velocity(&s.q, &s.v, factor))
+                    .collect::<Result<Vec<_>, _>>()?;
+                seconds.free += clock.elapsed().as_secs_f64();
+                match (&impacts, sparse.is_some()) {
+                    (Some(impacts), false) => {
+                        let clock = Instant::now();
+                        let answer = contact_step(impacts, &states, &v_free, params, step)?;
+                        seconds.lcp += clock.elapsed().as_secs_f64();
+                        let v_next = v_free
+                            .into_iter()
+                            .enumerate()
+                            .map(|(b, v)| impacts.apply(b, v, &answer.impulses, &answer.tangential))
+                            .collect();
+                        (v_next, Some((impacts, answer)))
+                    }
+                    (Some(impacts), true) => {
+                        (v_free, Some((impacts, StepImpulses::none(impacts.len()))))
+                    }
+                    (None, _) => (v_free, None),
+                }
+            }
         };
         let previous = &history.records[history.records.len() - 1];
         let start = (previous.external_work, previous.contact_loss);
         let (next, (external, loss)) =
-            advance(&states, v_free, answer.as_ref(), &loads, factor, params, start);
+            advance(&states, v_next, answer.as_ref(), &loads, factor, params, start);
         states = next;
         let clock = Instant::now();
         let mut rec = summed(bodies, &states, step as f64 * h);
@@ -149,12 +201,13 @@ fn contact_step(
     impacts.impulses(&active, &v_free, &v, params.restitution, step)
 }
 
-/// Each body's next state from its free velocity and the step's impulses, with the loads'
-/// work since time 0 (`start.0` plus `factor fᵀ Δq`, body after body) and the energy taken
-/// by the contacts (`start.1` minus the impulses' work `/ h`).
+/// Each body's next state from its velocity at the step's end `v_next` (the step's
+/// impulses applied), with the loads' work since time 0 (`start.0` plus `factor fᵀ Δq`, body
+/// after body) and the energy taken by the contacts (`start.1` minus the impulses' work
+/// `/ h`).
 fn advance(
     states: &[State],
-    v_free: Vec<Vec<f64>>,
+    v_next: Vec<Vec<f64>>,
     answer: Option<&(&Impacts<'_>, StepImpulses)>,
     loads: &[Vec<f64>],
     factor: f64,
@@ -164,11 +217,7 @@ fn advance(
     let (h, theta) = (params.time_step, params.theta);
     let (mut external, mut loss) = start;
     let mut next = Vec::with_capacity(states.len());
-    for (b, (s, v_free)) in states.iter().zip(v_free).enumerate() {
-        let v = match answer {
-            Some((impacts, a)) => impacts.apply(b, v_free, &a.impulses, &a.tangential),
-            None => v_free,
-        };
+    for (b, (s, v)) in states.iter().zip(v_next).enumerate() {
         let q: Vec<f64> =
             (0..v.len()).map(|d| s.q[d] + h * ((1.0 - theta) * s.v[d] + theta * v[d])).collect();
         let dq: Vec<f64> = q.iter().zip(&s.q).map(|(a, b)| a - b).collect();

@@ -2,7 +2,7 @@
 //! density, the initial velocity, and the refusals of what the first dynamic increment does
 //! not support (docs/dev/dynamics.md).
 
-use super::{ContactSolver, Precision, Problem, ProblemError, ProblemFile, invalid};
+use super::{ContactSolver, Method, Precision, Problem, ProblemError, ProblemFile, invalid};
 
 /// Most time steps a run may take.
 pub const MAX_STEPS: usize = 10_000_000;
@@ -32,6 +32,10 @@ pub struct Dynamics {
     /// [`Problem::body`] in order (empty for one body; `density` and `initial_velocity`
     /// above are body 0's).
     pub others: Vec<Motion>,
+    /// How each step's contact is solved: [`ContactSolver::ActiveSet`] on the sparse system
+    /// of the bodies' `M̂` (plane MFVM bodies), otherwise Lemke's method on the
+    /// condensed `W` (`Auto` takes Lemke).
+    pub solver: ContactSolver,
 }
 
 /// A body's mass density and uniform velocity at time 0.
@@ -136,6 +140,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         load_ramp,
         snapshot_every,
         others,
+        solver: solver_of(problem),
     };
     if dynamics.steps() > MAX_STEPS {
         return Err(invalid(
@@ -230,11 +235,8 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("body[0].material.plane", "several axisymmetric bodies"))
     } else if specs.iter().any(|c| c.friction > 0.0) && axisymmetric {
         Some(("contact.friction", "friction on an axisymmetric body"))
-    } else if specs.iter().any(|c| c.solver == ContactSolver::ActiveSet) {
-        Some((
-            "contact.solver",
-            "the active-set solver (each step's LCP is solved by Lemke's method)",
-        ))
+    } else if let Some(what) = refused_active_set(problem, &specs) {
+        Some(("contact.solver", what))
     } else if !file.step.is_empty() {
         Some(("step", "[[step]] load steps"))
     } else if problem.adaptive.is_some() {
@@ -255,6 +257,40 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             ),
         )),
         None => Ok(()),
+    }
+}
+
+/// The contact solver of every step: the active-set method when a pair asks for it.
+fn solver_of(problem: &Problem) -> ContactSolver {
+    if problem.pairs().iter().any(|p| p.spec.solver == ContactSolver::ActiveSet) {
+        ContactSolver::ActiveSet
+    } else {
+        ContactSolver::Lemke
+    }
+}
+
+/// Why the active-set step (docs/dev/dynamics.md increment 11) cannot take `problem`'s
+/// pairs `specs`, when a pair asks for it: it is built and tested for plane MFVM bodies, with
+/// or without friction, all pairs on one solver.
+fn refused_active_set(problem: &Problem, specs: &[&super::ContactSpec]) -> Option<&'static str> {
+    let asked = |s: ContactSolver| specs.iter().any(|c| c.solver == s);
+    if !asked(ContactSolver::ActiveSet) {
+        return None;
+    }
+    if asked(ContactSolver::Lemke) {
+        Some(
+            "the active-set solver on some pairs and Lemke's on others (each step solves all pairs together: give every pair the same solver)",
+        )
+    } else if problem.bodies().any(|p| p.material.is_axisymmetric()) {
+        Some(
+            "the active-set solver on an axisymmetric body (untested: use contact.solver = \"lemke\")",
+        )
+    } else if problem.bodies().any(|p| p.discretisation.method != Method::Mfvm) {
+        Some(
+            "the active-set solver on a finite element body (untested: use contact.solver = \"lemke\")",
+        )
+    } else {
+        None
     }
 }
 

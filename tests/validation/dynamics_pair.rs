@@ -322,7 +322,8 @@ fn several_body_dynamics_refusals_name_the_key() {
     text.replace_range(last..last + ", density = 1.0".len(), "");
     refused(text, "body[2].material.density");
     refused(
-        base.replacen("[[contact]]\n", "[[contact]]\nsolver = \"active_set\"\n", 1),
+        base.replace("[[contact]]\n", "[[contact]]\nsolver = \"active_set\"\n")
+            + "[discretisation]\nmethod = \"fem\"\n",
         "contact.solver",
     );
 }

@@ -169,6 +169,10 @@ pub struct Bodies<'a> {
     base_modes: Vec<Mode>,
     /// `K_B⁻¹ u` by candidate and vector.
     columns: HashMap<(usize, usize), Vec<f64>>,
+    /// The LU of the Woodbury capacitance matrix and its row permutation, with the modes it
+    /// was built for (valid while the base and the columns are: a time stepping solves the
+    /// same modes step after step, and rebuilding it costs `k²` row products and `k³/3`).
+    capacitance: Option<(Vec<Mode>, Vec<f64>, Vec<usize>)>,
     last: Option<(Vec<Mode>, Vec<f64>)>,
     /// Each pair's tangential operators ([`PairTangential`]), with friction.
     tangential: Option<Vec<PairTangential<'a>>>,
@@ -272,6 +276,7 @@ impl<'a> Bodies<'a> {
             base: None,
             base_modes: vec![OPEN; m],
             columns: HashMap::new(),
+            capacitance: None,
             last: None,
             tangential: None,
             friction: Vec::new(),
@@ -325,6 +330,7 @@ impl<'a> Bodies<'a> {
         }
         self.friction = mu.to_vec();
         self.columns.clear();
+        self.capacitance = None;
         if self.base_modes.iter().any(|&k| k != OPEN && k != CLOSED) {
             self.base = None;
             self.base_modes = vec![OPEN; self.pairs.len()];
@@ -639,6 +645,7 @@ impl<'a> Bodies<'a> {
         if groups.len() > 1024 || too_costly || too_big {
             self.base = None;
             self.columns.clear();
+            self.capacitance = None;
             let t = Instant::now();
             let matrix = self.matrix_of(modes);
             // With the options of the first body's own factorisation (its precision).
@@ -705,14 +712,21 @@ impl<'a> Bodies<'a> {
             return Ok(());
         }
         let k = groups.len();
-        let mut cap = vec![0.0; k * k];
-        for (j, gj) in groups.iter().enumerate() {
-            let z = &self.columns[&(gj.c, gj.u)];
-            for (i, gi) in groups.iter().enumerate() {
-                cap[j * k + i] = gj.sign * self.group_dot(gi, z) + if i == j { 1.0 } else { 0.0 };
+        let (cap, perm) = match self.capacitance.take() {
+            Some((m, cap, perm)) if m == modes => (cap, perm),
+            _ => {
+                let mut cap = vec![0.0; k * k];
+                for (j, gj) in groups.iter().enumerate() {
+                    let z = &self.columns[&(gj.c, gj.u)];
+                    for (i, gi) in groups.iter().enumerate() {
+                        cap[j * k + i] =
+                            gj.sign * self.group_dot(gi, z) + if i == j { 1.0 } else { 0.0 };
+                    }
+                }
+                let perm = dense_lu(&mut cap, k).ok_or_else(|| singular("the low-rank update"))?;
+                (cap, perm)
             }
-        }
-        let perm = dense_lu(&mut cap, k).ok_or_else(|| singular("the low-rank update"))?;
+        };
         for col in 0..x.ncols() {
             let y: Vec<f64> = x.rb().col(col).iter().copied().collect();
             let mut v: Vec<f64> = groups.iter().map(|g| self.group_dot(g, &y)).collect();
@@ -725,6 +739,7 @@ impl<'a> Bodies<'a> {
                 }
             }
         }
+        self.capacitance = Some((modes.to_vec(), cap, perm));
         Ok(())
     }
 

@@ -1,0 +1,131 @@
+//! The active-set solver per time step (docs/dev/dynamics.md increment 11): each step's
+//! contact on the sparse system of the bodies' `M̂` (no condensed `W`) against Lemke's
+//! method on `W`, on the shipped bar impact (one body against a rigid wall), Newton's
+//! cradle (three bodies, two pairs), both at L/40, and the block on a slab with friction.
+//!
+//! Both solve the same LCP `0 ≤ Π ⊥ U_free + W Π + e U ≥ 0` on the same index set; Lemke's
+//! answer is exact up to the dense pivoting's round-off, the active-set one up to the sparse
+//! solves' (the row-replaced `M̂` solved by Woodbury updates and refined to ~1e-14). The
+//! difference grows through the steps only as round-off does (the θ-method at θ = ½ is
+//! neutrally stable), so 1e-9 of the run's largest force (resp. velocity) bounds it with
+//! five digits of room above the ~1e-14 per step while far below any physical difference (a
+//! candidate that enters the index set a step apart changes the force by its whole value).
+
+use mlpg_contact::pipeline::dynamics::{DynamicOutcome, solve};
+use mlpg_contact::problem::Problem;
+use mlpg_contact::progress::Silent;
+
+/// The shipped problem `name` with every contact pair on `solver`.
+fn shipped(name: &str, solver: &str) -> Problem {
+    let path = format!("{}/problems/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+    let text = text
+        .replace("[[contact]]\n", &format!("[[contact]]\nsolver = \"{solver}\"\n"))
+        .replace("[contact]\n", &format!("[contact]\nsolver = \"{solver}\"\n"));
+    assert!(text.contains(&format!("solver = \"{solver}\"")), "{name} has a contact table");
+    Problem::from_toml(&text).unwrap_or_else(|e| panic!("{name} with {solver}: {e}"))
+}
+
+/// The largest difference between the runs' per-record contact forces (total and each
+/// pair's) relative to the largest force, and between their final velocities relative to the
+/// largest velocity; checks that the runs have the same records, index sets and contact.
+fn differences(lemke: &DynamicOutcome, active_set: &DynamicOutcome) -> [f64; 2] {
+    let (a, b) = (&lemke.simulation.history.records, &active_set.simulation.history.records);
+    assert_eq!(a.len(), b.len(), "records");
+    let largest = |x: &mut dyn Iterator<Item = f64>| x.fold(0.0_f64, |m, v| m.max(v.abs()));
+    let peak = largest(&mut a.iter().map(|r| r.contact_force));
+    assert!(peak > 0.0, "the run has contact");
+    let mut force: f64 = 0.0;
+    for (k, (r, s)) in a.iter().zip(b).enumerate() {
+        assert_eq!(r.active, s.active, "record {k}: index set sizes");
+        assert_eq!(r.pair_forces.len(), s.pair_forces.len());
+        force = force.max((r.contact_force - s.contact_force).abs());
+        for (p, q) in r.pair_forces.iter().zip(&s.pair_forces) {
+            force = force.max((p - q).abs());
+        }
+    }
+    let (v, w) = (&lemke.simulation.velocity, &active_set.simulation.velocity);
+    assert_eq!(v.len(), w.len());
+    let speed = largest(&mut v.iter().copied());
+    let velocity = largest(&mut v.iter().zip(w).map(|(a, b)| a - b));
+    [force / peak, velocity / speed]
+}
+
+/// The bar of `problems/bar_impact.toml` (L/40, 240 steps, up to 41 candidates in the index
+/// set): the active-set run equals Lemke's within 1e-9 (module documentation), and its
+/// every step's residual passes the run's check.
+#[test]
+fn bar_impact_on_the_active_set_equals_lemke() {
+    let lemke = solve(&shipped("bar_impact", "lemke"), &mut Silent).expect("Lemke's run");
+    let sparse = solve(&shipped("bar_impact", "active_set"), &mut Silent).expect("the sparse run");
+    let [force, velocity] = differences(&lemke, &sparse);
+    let h = sparse.dynamics.time_step;
+    let f = sparse.simulation.figures(h);
+    println!(
+        "bar: forces differ by {force:.2e} of the peak, final velocities by {velocity:.2e}; residual {:.1e}; rebound {:.6} (Lemke {:.6})",
+        f.max_step_residual,
+        f.final_velocity[0],
+        lemke.simulation.figures(h).final_velocity[0]
+    );
+    assert!(force <= 1e-9, "forces differ by {force:e} of the peak");
+    assert!(velocity <= 1e-9, "final velocities differ by {velocity:e}");
+    assert!(f.max_step_residual <= mlpg_contact::solution::COMPLEMENTARITY_TOLERANCE, "{f:?}");
+}
+
+/// Newton's cradle of `problems/newtons_cradle.toml` (three bars at L/40, two pairs between
+/// bodies): the same comparison, each pair's force included.
+#[test]
+fn newtons_cradle_on_the_active_set_equals_lemke() {
+    let lemke = solve(&shipped("newtons_cradle", "lemke"), &mut Silent).expect("Lemke's run");
+    let sparse =
+        solve(&shipped("newtons_cradle", "active_set"), &mut Silent).expect("the sparse run");
+    let [force, velocity] = differences(&lemke, &sparse);
+    let f = sparse.simulation.figures(sparse.dynamics.time_step);
+    println!(
+        "cradle: forces differ by {force:.2e} of the peak, final velocities by {velocity:.2e}; residual {:.1e}",
+        f.max_step_residual
+    );
+    assert!(force <= 1e-9, "forces differ by {force:e} of the peak");
+    assert!(velocity <= 1e-9, "final velocities differ by {velocity:e}");
+    assert!(f.max_step_residual <= mlpg_contact::solution::COMPLEMENTARITY_TOLERANCE, "{f:?}");
+}
+
+/// The block sliding on an elastic slab with Coulomb friction of
+/// `problems/block_on_slab_friction.toml` (two bodies, μ = 0.5, 50 steps): Moreau's law on the
+/// active set (stick rows `G_t Δv = −U_t`, each candidate started from its last state) against
+/// Lemke's frictional step LCP on `W`: the same comparison (measured 1.5e-13 of the peak
+/// force, 1.6e-12 of the largest velocity: Lemke's frictional step is not polished, so its
+/// answers carry ~1e-15 relative round-off per step, which the 50 steps accumulate).
+#[test]
+fn block_on_slab_friction_on_the_active_set_equals_lemke() {
+    let name = "block_on_slab_friction";
+    let lemke = solve(&shipped(name, "lemke"), &mut Silent).expect("Lemke's run");
+    let sparse = solve(&shipped(name, "active_set"), &mut Silent).expect("the sparse run");
+    let [force, velocity] = differences(&lemke, &sparse);
+    let f = sparse.simulation.figures(sparse.dynamics.time_step);
+    println!(
+        "block on slab: forces differ by {force:.2e} of the peak, final velocities by {velocity:.2e}; residual {:.1e}",
+        f.max_step_residual
+    );
+    assert!(force <= 1e-9, "forces differ by {force:e} of the peak");
+    assert!(velocity <= 1e-9, "final velocities differ by {velocity:e}");
+    assert!(f.max_step_residual <= mlpg_contact::solution::COMPLEMENTARITY_TOLERANCE, "{f:?}");
+}
+
+/// What the active-set step does not do is refused naming `contact.solver`: an axisymmetric
+/// body (the ball) and a finite element body (the bar).
+#[test]
+fn active_set_dynamics_refusals_name_the_key() {
+    let text = |name: &str| {
+        let path = format!("{}/problems/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+        text.replace("[contact]\n", "[contact]\nsolver = \"active_set\"\n")
+    };
+    let fem = text("bar_impact") + "[discretisation]\nmethod = \"fem\"\n";
+    for (text, reason) in
+        [(text("ball_impact_axisymmetric"), "axisymmetric"), (fem, "finite element")]
+    {
+        let err = Problem::from_toml(&text).expect_err(reason).to_string();
+        assert!(err.contains("contact.solver") && err.contains(reason), "{reason}: {err}");
+    }
+}
