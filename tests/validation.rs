@@ -64,6 +64,8 @@ mod validation {
     mod dynamics_pair;
     // The active-set solver per time step equals Lemke's: the bar impact, Newton's cradle, the block on a slab.
     mod dynamics_active_set;
+    // A block sliding with friction onto a rigid wall: rigid-body arrival, gaps, Coulomb's cone.
+    mod dynamics_wall;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
     mod quasi_static;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
