@@ -14,7 +14,7 @@ use crate::geometry::Point;
 use crate::mls::ShapeSet;
 use crate::nodes::Nodes;
 use crate::post::{self, history::DynamicSummary};
-use crate::problem::{Method, Obstacle, Problem, dynamics::Dynamics};
+use crate::problem::{Method, Problem, dynamics::Dynamics, scene::Pair as ScenePair};
 use crate::progress::{Clock, Progress, StageTiming};
 use std::path::{Path, PathBuf};
 
@@ -150,7 +150,8 @@ impl std::fmt::Display for DynamicReport {
         // Several pairs: each pair's contact and each body's final velocity.
         for (k, p) in s.pairs.iter().flatten().enumerate() {
             let target = p.target_body.as_deref().unwrap_or("obstacles");
-            writeln!(f, "  pair {k} ({} on {target}): {}", p.body, p.figures.describe())?;
+            let (body, edge, figures) = (&p.body, &p.edge, p.figures.describe());
+            writeln!(f, "  pair {k} ({body}.{edge} on {target}): {figures}")?;
         }
         for b in s.bodies.iter().flatten().filter(|_| s.pairs.is_some()) {
             let v = b.final_velocity;
@@ -276,33 +277,17 @@ fn discretise_any(problem: &Problem, clock: &mut Clock<'_>) -> Result<DynamicBod
     })
 }
 
-/// A contact pair of a run of several bodies, as the problem states it.
-struct ScenePair<'a> {
-    body: usize,
-    target_body: Option<usize>,
-    spec: &'a contact::ContactSpec,
-    obstacles: &'a [Obstacle],
-}
-
-/// The contact pairs of `problem`'s bodies: `[contact]` between the two bodies of
-/// `second_body`, or every `[[contact]]` table of `multibody`.
+/// The contact pairs of `problem`'s bodies (its `[contact]` table, or every `[[contact]]`
+/// table in order).
+///
+/// # Errors
+/// [`contact::ContactError::MissingTarget`] when the bodies have no contact pair.
 fn scene_pairs(problem: &Problem) -> Result<Vec<ScenePair<'_>>, contact::ContactError> {
-    Ok(match problem.multibody() {
-        Some(m) => m
-            .pairs
-            .iter()
-            .map(|p| ScenePair {
-                body: p.body,
-                target_body: p.target_body,
-                spec: &p.spec,
-                obstacles: &p.obstacles,
-            })
-            .collect(),
-        None => {
-            let spec = problem.contact().ok_or(contact::ContactError::MissingTarget)?;
-            vec![ScenePair { body: 0, target_body: Some(1), spec, obstacles: problem.obstacles() }]
-        }
-    })
+    let pairs = problem.pairs();
+    if pairs.is_empty() {
+        return Err(contact::ContactError::MissingTarget);
+    }
+    Ok(pairs)
 }
 
 /// `pair`'s candidates and, against a body, the target's operator: between bodies the static
@@ -598,13 +583,19 @@ fn pair_summaries(
     several: &BodiesOutcome,
 ) -> Vec<post::history::PairHistory> {
     let name = |k: usize| problem.body(k).map_or_else(String::new, |p| p.name.clone());
+    let edge = |pair: &ScenePair<'_>| {
+        let body = problem.body(pair.body).unwrap_or(problem);
+        body.domain.edge_names().get(pair.spec.edge).map_or_else(String::new, |e| e.to_string())
+    };
     let figures = outcome.simulation.history.pair_figures(outcome.dynamics.time_step);
     several
         .pairs
         .iter()
+        .zip(problem.pairs())
         .zip(figures)
-        .map(|(pair, figures)| post::history::PairHistory {
+        .map(|((pair, stated), figures)| post::history::PairHistory {
             body: name(pair.body),
+            edge: edge(&stated),
             target_body: pair.target_body.map(name),
             candidates: pair.candidates.len(),
             figures,

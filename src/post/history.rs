@@ -52,6 +52,8 @@ pub struct DynamicSummary {
 pub struct PairHistory {
     /// The body carrying the candidates.
     pub body: String,
+    /// Its contact edge.
+    pub edge: String,
     /// The target body (`null` for rigid obstacles).
     pub target_body: Option<String>,
     /// The pair's candidates.
@@ -254,7 +256,7 @@ fn force_chart(history: &History, pairs: Option<&[PairHistory]>) -> plot::Chart 
     let mut series_ = vec![series(history, "total contact force", 0, |r| r.contact_force)];
     for (k, p) in pairs.unwrap_or_default().iter().enumerate() {
         let target = p.target_body.as_deref().unwrap_or("obstacles");
-        let label = format!("pair {k}: {} on {target}", p.body);
+        let label = format!("pair {k}: {}.{} on {target}", p.body, p.edge);
         series_
             .push(series(history, &label, k + 1, |r| r.pair_forces.get(k).copied().unwrap_or(0.0)));
     }
