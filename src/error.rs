@@ -153,6 +153,9 @@ impl Error {
                 "nodes.spacing, discretisation.support_factor, discretisation.precision"
             }
             Error::Output(_) => "--out",
+            Error::Dynamics(crate::dynamics::DynamicsError::ActiveSet { .. }) => {
+                "contact.solver, dynamics.time_step"
+            }
             Error::Dynamics(_) => "dynamics.time_step, contact, material",
         })
     }

@@ -252,7 +252,7 @@ impl<'a> Impacts<'a> {
             previous_tangential: vec![0.0; active.len()],
             friction: active.iter().map(|&c| f.coefficients[c]).collect(),
         };
-        let answer = solve_step(&problem).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        let answer = solve_step(&problem).map_err(|e| DynamicsError::Lcp { step, cause: e })?;
         let (mut impulses, mut tangential) = (vec![0.0; m], vec![0.0; m]);
         for (k, &c) in active.iter().enumerate() {
             impulses[c] = answer.normal[k];
@@ -342,9 +342,9 @@ fn solve_on(
         .flat_map(|&r| set.iter().map(move |&c| (r, c)))
         .map(|(r, c)| compliance[r * m + c])
         .collect();
-    let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+    let lcp = Lcp::new(set.len(), w, q).map_err(|e| DynamicsError::Lcp { step, cause: e })?;
     let answer =
-        lemke(&lcp, &LemkeParams::default()).map_err(|e| DynamicsError::Lcp { step, source: e })?;
+        lemke(&lcp, &LemkeParams::default()).map_err(|e| DynamicsError::Lcp { step, cause: e })?;
     Ok((answer.z, answer.pivots, answer.residuals.max_violation()))
 }
 

@@ -59,22 +59,23 @@ pub enum DynamicsError {
     Solve(#[from] SolveError),
     /// A step's contact LCP failed.
     #[error(
-        "time step {step}: the contact LCP failed ({source}); a smaller dynamics.time_step may help"
+        "time step {step}: the contact LCP failed ({cause}); a smaller dynamics.time_step may help"
     )]
     Lcp {
         /// The step.
         step: usize,
-        /// Lemke's error.
-        source: LcpError,
+        /// Lemke's error (named in the message: not a `source`, which would repeat it).
+        cause: LcpError,
     },
     /// A step's contact on the sparse system failed (`contact.solver = "active_set"`; step 0:
     /// the system could not be built).
-    #[error("time step {step}: the active-set contact step failed ({source})")]
+    #[error("time step {step}: the active-set contact step failed ({cause})")]
     ActiveSet {
         /// The step.
         step: usize,
-        /// The active-set method's error.
-        source: ActiveSetError,
+        /// The active-set method's error (named in the message: not a `source`, which would
+        /// repeat it).
+        cause: ActiveSetError,
     },
 }
 

@@ -62,7 +62,7 @@ impl<'a> SparseStep<'a> {
         candidates: usize,
         friction: Option<&Friction<'a>>,
     ) -> Result<Self, DynamicsError> {
-        let refused = |e| DynamicsError::ActiveSet { step: 0, source: e };
+        let refused = |e| DynamicsError::ActiveSet { step: 0, cause: e };
         let unsupported = || refused(ActiveSetError::Unsupported { candidate: 0 });
         let any: &'a BodyOperator = normal.first().ok_or_else(unsupported)?.operator;
         let bodies = iterations
@@ -120,7 +120,7 @@ impl<'a> SparseStep<'a> {
         restitution: f64,
         step: usize,
     ) -> Result<(Vec<Vec<f64>>, StepImpulses), DynamicsError> {
-        let failed = |e| DynamicsError::ActiveSet { step, source: e };
+        let failed = |e| DynamicsError::ActiveSet { step, cause: e };
         for (b, r) in rhs.iter().enumerate() {
             self.system.set_body_load(b, r);
         }
@@ -193,7 +193,7 @@ fn frictional(
     v: &[&[f64]],
     step: usize,
 ) -> Result<(Vec<Vec<f64>>, StepImpulses), DynamicsError> {
-    let failed = |e| DynamicsError::ActiveSet { step, source: e };
+    let failed = |e| DynamicsError::ActiveSet { step, cause: e };
     let m = last.len();
     let mut u_t = vec![0.0; m];
     for t in terms {
