@@ -14,7 +14,7 @@ use crate::geometry::Point;
 use crate::mls::ShapeSet;
 use crate::nodes::Nodes;
 use crate::post::{self, history::DynamicSummary};
-use crate::problem::{Method, Problem, dynamics::Dynamics, scene::Pair as ScenePair};
+use crate::problem::{ContactPair as ScenePair, Method, Problem, dynamics::Dynamics};
 use crate::progress::{Clock, Progress, StageTiming};
 use std::path::{Path, PathBuf};
 
@@ -282,7 +282,7 @@ fn discretise_any(problem: &Problem, clock: &mut Clock<'_>) -> Result<DynamicBod
 ///
 /// # Errors
 /// [`contact::ContactError::MissingTarget`] when the bodies have no contact pair.
-fn scene_pairs(problem: &Problem) -> Result<Vec<ScenePair<'_>>, contact::ContactError> {
+fn scene_pairs(problem: &Problem) -> Result<&[ScenePair], contact::ContactError> {
     let pairs = problem.pairs();
     if pairs.is_empty() {
         return Err(contact::ContactError::MissingTarget);
@@ -294,11 +294,11 @@ fn scene_pairs(problem: &Problem) -> Result<Vec<ScenePair<'_>>, contact::Contact
 /// pair's candidates, normals, gaps and target operator ([`super::multibody::body_pair`]:
 /// straight or curved targets), against rigid obstacles the one body's candidates.
 fn pair_candidates(
-    pair: &ScenePair<'_>,
+    pair: &ScenePair,
     problems: &[&Problem],
     bodies: &[&DynamicBody],
 ) -> Result<(Candidates, Option<BodyOperator>), contact::ContactError> {
-    let (problem, view, spec) = (problems[pair.body], bodies[pair.body].discretised(), pair.spec);
+    let (problem, view, spec) = (problems[pair.body], bodies[pair.body].discretised(), &pair.spec);
     let rigid = |target: &dyn Fn(Point) -> (f64, Point)| {
         contact::candidates_in(problem, view, spec.edge, target, spec.condensation)
     };
@@ -314,7 +314,7 @@ fn pair_candidates(
         }
         (ContactTarget::Obstacles, _) => Ok((
             rigid(&|x| {
-                contact::closest_obstacle(pair.obstacles, x)
+                contact::closest_obstacle(&pair.obstacles, x)
                     .map_or((f64::INFINITY, [0.0, 1.0]), |(_, c)| (c.gap, c.normal))
             })?,
             None,
@@ -583,7 +583,7 @@ fn pair_summaries(
     several: &BodiesOutcome,
 ) -> Vec<post::history::PairHistory> {
     let name = |k: usize| problem.body(k).map_or_else(String::new, |p| p.name.clone());
-    let edge = |pair: &ScenePair<'_>| {
+    let edge = |pair: &ScenePair| {
         let body = problem.body(pair.body).unwrap_or(problem);
         body.domain.edge_names().get(pair.spec.edge).map_or_else(String::new, |e| e.to_string())
     };
@@ -595,7 +595,7 @@ fn pair_summaries(
         .zip(figures)
         .map(|((pair, stated), figures)| post::history::PairHistory {
             body: name(pair.body),
-            edge: edge(&stated),
+            edge: edge(stated),
             target_body: pair.target_body.map(name),
             candidates: pair.candidates.len(),
             figures,

@@ -89,7 +89,7 @@ pub fn write_paraview(
             written.extend(increment_series(dir, c, f)?);
         }
         contacts.push((title, file));
-        add_obstacles(pair.spec.target, pair.obstacles, c);
+        add_obstacles(pair.spec.target, &pair.obstacles, c);
     }
     let mut blocks = vec![("bodies", bodies)];
     if !contacts.is_empty() {

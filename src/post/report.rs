@@ -4,8 +4,10 @@
 
 use super::{OutputError, Summary, write_text};
 use crate::material::PlaneState;
-use crate::problem::scene::Pair;
-use crate::problem::{ComponentCondition, ContactTarget, EdgeCondition, Field, Method, Problem};
+
+use crate::problem::{
+    ComponentCondition, ContactPair, ContactTarget, EdgeCondition, Field, Method, Problem,
+};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -135,8 +137,8 @@ fn in_words(problem: &Problem) -> String {
 
 /// One contact pair in words: "edge `e` may touch <target> with(out) friction", the target
 /// body's material and spacing when `detailed` (a scene lists its bodies apart).
-fn pair_in_words(problem: &Problem, pair: &Pair<'_>, detailed: bool) -> String {
-    let c = pair.spec;
+fn pair_in_words(problem: &Problem, pair: &ContactPair, detailed: bool) -> String {
+    let c = &pair.spec;
     let edge = problem.body(pair.body).map_or("", |b| b.domain.edge_names()[c.edge].as_str());
     let target = match (&c.target, pair.target_body.and_then(|t| problem.body(t))) {
         (ContactTarget::Rigid(line), _) => format!(

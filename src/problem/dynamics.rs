@@ -227,7 +227,7 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 /// friction), from rest at their prescribed displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
     let several = problem.body_count() > 1 || problem.is_scene_of_pairs();
-    let specs: Vec<&super::ContactSpec> = problem.pairs().iter().map(|p| p.spec).collect();
+    let specs: Vec<&super::ContactSpec> = problem.pairs().iter().map(|p| &p.spec).collect();
     let axisymmetric = problem.bodies().any(|p| p.material.is_axisymmetric());
     let refused = if several && specs.iter().any(|c| c.interference != 0.0) {
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))

@@ -11,20 +11,6 @@
 
 use super::{ContactPair, ContactSpec, ContactTarget, Multibody, Obstacle, Problem};
 
-/// One contact pair of a scene, borrowed from its problem: the edge of `body` carrying the
-/// candidates and its target (an edge of `target_body`, rigid obstacles or a rigid line).
-#[derive(Clone, Copy, Debug)]
-pub struct Pair<'a> {
-    /// The body carrying the candidates, numbered as [`Problem::body`].
-    pub body: usize,
-    /// The contact edge of `body`, its target and its parameters.
-    pub spec: &'a ContactSpec,
-    /// The target body for [`super::ContactTarget::Body`] (`None` for a rigid target).
-    pub target_body: Option<usize>,
-    /// The obstacles of [`super::ContactTarget::Obstacles`] (empty otherwise).
-    pub obstacles: &'a [Obstacle],
-}
-
 impl Problem {
     /// Every body of the scene, the first (this problem) first, numbered as [`Problem::body`].
     pub fn bodies(&self) -> impl Iterator<Item = &Problem> {
@@ -32,16 +18,8 @@ impl Problem {
     }
 
     /// Every contact pair of the scene, in file order; empty without contact.
-    pub fn pairs(&self) -> Vec<Pair<'_>> {
-        self.contact_pairs
-            .iter()
-            .map(|p| Pair {
-                body: p.body,
-                spec: &p.spec,
-                target_body: p.target_body,
-                obstacles: &p.obstacles,
-            })
-            .collect()
+    pub fn pairs(&self) -> &[ContactPair] {
+        &self.contact_pairs
     }
 
     /// Whether the scene holds more than two bodies, more than one contact pair, or a pair
