@@ -182,8 +182,8 @@ pub struct LemkeRefusal {
     pub min_symmetric_eigenvalue: f64,
     /// Largest eigenvalue of `(M + Mᵀ)/2`.
     pub max_symmetric_eigenvalue: f64,
-    /// Whether `contact.solver = "active_set"` takes this problem (frictionless, one step, a
-    /// rigid obstacle or two bodies).
+    /// Whether `contact.solver = "active_set"` takes this problem (every problem the pipeline
+    /// refuses this way: the sparse system has every path the condensed one has).
     pub active_set_applies: bool,
     /// The active-set solver's error when `"auto"` tried it after Lemke and it failed too.
     pub active_set_failure: Option<String>,

@@ -311,11 +311,9 @@ pub(super) fn solve_frictional(
         named_steps: !problem.steps.is_empty(),
         lemke,
     };
-    // Lemke's numerical failure as its refusal, with the conditioning of `M_nn`; the active
-    // set applies but to a pair with a held translation (no sparse path holds one).
-    let applies = !matches!(path.held.first(), Some(load_path::Held::Among { .. }));
+    // Lemke's numerical failure as its refusal, with the conditioning of `M_nn`.
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)
-        .map_err(|e| refused_on_path(e, &condensed, warning.is_some(), applies))?;
+        .map_err(|e| refused_on_path(e, &condensed, warning.is_some()))?;
     drop(terms);
     let load_path::PathAnswer {
         step,

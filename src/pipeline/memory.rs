@@ -175,9 +175,9 @@ fn route(problem: &Problem, spec: &ContactSpec) -> Route {
         / problem.refinement.finest(problem.node_spacing)
         + 1.0;
     let frictionless = spec.friction == 0.0 && problem.steps.is_empty();
-    // A translation held by the contact is not known before assembly: a held pair is counted
-    // as the free pair's route.
-    let shape = Shape::of(!frictionless, problem.body_count() > 1, false);
+    // A translation held by the contact is not known before assembly: a held body is counted
+    // on the route of its problem without the hold.
+    let shape = Shape::of(!frictionless, problem.body_count() > 1);
     let active_set = Plan::new(spec.solver, shape, m as usize).is_sparse();
     Route { m, frictionless, active_set }
 }

@@ -490,7 +490,7 @@ fn solve_contact(
     let held =
         model.system.pinned.is_some() || second.is_some_and(|(_, m2)| m2.system.pinned.is_some());
     let on_path = spec.friction > 0.0 || steps.is_some() || held;
-    let shape = plan::Shape::of(on_path, found.target.is_some(), held);
+    let shape = plan::Shape::of(on_path, found.target.is_some());
     let plan = plan::Plan::new(spec.solver, shape, found.candidates.len());
     // The sparse system in one shot is one step of one increment of its load path.
     if on_path || plan.is_sparse() {
@@ -784,38 +784,23 @@ fn solve_condensed_once(
 }
 
 /// A load path's error `e` as [`refused`] makes it, inside the increment that failed
-/// ([`Error::Increment`]); `applies`: whether the active-set method applies to the problem
-/// (it does but for a pair with a held translation, which only the condensed path has).
-fn refused_on_path(
-    e: Error,
-    condensed: &contact::CondensedContact,
-    overridden: bool,
-    applies: bool,
-) -> Error {
+/// ([`Error::Increment`]).
+fn refused_on_path(e: Error, condensed: &contact::CondensedContact, overridden: bool) -> Error {
     match e {
         Error::Increment { step, increment, increments, cause } => {
-            let cause = Box::new(refused_on_path(*cause, condensed, overridden, applies));
+            let cause = Box::new(refused_on_path(*cause, condensed, overridden));
             Error::Increment { step, increment, increments, cause }
         }
-        e => refused_as(e, condensed, overridden, applies),
+        e => refused(e, condensed, overridden),
     }
 }
 
 /// A frictionless one-shot path's error `e` as Lemke's numerical failure
 /// ([`Error::LemkeRefused`], with the conditioning of `condensed`), or `e` itself: any other
 /// error, and a ray when `M` failed its checks (`overridden`: the ray may then prove that no
-/// solution exists, and stays Lemke's own error).
+/// solution exists, and stays Lemke's own error). The active-set method applies to every
+/// problem that reaches Lemke.
 fn refused(e: Error, condensed: &contact::CondensedContact, overridden: bool) -> Error {
-    refused_as(e, condensed, overridden, true)
-}
-
-/// [`refused`], saying whether the active-set method applies (`applies`).
-fn refused_as(
-    e: Error,
-    condensed: &contact::CondensedContact,
-    overridden: bool,
-    applies: bool,
-) -> Error {
     let cause = match e {
         Error::Lcp(cause @ lcp::LcpError::RayTermination { .. }) if overridden => {
             return cause.into();
@@ -825,7 +810,7 @@ fn refused_as(
     };
     let m = condensed.free_gap.len();
     let extremes = [condensed.min_symmetric_eigenvalue, condensed.max_symmetric_eigenvalue];
-    match crate::error::LemkeRefusal::new(cause, m, extremes, applies) {
+    match crate::error::LemkeRefusal::new(cause, m, extremes, true) {
         Ok(refusal) => Error::LemkeRefused(Box::new(refusal)),
         Err(cause) => cause.into(),
     }
@@ -863,17 +848,6 @@ fn node_points(m: &Model) -> Option<&[geometry::Point]> {
     match m.scheme {
         Scheme::Mfvm(_) => Some(m.nodes.points.as_slice()),
         Scheme::Fem(_) => None,
-    }
-}
-
-/// One body's part of a two-body active-set system.
-fn body_parts<'a>(m: &'a Model, op: &'a contact::BodyOperator) -> contact::sparse::BodyParts<'a> {
-    contact::sparse::BodyParts {
-        matrix: &m.system.matrix,
-        rhs: &m.system.rhs,
-        factorisation: &m.factorisation,
-        operator: op,
-        points: node_points(m),
     }
 }
 

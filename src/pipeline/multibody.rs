@@ -5,6 +5,7 @@
 //! `contact[k].solver = "active_set"`, the active-set method on all bodies at once without
 //! `M` (docs/method.md §5.1, [`contact::sparse::Bodies`]).
 
+pub(super) mod pair;
 mod path;
 mod sparse_path;
 

@@ -29,19 +29,18 @@ pub enum Shape {
     OneShot,
     /// Friction, load steps or a held translation, against rigid obstacles.
     RigidPath,
-    /// Friction, load steps or a held translation, between two bodies (or over several pairs);
-    /// `held`: a translation held by the contact, which the sparse path of one pair lacks.
-    PairPath { held: bool },
+    /// Friction, load steps or a held translation, between two bodies (or over several pairs).
+    PairPath,
 }
 
 impl Shape {
     /// The shape of one pair: on the load path (`on_path`: friction, load steps or a held
     /// translation) between two bodies (`pair`) or against rigid obstacles, else one shot.
-    pub fn of(on_path: bool, pair: bool, held: bool) -> Shape {
+    pub fn of(on_path: bool, pair: bool) -> Shape {
         match (on_path, pair) {
             (false, _) => Shape::OneShot,
             (true, false) => Shape::RigidPath,
-            (true, true) => Shape::PairPath { held },
+            (true, true) => Shape::PairPath,
         }
     }
 }
@@ -52,24 +51,22 @@ impl Shape {
 pub struct Plan {
     /// The contact system.
     pub system: System,
-    /// `"auto"` on a condensed problem (in one shot or on the load path; not a pair with a
-    /// held translation, which only the condensed path has): a numerical failure of Lemke is
-    /// handed to the active-set method, which answers instead (the reason recorded).
+    /// `"auto"` on a condensed problem (in one shot or on the load path): a numerical failure
+    /// of Lemke is handed to the active-set method, which answers instead (the reason
+    /// recorded).
     pub fallback: bool,
 }
 
 impl Plan {
     /// The plan of one pair solved by `solver` on `candidates` candidates: `"lemke"` is
-    /// condensed, `"active_set"` sparse (but on a held pair's path, which only the condensed
-    /// path has), `"auto"` sparse from its shape's threshold on
+    /// condensed, `"active_set"` sparse, `"auto"` sparse from its shape's threshold on
     /// ([`ContactSolver::AUTO_THRESHOLD`], [`ContactSolver::FRICTION_AUTO_THRESHOLD`],
     /// [`ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD`]).
     pub fn new(solver: ContactSolver, shape: Shape, candidates: usize) -> Plan {
         let threshold = match shape {
-            Shape::PairPath { held: true } => return Plan::condensed(false),
             Shape::OneShot => ContactSolver::AUTO_THRESHOLD,
             Shape::RigidPath => ContactSolver::FRICTION_AUTO_THRESHOLD,
-            Shape::PairPath { held: false } => ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD,
+            Shape::PairPath => ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD,
         };
         let sparse = match solver {
             ContactSolver::Lemke => false,
@@ -193,7 +190,7 @@ mod tests {
         let cases = [
             (Shape::OneShot, ContactSolver::AUTO_THRESHOLD),
             (Shape::RigidPath, ContactSolver::FRICTION_AUTO_THRESHOLD),
-            (Shape::PairPath { held: false }, ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD),
+            (Shape::PairPath, ContactSolver::FRICTION_PAIR_AUTO_THRESHOLD),
         ];
         for (shape, threshold) in cases {
             let below = Plan::new(ContactSolver::Auto, shape, threshold - 1);
@@ -204,9 +201,6 @@ mod tests {
             assert!(!Plan::new(ContactSolver::Lemke, shape, usize::MAX).is_sparse(), "{shape:?}");
             assert!(!Plan::new(ContactSolver::Lemke, shape, 1).fallback, "{shape:?}");
         }
-        let held = Shape::PairPath { held: true };
-        assert!(!Plan::new(ContactSolver::ActiveSet, held, usize::MAX).is_sparse());
-        assert!(!Plan::new(ContactSolver::Auto, held, 1).fallback);
     }
 
     #[test]

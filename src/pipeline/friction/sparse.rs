@@ -1,57 +1,29 @@
 //! The load path on the sparse system (docs/method.md §5.1, §8): one body against a rigid
-//! obstacle, or two bodies, by the active-set method, increment by increment, with the
-//! force-driven obstacle and the held translation of §4.6–4.7 as searches over warm-started
-//! solves. Frictionless contact in one shot is one step of one increment of it
+//! obstacle by the active-set method, increment by increment, with the force-driven obstacle
+//! and the held translation of §4.6–4.7 as searches over warm-started solves; two bodies in
+//! one pair take the several-pairs scene's walk ([`super::super::multibody::pair`]). Frictionless contact in one shot is one step of one increment of it
 //! ([`one_shot`]): the frictionless active-set method on the system as built, no tangential
 //! operators, and against a rigid obstacle the system owns `K`'s factors, which it may
 //! release (docs/method.md §5.1: one factorisation of the body alive at a time).
 
 use super::*;
 
-/// The sparse frictional system of the active-set path: one body against a rigid obstacle,
-/// or two bodies.
-enum SparseFriction<'a> {
-    Rigid(contact::sparse::RigidObstacle<'a>),
-    Pair(contact::sparse::TwoBodies<'a>),
-}
-
-impl SparseFriction<'_> {
-    /// The work counters, and `K`'s factorisation when the system owned it
-    /// ([`contact::sparse::RigidObstacle::into_factorisation`]).
-    fn finish(
-        self,
-    ) -> (contact::sparse::RigidObstacleStats, Option<crate::linear_solve::Factorisation>) {
-        match self {
-            SparseFriction::Rigid(s) => (s.stats, s.into_factorisation()),
-            SparseFriction::Pair(s) => (s.stats, None),
-        }
-    }
-}
-
 /// Whether the path is one-shot contact: no `[[step]]` tables, frictionless, no translation
 /// held by the contact (one step to the models' loads in one increment, no search).
-pub(in crate::pipeline) fn one_shot(
-    problem: &Problem,
-    steps: &[StepEnd],
-    model: &Model,
-    target: Option<&Target<'_>>,
-) -> bool {
-    let pinned =
-        model.system.pinned.is_some() || target.is_some_and(|t| t.model.system.pinned.is_some());
+pub(in crate::pipeline) fn one_shot(problem: &Problem, steps: &[StepEnd], model: &Model) -> bool {
+    let pinned = model.system.pinned.is_some();
     let plain = |e: &StepEnd| e.increments == 1 && e.friction == 0.0 && e.force.is_none();
     problem.steps.is_empty() && !pinned && steps.len() == 1 && plain(&steps[0])
 }
 
 /// What stays fixed along the path.
-struct Path<'p, 'a> {
+struct Path<'p> {
     problem: &'p Problem,
     model: &'p Model,
     candidates: &'p contact::Candidates,
-    target: Option<&'p Target<'a>>,
     steps: &'p [StepEnd],
-    /// The tangential operators (`None` on a one-shot path: frictionless, none built).
+    /// The tangential operator (`None` on a one-shot path: frictionless, none built).
     tangential: Option<&'p contact::BodyOperator>,
-    target_tangential: Option<&'p contact::BodyOperator>,
     /// A held translation's projection of the candidates' normals on its axis.
     mode_projection: Option<&'p [f64]>,
     params: lcp::active_set::ActiveSetParams,
@@ -59,10 +31,9 @@ struct Path<'p, 'a> {
     once: bool,
 }
 
-/// One increment's answer: the step's solution, both bodies' displacements, the linear
-/// solves and Lemke rescues it took.
-type Increment =
-    (lcp::active_set::FrictionStepSolution, Vec<f64>, Option<Vec<f64>>, usize, Vec<usize>);
+/// One increment's answer: the step's solution, the body's displacements, the linear solves
+/// and Lemke rescues it took.
+type Increment = (lcp::active_set::FrictionStepSolution, Vec<f64>, usize, Vec<usize>);
 
 /// What the walk carries from increment to increment: the start of the current step (the
 /// previous step's end), the tangential displacements and states to start from, and the
@@ -70,8 +41,6 @@ type Increment =
 struct Walk {
     load0: Vec<f64>,
     rhs0: Vec<f64>,
-    load20: Vec<f64>,
-    rhs20: Vec<f64>,
     d0: geometry::Point,
     force0: f64,
     previous: Vec<f64>,
@@ -80,7 +49,7 @@ struct Walk {
     iterations: usize,
     rescues: Vec<usize>,
     end_all: lcp::active_set::ActiveSetEnd,
-    last: Option<(lcp::active_set::FrictionStepSolution, Vec<f64>, Option<Vec<f64>>)>,
+    last: Option<(lcp::active_set::FrictionStepSolution, Vec<f64>)>,
     load_driven: Option<solution::LoadDriven>,
     rigid_mode: Option<solution::RigidMode>,
     total_evaluations: usize,
@@ -89,13 +58,14 @@ struct Walk {
 /// Frictional contact, load steps or a held translation against a rigid obstacle or a second
 /// body (`target`) by the active-set method on the sparse system (docs/method.md §5.1, §8),
 /// and frictionless contact in one shot as one step of one increment of it ([`one_shot`]): no
-/// blocks `M_**`, no condensation. Each increment sets the load `f_λ` (of both bodies), the
-/// obstacle's displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the step's `μ` on
-/// one [`contact::sparse::RigidObstacle`] or [`contact::sparse::TwoBodies`], whose
-/// factorisations and update columns carry over, and starts from the previous increment's
-/// states. An obstacle pressed by a force (§4.6) or a translation held by the contact (§4.7)
-/// is found by the search of `lcp::load_driven` over warm-started solves (rigid obstacle
-/// only). The displacements are those of each increment's final states.
+/// blocks `M_**`, no condensation. Two bodies take the walk of a scene of pairs
+/// ([`multibody::pair::solve_sparse`]). Against a rigid obstacle each increment sets the load
+/// `f_λ`, the obstacle's displacement `d_λ` (through `g0 − d_λ·ν` and `o = d_λ·t`) and the
+/// step's `μ` on one [`contact::sparse::RigidObstacle`], whose factorisations and update
+/// columns carry over, and starts from the previous increment's states. An obstacle pressed
+/// by a force (§4.6) or a translation held by the contact (§4.7) is found by the search of
+/// `lcp::load_driven` over warm-started solves. The displacements are those of each
+/// increment's final states.
 ///
 /// On a one-shot path against a rigid obstacle the system takes `K`'s factorisation from
 /// `model` and gives it back, its factors released if it factorised a row-replaced matrix
@@ -110,38 +80,79 @@ pub(in crate::pipeline) fn solve_frictional_active_set(
     steps: &[StepEnd],
     clock: &mut Clock<'_>,
 ) -> Result<ContactOutcome, Error> {
-    let once = one_shot(problem, steps, model, target.as_ref());
-    let factors = (once && target.is_none()).then(|| model.factorisation.take());
+    if let Some(target) = target {
+        return pair_path(problem, spec, model, candidates, target, steps, clock);
+    }
+    let once = one_shot(problem, steps, model);
+    let factors = once.then(|| model.factorisation.take());
     let on = (problem, spec, &*model);
-    let (outcome, factors) = walk_path(on, (candidates, target), (steps, once, factors), clock)?;
+    let (outcome, factors) = walk_path(on, candidates, (steps, once, factors), clock)?;
     if let Some(f) = factors {
         model.factorisation = f;
     }
     Ok(outcome)
 }
 
-/// [`solve_frictional_active_set`] on the model without the factors the system owns
-/// (`factors`, one-shot against a rigid obstacle), which come back with the outcome.
+/// Two bodies in one pair on the sparse path: the walk of a scene of that one pair
+/// ([`multibody::pair::solve_sparse`]; a translation of either body held by the contact is
+/// its held body), its answer as the pair's contact solution.
+fn pair_path(
+    problem: &Problem,
+    spec: &ContactSpec,
+    model: &Model,
+    candidates: contact::Candidates,
+    target: Target<'_>,
+    steps: &[StepEnd],
+    clock: &mut Clock<'_>,
+) -> Result<ContactOutcome, Error> {
+    let Target { model: second, operator, steps: steps2 } = target;
+    let pinned = model.system.pinned.or(second.system.pinned);
+    let ends = [steps.to_vec(), steps2];
+    let answer = multibody::pair::solve_sparse(
+        problem,
+        spec,
+        [model, second],
+        (candidates, operator),
+        ends,
+        clock,
+    )?;
+    let gap = answer.result.w.clone();
+    let mut contact = ContactSolution::new(
+        spec,
+        answer.candidates,
+        Some(answer.target),
+        Vec::new(),
+        None,
+        &answer.free_gap,
+        answer.result,
+        gap,
+        None,
+    );
+    contact.active_set = answer.record;
+    attach_records(&mut contact, problem, answer.friction, pinned, None, answer.rigid_mode);
+    let (u1, u2) = answer.displacements;
+    Ok((u1, Some(u2), contact))
+}
+
+/// [`solve_frictional_active_set`] against a rigid obstacle on the model without the factors
+/// the system owns (`factors`, one-shot), which come back with the outcome.
 fn walk_path(
     (problem, spec, model): (&Problem, &ContactSpec, &Model),
-    (mut candidates, target): (contact::Candidates, Option<Target<'_>>),
+    mut candidates: contact::Candidates,
     (steps, once, factors): (&[StepEnd], bool, Option<crate::linear_solve::Factorisation>),
     clock: &mut Clock<'_>,
 ) -> Result<(ContactOutcome, Option<crate::linear_solve::Factorisation>), Error> {
-    let target_parts = target.as_ref().map(|tg| (tg.model, &tg.operator));
-    let tangents = (!once).then(|| tangential_operators(&candidates, model, target_parts));
+    let tangents = (!once).then(|| tangential_operators(&candidates, model, None));
     let pinned = model.system.pinned;
     refuse_slanted_force(steps, &candidates)?;
-    let mode_projection = held_projection(pinned, steps, target.is_some(), &candidates)?;
+    let mode_projection = held_projection(pinned, steps, false, &candidates)?;
     let free = tangents.as_ref().map_or_else(|| vec![false; candidates.len()], |t| t.1.clone());
     let path = Path {
         problem,
         model,
         candidates: &candidates,
-        target: target.as_ref(),
         steps,
         tangential: tangents.as_ref().map(|t| &t.0),
-        target_tangential: tangents.as_ref().and_then(|t| t.2.as_ref()),
         mode_projection: mode_projection.as_deref(),
         params: lcp::active_set::ActiveSetParams::default(),
         once,
@@ -157,10 +168,10 @@ fn walk_path(
             }
             walk.end_step(&path, k);
         }
-        Ok(system.finish())
+        Ok((system.stats, system.into_factorisation()))
     })?;
     let Walk { iterations, rescues, end_all, last, history, load_driven, rigid_mode, .. } = walk;
-    let Some((answer, u, u2)) = last else {
+    let Some((answer, u)) = last else {
         unreachable!("validated: at least one step with at least one increment")
     };
     let step = answer.step;
@@ -173,11 +184,10 @@ fn walk_path(
     move_to_final_obstacle(&mut candidates, steps, load_driven.as_ref());
     let gap = step.gap.clone();
     let segment_length = candidates.segment_length.clone();
-    let target_operator = target.map(|tg| tg.operator);
     let mut contact = ContactSolution::new(
         spec,
         candidates,
-        target_operator,
+        None,
         Vec::new(),
         None,
         &answer.free_gap,
@@ -194,39 +204,24 @@ fn walk_path(
     });
     // The frictional record (none on a one-shot path, as on the condensed one-shot route).
     let coefficient = steps.last().map_or(spec.friction, |end| end.friction);
-    let friction = tangents.map(|(tangential, free, target_tangential)| {
+    let friction = tangents.map(|(tangential, free, _)| {
         let mut f =
             solution::FrictionContact::new(coefficient, free, tangential, step, &segment_length);
         history.finish(&mut f);
-        f.target_operator = target_tangential;
         f
     });
     attach_records(&mut contact, problem, friction, pinned, load_driven, rigid_mode);
-    Ok(((u, u2, contact), factors))
+    Ok(((u, None, contact), factors))
 }
 
-impl<'p> Path<'p, '_> {
-    /// The sparse system: both bodies' with a target, else the body's on its rigid obstacle,
-    /// which owns `K`'s factors when given them (`factors`), else borrows the model's.
+impl<'p> Path<'p> {
+    /// The body's sparse system on its rigid obstacle, which owns `K`'s factors when given
+    /// them (`factors`), else borrows the model's.
     fn system(
         &self,
         factors: Option<crate::linear_solve::Factorisation>,
-    ) -> Result<SparseFriction<'p>, Error> {
-        let (model, candidates) = (self.model, self.candidates);
-        Ok(match self.target {
-            Some(tg) => SparseFriction::Pair(
-                contact::sparse::TwoBodies::two(
-                    body_parts(model, &candidates.operator),
-                    body_parts(tg.model, &tg.operator),
-                    &candidates.initial_gap,
-                    model.system.collocation_scale,
-                )
-                .map_err(lcp::LcpError::from)?,
-            ),
-            None => SparseFriction::Rigid(
-                rigid_obstacle(model, candidates, factors).map_err(lcp::LcpError::from)?,
-            ),
-        })
+    ) -> Result<contact::sparse::RigidObstacle<'p>, Error> {
+        Ok(rigid_obstacle(self.model, self.candidates, factors).map_err(lcp::LcpError::from)?)
     }
 
     /// Step `k`'s coefficient on every candidate whose tangential row is free (0 where it is
@@ -234,35 +229,27 @@ impl<'p> Path<'p, '_> {
     /// system stays frictionless).
     fn set_friction(
         &self,
-        system: &mut SparseFriction<'p>,
+        system: &mut contact::sparse::RigidObstacle<'p>,
         free: &[bool],
         k: usize,
     ) -> Result<(), Error> {
-        let Some(tangential) = self.tangential else { return Ok(()) };
+        if self.tangential.is_none() {
+            return Ok(());
+        }
         let mu: Vec<f64> =
             free.iter().map(|&f| if f { self.steps[k].friction } else { 0.0 }).collect();
-        match (system, self.target_tangential) {
-            (SparseFriction::Pair(s), Some(op_t)) => {
-                s.set_friction(&mu, vec![(tangential, Some(op_t))])
-            }
-            (SparseFriction::Rigid(s), _) => s.set_friction(&mu),
-            (SparseFriction::Pair(_), None) => unreachable!("two bodies have both operators"),
-        }
-        .map_err(lcp::LcpError::from)?;
+        system.set_friction(&mu).map_err(lcp::LcpError::from)?;
         Ok(())
     }
 }
 
 impl Walk {
-    fn new(path: &Path<'_, '_>) -> Self {
+    fn new(path: &Path<'_>) -> Self {
         let n = path.model.system.rhs.len();
-        let n2 = path.target.map_or(0, |tg| tg.model.system.rhs.len());
         let m = path.candidates.len();
         Self {
             load0: vec![0.0; n],
             rhs0: vec![0.0; n],
-            load20: vec![0.0; n2],
-            rhs20: vec![0.0; n2],
             d0: [0.0, 0.0],
             force0: 0.0,
             previous: vec![0.0; m],
@@ -281,8 +268,8 @@ impl Walk {
     /// Increment `i` of step `k` (0-based): solved, checked for equilibrium, recorded.
     fn increment(
         &mut self,
-        path: &Path<'_, '_>,
-        system: &mut SparseFriction<'_>,
+        path: &Path<'_>,
+        system: &mut contact::sparse::RigidObstacle<'_>,
         (k, i): (usize, usize),
     ) -> Result<(), Error> {
         let end = &path.steps[k];
@@ -290,31 +277,13 @@ impl Walk {
         let lambda = i as f64 / end.increments as f64;
         let named = !path.problem.steps.is_empty();
         let at_step = |e| at_increment(named, (k, i, end.increments), e);
-        let (answer, u, u2, step_iterations, step_rescues) = match system {
-            _ if path.once => once_increment(system, &path.params).map_err(at_step)?,
-            SparseFriction::Rigid(system) => {
-                let rhs = lerp(&self.rhs0, &end.rhs, lambda);
-                self.rigid_increment(path, system, (k, lambda), &rhs, &at_step)?
-            }
-            SparseFriction::Pair(system) => {
-                let end2 = &path.target.expect("two bodies").steps[k];
-                let rhs = lerp(&self.rhs0, &end.rhs, lambda);
-                system.set_load(&rhs, &lerp(&self.rhs20, &end2.rhs, lambda));
-                let answer = lcp::active_set::solve_friction_step(
-                    system,
-                    &self.previous,
-                    self.warm.as_deref(),
-                    &path.params,
-                )
-                .map_err(|e| at_step(e.into()))?;
-                let (u, u2) = system
-                    .final_friction_displacements(&answer.states)
-                    .map_err(lcp::LcpError::from)?;
-                let (n, r) = (answer.step.iterations, answer.rescues.clone());
-                (answer, u, Some(u2), n, r)
-            }
+        let (answer, u, step_iterations, step_rescues) = if path.once {
+            once_increment(system, &path.params).map_err(at_step)?
+        } else {
+            let rhs = lerp(&self.rhs0, &end.rhs, lambda);
+            self.rigid_increment(path, system, (k, lambda), &rhs, &at_step)?
         };
-        let equilibrium = self.equilibrium(path, (k, lambda), &answer.step, &u, u2.as_deref());
+        let equilibrium = self.equilibrium(path, (k, lambda), &answer.step, &u);
         self.history.record(
             &answer.step,
             (k, i, lambda),
@@ -329,39 +298,30 @@ impl Walk {
             self.end_all = answer.end;
         }
         self.warm = Some(answer.states.clone());
-        self.last = Some((answer, u, u2));
+        self.last = Some((answer, u));
         Ok(())
     }
 
-    /// The relative equilibrium error of both bodies at load factor `lambda` of step `k`.
+    /// The relative equilibrium error of the body at load factor `lambda` of step `k`.
     fn equilibrium(
         &self,
-        path: &Path<'_, '_>,
+        path: &Path<'_>,
         (k, lambda): (usize, f64),
         step: &lcp::FrictionSolution,
         u: &[f64],
-        u2: Option<&[f64]>,
     ) -> f64 {
         let load = lerp(&self.load0, &path.steps[k].load, lambda);
         let normal = (&path.candidates.operator, step.normal.as_slice());
         let tangential = path.tangential.map(|op_t| (op_t, step.tangential.as_slice()));
         let ops: Vec<_> = std::iter::once(normal).chain(tangential).collect();
-        let mut equilibrium = solution::equilibrium_error(&path.model.system, &load, u, &ops);
-        // The second body: its step k, with the same load factor.
-        if let (Some(tg), Some(op_t), Some(u2)) = (path.target, path.target_tangential, u2) {
-            let load2 = lerp(&self.load20, &tg.steps[k].load, lambda);
-            let ops2 = [(&tg.operator, step.normal.as_slice()), (op_t, step.tangential.as_slice())];
-            equilibrium =
-                equilibrium.max(solution::equilibrium_error(&tg.model.system, &load2, u2, &ops2));
-        }
-        equilibrium
+        solution::equilibrium_error(&path.model.system, &load, u, &ops)
     }
 
     /// One increment on a rigid obstacle: the obstacle moved to `d_λ`, and the search of
     /// docs/method.md §4.6–4.7 when a force presses it or the contact holds the body.
     fn rigid_increment(
         &mut self,
-        path: &Path<'_, '_>,
+        path: &Path<'_>,
         system: &mut contact::sparse::RigidObstacle<'_>,
         (k, lambda): (usize, f64),
         rhs: &[f64],
@@ -442,16 +402,13 @@ impl Walk {
             system.set_load(&rhs, &g0, &offset);
         }
         let u = system.final_friction_displacements(&answer.states).map_err(lcp::LcpError::from)?;
-        Ok((answer, u, None, trial_iterations, trial_rescues))
+        Ok((answer, u, trial_iterations, trial_rescues))
     }
 
     /// The previous step's end becomes the next step's start.
-    fn end_step(&mut self, path: &Path<'_, '_>, k: usize) {
+    fn end_step(&mut self, path: &Path<'_>, k: usize) {
         let end = &path.steps[k];
         (self.load0, self.rhs0) = (end.load.clone(), end.rhs.clone());
-        if let Some(tg) = path.target {
-            (self.load20, self.rhs20) = (tg.steps[k].load.clone(), tg.steps[k].rhs.clone());
-        }
         self.d0 = end.obstacle;
         self.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
     }
@@ -462,24 +419,14 @@ impl Walk {
 /// from) on the system as built (the models' loads, the obstacle where it was given), the
 /// displacements those of its final active set.
 fn once_increment(
-    system: &mut SparseFriction<'_>,
+    system: &mut contact::sparse::RigidObstacle<'_>,
     params: &lcp::active_set::ActiveSetParams,
 ) -> Result<Increment, lcp::LcpError> {
-    let (answer, u, u2) = match system {
-        SparseFriction::Rigid(system) => {
-            let answer = lcp::active_set::solve(system, params)?;
-            let u = system.final_displacements(&answer.active)?;
-            (answer, u, None)
-        }
-        SparseFriction::Pair(system) => {
-            let answer = lcp::active_set::solve(system, params)?;
-            let (u, u2) = system.final_displacements(&answer.active)?;
-            (answer, u, Some(u2))
-        }
-    };
+    let answer = lcp::active_set::solve(system, params)?;
+    let u = system.final_displacements(&answer.active)?;
     let (iterations, rescues) = (answer.iterations, answer.rescues.clone());
     let step = lcp::active_set::FrictionStepSolution::frictionless(answer);
-    Ok((step, u, u2, iterations, rescues))
+    Ok((step, u, iterations, rescues))
 }
 
 /// The search for the body's translation held by the contact (docs/method.md §4.7) under

@@ -216,7 +216,7 @@ pub(super) fn solve(
     };
     let overridden = warning.is_some();
     let answer = load_path::run_condensed(&path, &terms, blocks, clock)
-        .map_err(|e| super::super::refused_on_path(e, &compliance, overridden, true))?;
+        .map_err(|e| super::super::refused_on_path(e, &compliance, overridden))?;
     let last_friction = path.friction.last().cloned().unwrap_or_default();
     drop(terms);
     let result = load_path::normal_lcp(&answer.problem, &answer.step)?;
