@@ -91,6 +91,26 @@ mod tests {
         }
     }
 
+    /// Per radian (`x = r`) the masses sum to `ρ ∫ r dA` (3 × 3 Gauss is exact for `r` on
+    /// the grid's elements and the triangle's six points for `r` on the triangle) and are
+    /// positive, on the axis `r = 0` too (`ρ ∫ N_a² r dA` is positive inside the element).
+    #[test]
+    fn masses_per_radian_are_positive_and_sum_to_the_mass_per_radian() {
+        for (x, lumping) in [([0.0, 2.0], Lumping::Hrz), ([0.5, 2.0], Lumping::RowSum)] {
+            let grid = Mesh::rectangle(x, [0.0, 1.0], 0.25);
+            let m = lumped_mass_per_radian(&grid, 3.0, lumping);
+            let total: f64 = m.iter().sum();
+            let exact = 3.0 * (x[1] * x[1] - x[0] * x[0]) / 2.0;
+            assert!((total - exact).abs() < 1e-12 * exact, "{lumping:?}: {total} against {exact}");
+            assert!(m.iter().all(|&x| x > 0.0), "{lumping:?}: {m:?}");
+        }
+        // The triangle (0, 0), (2, 0), (0, 1): ∫ r dA = 2/3; its corner at r = 0 too.
+        let m = lumped_mass_per_radian(&triangle(), 3.0, Lumping::Hrz);
+        let total: f64 = m.iter().sum();
+        assert!((total - 2.0).abs() < 1e-12, "{total}");
+        assert!(m.iter().all(|&x| x > 0.0), "{m:?}");
+    }
+
     #[test]
     fn row_sums_vanish_at_the_triangle_corners_and_not_on_the_quadrilateral() {
         let t = element_mass(&triangle(), 0, 1.0, Lumping::RowSum, false);
