@@ -402,3 +402,67 @@ fn fe_block_on_an_elastic_slab_with_friction() {
         }
     }
 }
+
+/// A solid cylinder (radius 0.5, length 1: the section `[0, 0.5] × [0, 1]`, E = 1000, ν = 0.3,
+/// ρ = 1, spacing 0.05, MFVM or Q9) landing at 0.1 on a rigid flat it touches at time 0, with
+/// friction `mu`, step 0.0025 until `end`.
+fn cylinder(mu: f64, end: f64, extra: &str) -> Problem {
+    let text = format!(
+        r#"
+        [geometry]
+        kind = "rectangle"
+        x = [0.0, 0.5]
+        y = [0.0, 1.0]
+        [nodes]
+        spacing = 0.05
+        [material]
+        young = 1000.0
+        poisson = 0.3
+        plane = "axisymmetric"
+        density = 1.0
+        [contact]
+        edge = "bottom"
+        obstacle_point = [0.0, 0.0]
+        obstacle_normal = [0.0, 1.0]
+        friction = {mu}
+        {extra}
+        [dynamics]
+        end_time = {end}
+        time_step = 0.0025
+        initial_velocity = [0.0, -0.1]
+        output.every = 1000000
+        "#
+    );
+    Problem::from_toml(&text).unwrap_or_else(|e| panic!("cylinder: {e}"))
+}
+
+/// Friction on the rings of an axisymmetric FE body (and the MFVM twin): a solid cylinder
+/// landing flat on a rigid floor. Half-way through the contact (the end face presses for
+/// `2 L / c` ≈ 0.063) with μ = 10 every pressing ring's radial velocity is zero to 1e-9 of
+/// the landing speed (full stick), where without friction the face spreads (Poisson); μ = 1e-9
+/// equals the frictionless run (peak force to 1e-6); residuals within the run's check.
+/// Measured: MFVM 11 rings, stuck `|v_r|` ≤ 7.7e-16, frictionless up to 2.7e-2, μ = 1e-9
+/// 1.7e-10; FE (Q9) 21 rings, 2.9e-15, 1.7e-2, 9.5e-11. The FE run is the axisymmetric FE
+/// time stepping's first test (increment 14 wired it).
+#[test]
+fn axisymmetric_fe_cylinder_sticks_with_friction() {
+    let half = 0.03;
+    for (name, extra) in [("MFVM", ""), ("FE", FEM)] {
+        let (stuck, slid) =
+            (run(&cylinder(10.0, half, extra)).0, run(&cylinder(0.0, half, extra)).0);
+        let (n, stick) = pressing_radial_velocity(&stuck);
+        let (n0, slip) = pressing_radial_velocity(&slid);
+        let vanishing = run(&cylinder(1e-9, half, extra)).0;
+        let peak = |o: &DynamicOutcome| o.simulation.figures(0.0025).contact.peak_contact_force;
+        let apart = (peak(&vanishing) - peak(&slid)).abs() / peak(&slid);
+        let residual = stuck.simulation.figures(0.0025).max_step_residual;
+        println!(
+            "{name} cylinder at t = {half}: μ = 10: {n} rings pressing, |v_r| ≤ {stick:.2e}; frictionless: {n0}, |v_r| up to {slip:.2e}; μ = 1e-9 peak apart {apart:.1e}; residual {residual:.1e}"
+        );
+        assert!(n >= 3 && n0 >= 3, "{name}: pressing rings {n}, {n0}");
+        assert!(stick <= 1e-9 * 0.1, "{name}: a stuck ring moves radially at {stick}");
+        assert!(slip >= 1e3 * stick.max(1e-15), "{name}: frictionless rings do not slide: {slip}");
+        assert!(apart <= 1e-6, "{name}: μ = 1e-9 peak apart by {apart}");
+        assert!(residual <= mlpg_contact::solution::COMPLEMENTARITY_TOLERANCE, "{name}");
+    }
+}
