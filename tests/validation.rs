@@ -66,6 +66,8 @@ mod validation {
     mod dynamics_active_set;
     // A block sliding with friction onto a rigid wall: rigid-body arrival, gaps, Coulomb's cone.
     mod dynamics_wall;
+    // Friction in the time stepping on FE bodies (sliding, stick, slip, pairs) and on axisymmetric rings.
+    mod dynamics_friction;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
     mod quasi_static;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.

@@ -222,7 +222,7 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 }
 
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
-/// axisymmetric; friction on plane bodies only) against rigid obstacles, or any number of
+/// axisymmetric, with or without friction) against rigid obstacles, or any number of
 /// plane bodies in contact pairs with each other or with rigid obstacles (with or without
 /// friction), from rest at their prescribed displacements.
 fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
@@ -233,8 +233,6 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
     } else if several && axisymmetric {
         Some(("body[0].material.plane", "several axisymmetric bodies"))
-    } else if specs.iter().any(|c| c.friction > 0.0) && axisymmetric {
-        Some(("contact.friction", "friction on an axisymmetric body"))
     } else if let Some(what) = refused_active_set(problem, &specs) {
         Some(("contact.solver", what))
     } else if !file.step.is_empty() {
@@ -253,7 +251,7 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane with Coulomb friction or axisymmetric frictionless, against rigid obstacles, or plane bodies in contact pairs with each other or with rigid obstacles, with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane or axisymmetric, with Coulomb friction or without, against rigid obstacles, or plane bodies in contact pairs with each other or with rigid obstacles, with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),

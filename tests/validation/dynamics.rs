@@ -500,17 +500,6 @@ fn sliding_block_decelerates_at_mu_g_and_sticks() {
     assert!((px - m * v0).abs() < 1e-10 * m * v0, "frictionless p_x {px}");
 }
 
-/// Friction on an axisymmetric body is refused with [dynamics], naming the key.
-#[test]
-fn axisymmetric_friction_is_refused_with_dynamics() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/problems/ball_impact_axisymmetric.toml");
-    let text = std::fs::read_to_string(path).expect("the shipped ball");
-    let text = text.replace("edge = \"contact\"\n", "edge = \"contact\"\nfriction = 0.3\n");
-    assert!(text.contains("friction = 0.3"));
-    let err = Problem::from_toml(&text).expect_err("refused").to_string();
-    assert!(err.contains("contact.friction"), "{err}");
-}
-
 /// With restitution 0 the impact takes energy (the contact node's normal velocity is
 /// stopped); the loss, relative to the initial kinetic energy, halves as the spacing and the
 /// step are halved together (first order; measured 1.39 % at L/40, 0.69 % at L/80, 0.35 % at
