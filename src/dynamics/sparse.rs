@@ -58,8 +58,10 @@ impl<'a> SparseStep<'a> {
     /// zero right-hand side of body `b`'s size.
     ///
     /// # Errors
-    /// [`DynamicsError::ActiveSet`] (step 0) when the terms do not form pairs in order, or a
-    /// candidate's force is not on one node of its body ([`Bodies::new`]).
+    /// [`DynamicsError::ActiveSet`] (step 0) when the terms do not form pairs in order, a
+    /// candidate's force is not on one node of its body, or a node owns candidates of two
+    /// pairs that are not frictionless along different axes ([`Bodies::sharing_corners`],
+    /// [`Bodies::set_friction`]).
     pub fn new(
         iterations: &'a [Iteration<'_>],
         points: &[&'a [Point]],
@@ -94,7 +96,7 @@ impl<'a> SparseStep<'a> {
             })
             .collect();
         let gaps = vec![0.0; candidates];
-        let mut system = Bodies::new(bodies, pairs, &gaps).map_err(refused)?;
+        let mut system = Bodies::sharing_corners(bodies, pairs, &gaps).map_err(refused)?;
         let friction = match friction {
             Some(f) => {
                 let tangential: Vec<PairTangential<'a>> = pairs_of(&f.terms, candidates)

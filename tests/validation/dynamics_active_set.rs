@@ -25,11 +25,17 @@ fn shipped(name: &str, solver: &str) -> Problem {
 fn shipped_text(name: &str, solver: &str) -> String {
     let path = format!("{}/problems/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let text = text
-        .replace("[[contact]]\n", &format!("[[contact]]\nsolver = \"{solver}\"\n"))
-        .replace("[contact]\n", &format!("[contact]\nsolver = \"{solver}\"\n"));
-    assert!(text.contains(&format!("solver = \"{solver}\"")), "{name} has a contact table");
-    text
+    // After each `[contact]` or `[[contact]]` header (a comment may follow it).
+    let mut out = String::new();
+    for line in text.lines() {
+        out.push_str(line);
+        out.push('\n');
+        if line.starts_with("[contact]") || line.starts_with("[[contact]]") {
+            out.push_str(&format!("solver = \"{solver}\"\n"));
+        }
+    }
+    assert!(out.contains(&format!("solver = \"{solver}\"")), "{name} has a contact table");
+    out
 }
 
 /// The largest difference between the runs' per-record contact forces (total and each
@@ -170,6 +176,54 @@ fn finite_element_bodies_on_the_active_set_equal_lemke() {
 #[test]
 fn axisymmetric_ball_on_the_active_set_equals_lemke() {
     compare("ball_impact_axisymmetric", "");
+}
+
+/// A node owning candidates of two pairs: the block of `problems/block_onto_wall_friction.toml`
+/// without the floor's friction (it slides at `v0` = 0.5 and reaches the wall 0.2 away at
+/// t = 0.4). Its corner node (1, 0) owns a floor candidate (ν = (0, 1)) and a wall candidate
+/// (ν = (−1, 0)), each replacing its own row of the node. The active-set run equals Lemke's
+/// within 1e-9 to t = 1 (module documentation), and to t = 0.42 (the wall's second step) with
+/// both corner candidates closed in the last step on both solvers, so that the comparison
+/// covers the node carrying both forces.
+#[test]
+fn a_corner_node_of_two_frictionless_pairs_on_the_active_set_equals_lemke() {
+    let name = "block_onto_wall_friction";
+    let frictionless = |solver: &str| shipped_text(name, solver).replace("friction = 0.3\n", "");
+    assert!(!frictionless("lemke").contains("friction = "), "the floor's friction is removed");
+    let run = |solver: &str, end: &str| {
+        let text = frictionless(solver).replace("end_time = 1.0", &format!("end_time = {end}"));
+        let problem = Problem::from_toml(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        solve(&problem, &mut Silent).unwrap_or_else(|e| panic!("{name} on {solver}: {e}"))
+    };
+    for end in ["1.0", "0.42"] {
+        let (lemke, sparse) = (run("lemke", end), run("active_set", end));
+        let [force, velocity] = differences(&lemke, &sparse);
+        let f = sparse.simulation.figures(sparse.dynamics.time_step);
+        // The corner's candidate of each pair and its impulse in the last step.
+        let corner = |o: &DynamicOutcome| -> Vec<f64> {
+            let pairs = &o.bodies.as_ref().expect("two pairs").pairs;
+            let (floor, wall) = (&pairs[0].candidates, &pairs[1].candidates);
+            let node = floor.nodes.iter().find(|i| wall.nodes.contains(i)).expect("a corner");
+            pairs
+                .iter()
+                .map(|p| {
+                    let c = p.candidates.nodes.iter().position(|i| i == node).expect("on both");
+                    o.simulation.final_impulses[p.offset + c]
+                })
+                .collect()
+        };
+        let (a, b) = (corner(&lemke), corner(&sparse));
+        println!(
+            "corner block to t = {end}: forces differ by {force:.2e} of the peak, final velocities by {velocity:.2e}; residual {:.1e}; the corner's last impulses {a:?} (Lemke), {b:?}",
+            f.max_step_residual
+        );
+        assert!(force <= 1e-9, "forces differ by {force:e} of the peak");
+        assert!(velocity <= 1e-9, "final velocities differ by {velocity:e}");
+        assert!(f.max_step_residual <= mlpg_contact::solution::COMPLEMENTARITY_TOLERANCE, "{f:?}");
+        if end == "0.42" {
+            assert!(a.iter().chain(&b).all(|&p| p > 0.0), "the corner closed on both: {a:?} {b:?}");
+        }
+    }
 }
 
 /// What the active-set step does not do is refused naming `contact.solver`: pairs on
