@@ -20,6 +20,12 @@
 //! system's own cache), so a step whose set repeats the last one's costs one solve and the
 //! low-rank correction. No `m × m` compliance and no `n × m` `M̂⁻¹ E` is formed.
 //!
+//! The bodies are whatever the stepping takes: MFVM (rows replaced in `M Φ + h²θ² K`, its
+//! collocation rows scaled by `h²θ²`) or finite elements (identity `Φ`, the eliminated rows
+//! of `K` in `M + h²θ² K`), plane or axisymmetric (the mass per radian; ring candidates,
+//! whose whole ring's force acts per radian on the owner: weights over 2π): the gap row
+//! replaces an owner's row as for any other; `tests/validation/dynamics_active_set.rs` compares each with Lemke's run.
+//!
 //! The method starts from every candidate of `A` closed (the index set as the first guess;
 //! the system's free solve is skipped, see [`OnSet`]'s `free_gap`): on the bar of
 //! docs/dev/dynamics.md every contact step then settles in one solve.
@@ -52,8 +58,10 @@ impl<'a> SparseStep<'a> {
     /// zero right-hand side of body `b`'s size.
     ///
     /// # Errors
-    /// [`DynamicsError::ActiveSet`] (step 0) when the terms do not form pairs in order, or a
-    /// candidate's force is not on one node of its body ([`Bodies::new`]).
+    /// [`DynamicsError::ActiveSet`] (step 0) when the terms do not form pairs in order, a
+    /// candidate's force is not on one node of its body, or a node owns candidates of two
+    /// pairs that are not frictionless along different axes ([`Bodies::sharing_corners`],
+    /// [`Bodies::set_friction`]).
     pub fn new(
         iterations: &'a [Iteration<'_>],
         points: &[&'a [Point]],
@@ -88,7 +96,7 @@ impl<'a> SparseStep<'a> {
             })
             .collect();
         let gaps = vec![0.0; candidates];
-        let mut system = Bodies::new(bodies, pairs, &gaps).map_err(refused)?;
+        let mut system = Bodies::sharing_corners(bodies, pairs, &gaps).map_err(refused)?;
         let friction = match friction {
             Some(f) => {
                 let tangential: Vec<PairTangential<'a>> = pairs_of(&f.terms, candidates)

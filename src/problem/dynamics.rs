@@ -2,7 +2,7 @@
 //! density, the initial velocity, and the refusals of what the first dynamic increment does
 //! not support (docs/dev/dynamics.md).
 
-use super::{ContactSolver, Method, Precision, Problem, ProblemError, ProblemFile, invalid};
+use super::{ContactSolver, Precision, Problem, ProblemError, ProblemFile, invalid};
 
 /// Most time steps a run may take.
 pub const MAX_STEPS: usize = 10_000_000;
@@ -233,8 +233,6 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
     } else if several && axisymmetric {
         Some(("body[0].material.plane", "several axisymmetric bodies"))
-    } else if let Some(what) = refused_active_set(problem, &specs) {
-        Some(("contact.solver", what))
     } else if !file.step.is_empty() {
         Some(("step", "[[step]] load steps"))
     } else if problem.adaptive.is_some() {
@@ -264,31 +262,6 @@ fn solver_of(problem: &Problem) -> ContactSolver {
         ContactSolver::ActiveSet
     } else {
         ContactSolver::Lemke
-    }
-}
-
-/// Why the active-set step (docs/dev/dynamics.md increment 11) cannot take `problem`'s
-/// pairs `specs`, when a pair asks for it: it is built and tested for plane MFVM bodies, with
-/// or without friction, all pairs on one solver.
-fn refused_active_set(problem: &Problem, specs: &[&super::ContactSpec]) -> Option<&'static str> {
-    let asked = |s: ContactSolver| specs.iter().any(|c| c.solver == s);
-    if !asked(ContactSolver::ActiveSet) {
-        return None;
-    }
-    if asked(ContactSolver::Lemke) {
-        Some(
-            "the active-set solver on some pairs and Lemke's on others (each step solves all pairs together: give every pair the same solver)",
-        )
-    } else if problem.bodies().any(|p| p.material.is_axisymmetric()) {
-        Some(
-            "the active-set solver on an axisymmetric body (untested: use contact.solver = \"lemke\")",
-        )
-    } else if problem.bodies().any(|p| p.discretisation.method != Method::Mfvm) {
-        Some(
-            "the active-set solver on a finite element body (untested: use contact.solver = \"lemke\")",
-        )
-    } else {
-        None
     }
 }
 

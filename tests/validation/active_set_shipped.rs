@@ -100,8 +100,8 @@ fn contact_files() -> Vec<(String, String)> {
             let text = std::fs::read_to_string(&p).unwrap();
             (name, with_refinement_steps(&text, REFINEMENT_STEPS))
         })
-        // Dynamics (Lemke per time step; the active set is refused there with a message,
-        // tests/cli.rs) has its own suite.
+        // Dynamics (each time step's contact; the active set per step against Lemke's:
+        // tests/validation/dynamics_active_set.rs) has its own suite.
         .filter(|(_, text)| has_contact(text) && !text.contains("\n[dynamics]\n"))
         .collect();
     files.sort();

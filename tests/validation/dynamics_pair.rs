@@ -321,11 +321,6 @@ fn several_body_dynamics_refusals_name_the_key() {
     let mut text = base.clone();
     text.replace_range(last..last + ", density = 1.0".len(), "");
     refused(text, "body[2].material.density");
-    refused(
-        base.replace("[[contact]]\n", "[[contact]]\nsolver = \"active_set\"\n")
-            + "[discretisation]\nmethod = \"fem\"\n",
-        "contact.solver",
-    );
 }
 
 /// A block `[0.5, 1.5] × [0.25, 0.5]` sliding at `v0` on a sled `[0, 2] × [0, 0.25]` at rest

@@ -106,7 +106,9 @@ fn smallest_gap(outcome: &DynamicOutcome, candidates: &Candidates) -> f64 {
 ///
 /// `contact.solver = "active_set"` is refused at the first step, naming `contact[0].solver`:
 /// the corner node (1, 0) owns a candidate of each pair (a floor candidate with friction and
-/// a wall candidate), which the sparse step's row replacement cannot take.
+/// a wall candidate), which the sparse step's row replacement cannot take (the floor's
+/// tangential and the wall's normal force act on one row; without the floor's friction it is
+/// taken: `dynamics_active_set`).
 #[test]
 fn block_slides_onto_a_wall_as_a_rigid_block_would() {
     let text = shipped_text();
@@ -205,4 +207,5 @@ fn block_slides_onto_a_wall_as_a_rigid_block_would() {
     let err = solve(&problem, &mut Silent).err().expect("refused").to_string();
     println!("active set: {err}");
     assert!(err.contains("contact[0].solver") && err.contains("corner"), "{err}");
+    assert!(err.contains("with friction"), "{err}");
 }

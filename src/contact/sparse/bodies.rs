@@ -23,7 +23,12 @@
 //! A node may own one candidate (over all pairs of its body), and a node that owns one may
 //! not receive another pair's target forces (a body one node thick, or a corner node shared
 //! by two contact edges): its removed row would hold two unknown forces
-//! ([`ActiveSetError::OwnerConflict`]). [`TwoBodies`] is the case of two bodies and one pair.
+//! ([`ActiveSetError::OwnerConflict`]). [`Bodies::sharing_corners`] (the time stepping's)
+//! takes a node owning candidates of two pairs (a corner node of two contact edges) when both
+//! are frictionless and their normals lie along different axes: each then replaces its own
+//! row of the node, whose residual holds its force alone, and the two candidates' changes add
+//! (`shared_owners`); normals off the axes, or friction on either (the frictional modes use
+//! both rows), stay refused. [`TwoBodies`] is the case of two bodies and one pair.
 //!
 //! With friction (any number of pairs: [`Bodies::set_friction`], [`FrictionSystem`]) a
 //! candidate is open, closed
@@ -183,6 +188,9 @@ pub struct Bodies<'a> {
     /// `o_c = d·t_c`: a rigid obstacle's tangential displacement at candidate `c` (0 against a
     /// body, or an obstacle that has not moved): the slip is `t·u^h(x_c) − o_c`.
     tangential_offset: Vec<f64>,
+    /// Per candidate, the candidate of another pair owned by the same node (a corner node of
+    /// two contact edges; [`candidate_owners`]), or `None`.
+    shared: Vec<Option<usize>>,
     /// Work counters (the same as a rigid obstacle's).
     pub stats: RigidObstacleStats,
 }
@@ -249,9 +257,43 @@ impl<'a> Bodies<'a> {
         contact: Vec<PairParts<'a>>,
         initial_gap: &[f64],
     ) -> Result<Self, ActiveSetError> {
+        Self::build(bodies, contact, initial_gap, false)
+    }
+
+    /// As [`Bodies::new`], also taking a node that owns candidates of two pairs when both are
+    /// frictionless and their normals lie along different axes (`shared_owners`; the time
+    /// stepping's per-step system, docs/dev/dynamics.md increment 11; the static paths keep
+    /// refusing it, untested there).
+    ///
+    /// # Errors
+    /// As [`Bodies::new`], the shared nodes it takes excepted.
+    pub fn sharing_corners(
+        bodies: Vec<BodyParts<'a>>,
+        contact: Vec<PairParts<'a>>,
+        initial_gap: &[f64],
+    ) -> Result<Self, ActiveSetError> {
+        Self::build(bodies, contact, initial_gap, true)
+    }
+
+    fn build(
+        bodies: Vec<BodyParts<'a>>,
+        contact: Vec<PairParts<'a>>,
+        initial_gap: &[f64],
+        corners_allowed: bool,
+    ) -> Result<Self, ActiveSetError> {
         let (offsets, starts) = numbering(&bodies, &contact, initial_gap)?;
         let m = initial_gap.len();
-        let owner_of = candidate_owners(&contact, &starts)?;
+        let (owner_of, corners) = candidate_owners(&contact, &starts)?;
+        if let (Some(&(first, second)), false) = (corners.first(), corners_allowed) {
+            let pair = |c: usize| starts.partition_point(|&s| s <= c) - 1;
+            return Err(ActiveSetError::OwnerConflict {
+                body: contact[pair(first)].body,
+                node: owner_of[first].0,
+                pair: pair(first),
+                other: pair(second),
+                what: "owns a candidate of each (a corner node shared by two contact edges)",
+            });
+        }
         let wanted = owner_rows(&bodies, &contact, &offsets, &starts, &owner_of);
         let mut pairs = Vec::with_capacity(m);
         for (k, pair) in contact.iter().enumerate() {
@@ -260,6 +302,7 @@ impl<'a> Bodies<'a> {
                 pairs.push(replaced_rows(pair, (k, c), owner, &offsets, &wanted));
             }
         }
+        let shared = shared_owners(&pairs, &contact, &corners, &offsets, m)?;
         check_target_rows(&pairs, &offsets)?;
         let points =
             bodies.iter().map(|b| b.points).collect::<Option<Vec<_>>>().map(|all| all.concat());
@@ -282,6 +325,7 @@ impl<'a> Bodies<'a> {
             friction: Vec::new(),
             tangential_target: vec![0.0; m],
             tangential_offset: vec![0.0; m],
+            shared,
             stats: RigidObstacleStats::default(),
         })
     }
@@ -345,6 +389,15 @@ impl<'a> Bodies<'a> {
         let parts = self.contact[k];
         let (t1, t2) = self.tangential.as_ref().expect("set by set_friction")[k];
         let ob = self.offsets[parts.body];
+        if let (Some(other), true) = (self.shared[c], mu != 0.0) {
+            return Err(ActiveSetError::OwnerConflict {
+                body: parts.body,
+                node: (self.pairs[c].dofs[0] - ob) / 2,
+                pair: k,
+                other: self.pairs[other].contact.0,
+                what: "owns a candidate of each, the first with friction (a corner node shared by two contact edges, where the first's tangential force and the second's normal force act on one row)",
+            });
+        }
         // The target side: its DOF offset, normal and tangential operators.
         let target = parts.target.zip(t2).map(|((t, op2), t2)| (self.offsets[t], op2, t2));
         let pair = &mut self.pairs[c];
@@ -1182,42 +1235,88 @@ fn numbering(
     Ok((offsets, starts))
 }
 
+/// Candidates `(first, second)` of two pairs owned by one node ([`candidate_owners`]).
+type Corners = Vec<(usize, usize)>;
+
 /// Each candidate's owner: one node of its body with a non-zero weight, no node owning two
-/// candidates (of any pair).
+/// candidates of one pair; and the candidates `(first, second)` whose node also owns a
+/// candidate of an earlier pair (a corner node of two contact edges, checked by
+/// [`shared_owners`]).
 ///
 /// # Errors
-/// [`ActiveSetError::OwnerConflict`] for a node owning candidates of two pairs,
-/// [`ActiveSetError::Unsupported`] for two of one pair or a force not on one node.
+/// [`ActiveSetError::Unsupported`] for two candidates of one pair on a node or a force not on
+/// one node.
 fn candidate_owners(
     contact: &[PairParts<'_>],
     starts: &[usize],
-) -> Result<Vec<(usize, f64)>, ActiveSetError> {
+) -> Result<(Vec<(usize, f64)>, Corners), ActiveSetError> {
     let mut owner_of = Vec::with_capacity(starts.last().copied().unwrap_or(0));
-    let mut used: HashMap<(usize, u32), usize> = HashMap::new();
+    let mut corners = Vec::new();
+    let mut used: HashMap<(usize, u32), (usize, usize)> = HashMap::new();
     for (k, pair) in contact.iter().enumerate() {
         for (c, owners) in pair.operator.owners.iter().enumerate() {
             match owners.as_slice() {
-                [(i, w)] if *w != 0.0 => match used.insert((pair.body, *i), k) {
-                    None => owner_of.push((*i as usize, *w)),
-                    // A corner node of two contact edges.
-                    Some(first) if first != k => {
-                        return Err(ActiveSetError::OwnerConflict {
-                            body: pair.body,
-                            node: *i as usize,
-                            pair: first,
-                            other: k,
-                            what: "owns a candidate of each (a corner node shared by two contact edges)",
-                        });
+                [(i, w)] if *w != 0.0 => {
+                    match used.insert((pair.body, *i), (k, starts[k] + c)) {
+                        None => {}
+                        // A corner node of two contact edges.
+                        Some((first, other)) if first != k => {
+                            corners.push((other, starts[k] + c));
+                        }
+                        Some(_) => {
+                            return Err(ActiveSetError::Unsupported { candidate: starts[k] + c });
+                        }
                     }
-                    Some(_) => {
-                        return Err(ActiveSetError::Unsupported { candidate: starts[k] + c });
-                    }
-                },
+                    owner_of.push((*i as usize, *w));
+                }
                 _ => return Err(ActiveSetError::Unsupported { candidate: starts[k] + c }),
             }
         }
     }
-    Ok(owner_of)
+    Ok((owner_of, corners))
+}
+
+/// Each candidate's partner on a node that owns candidates of two pairs (`corners` from
+/// [`candidate_owners`]). Such a node is taken when the two candidates' rows do not meet: each
+/// normal lies along an axis (no tangential term `−(ν_b/ν_a) K_a`), the two along different
+/// axes, so that each replaces its own row of the node, whose residual then holds its force
+/// alone, and the two candidates' changes add up to the node with both closed; friction on
+/// either is refused by [`Bodies::set_friction`] (the frictional modes use both rows).
+///
+/// # Errors
+/// [`ActiveSetError::OwnerConflict`] for a node owning candidates of more than two pairs, or of
+/// two whose normals are not along different axes.
+fn shared_owners(
+    pairs: &[Pair],
+    contact: &[PairParts<'_>],
+    corners: &[(usize, usize)],
+    offsets: &[usize],
+    m: usize,
+) -> Result<Vec<Option<usize>>, ActiveSetError> {
+    let mut shared = vec![None; m];
+    let along_an_axis = |c: usize| {
+        let (k, local) = pairs[c].contact;
+        let d = contact[k].operator.direction(local);
+        d[pairs[c].axes[1] as usize] == 0.0
+    };
+    for &(first, second) in corners {
+        let apart = pairs[first].axes[0] != pairs[second].axes[0];
+        let taken = shared[first].is_some() || shared[second].is_some();
+        if !apart || taken || !along_an_axis(first) || !along_an_axis(second) {
+            let k = pairs[first].contact.0;
+            let body = contact[k].body;
+            return Err(ActiveSetError::OwnerConflict {
+                body,
+                node: (pairs[first].dofs[0] - offsets[body]) / 2,
+                pair: k,
+                other: pairs[second].contact.0,
+                what: "owns a candidate of each (a corner node shared by two contact edges) whose normals are not along the two axes",
+            });
+        }
+        shared[first] = Some(second);
+        shared[second] = Some(first);
+    }
+    Ok(shared)
 }
 
 /// The rows of `K` (stacked) at the owners' DOFs, which the contact rows replace.
