@@ -566,9 +566,17 @@ impl<'a> RigidObstacle<'a> {
         if !new.is_empty() {
             let t = Instant::now();
             let n = self.matrix.n;
+            // Stored columns serve a solve only when every changed row has one: once a batch
+            // is not stored, none of the base's will serve again (but when every changed row
+            // came back to an earlier batch's), so they are freed and no later one is kept
+            // (0.95 GB of 58 columns on the 10⁶-node strip, docs/dev/performance.md).
+            let keep = self.columns.len() == self.dots.len()
+                && (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
+            if !keep {
+                self.columns.clear();
+            }
             let f = self.base();
             let (reps, slot) = (&self.replacements, &self.slot);
-            let keep = (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
             let blocks: Vec<Vec<UpdateColumn>> = new
                 .par_chunks(block_columns(n))
                 .map(|chunk| {
