@@ -789,7 +789,20 @@ impl Factorisation {
         std::mem::replace(self, released)
     }
 
-    /// Whether [`Self::release`] has dropped the factors.
+    /// A factorisation of an `n × n` matrix that is not made: no factors and empty
+    /// statistics, as if released from the start ([`Self::is_released`]), with the `options`
+    /// that a factorisation of that matrix, or of a related one, is to be made with. The
+    /// pipeline leaves `K` so when the one solver that would use its factors needs none
+    /// (the frictionless active set against rigid obstacles that starts from every candidate
+    /// closed, docs/method.md §5.1), or factorises it later when it turns out to need them.
+    /// Solves give NaN columns and [`SolveError::Released`].
+    pub fn unfactorised(n: usize, options: FactorOptions) -> Self {
+        let stats = FactorStats { precision: options.precision, ..FactorStats::default() };
+        Factorisation { inner: Inner::Released, n, stats, options }
+    }
+
+    /// Whether [`Self::release`] has dropped the factors (or [`Self::unfactorised`] made
+    /// none).
     pub fn is_released(&self) -> bool {
         matches!(self.inner, Inner::Released)
     }

@@ -74,15 +74,33 @@ fn discretise_mfvm_nodes(
     given: Option<nodes::Nodes>,
     progress: &mut dyn Progress,
 ) -> Result<Model, Error> {
+    discretise_mfvm_with(problem, (held_by_contact, false), given, progress)
+}
+
+/// [`discretise_mfvm_nodes`]; with `may_skip`, `K` is left unfactorised
+/// ([`Factorisation::unfactorised`]) when [`skips_model_factorisation`] (for
+/// [`solve_model_with`] only, which factorises it if the candidates found need it).
+fn discretise_mfvm_with(
+    problem: &Problem,
+    (held_by_contact, may_skip): (bool, bool),
+    given: Option<nodes::Nodes>,
+    progress: &mut dyn Progress,
+) -> Result<Model, Error> {
     let mut clock = Clock::new(progress, Vec::new());
     let parts = mfvm_parts(problem, held_by_contact, given, &mut clock)?;
     let (nodes, system) = (parts.nodes, parts.system);
     check_factor_memory(problem, &system, &nodes.points)?;
-    let factorisation = clock.run("factorisation", || {
-        let ordering = ColumnOrdering::NestedDissection(&nodes.points);
-        let options = plan::model_factor_options(problem, &nodes, system.pinned.is_some());
-        Factorisation::with_options(&system.matrix, ordering, &options)
-    })?;
+    let pinned = system.pinned.is_some();
+    let factorisation = if may_skip && skips_model_factorisation(problem, &nodes, pinned) {
+        let options = plan::model_factor_options(problem, &nodes, pinned);
+        Factorisation::unfactorised(system.matrix.n, options)
+    } else {
+        clock.run("factorisation", || {
+            let ordering = ColumnOrdering::NestedDissection(&nodes.points);
+            let options = plan::model_factor_options(problem, &nodes, pinned);
+            Factorisation::with_options(&system.matrix, ordering, &options)
+        })?
+    };
     Ok(Model {
         nodes,
         node_shapes: parts.node_shapes,
@@ -91,6 +109,51 @@ fn discretise_mfvm_nodes(
         scheme: Scheme::Mfvm(Box::new(parts.mfvm)),
         timings: clock.timings,
     })
+}
+
+/// Whether the body's `K` need not be factorised before its contact is solved: one MFVM body,
+/// frictionless contact in one shot (no load steps, no translation held by the contact)
+/// against rigid obstacles, on the sparse system (the active set, as the plan decides for the
+/// nodes on the contact edge), with more nodes on that edge than
+/// [`contact::sparse::RigidObstacle::MAX_UPDATE_RANK`]. Without `K`'s factors the active set
+/// starts from every candidate closed, a row-replaced matrix it factorises at once; `K`'s
+/// factors would have served the free solve of its first guess only (and at 10⁶ nodes that
+/// solve failed its accuracy check, so the set started from every candidate closed anyway;
+/// docs/dev/performance.md, "Contact at 10⁶ nodes: no factorisation of K").
+/// [`solve_contact`] decides again on the candidates found and factorises `K` if they need
+/// it.
+fn skips_model_factorisation(problem: &Problem, nodes: &nodes::Nodes, pinned: bool) -> bool {
+    let Some(spec) = problem.contact() else { return false };
+    let rigid = matches!(spec.target, ContactTarget::Rigid(_) | ContactTarget::Obstacles);
+    if !rigid
+        || spec.friction > 0.0
+        || !problem.steps.is_empty()
+        || pinned
+        || problem.second_body().is_some()
+        || problem.is_scene_of_pairs()
+    {
+        return false;
+    }
+    let on_edge = nodes.edges.iter().filter(|e| e.contains(spec.edge)).count();
+    on_edge > contact::sparse::RigidObstacle::MAX_UPDATE_RANK
+        && plan::Plan::new(spec.solver, plan::Shape::OneShot, on_edge).is_sparse()
+}
+
+/// `K`'s factorisation, made now (stage `factorisation`) if [`discretise_all`] left it
+/// unfactorised ([`skips_model_factorisation`]) and the route found needs it.
+fn factorise_deferred(model: &mut Model, clock: &mut Clock<'_>) -> Result<(), Error> {
+    if !model.factorisation.is_released() {
+        return Ok(());
+    }
+    let options = model.factorisation.options().clone();
+    let ordering = match model.scheme {
+        Scheme::Mfvm(_) => ColumnOrdering::NestedDissection(&model.nodes.points),
+        Scheme::Fem(_) => ColumnOrdering::Colamd,
+    };
+    model.factorisation = clock.run("factorisation", || {
+        Factorisation::with_options(&model.system.matrix, ordering, &options)
+    })?;
+    Ok(())
 }
 
 /// An MFVM body assembled but not factorised: nodes, shape functions at the nodes, the system
@@ -288,15 +351,19 @@ fn discretise_all(
         progress.section(&format!("body `{}` ({method})", problem.name));
     }
     let paired = problem.second_body().is_some();
-    let model =
-        discretise_held(problem, paired, progress).map_err(|e| match problem.multibody() {
-            Some(m) => {
-                let held = m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0));
-                multibody::named(problem, held, e)
-            }
-            None if paired => multibody::named(problem, true, e),
-            None => e,
-        })?;
+    let first = match problem.discretisation.method {
+        // `K` left unfactorised when its factors would serve nothing (one body).
+        Method::Mfvm if !paired => discretise_mfvm_with(problem, (false, true), None, progress),
+        _ => discretise_held(problem, paired, progress),
+    };
+    let model = first.map_err(|e| match problem.multibody() {
+        Some(m) => {
+            let held = m.pairs.iter().any(|p| p.body == 0 || p.target_body == Some(0));
+            multibody::named(problem, held, e)
+        }
+        None if paired => multibody::named(problem, true, e),
+        None => e,
+    })?;
     // Two bodies in one pair: the contact may hold one free translation of either body
     // (docs/method.md §4.7), as between several bodies.
     let second = match problem.second_body() {
@@ -492,6 +559,16 @@ fn solve_contact(
     let on_path = spec.friction > 0.0 || steps.is_some() || held;
     let shape = plan::Shape::of(on_path, found.target.is_some());
     let plan = plan::Plan::new(spec.solver, shape, found.candidates.len());
+    // `K`'s factors (unless the body has none yet, [`skips_model_factorisation`], and the
+    // route is the one-shot active set against rigid obstacles starting from more candidates
+    // closed than it would solve with them: then they would serve nothing).
+    let closes_all = !on_path
+        && found.target.is_none()
+        && plan.is_sparse()
+        && found.candidates.len() > contact::sparse::RigidObstacle::MAX_UPDATE_RANK;
+    if !closes_all {
+        factorise_deferred(model, clock)?;
+    }
     // The sparse system in one shot is one step of one increment of its load path.
     if on_path || plan.is_sparse() {
         return on_load_path(problem, (spec, plan, lemke), model, second, steps, found, clock);

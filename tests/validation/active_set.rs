@@ -565,3 +565,62 @@ fn releasing_k_factors_changes_nothing_but_memory() {
     let z = &s.contact().unwrap().lcp.z;
     assert_eq!(z, &released.lcp.z);
 }
+
+/// When the one-shot active set against a rigid obstacle has more candidates than a low-rank
+/// update takes (`RigidObstacle::MAX_UPDATE_RANK`), the pipeline does not factorise `K`: the
+/// set starts from every candidate closed, whose row-replaced matrix it factorises at once,
+/// instead of from the free solve's guess (docs/dev/performance.md, "Contact at 10⁶ nodes:
+/// no factorisation of K"). The solution of the LCP is unique, so the answer must be the one
+/// of the run that factorised `K` and started from the free gaps (the library's `discretise`
+/// always factorises): the same closed set, forces and displacements to round-off (measured
+/// 1.0e-11 and 2.7e-13 of the largest, after 27 and 27 iterations from first changes of 12
+/// and 10). The strip
+/// 104 × 1 at spacing 0.1 has 1 041 nodes on its contact edge, 1 040 candidates; its floor is
+/// 0.1 below, so that the free solve's guess leaves the candidates near the clamp open.
+#[test]
+fn k_is_not_factorised_when_the_active_set_starts_from_every_candidate_closed() {
+    use mlpg_contact::pipeline::Outcome;
+    use mlpg_contact::{Silent, discretise, solve_model};
+
+    use mlpg_contact::problem::{ContactTarget, RigidLine};
+    // The floor 0.1 below the strip, so that the free solve leaves the candidates near the
+    // clamp open (the two runs start from different sets).
+    let mut problem = plain_strip(104.0, 0.1, "");
+    let floor = RigidLine { point: [0.0, -0.6], normal: [0.0, 1.0] };
+    problem.contact_mut().unwrap().target = ContactTarget::Rigid(floor);
+    let stages = |s: &Solution| s.timings.iter().map(|t| t.stage).collect::<Vec<_>>();
+    // The run that factorises K and starts from q < 0.
+    let model = discretise(&problem, &mut Silent).unwrap();
+    let (_, _, kept) = solve_model(&problem, model, None, &mut Silent).unwrap();
+    assert!(stages(&kept).contains(&"factorisation"));
+    // The pipeline's own: no factorisation stage; the model reports the row-replaced
+    // factorisation the answer was solved with (released).
+    let outcome = Outcome::solve(problem.clone(), serde_json::Value::Null, &mut Silent).unwrap();
+    let skipped = &outcome.solution;
+    assert!(!stages(skipped).contains(&"factorisation"), "{:?}", stages(skipped));
+    let f = &outcome.model.factorisation;
+    assert!(f.is_released() && f.stats().supernodes > 0, "{:?}", f.stats());
+    check_own("strip 104 × 1, K factorised", &kept);
+    check_own("strip 104 × 1, K not factorised", skipped);
+    let (a, b) = (skipped.contact().unwrap(), kept.contact().unwrap());
+    assert_eq!(a.candidates.len(), 1040);
+    let (ra, rb) = (a.active_set.as_ref().unwrap(), b.active_set.as_ref().unwrap());
+    assert!(ra.work.factorisations >= 1, "{:?}", ra.work);
+    let pressed =
+        |c: &mlpg_contact::ContactSolution| c.lcp.z.iter().map(|&z| z > 0.0).collect::<Vec<_>>();
+    assert_eq!(pressed(a), pressed(b));
+    assert_eq!(a.closed, b.closed);
+    let max = |v: &[f64]| v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let dz = a.lcp.z.iter().zip(&b.lcp.z).fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(dz <= AGREEMENT * max(&b.lcp.z), "forces differ by {dz:e}");
+    let du = skipped
+        .nodal_parameters
+        .iter()
+        .zip(&kept.nodal_parameters)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(du <= AGREEMENT * max(&kept.nodal_parameters), "displacements differ by {du:e}");
+    eprintln!(
+        "changes {:?} (K not factorised) and {:?} (free gaps); forces {dz:.1e}, displacements {du:.1e}",
+        ra.changes, rb.changes
+    );
+}

@@ -35,6 +35,13 @@ fn block_columns(n: usize) -> usize {
     (BLOCK_BYTES / (8 * n.max(1))).clamp(1, 64)
 }
 
+/// The rank of a low-rank (Woodbury) update above which [`RigidObstacle`] factorises the
+/// row-replaced matrix afresh whatever the cost model says: a start from every candidate
+/// closed ([`ActiveSetSystem::free_gap`] without `K`'s factors) with more candidates than
+/// this factorises at once, so `K`'s factors would serve it nothing
+/// ([`RigidObstacle::MAX_UPDATE_RANK`]).
+const MAX_UPDATE_RANK: usize = 1024;
+
 /// One update column: its dots with every candidate's row changes, and the column itself
 /// when it is stored.
 type UpdateColumn = (Vec<f64>, Option<Vec<f64>>);
@@ -124,8 +131,9 @@ pub struct RigidObstacleStats {
 /// `K`'s own factorisation as a [`RigidObstacle`] holds it: borrowed (the model keeps it), or
 /// owned, when the system may release its factors ([`Factorisation::release`]) before it
 /// factorises its first row-replaced matrix, so that two factorisations of the body are never
-/// alive at once (frictionless only: the frictional path comes back to `K`'s factors).
-/// [`RigidObstacle::into_factorisation`] gives an owned one back.
+/// alive at once (frictionless only: the frictional path comes back to `K`'s factors), or
+/// never made ([`Factorisation::unfactorised`]: the system then starts from every candidate
+/// closed). [`RigidObstacle::into_factorisation`] gives an owned one back.
 #[derive(Debug)]
 pub enum ModelFactors<'a> {
     /// Borrowed from the model, never released.
@@ -178,6 +186,9 @@ pub struct RigidObstacle<'a> {
     last: Option<(Vec<Mode>, Vec<f64>)>,
     /// The factorisation of `K` itself.
     model: ModelFactors<'a>,
+    /// `K` was never factorised (given [`Factorisation::unfactorised`]): no free gap (the
+    /// active set starts from every candidate closed), and the first solve factorises.
+    without_model: bool,
     /// `‖K‖∞`, largest row sum (the gap rows are scaled to the same size).
     norm: f64,
     /// The collocation scale `s` of the gap (and tangential) rows.
@@ -205,6 +216,11 @@ pub struct RigidObstacle<'a> {
 }
 
 impl<'a> RigidObstacle<'a> {
+    /// The rank of a low-rank update above which the row-replaced matrix is factorised
+    /// afresh: a start from more candidates closed than this never solves with `K`'s
+    /// factors.
+    pub const MAX_UPDATE_RANK: usize = MAX_UPDATE_RANK;
+
     /// The system of the body with matrix `matrix` (rows replaced by displacement conditions
     /// as assembled), right-hand side `rhs`, its factorisation `factorisation` (borrowed, or
     /// owned to be released when no longer needed: [`ModelFactors`]), the candidates'
@@ -290,14 +306,16 @@ impl<'a> RigidObstacle<'a> {
             });
         }
         let slot = slots(&replacements);
+        let model: ModelFactors<'a> = factorisation.into();
         Ok(Self {
+            without_model: model.get().is_released(),
             matrix,
             rhs: rhs.to_vec(),
             operator,
             initial_gap: initial_gap.to_vec(),
             points,
             last: None,
-            model: factorisation.into(),
+            model,
             norm: {
                 let mut rows = vec![0.0_f64; matrix.n];
                 for (k, &r) in matrix.row_idx.iter().enumerate() {
@@ -508,7 +526,8 @@ impl<'a> RigidObstacle<'a> {
         // strip (the model says 260), 230 on the 19k-node beam (model 595).
         let base = self.base().stats();
         let too_costly = missing as f64 * base.bound_nnz as f64 > base.bound_flops;
-        if changed.len() > 1024 || too_costly {
+        let no_base = self.base.is_none() && self.without_model;
+        if changed.len() > MAX_UPDATE_RANK || too_costly || no_base {
             // Drop the previous row-replaced factors (and their columns) first: at most two
             // factorisations are alive at a time; and `K`'s own when this system owns them and
             // nothing will solve with them again (frictionless: only the free gap did): then
@@ -547,9 +566,17 @@ impl<'a> RigidObstacle<'a> {
         if !new.is_empty() {
             let t = Instant::now();
             let n = self.matrix.n;
+            // Stored columns serve a solve only when every changed row has one: once a batch
+            // is not stored, none of the base's will serve again (but when every changed row
+            // came back to an earlier batch's), so they are freed and no later one is kept
+            // (0.95 GB of 58 columns on the 10⁶-node strip, docs/dev/performance.md).
+            let keep = self.columns.len() == self.dots.len()
+                && (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
+            if !keep {
+                self.columns.clear();
+            }
             let f = self.base();
             let (reps, slot) = (&self.replacements, &self.slot);
-            let keep = (self.columns.len() + new.len()) * n * 8 <= COLUMN_BYTES;
             let blocks: Vec<Vec<UpdateColumn>> = new
                 .par_chunks(block_columns(n))
                 .map(|chunk| {
@@ -595,11 +622,19 @@ impl<'a> RigidObstacle<'a> {
     }
 
     /// `K`'s factorisation, owned (released when the active set factorised a row-replaced
-    /// matrix: only its statistics are left), or `None` when it was borrowed.
+    /// matrix: only its statistics are left), or `None` when it was borrowed. When `K` was
+    /// never factorised ([`Factorisation::unfactorised`]), the last row-replaced
+    /// factorisation instead, released (its statistics and refinement record: the
+    /// factorisation the answer was solved with).
     pub fn into_factorisation(self) -> Option<Factorisation> {
-        match self.model {
-            ModelFactors::Owned(f) => Some(*f),
-            ModelFactors::Borrowed(_) => None,
+        let RigidObstacle { model, base, without_model, .. } = self;
+        match (model, base) {
+            (ModelFactors::Owned(_), Some(mut last)) if without_model => {
+                last.release();
+                Some(*last)
+            }
+            (ModelFactors::Owned(f), _) => Some(*f),
+            (ModelFactors::Borrowed(_), _) => None,
         }
     }
 
@@ -767,8 +802,14 @@ impl ActiveSetSystem for RigidObstacle<'_> {
         self.replacements.len()
     }
     /// `None` when the solve with `K` does not pass its accuracy check (the static-pivoting
-    /// LU returns NaN then: a strip 500 × 1 clamped at one end is such a case).
+    /// LU returns NaN then: a strip 500 × 1 clamped at one end is such a case), and when `K`
+    /// was never factorised (the pipeline does not when this start from every candidate
+    /// closed would factorise the row-replaced matrix at once, more than
+    /// [`RigidObstacle::MAX_UPDATE_RANK`] candidates).
     fn free_gap(&mut self) -> Result<Option<Vec<f64>>, ActiveSetError> {
+        if self.without_model && self.base.is_none() {
+            return Ok(None);
+        }
         let u = match self.displacements(&vec![false; self.replacements.len()]) {
             Ok(u) => u,
             Err(ActiveSetError::Solve(_)) => return Ok(None),
