@@ -247,16 +247,7 @@ pub fn solve_bodies(
     let numbering = Numbering::new(pairs, &found, problems.len());
     let held = held_bodies(&problems, &models, pairs, &found, &numbering.operators)
         .map_err(lcp::LcpError::from)?;
-    let scene = path::Scene {
-        problem,
-        pairs,
-        found: &found,
-        offsets: &numbering.offsets,
-        operators: &numbering.operators,
-        initial_gap: &numbering.initial_gap,
-        moved: &numbering.moved,
-        steps: &steps,
-    };
+    let scene = numbering.scene(problem, pairs, &found, &steps);
     let ((solved, frictions, load_driven), fallback_from) =
         solve_scene(&scene, &models, &held, on_path, lemke, &mut clock)?;
     let Solved { result, free_gap, condensed, warning, search, displacements: u, record } = solved;
@@ -358,6 +349,27 @@ impl Numbering {
             .flat_map(|(p, f)| std::iter::repeat_n(p.target_body.is_none(), f.candidates.len()))
             .collect();
         Self { offsets, operators, initial_gap, moved }
+    }
+
+    /// The scene the paths walk: `problem`'s `pairs` with their candidates `found` in this
+    /// numbering, each body along its step ends `steps`.
+    fn scene<'s>(
+        &'s self,
+        problem: &'s Problem,
+        pairs: &'s [ContactPair],
+        found: &'s [PairCandidates],
+        steps: &'s [Vec<StepEnd>],
+    ) -> path::Scene<'s> {
+        path::Scene {
+            problem,
+            pairs,
+            found,
+            offsets: &self.offsets,
+            operators: &self.operators,
+            initial_gap: &self.initial_gap,
+            moved: &self.moved,
+            steps,
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! pairs between bodies take one sparse walk (docs/dev/contact_core.md, piece 5).
 
 use super::super::friction::StepEnd;
-use super::{Numbering, PairCandidates, Solved, held_bodies, held_modes, path, sparse_path};
+use super::{Numbering, PairCandidates, Solved, held_bodies, held_modes, sparse_path};
 use crate::contact::{BodyOperator, Candidates};
 use crate::error::Error;
 use crate::lcp::{self, load_driven::LoadDrivenError};
@@ -60,16 +60,7 @@ pub(in crate::pipeline) fn solve_sparse(
         return Err(lcp::LcpError::from(LoadDrivenError::SeveralHeld { bodies }).into());
     }
     let steps = steps.to_vec();
-    let scene = path::Scene {
-        problem,
-        pairs: &pairs,
-        found: &found,
-        offsets: &numbering.offsets,
-        operators: &numbering.operators,
-        initial_gap: &numbering.initial_gap,
-        moved: &numbering.moved,
-        steps: &steps,
-    };
+    let scene = numbering.scene(problem, &pairs, &found, &steps);
     let (solved, mut frictions, _) = sparse_path::solve(&scene, &models, &held, clock)?;
     let Solved { result, free_gap, displacements, record, search, .. } = solved;
     let rigid = held_modes(&held, &search, (&problems, &models), &result, &free_gap)?;
