@@ -1,10 +1,11 @@
 //! The load path on the sparse system (docs/method.md §5.1, §8): one body against a rigid
 //! obstacle by the active-set method, increment by increment, with the force-driven obstacle
 //! and the held translation of §4.6–4.7 as searches over warm-started solves; two bodies in
-//! one pair take the several-pairs scene's walk ([`super::super::multibody::pair`]). Frictionless contact in one shot is one step of one increment of it
-//! ([`one_shot`]): the frictionless active-set method on the system as built, no tangential
-//! operators, and against a rigid obstacle the system owns `K`'s factors, which it may
-//! release (docs/method.md §5.1: one factorisation of the body alive at a time).
+//! one pair take the several-pairs scene's walk ([`super::super::multibody::pair`]).
+//! Frictionless contact in one shot is one step of one increment of it ([`one_shot`]): the
+//! frictionless active-set method on the system as built, no tangential operators, and the
+//! system owns `K`'s factors, which it may release (docs/method.md §5.1: one factorisation of
+//! the body alive at a time).
 
 use super::*;
 
