@@ -6,13 +6,18 @@
 //! - `lu`: the run's LU (faer, partial pivoting; what `dynamics::Iteration` uses),
 //! - `mixed`: the static-pivoting LU with `f32` factors and refinement against `M̂`
 //!   (`precision = "mixed"` of the static path),
+//! - `envelope LU`: an LU without pivoting in envelope (skyline) storage in the banded
+//!   order (the true fill of `M̂`'s band, half of faer's bound), factors in `f64` or `f32`
+//!   (arithmetic in `f64`, no refinement),
+//! - `own f64 LU` / `f32 LU`: faer's supernodal partial-pivoting LU built here in the banded
+//!   order, in `f64` or `f32`, the latter with 0, 1 or 2 refinement steps (`f64` residuals),
 //! - `bicgstab <tol>`: BiCGStab preconditioned by the diagonal of `M̂` (a collocation row's
 //!   own diagonal for the massless rows), started from the last step's velocity change, to a
 //!   relative residual `tol`.
 //!
-//! Prints per variant the ms per solve, per step, the iterations, and the velocity's difference
-//! to the LU run after the steps (max-norm, relative to the LU's max |v|), and an estimate of
-//! the largest eigenvalue of `D⁻¹M̂` (power iteration) and `h²θ²λ_max(M⁻¹K)` from it.
+//! Prints per variant the ms per solve (wall and this thread's CPU time), per step, the
+//! iterations, and the velocity's difference to the LU run after the steps (max-norm,
+//! relative to the LU's max |v|), and the largest |eigenvalue| of `D⁻¹M̂` (power iteration).
 //!
 //! `cargo run --release --features studies --example dynamics_free_solve [divisor steps]`
 //! (default 320 and 200).
@@ -139,6 +144,144 @@ impl<T: ComplexField + Copy> OwnLu<T> {
             par,
             MemStack::new(&mut buf),
         );
+    }
+}
+
+/// An LU without pivoting in envelope (skyline) storage, in the symmetric order `order`:
+/// row `i` of `L` from column `first[i]`, column `j` of `U` from row `first[j]`, `first` the
+/// envelope of the pattern of `A + Aᵀ` (no fill outside it without pivoting). Every product
+/// of the factorisation and the substitutions is a dot product or an axpy over contiguous
+/// memory. Factors stored in `T` (`f64` or `f32`), arithmetic in `f64`.
+struct Skyline<T> {
+    order: Vec<usize>,
+    first: Vec<usize>,
+    ptr: Vec<usize>,
+    l: Vec<T>,
+    u: Vec<T>,
+    diag: Vec<f64>,
+    /// `U` by rows for the backward substitution: row `i` holds columns `i + 1 ..= last[i]`.
+    last: Vec<usize>,
+    row_ptr: Vec<usize>,
+    u_rows: Vec<T>,
+}
+
+fn dot_mixed<T: Copy + Into<f64>>(a: &[T], b: &[f64]) -> f64 {
+    let mut s = [0.0f64; 8];
+    let (ca, cb) = (a.chunks_exact(8), b.chunks_exact(8));
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        for k in 0..8 {
+            s[k] += x[k].into() * y[k];
+        }
+    }
+    let tail: f64 = ra.iter().zip(rb).map(|(x, y)| (*x).into() * y).sum();
+    s.iter().sum::<f64>() + tail
+}
+
+impl Skyline<f64> {
+    fn new(a: &SystemMatrix, order: &[usize]) -> Self {
+        let n = a.n;
+        let pos = inverse(order);
+        let mut first: Vec<usize> = (0..n).collect();
+        for c in 0..n {
+            for e in a.col_ptr[c]..a.col_ptr[c + 1] {
+                let (i, j) = (pos[a.row_idx[e]], pos[c]);
+                let (lo, hi) = (i.min(j), i.max(j));
+                first[hi] = first[hi].min(lo);
+            }
+        }
+        let mut ptr = vec![0usize; n + 1];
+        for i in 0..n {
+            ptr[i + 1] = ptr[i] + (i - first[i]);
+        }
+        let (mut l, mut u, mut diag) = (vec![0.0; ptr[n]], vec![0.0; ptr[n]], vec![0.0; n]);
+        for c in 0..n {
+            for e in a.col_ptr[c]..a.col_ptr[c + 1] {
+                let (i, j, v) = (pos[a.row_idx[e]], pos[c], a.values[e]);
+                if i == j {
+                    diag[i] += v;
+                } else if i > j {
+                    l[ptr[i] + j - first[i]] += v; // row i, column j < i
+                } else {
+                    u[ptr[j] + i - first[j]] += v; // column j, row i < j
+                }
+            }
+        }
+        for j in 0..n {
+            let fj = first[j];
+            for i in fj..j {
+                let k0 = first[i].max(fj);
+                // U(i, j) = A(i, j) − Σ_k L(i, k) U(k, j)
+                let li = &l[ptr[i] + k0 - first[i]..ptr[i] + i - first[i]];
+                let uj = &u[ptr[j] + k0 - fj..ptr[j] + i - fj];
+                let s = dot_mixed(li, uj);
+                u[ptr[j] + i - fj] -= s;
+                // L(j, i) = (A(j, i) − Σ_k L(j, k) U(k, i)) / U(i, i)
+                let lj = &l[ptr[j] + k0 - fj..ptr[j] + i - fj];
+                let ui = &u[ptr[i] + k0 - first[i]..ptr[i] + i - first[i]];
+                let s = dot_mixed(ui, lj);
+                l[ptr[j] + i - fj] = (l[ptr[j] + i - fj] - s) / diag[i];
+            }
+            let lj = &l[ptr[j]..ptr[j + 1]];
+            let uj = &u[ptr[j]..ptr[j + 1]];
+            diag[j] -= dot_mixed(lj, uj);
+        }
+        let mut last: Vec<usize> = (0..n).collect();
+        for (j, &f) in first.iter().enumerate() {
+            for l in &mut last[f..j] {
+                *l = (*l).max(j);
+            }
+        }
+        let mut row_ptr = vec![0usize; n + 1];
+        for i in 0..n {
+            row_ptr[i + 1] = row_ptr[i] + (last[i] - i);
+        }
+        let mut u_rows = vec![0.0; row_ptr[n]];
+        for j in 0..n {
+            for i in first[j]..j {
+                u_rows[row_ptr[i] + j - i - 1] = u[ptr[j] + i - first[j]];
+            }
+        }
+        Self { order: order.to_vec(), first, ptr, l, u, diag, last, row_ptr, u_rows }
+    }
+
+    fn to_f32(&self) -> Skyline<f32> {
+        Skyline {
+            order: self.order.clone(),
+            first: self.first.clone(),
+            ptr: self.ptr.clone(),
+            l: self.l.iter().map(|&v| v as f32).collect(),
+            u: self.u.iter().map(|&v| v as f32).collect(),
+            diag: self.diag.clone(),
+            last: self.last.clone(),
+            row_ptr: self.row_ptr.clone(),
+            u_rows: self.u_rows.iter().map(|&v| v as f32).collect(),
+        }
+    }
+}
+
+impl<T: Copy + Into<f64>> Skyline<T> {
+    fn entries(&self) -> usize {
+        self.l.len() + self.u_rows.len() + self.diag.len()
+    }
+
+    fn solve(&self, b: &[f64]) -> Vec<f64> {
+        let n = b.len();
+        let mut y: Vec<f64> = self.order.iter().map(|&d| b[d]).collect();
+        for i in 0..n {
+            let (f, p) = (self.first[i], self.ptr[i]);
+            y[i] -= dot_mixed(&self.l[p..p + i - f], &y[f..i]);
+        }
+        for i in (0..n).rev() {
+            let (e, p) = (self.last[i], self.row_ptr[i]);
+            let s = dot_mixed(&self.u_rows[p..p + e - i], &y[i + 1..=e]);
+            y[i] = (y[i] - s) / self.diag[i];
+        }
+        let mut x = vec![0.0; n];
+        for (k, &d) in self.order.iter().enumerate() {
+            x[d] = y[k];
+        }
+        x
     }
 }
 
@@ -283,7 +426,16 @@ enum Variant<'a> {
     Mixed(&'a Factorisation),
     Own64(&'a OwnLu<f64>),
     Own32(&'a OwnLu<f32>, usize),
+    Sky64(&'a Skyline<f64>),
+    Sky32(&'a Skyline<f32>),
     BiCgStab(f64),
+}
+
+/// This thread's time on a CPU (ns, `/proc/thread-self/schedstat`): less dependent on the
+/// shared machine's load than the wall clock.
+fn cpu_seconds() -> f64 {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").unwrap_or_default();
+    s.split_whitespace().next().and_then(|w| w.parse::<f64>().ok()).unwrap_or(0.0) * 1e-9
 }
 
 fn load() -> String {
@@ -325,13 +477,11 @@ fn main() {
     let mut lambda = 0.0;
     for _ in 0..200 {
         rows.mul_into(&x, &mut y);
-        let norm = dot(&y, &y).sqrt();
         for i in 0..n {
             y[i] *= d_inv[i];
         }
         let ny = dot(&y, &y).sqrt();
         lambda = ny / dot(&x, &x).sqrt();
-        let _ = norm;
         for i in 0..n {
             x[i] = y[i] / ny;
         }
@@ -368,6 +518,17 @@ fn main() {
     let clock = Instant::now();
     let own32 = OwnLu::<f32>::new(it.matrix(), &order, |v| v as f32);
     println!("own f32 LU: {:.2} s", clock.elapsed().as_secs_f64());
+    let clock = Instant::now();
+    let sky64 = Skyline::new(it.matrix(), &order);
+    let sky32 = sky64.to_f32();
+    println!(
+        "envelope LU without pivoting (banded x-y order): {:.2} s, {} entries in L, U and the \
+         diagonal together; smallest |pivot| / largest {:.1e}",
+        clock.elapsed().as_secs_f64(),
+        sky64.entries(),
+        sky64.diag.iter().fold(f64::INFINITY, |m, d| m.min(d.abs()))
+            / sky64.diag.iter().fold(0.0f64, |m, d| m.max(d.abs()))
+    );
     let x_mid = 0.5;
     let initial: Vec<f64> = (0..n)
         .map(|d| {
@@ -378,6 +539,8 @@ fn main() {
     let variants: Vec<(String, Variant)> = vec![
         ("lu".into(), Variant::Lu),
         ("mixed (f32 static LU + refinement)".into(), Variant::Mixed(&mixed)),
+        ("envelope LU, no pivoting, f64".into(), Variant::Sky64(&sky64)),
+        ("envelope LU, no pivoting, f32 factors".into(), Variant::Sky32(&sky32)),
         ("own f64 LU, banded".into(), Variant::Own64(&own64)),
         ("f32 LU, no refinement".into(), Variant::Own32(&own32, 0)),
         ("f32 LU, 1 refinement".into(), Variant::Own32(&own32, 1)),
@@ -389,7 +552,7 @@ fn main() {
     ];
     let mut reference: Option<Vec<f64>> = None;
     println!(
-        "variant | ms per solve | ms per step | iterations (mean, max) | max|v − v_lu| / max|v_lu| \
+        "variant | ms per solve (CPU) | ms per step | iterations (mean, max) | max|v − v_lu| / max|v_lu| \
          after {steps} steps | load before"
     );
     for (name, variant) in &variants {
@@ -398,10 +561,12 @@ fn main() {
         let mut v = initial.clone();
         let mut dv = vec![0.0; n];
         let (mut solve_s, mut iterations, mut most) = (0.0, 0usize, 0usize);
+        let mut solve_cpu = 0.0;
         let step_clock = Instant::now();
         for _ in 0..steps {
             let rhs = it.free_rhs(&q, &v, 1.0);
             let c = Instant::now();
+            let cpu = cpu_seconds();
             match variant {
                 Variant::Lu => dv = it.solve(&rhs).expect("solve"),
                 Variant::Mixed(f) => dv = f.solve(&rhs).expect("solve"),
@@ -410,6 +575,8 @@ fn main() {
                     f.solve_in_place(&mut dv);
                 }
                 Variant::Own32(f, k) => dv = solve_f32(f, &rows, &rhs, *k),
+                Variant::Sky64(f) => dv = f.solve(&rhs),
+                Variant::Sky32(f) => dv = f.solve(&rhs),
                 Variant::BiCgStab(tol) => {
                     let k = bicgstab(&rows, &d_inv, &rhs, &mut dv, *tol);
                     iterations += k;
@@ -417,6 +584,7 @@ fn main() {
                 }
             }
             solve_s += c.elapsed().as_secs_f64();
+            solve_cpu += cpu_seconds() - cpu;
             for i in 0..n {
                 let v_new = v[i] + dv[i];
                 q[i] += h * ((1.0 - theta) * v[i] + theta * v_new);
@@ -435,8 +603,9 @@ fn main() {
             }
         };
         println!(
-            "{name} | {:.2} | {:.2} | {:.1}, {most} | {difference:.1e} | {before}",
+            "{name} | {:.2} ({:.2} CPU) | {:.2} | {:.1}, {most} | {difference:.1e} | {before}",
             1e3 * solve_s / steps as f64,
+            1e3 * solve_cpu / steps as f64,
             1e3 * step_s / steps as f64,
             iterations as f64 / steps as f64,
         );
