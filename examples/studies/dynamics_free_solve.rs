@@ -529,6 +529,34 @@ fn main() {
         sky64.diag.iter().fold(f64::INFINITY, |m, d| m.min(d.abs()))
             / sky64.diag.iter().fold(0.0f64, |m, d| m.max(d.abs()))
     );
+    // Can the second core add memory bandwidth? Two independent substitutions at once (one
+    // per thread, the same factors): if each takes as long as one alone, a substitution
+    // split in two independent halves would run ≈ 2× faster.
+    let b: Vec<f64> = (0..n).map(|i| ((i * 31) % 17) as f64 - 8.0).collect();
+    let repeats = 50;
+    let clock = Instant::now();
+    for _ in 0..repeats {
+        std::hint::black_box(sky64.solve(&b));
+    }
+    let one = clock.elapsed().as_secs_f64() / repeats as f64;
+    let clock = Instant::now();
+    std::thread::scope(|scope| {
+        for _ in 0..2 {
+            scope.spawn(|| {
+                for _ in 0..repeats {
+                    std::hint::black_box(sky64.solve(&b));
+                }
+            });
+        }
+    });
+    let two = clock.elapsed().as_secs_f64() / repeats as f64;
+    println!(
+        "envelope f64 substitution: one alone {:.2} ms; two at once (2 threads) {:.2} ms per \
+         pair (load {})",
+        1e3 * one,
+        1e3 * two,
+        load()
+    );
     let x_mid = 0.5;
     let initial: Vec<f64> = (0..n)
         .map(|d| {
