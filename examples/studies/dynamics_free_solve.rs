@@ -18,7 +18,7 @@
 //! Prints per variant the ms per solve (wall and this thread's CPU time), per step, the
 //! iterations, and the velocity's difference to the LU run after the steps (max-norm,
 //! relative to the LU's max |v|), and the largest |eigenvalue| of `D⁻¹M̂` (power iteration).
-//! First it times two envelope substitutions at once on two threads against one alone (does
+//! Before the steps it times two envelope substitutions at once on two threads against one alone (does
 //! the second core add memory bandwidth?).
 //!
 //! `cargo run --release --features studies --example dynamics_free_solve [divisor steps]`
