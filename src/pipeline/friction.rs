@@ -290,7 +290,7 @@ pub(super) fn solve_frictional(
     let pinned = model.system.pinned;
     let held = match &target {
         None => refuse_slanted_force(steps, &candidates)
-            .and_then(|()| held_projection(pinned, steps, false, &candidates))?
+            .and_then(|()| held_projection(pinned, steps, &candidates))?
             .zip(pinned)
             .map(|(projection, pin)| load_path::Held::Alone { pin, projection }),
         Some(tg) => held_between(problem, model, tg, &candidates, steps)?,
@@ -451,12 +451,12 @@ pub(super) fn refuse_slanted_force_on(
 
 /// The checks of a rigid translation of the body held by the contact alone (docs/method.md
 /// §4.7) and `ν_c·r` per candidate for its unit vector `r` (`None` without a pin): only
-/// frictionless, without a force-driven obstacle or a second body, and with a pinned node
-/// that carries no contact force.
+/// frictionless, without a force-driven obstacle, and with a pinned node that carries no
+/// contact force (a pair of two bodies has its own checks: [`held_between`] on the condensed
+/// path, the scene's held body on the sparse one).
 fn held_projection(
     pinned: Option<assembly::PinnedMode>,
     steps: &[StepEnd],
-    has_target: bool,
     candidates: &contact::Candidates,
 ) -> Result<Option<Vec<f64>>, Error> {
     let m = candidates.len();
@@ -481,9 +481,6 @@ fn held_projection(
             }
             if steps.iter().any(|s| s.force.is_some()) {
                 return Err(unsupported("the obstacle is pressed by a force as well".into()));
-            }
-            if has_target {
-                return Err(unsupported("the contact is with a second body".into()));
             }
             if candidates.operator.owners.iter().flatten().any(|&(i, _)| i == pin.node) {
                 return Err(unsupported(format!(

@@ -155,8 +155,8 @@ struct Group {
 /// Several elastic bodies and contact pairs, in the sparse form of the module documentation.
 pub struct Bodies<'a> {
     bodies: Vec<BodyParts<'a>>,
-    /// `[f₁; …; f_N]` (the bodies' right-hand sides; [`Bodies::set_load`] and
-    /// [`Bodies::set_body_load`] change them).
+    /// `[f₁; …; f_N]` (the bodies' right-hand sides; [`Bodies::set_body_load`] changes
+    /// them).
     rhs: Vec<f64>,
     /// Body `b`'s DOFs are `offsets[b]..offsets[b + 1]`.
     offsets: Vec<usize>,
@@ -475,13 +475,6 @@ impl<'a> Bodies<'a> {
         pair.modes.push(with(modes[0]));
         pair.modes.push(with(modes[1]));
         Ok(())
-    }
-
-    /// Sets the load of an increment: the right-hand sides `f₁`, `f₂` of the first two
-    /// bodies.
-    pub fn set_load(&mut self, first: &[f64], second: &[f64]) {
-        self.set_body_load(0, first);
-        self.set_body_load(1, second);
     }
 
     /// Sets the right-hand side `f_b` of body `b`.
@@ -807,44 +800,6 @@ impl<'a> Bodies<'a> {
     fn displacements_of(&mut self, modes: &[Mode]) -> Result<Vec<f64>, ActiveSetError> {
         let b = self.rhs_of(modes);
         solve_refined(self, modes, &b)
-    }
-
-    /// The displacements `(û₁, û₂)` of the problem of `active`: those of the last
-    /// [`ActiveSetSystem::solve_active`] when it solved `active`, else a new solve (see
-    /// [`super::RigidObstacle::final_displacements`] for why they are not `K⁻¹(f + E P)`).
-    ///
-    /// # Errors
-    /// A failed solve.
-    pub fn final_displacements(
-        &mut self,
-        active: &[bool],
-    ) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
-        self.final_displacements_of(&closed_modes(active))
-    }
-
-    /// The final displacements `(û₁, û₂)` of the frictional step that settled on `states`
-    /// (those of its last solve; see [`TwoBodies::final_displacements`]).
-    ///
-    /// # Errors
-    /// A failed solve.
-    pub fn final_friction_displacements(
-        &mut self,
-        states: &[ContactState],
-    ) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
-        let modes = self.modes_of(states);
-        self.final_displacements_of(&modes)
-    }
-
-    fn final_displacements_of(
-        &mut self,
-        modes: &[Mode],
-    ) -> Result<(Vec<f64>, Vec<f64>), ActiveSetError> {
-        let mut u = match self.last.take() {
-            Some((a, u)) if a == modes => u,
-            _ => self.displacements_of(modes)?,
-        };
-        let u2 = u.split_off(self.offsets[1]);
-        Ok((u, u2))
     }
 
     /// The displacements of every body (`û_b` at `b`) of the problem of `active`: those of

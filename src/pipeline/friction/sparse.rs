@@ -146,7 +146,7 @@ fn walk_path(
     let tangents = (!once).then(|| tangential_operators(&candidates, model, None));
     let pinned = model.system.pinned;
     refuse_slanted_force(steps, &candidates)?;
-    let mode_projection = held_projection(pinned, steps, false, &candidates)?;
+    let mode_projection = held_projection(pinned, steps, &candidates)?;
     let free = tangents.as_ref().map_or_else(|| vec![false; candidates.len()], |t| t.1.clone());
     let path = Path {
         problem,

@@ -59,7 +59,7 @@ pub(in crate::pipeline) fn solve_sparse(
         let bodies = format!("{}, {}", name(0), name(1));
         return Err(lcp::LcpError::from(LoadDrivenError::SeveralHeld { bodies }).into());
     }
-    let steps = steps.to_vec();
+    let steps = Vec::from(steps);
     let scene = numbering.scene(problem, &pairs, &found, &steps);
     let (solved, mut frictions, _) = sparse_path::solve(&scene, &models, &held, clock)?;
     let Solved { result, free_gap, displacements, record, search, .. } = solved;
