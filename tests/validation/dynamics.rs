@@ -433,33 +433,7 @@ fn fem_ball_impact_matches_hertz_and_the_mfvm() {
 /// gravity `g = 1`, sliding at `v0` along the flat with Coulomb friction `μ` (velocity-level
 /// Moreau law, `problem` file keys `contact.friction` and `body_force`).
 fn sliding_block(mu: f64, v0: f64, end_time: f64) -> Problem {
-    let text = format!(
-        r#"
-        body_force = [0.0, -1.0]
-        [geometry]
-        kind = "rectangle"
-        x = [0.0, 1.0]
-        y = [0.0, 0.25]
-        [nodes]
-        spacing = 0.05
-        [material]
-        young = 1000.0
-        poisson = 0.3
-        plane = "stress"
-        density = 1.0
-        [contact]
-        edge = "bottom"
-        obstacle_point = [0.0, 0.0]
-        obstacle_normal = [0.0, 1.0]
-        friction = {mu}
-        [dynamics]
-        end_time = {end_time}
-        time_step = 0.01
-        theta = 0.6
-        initial_velocity = [{v0}, 0.0]
-        "#
-    );
-    Problem::from_toml(&text).unwrap_or_else(|e| panic!("sliding block: {e}"))
+    super::dynamics_friction::block(mu, v0, 0.0, end_time, "")
 }
 
 /// Coulomb friction at the velocity level: while every contact slides, each step's

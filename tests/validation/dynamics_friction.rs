@@ -26,7 +26,7 @@ const FEM: &str = "[discretisation]\nmethod = \"fem\"";
 /// The block `[0, 1] × [0, 0.25]` (E = 1000, ν = 0.3, ρ = 1, spacing 0.05: Q9 of that size
 /// with `FEM`) on a rigid flat with friction `mu`, under `body_force = [push, −1]`, starting
 /// at `[v0, 0]`, step 0.01, θ = 0.6 (the sliding block of `dynamics.rs`), `extra` appended.
-fn block(mu: f64, v0: f64, push: f64, end_time: f64, extra: &str) -> Problem {
+pub(super) fn block(mu: f64, v0: f64, push: f64, end_time: f64, extra: &str) -> Problem {
     let text = format!(
         r#"
         body_force = [{push}, -1.0]
@@ -327,28 +327,7 @@ fn ball_impact_with_friction_on_rings() {
 /// (`problems/block_on_slab_friction.toml`'s pair, dynamics_pair.rs), until `end_time`; the
 /// block's and the slab's methods `methods` (MFVM or Q9 of the spacing).
 fn block_on_slab(mu: f64, v0: f64, end_time: f64, methods: [Method; 2]) -> Problem {
-    let body = |name: &str, y: [f64; 2], x: [f64; 2], extra: &str| {
-        format!(
-            "[[body]]\nname = \"{name}\"\ngeometry = {{ kind = \"rectangle\", x = [{}, {}], y = [{}, {}] }}\nnodes = {{ spacing = 0.05 }}\nmaterial = {{ young = 1000.0, poisson = 0.3, plane = \"stress\", density = 1.0 }}\n{extra}\n",
-            x[0], x[1], y[0], y[1]
-        )
-    };
-    let text = format!(
-        "{}{}[contact]\nedge = \"bottom\"\ntarget_edge = \"top\"\nfriction = {mu}\n[dynamics]\nend_time = {end_time}\ntime_step = {H}\ntheta = 0.6\n",
-        body(
-            "block",
-            [0.0, 0.25],
-            [0.0, 1.0],
-            &format!("body_force = [0.0, -1.0]\ninitial_velocity = [{v0}, 0.0]")
-        ),
-        body(
-            "slab",
-            [-0.25, 0.0],
-            [-0.25, 1.5],
-            "boundary = [{ edge = \"bottom\", displacement = { x = 0.0, y = 0.0 } }]"
-        ),
-    );
-    let mut problem = Problem::from_toml(&text).unwrap_or_else(|e| panic!("block on slab: {e}"));
+    let mut problem = super::dynamics_pair::block_on_slab(mu, v0, end_time);
     for (k, method) in methods.into_iter().enumerate() {
         problem.body_mut(k).expect("two bodies").discretisation.method = method;
     }

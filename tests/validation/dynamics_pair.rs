@@ -107,7 +107,7 @@ fn two_body_dynamics_refusals_name_the_key() {
 /// A block `[0, 1] × [0, 0.25]` (E = 1000, ν = 0.3, ρ = 1, gravity `g = 1`) sliding at `v0`
 /// on an elastic slab `[−0.25, 1.5] × [−0.25, 0]` (the same material, no gravity) held on its
 /// bottom edge, with Coulomb friction `μ` between them; spacing 0.05, h = 0.01, θ = 0.6.
-fn block_on_slab(mu: f64, v0: f64, end_time: f64) -> Problem {
+pub(super) fn block_on_slab(mu: f64, v0: f64, end_time: f64) -> Problem {
     let body = |name: &str, y: [f64; 2], x: [f64; 2], extra: &str| {
         format!(
             "[[body]]\nname = \"{name}\"\ngeometry = {{ kind = \"rectangle\", x = [{}, {}], y = [{}, {}] }}\nnodes = {{ spacing = 0.05 }}\nmaterial = {{ young = 1000.0, poisson = 0.3, plane = \"stress\", density = 1.0 }}\n{extra}\n",
