@@ -100,6 +100,54 @@ pub(super) fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
 }
 
+/// Where the current load step starts, on both load paths (docs/method.md §8): each body's
+/// load and right-hand side at the previous step's end (zero before the first step), and the
+/// rigid obstacles' displacement and the force pressing them there.
+pub(super) struct StepStart {
+    /// Each body's load `f` (the order of the path's bodies).
+    pub(super) loads: Vec<Vec<f64>>,
+    /// Each body's solved right-hand side.
+    pub(super) rhss: Vec<Vec<f64>>,
+    /// The obstacles' displacement `d`.
+    pub(super) obstacle: [f64; 2],
+    /// The magnitude of the force pressing them.
+    pub(super) force: f64,
+}
+
+impl StepStart {
+    /// The unloaded start of bodies of `sizes` unknowns each.
+    pub(super) fn new(sizes: impl IntoIterator<Item = usize>) -> Self {
+        let (loads, rhss) = sizes.into_iter().map(|n| (vec![0.0; n], vec![0.0; n])).unzip();
+        Self { loads, rhss, obstacle: [0.0, 0.0], force: 0.0 }
+    }
+
+    /// The obstacles' displacement at load factor `lambda` of the step ending at `end`.
+    pub(super) fn obstacle_at(&self, end: &StepEnd, lambda: f64) -> [f64; 2] {
+        std::array::from_fn(|a| (1.0 - lambda) * self.obstacle[a] + lambda * end.obstacle[a])
+    }
+
+    /// The force pressing the obstacles at load factor `lambda` of a step whose end's force
+    /// has magnitude `size`.
+    pub(super) fn force_at(&self, size: f64, lambda: f64) -> f64 {
+        (1.0 - lambda) * self.force + lambda * size
+    }
+
+    /// Step `k`'s ends become the next step's start: each body's (`bodies`, in order) and the
+    /// path's, whose obstacle and force are the obstacles'.
+    pub(super) fn advance<'e>(
+        &mut self,
+        bodies: impl Iterator<Item = &'e StepEnd>,
+        path_end: &StepEnd,
+    ) {
+        for (b, end) in bodies.enumerate() {
+            self.loads[b].clone_from(&end.load);
+            self.rhss[b].clone_from(&end.rhs);
+        }
+        self.obstacle = path_end.obstacle;
+        self.force = path_end.force.map_or(0.0, |f| f[0].hypot(f[1]));
+    }
+}
+
 /// The record of a load path (docs/method.md §8): the slip accumulated over the slipping
 /// increments, one [`solution::IncrementRecord`] per increment and, with `write_steps`, one
 /// [`solution::IncrementSnapshot`] per increment.

@@ -8,7 +8,7 @@
 //! searches of docs/method.md §4.6–4.7 around it (a force-driven obstacle, a translation held
 //! by the contact), then one solve per body with the contact forces of its candidates.
 
-use super::friction::{History, StepEnd, at_increment, force_along, lerp, pin_along};
+use super::friction::{History, StepEnd, StepStart, at_increment, force_along, lerp, pin_along};
 use super::*;
 use std::ops::Range;
 
@@ -386,7 +386,6 @@ fn step_end_gaps(
 /// The running state of the searches over the increments.
 #[derive(Default)]
 struct Searches {
-    force0: f64,
     load_driven: Option<solution::LoadDriven>,
     rigid_modes: Vec<solution::RigidMode>,
     total_evaluations: usize,
@@ -426,7 +425,7 @@ fn solve_increment(
     terms: &[Term<'_>],
     step_problem: &mut lcp::FrictionProblem,
     compliance: Option<&[f64]>,
-    loads0: &[Vec<f64>],
+    start: &StepStart,
     (k, lambda): (usize, f64),
     searches: &mut Searches,
     timer: &mut Timer<'_, '_>,
@@ -446,7 +445,7 @@ fn solve_increment(
         // along r; the gaps move by (ν_c·r) t = −a_c s, a_c = −σ ν_c·r, and the pin's
         // reaction vanishes when aᵀz = |F·r|.
         let pin = held.pin();
-        let load = lerp(&loads0[0], &terms[0].steps[k].load, lambda);
+        let load = lerp(&start.loads[0], &terms[0].steps[k].load, lambda);
         let (along_load, sign, along) = pin_along(pin, projection, &load)?;
         let mut r = [0.0; 2];
         r[pin.axis as usize] = sign;
@@ -476,7 +475,7 @@ fn solve_increment(
             }
             .into());
         };
-        let load = lerp(&loads0[*term], &terms[*term].steps[k].load, lambda);
+        let load = lerp(&start.loads[*term], &terms[*term].steps[k].load, lambda);
         held.push((along.as_slice(), load_along(terms[*term].model, *pin, &load)));
     }
     let force = end.force.map(|f| {
@@ -486,7 +485,7 @@ fn solve_increment(
                 *a = 0.0;
             }
         }
-        (along, e, (1.0 - lambda) * searches.force0 + lambda * size)
+        (along, e, start.force_at(size, lambda))
     });
     let unknowns = lcp::load_driven::nested::Unknowns {
         held: &held,
@@ -627,9 +626,7 @@ impl Walk<'_, '_> {
     fn steps(&mut self, ends: &[FreeMotion], timer: &mut Timer<'_, '_>) -> Result<(), Error> {
         let (path, terms) = (self.path, self.terms);
         let m = path.initial_gap.len();
-        let zeros = |t: &Term<'_>| vec![0.0; t.model.system.rhs.len()];
-        let mut loads0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
-        let mut rhss0: Vec<Vec<f64>> = terms.iter().map(zeros).collect();
+        let mut start = StepStart::new(terms.iter().map(|t| t.model.system.rhs.len()));
         let (mut qn0, mut qt0) = (path.initial_gap.to_vec(), vec![0.0; m]);
         let compliance = (path.steps.iter().any(|s| s.force.is_some()) || !path.held.is_empty())
             .then(|| self.step_problem.nn.clone());
@@ -645,7 +642,7 @@ impl Walk<'_, '_> {
                     terms,
                     &mut self.step_problem,
                     compliance.as_deref(),
-                    &loads0,
+                    &start,
                     (k, lambda),
                     &mut self.searches,
                     timer,
@@ -653,7 +650,7 @@ impl Walk<'_, '_> {
                 // With [[step]] tables, a failure names the step and the increment.
                 let (step, normal) = solved
                     .map_err(|e| at_increment(path.named_steps, (k, i, end.increments), e))?;
-                let (u, equilibrium) = self.bodies(&step, (&loads0, &rhss0), (k, lambda), timer)?;
+                let (u, equilibrium) = self.bodies(&step, &start, (k, lambda), timer)?;
                 let seconds = started.elapsed().as_secs_f64();
                 for (h, g) in self.histories.iter_mut().zip(&path.groups) {
                     let share = if g.len() == m { None } else { Some(select(&step, g.clone())) };
@@ -668,23 +665,19 @@ impl Walk<'_, '_> {
                 self.step_problem.previous_tangential.clone_from(&step.tangential_displacement);
                 self.last = Some((step, normal, u));
             }
-            for (b, term) in terms.iter().enumerate() {
-                loads0[b].clone_from(&term.steps[k].load);
-                rhss0[b].clone_from(&term.steps[k].rhs);
-            }
+            start.advance(terms.iter().map(|t| &t.steps[k]), end);
             (qn0, qt0) = (qn1.clone(), qt1.clone());
-            self.searches.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
         }
         Ok(())
     }
 
     /// One solve per body with the contact forces of its candidates at load factor `lambda`
-    /// of step `k` (the step's start `(loads0, rhss0)`), and the worst body's equilibrium
+    /// of step `k` (from the step's `start`), and the worst body's equilibrium
     /// error (computed only when a history records it).
     fn bodies(
         &self,
         step: &lcp::FrictionSolution,
-        (loads0, rhss0): (&[Vec<f64>], &[Vec<f64>]),
+        start: &StepStart,
         (k, lambda): (usize, f64),
         timer: &mut Timer<'_, '_>,
     ) -> Result<(Vec<Vec<f64>>, f64), Error> {
@@ -693,7 +686,7 @@ impl Walk<'_, '_> {
         for (b, term) in self.terms.iter().enumerate() {
             let normal = term.gather(&step.normal);
             let tangential = term.tangential.map(|op| (op, term.gather(&step.tangential)));
-            let mut rhs = lerp(&rhss0[b], &term.steps[k].rhs, lambda);
+            let mut rhs = lerp(&start.rhss[b], &term.steps[k].rhs, lambda);
             term.normal.add_forces(&normal, &mut rhs);
             if let Some((op, forces)) = &tangential {
                 op.add_forces(forces, &mut rhs);
@@ -708,7 +701,7 @@ impl Walk<'_, '_> {
             }
             let u_b = timer.run("solve", |_| term.model.factorisation.solve(&rhs))?;
             if !self.histories.is_empty() {
-                let load = lerp(&loads0[b], &term.steps[k].load, lambda);
+                let load = lerp(&start.loads[b], &term.steps[k].load, lambda);
                 let mut ops = vec![(term.normal, normal.as_slice())];
                 ops.extend(tangential.as_ref().map(|(op, t)| (*op, t.as_slice())));
                 let e = solution::equilibrium_error(&term.model.system, &load, &u_b, &ops);

@@ -10,7 +10,7 @@
 //! obstacle motion moves the gaps and the stick targets of the pairs against rigid
 //! obstacles (docs/method.md §4.6, §8).
 
-use super::super::friction::{History, StepEnd, at_increment, force_along, lerp};
+use super::super::friction::{History, StepEnd, StepStart, at_increment, force_along, lerp};
 use super::path::{self, Scene};
 use super::trials::SparseTrials;
 use super::{Held as HeldBody, Solved};
@@ -54,20 +54,20 @@ fn obstacle_at(scene: &Scene<'_>, normals: &[crate::geometry::Point], d: [f64; 2
 }
 
 /// The rigid obstacles at load factor `lambda` of step `k`, from where the previous step left
-/// them (`d0`, pressed by `force0`): the moved gaps and stick offsets ([`obstacle_at`]), and
+/// them (`start`): the moved gaps and stick offsets ([`obstacle_at`]), and
 /// a force's direction `e`, the increment's force and `a_c = ν_c·e` on the moved candidates.
 fn obstacle_increment(
     scene: &Scene<'_>,
     normals: &[crate::geometry::Point],
     (k, lambda): (usize, f64),
-    (d0, force0): ([f64; 2], f64),
+    start: &StepStart,
 ) -> (Option<Gaps>, Option<Force>) {
     let end = &scene.steps[0][k];
-    let d = std::array::from_fn(|a| (1.0 - lambda) * d0[a] + lambda * end.obstacle[a]);
+    let d = start.obstacle_at(end, lambda);
     let force = end.force.map(|f| {
         let (e, size, mut along) = force_along(f, normals);
         along.iter_mut().zip(scene.moved).filter(|(_, m)| !**m).for_each(|(a, _)| *a = 0.0);
-        (e, (1.0 - lambda) * force0 + lambda * size, along)
+        (e, start.force_at(size, lambda), along)
     });
     (obstacle_at(scene, normals, d), force)
 }
@@ -201,10 +201,7 @@ pub(super) fn walk<'p, S: SceneSystem<'p>>(
 /// the obstacles' position and force), the accumulated tangential displacements and states
 /// to start from, the records, and the last increment's answer.
 pub(super) struct Walk {
-    loads0: Vec<Vec<f64>>,
-    rhss0: Vec<Vec<f64>>,
-    d0: [f64; 2],
-    force0: f64,
+    start: StepStart,
     /// The force search's solves so far.
     evaluations: usize,
     previous: Vec<f64>,
@@ -218,17 +215,13 @@ pub(super) struct Walk {
 
 impl Walk {
     fn new(scene: &Scene<'_>, models: &[&Model]) -> Self {
-        let zeros = |m: &&Model| vec![0.0; m.system.rhs.len()];
         let histories = (0..scene.pairs.len())
             .map(|k| {
                 History::new(scene.offsets[k + 1] - scene.offsets[k], scene.problem.write_steps)
             })
             .collect();
         Self {
-            loads0: models.iter().map(zeros).collect(),
-            rhss0: models.iter().map(zeros).collect(),
-            d0: [0.0, 0.0],
-            force0: 0.0,
+            start: StepStart::new(models.iter().map(|m| m.system.rhs.len())),
             evaluations: 0,
             previous: vec![0.0; scene.initial_gap.len()],
             warm: None,
@@ -250,7 +243,7 @@ impl Walk {
                 false => steps.map(|(e, v0)| lerp(v0, which(&e[k]), lambda)).collect(),
             }
         };
-        [at(&self.loads0, |e| &e.load), at(&self.rhss0, |e| &e.rhs)]
+        [at(&self.start.loads, |e| &e.load), at(&self.start.rhss, |e| &e.rhs)]
     }
 
     /// Increment `i` of step `k` (0-based): the bodies' loads and the obstacles set, solved,
@@ -272,7 +265,7 @@ impl Walk {
             system.set_body_load(b, rhs);
         }
         let (moved, force) =
-            obstacle_increment(scene, &cx.prepared.normals, (k, lambda), (self.d0, self.force0));
+            obstacle_increment(scene, &cx.prepared.normals, (k, lambda), &self.start);
         if let Some((g, o)) = &moved {
             system.set_initial_gap(g);
             system.set_tangential_offset(o);
@@ -337,13 +330,7 @@ impl Walk {
 
     /// The previous step's end becomes the next step's start.
     fn end_step(&mut self, scene: &Scene<'_>, k: usize) {
-        for (b, ends) in scene.steps.iter().enumerate() {
-            self.loads0[b].clone_from(&ends[k].load);
-            self.rhss0[b].clone_from(&ends[k].rhs);
-        }
-        let end = &scene.steps[0][k];
-        self.d0 = end.obstacle;
-        self.force0 = end.force.map_or(0.0, |f| f[0].hypot(f[1]));
+        self.start.advance(scene.steps.iter().map(|ends| &ends[k]), &scene.steps[0][k]);
     }
 
     /// The path's answer from its last increment: the normal LCP's view, the held bodies'
