@@ -17,6 +17,7 @@ pub use bodies::{Bodies, BodyParts, PairParts, PairTangential, TwoBodies};
 pub use obstacle::{ModelFactors, RigidObstacle, RigidObstacleStats};
 pub use scene::SceneSystem;
 
+use crate::assembly::SystemMatrix;
 use crate::lcp::active_set::{ActiveSetError, CLOSED, Mode, OPEN};
 use crate::linear_solve::{Factorisation, SolveError};
 use faer::MatMut;
@@ -47,10 +48,20 @@ fn closed_modes(active: &[bool]) -> Vec<Mode> {
 
 /// Solves `f X = B` in place, 64 columns per task.
 fn solve_blocks(f: &Factorisation, x: MatMut<'_, f64>) {
+    solve_blocks_against(f, None, x);
+}
+
+/// [`solve_blocks`] with the base matrix of a factorisation of replaced rows
+/// ([`Factorisation::solve_in_place_against`]).
+fn solve_blocks_against(f: &Factorisation, base: Option<&SystemMatrix>, x: MatMut<'_, f64>) {
+    let solve = |p: MatMut<'_, f64>| match base {
+        Some(base) => f.solve_in_place_against(base, p),
+        None => f.solve_in_place(p),
+    };
     let n = x.nrows();
     let cols = x.ncols();
     if cols <= 64 {
-        f.solve_in_place(x);
+        solve(x);
         return;
     }
     let mut x = x;
@@ -63,7 +74,7 @@ fn solve_blocks(f: &Factorisation, x: MatMut<'_, f64>) {
     }
     parts.push(rest);
     debug_assert!(parts.iter().all(|p| p.nrows() == n));
-    parts.into_par_iter().for_each(|p| f.solve_in_place(p));
+    parts.into_par_iter().for_each(solve);
 }
 
 fn sum_rows(a: &Row, b: &Row) -> Row {

@@ -57,6 +57,7 @@ use faer::sparse::linalg::{SymbolicSupernodalParams, amd};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
+use super::replaced::ReplacedRows;
 use super::{FactorPrecision, SolveError, backend, buffer};
 
 mod reach;
@@ -495,6 +496,28 @@ impl RowMatrix {
     }
 }
 
+/// The matrix a [`StaticLu`] refines against: its own copy by rows, or rows replacing some
+/// of a base matrix the caller keeps and passes to each solve.
+enum Refine {
+    Rows(RowMatrix),
+    Replaced(ReplacedRows),
+}
+
+/// What [`StaticLu::new`] refines against: the matrix `full` (copied by rows after the
+/// numeric factorisation), or `base` with the rows `rows` replaced (only the rows are kept;
+/// each solve is given `base` again).
+pub(super) enum Full<'a> {
+    Matrix(&'a SystemMatrix),
+    Replaced { base: &'a SystemMatrix, rows: ReplacedRows },
+}
+
+/// The matrix of one solve's refinement.
+#[derive(Clone, Copy)]
+enum Operator<'a> {
+    Rows(&'a RowMatrix),
+    Replaced(&'a SystemMatrix, &'a ReplacedRows),
+}
+
 /// The stored factors, in the precision they were computed in.
 enum Factors {
     Double(Vec<NodeFactor<f64>>),
@@ -510,8 +533,8 @@ pub(super) struct StaticLu {
     col_scale: Vec<f64>,
     nodes: Vec<Supernode>,
     factors: Factors,
-    /// The full, unscaled `K` for refinement, by rows.
-    rows: RowMatrix,
+    /// The full, unscaled `K` for refinement (by rows, or rows replacing a base's).
+    refine: Refine,
     /// `‖K‖∞`.
     norm: f64,
     /// GMRES iterations per column at most in GMRES-IR.
@@ -978,11 +1001,12 @@ pub(super) struct Settings {
 
 impl StaticLu {
     /// Analyses and factorises `pruned` (the matrix to factorise) in the order `perm`
-    /// (`perm[k]` = DOF eliminated `k`-th); `full` is kept for refinement. With `graph`
+    /// (`perm[k]` = DOF eliminated `k`-th); `full` is kept for refinement, copied by rows
+    /// after the numeric factorisation (or its replaced rows only). With `graph`
     /// (the node graph of `pruned`) and an order that keeps node DOFs together, the
     /// analysis runs on the node graph.
     pub(super) fn new(
-        full: &SystemMatrix,
+        full: Full<'_>,
         pruned: SystemMatrix,
         graph: Option<NodeGraph>,
         perm: &[usize],
@@ -1057,7 +1081,17 @@ impl StaticLu {
             }
         };
         drop(permuted);
-        let full_rows = RowMatrix::new(full);
+        let (refine, norm) = match full {
+            Full::Matrix(a) => {
+                let rows = RowMatrix::new(a);
+                let norm = rows.norm();
+                (Refine::Rows(rows), norm)
+            }
+            Full::Replaced { base, rows } => {
+                let norm = rows.norm(base);
+                (Refine::Replaced(rows), norm)
+            }
+        };
         let factor_nnz = nodes
             .iter()
             .map(|s| {
@@ -1073,8 +1107,8 @@ impl StaticLu {
             col_scale,
             nodes,
             factors,
-            norm: full_rows.norm(),
-            rows: full_rows,
+            norm,
+            refine,
             gmres_max_iterations: settings.gmres_max_iterations,
             perturbed,
             factor_nnz,
@@ -1193,12 +1227,12 @@ impl StaticLu {
     /// `‖b − K x‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞)` (NaN when not finite).
     fn residuals(
         &self,
+        op: Operator<'_>,
         b: MatRef<'_, f64>,
         x: MatRef<'_, f64>,
         cols: &[usize],
     ) -> (Vec<f64>, Vec<f64>) {
         let (n, ka) = (self.n, cols.len());
-        let a = &self.rows;
         // Row-major copies of x and b; their ∞-norms (NaN-propagating).
         let max = |m: f64, v: f64| if m.is_nan() || v.is_nan() { f64::NAN } else { m.max(v.abs()) };
         let mut xt = vec![0.0f64; n * ka];
@@ -1213,6 +1247,19 @@ impl StaticLu {
             }
         }
         let mut rn = vec![0.0f64; ka];
+        let a = match op {
+            Operator::Rows(a) => a,
+            Operator::Replaced(base, rows) => {
+                // Column by column: each row's terms in the same order as below.
+                rows.subtract_product(base, &xt, &mut res, ka);
+                for row in res.chunks_exact(ka) {
+                    for (m, &v) in rn.iter_mut().zip(row) {
+                        *m = max(*m, v);
+                    }
+                }
+                return (res, self.backward_errors(&rn, &xn, &bn));
+            }
+        };
         if ka == 1 {
             // One column (every solve of the active set's iterations): the same operations in
             // the same order as below, without a slice per entry.
@@ -1238,7 +1285,13 @@ impl StaticLu {
                 }
             }
         }
-        let berr = (0..ka)
+        let berr = self.backward_errors(&rn, &xn, &bn);
+        (res, berr)
+    }
+
+    /// `‖r‖∞ / (‖K‖∞ ‖x‖∞ + ‖b‖∞)` per column from the three norms (NaN when not finite).
+    fn backward_errors(&self, rn: &[f64], xn: &[f64], bn: &[f64]) -> Vec<f64> {
+        (0..rn.len())
             .map(|j| {
                 let den = self.norm * xn[j] + bn[j];
                 if rn[j] == 0.0 {
@@ -1249,8 +1302,7 @@ impl StaticLu {
                     f64::NAN
                 }
             })
-            .collect();
-        (res, berr)
+            .collect()
     }
 
     /// Solves `K X = B` with the factors `factors` followed by iterative refinement of every
@@ -1259,6 +1311,7 @@ impl StaticLu {
     /// error of the others.
     fn solve_refined<T: Scalar>(
         &self,
+        op: Operator<'_>,
         factors: &[NodeFactor<T>],
         b: MatRef<'_, f64>,
         mut x: MatMut<'_, f64>,
@@ -1274,7 +1327,7 @@ impl StaticLu {
             if active.is_empty() {
                 break;
             }
-            let (r, berr) = self.residuals(b, x.rb(), &active);
+            let (r, berr) = self.residuals(op, b, x.rb(), &active);
             let ka = active.len();
             let mut keep = Vec::with_capacity(active.len());
             let mut keep_cols = Vec::with_capacity(active.len());
@@ -1318,8 +1371,11 @@ impl StaticLu {
     }
 
     /// `y = K x` with the kept, unscaled `K`.
-    fn mul(&self, x: &[f64], y: &mut [f64]) {
-        let a = &self.rows;
+    fn mul(op: Operator<'_>, x: &[f64], y: &mut [f64]) {
+        let a = match op {
+            Operator::Rows(a) => a,
+            Operator::Replaced(base, rows) => return rows.product(base, x, y),
+        };
         for (r, yr) in y.iter_mut().enumerate() {
             let mut s = 0.0;
             for k in a.row_ptr[r]..a.row_ptr[r + 1] {
@@ -1346,6 +1402,7 @@ impl StaticLu {
     /// guess starts from zero).
     fn gmres_ir<T: Scalar>(
         &self,
+        op: Operator<'_>,
         factors: &[NodeFactor<T>],
         b: &[f64],
         x: &mut [f64],
@@ -1358,7 +1415,7 @@ impl StaticLu {
         let bn = inf(b);
         let mut r = vec![0.0; n];
         let residual = |x: &[f64], r: &mut Vec<f64>| {
-            self.mul(x, r);
+            Self::mul(op, x, r);
             for (ri, bi) in r.iter_mut().zip(b) {
                 *ri = bi - *ri;
             }
@@ -1398,7 +1455,7 @@ impl StaticLu {
             while k < m && iterations < self.gmres_max_iterations {
                 let mut z = v[k].clone();
                 self.precondition(factors, &mut z);
-                self.mul(&z, &mut w);
+                Self::mul(op, &z, &mut w);
                 zs.push(z);
                 iterations += 1;
                 for (i, vi) in v.iter().enumerate() {
@@ -1466,16 +1523,29 @@ impl StaticLu {
     /// Solves `K X = B` in place with iterative refinement (see the module documentation);
     /// with single-precision factors, columns that refinement does not bring to the accepted
     /// backward error are finished by GMRES-IR ([`Self::gmres_ir`]); rejected columns are set
-    /// to NaN.
-    pub(super) fn solve_in_place(&self, mut rhs: MatMut<'_, f64>) {
+    /// to NaN. `base` is the base matrix of a factorisation of replaced rows
+    /// ([`Full::Replaced`]; without it every column is rejected), ignored otherwise.
+    pub(super) fn solve_in_place(&self, mut rhs: MatMut<'_, f64>, base: Option<&SystemMatrix>) {
         let k = rhs.ncols();
         if k == 0 {
             return;
         }
+        let op = match (&self.refine, base) {
+            (Refine::Rows(a), _) => Operator::Rows(a),
+            (Refine::Replaced(rows), Some(base)) if base.n == self.n => {
+                Operator::Replaced(base, rows)
+            }
+            (Refine::Replaced(_), _) => {
+                rhs.fill(f64::NAN);
+                self.columns_solved.fetch_add(k, Ordering::Relaxed);
+                self.worst_backward_error.fetch_max(f64::INFINITY.to_bits(), Ordering::Relaxed);
+                return;
+            }
+        };
         let b = rhs.rb().to_owned();
         let (mut rejected, mut worst) = match &self.factors {
-            Factors::Double(f) => self.solve_refined(f, b.as_ref(), rhs.rb_mut()),
-            Factors::Single(f) => self.solve_refined(f, b.as_ref(), rhs.rb_mut()),
+            Factors::Double(f) => self.solve_refined(op, f, b.as_ref(), rhs.rb_mut()),
+            Factors::Single(f) => self.solve_refined(op, f, b.as_ref(), rhs.rb_mut()),
         };
         if let Factors::Single(f) = &self.factors
             && !rejected.is_empty()
@@ -1485,7 +1555,7 @@ impl StaticLu {
             for &c in &rejected {
                 let mut x: Vec<f64> = rhs.rb().col(c).iter().copied().collect();
                 let bc: Vec<f64> = b.col(c).iter().copied().collect();
-                let (e, it) = self.gmres_ir(f, &bc, &mut x);
+                let (e, it) = self.gmres_ir(op, f, &bc, &mut x);
                 iterations += it;
                 if e.is_nan() || e > ACCEPTED_BACKWARD_ERROR {
                     again.push(c);

@@ -5,7 +5,8 @@
 mod friction;
 
 use super::{
-    COLUMN_BYTES, Row, SparseSolves, closed_modes, singular, solve_blocks, solve_refined, sum_rows,
+    COLUMN_BYTES, Row, SparseSolves, closed_modes, singular, solve_blocks_against, solve_refined,
+    sum_rows,
 };
 use crate::assembly::SystemMatrix;
 use crate::contact::BodyOperator;
@@ -14,7 +15,7 @@ use crate::lcp::Lcp;
 use crate::lcp::active_set::{
     ActiveSetError, ActiveSetSystem, CLOSED, Mode, OPEN, dense_lu, dense_lu_solve,
 };
-use crate::linear_solve::{ColumnOrdering, Factorisation};
+use crate::linear_solve::{ColumnOrdering, FactorOptions, Factorisation, ReplacedRows};
 use crate::nodes::{Axis, dof};
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Mat, MatMut};
@@ -454,45 +455,16 @@ impl<'a> RigidObstacle<'a> {
         b
     }
 
-    /// The matrix of `modes`: `K` with the closed candidates' rows replaced.
-    fn matrix_of(&self, modes: &[Mode]) -> SystemMatrix {
-        let n = self.matrix.n;
-        let mut replaced = vec![false; n];
-        let mut extra: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
+    /// The rows of `K` the matrix of `modes` replaces: the closed candidates'.
+    fn replaced_rows(&self, modes: &[Mode]) -> ReplacedRows {
+        let mut rows = Vec::new();
         for (c, r) in self.replacements.iter().enumerate() {
             for &k in self.mode_rows(c, modes[c]) {
                 let (d, row, _, _) = &r.rows[k];
-                replaced[*d] = true;
-                for &(col, v) in row {
-                    extra[col].push((*d, v));
-                }
+                rows.push((*d, row.clone()));
             }
         }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(self.matrix.row_idx.len());
-        let mut values = Vec::with_capacity(self.matrix.values.len());
-        col_ptr.push(0);
-        let mut column: Vec<(usize, f64)> = Vec::new();
-        for col in 0..n {
-            column.clear();
-            for k in self.matrix.col_ptr[col]..self.matrix.col_ptr[col + 1] {
-                if !replaced[self.matrix.row_idx[k]] {
-                    column.push((self.matrix.row_idx[k], self.matrix.values[k]));
-                }
-            }
-            column.extend_from_slice(&extra[col]);
-            column.sort_by_key(|e| e.0);
-            for &(r, v) in &column {
-                if row_idx.last() == Some(&r) && row_idx.len() > col_ptr[col] {
-                    *values.last_mut().expect("an entry was pushed") += v;
-                } else {
-                    row_idx.push(r);
-                    values.push(v);
-                }
-            }
-            col_ptr.push(row_idx.len());
-        }
-        SystemMatrix { n, col_ptr, row_idx, values }
+        ReplacedRows::new(self.matrix.n, rows)
     }
 
     /// The row changes of candidate `c` from mode `from` to mode `to`: the rows of `to`
@@ -550,17 +522,24 @@ impl<'a> RigidObstacle<'a> {
                 }
             }
             let t = Instant::now();
-            let matrix = self.matrix_of(modes);
-            // With the options of `K`'s own factorisation (its precision).
+            // With the options of `K`'s own factorisation (its precision), refined against `K`
+            // and the replaced rows (no copy of the replaced matrix is kept: 1.6 GB at 10⁶
+            // nodes, docs/dev/performance.md).
+            let rows = self.replaced_rows(modes);
             let f = match self.points {
-                Some(p) => Factorisation::with_options(
-                    &matrix,
+                Some(p) => Factorisation::with_replaced_rows(
+                    self.matrix,
+                    rows,
                     ColumnOrdering::NestedDissection(p),
                     self.model.get().options(),
                 )?,
-                None => Factorisation::new(&matrix)?,
+                None => Factorisation::with_replaced_rows(
+                    self.matrix,
+                    rows,
+                    ColumnOrdering::Colamd,
+                    &FactorOptions::default(),
+                )?,
             };
-            drop(matrix);
             self.stats.factorisations += 1;
             self.stats.factorisation_seconds += t.elapsed().as_secs_f64();
             self.base = Some(Box::new(f));
@@ -585,7 +564,7 @@ impl<'a> RigidObstacle<'a> {
                 self.columns.clear();
             }
             let f = self.base();
-            let (reps, slot) = (&self.replacements, &self.slot);
+            let (reps, slot, matrix) = (&self.replacements, &self.slot, self.matrix);
             let blocks: Vec<Vec<UpdateColumn>> = new
                 .par_chunks(block_columns(n))
                 .map(|chunk| {
@@ -593,7 +572,7 @@ impl<'a> RigidObstacle<'a> {
                     for (j, &r) in chunk.iter().enumerate() {
                         x[(r, j)] = 1.0;
                     }
-                    f.solve_in_place(x.as_mut());
+                    f.solve_in_place_against(matrix, x.as_mut());
                     (0..chunk.len())
                         .map(|j| {
                             let z = x.col_as_slice(j);
@@ -668,7 +647,7 @@ impl<'a> RigidObstacle<'a> {
         let f = self.base();
         let cols = x.ncols();
         // y = K_B⁻¹ b, in parallel over blocks of 64 columns.
-        solve_blocks(f, x.rb_mut());
+        solve_blocks_against(f, Some(self.matrix), x.rb_mut());
         if changed.is_empty() {
             return Ok(());
         }
@@ -709,7 +688,7 @@ impl<'a> RigidObstacle<'a> {
         }
         // x = y − K_B⁻¹ (U v).
         if !stored {
-            solve_blocks(f, corrections.as_mut());
+            solve_blocks_against(f, Some(self.matrix), corrections.as_mut());
         }
         for col in 0..cols {
             for i in 0..self.matrix.n {
