@@ -164,6 +164,23 @@ impl History {
         Self { accumulated, records: Vec::new(), snapshots: Vec::new(), write_steps }
     }
 
+    /// Records increment `i` of step `k` at load factor `lambda` in each pair's history
+    /// (`histories[p]` over the candidates `groups[p]` of `step`), as [`History::record`];
+    /// both load paths record this way.
+    pub(super) fn record_pairs(
+        histories: &mut [History],
+        groups: impl Iterator<Item = std::ops::Range<usize>>,
+        step: &lcp::FrictionSolution,
+        at: (usize, usize, f64),
+        (equilibrium_error, active_set_changes, seconds): (f64, &[usize], f64),
+    ) {
+        for (h, g) in histories.iter_mut().zip(groups) {
+            let share = (g.len() != step.normal.len()).then(|| super::load_path::select(step, g));
+            let changes = active_set_changes.to_vec();
+            h.record(share.as_ref().unwrap_or(step), at, equilibrium_error, changes, seconds);
+        }
+    }
+
     /// Records increment `i` of step `k` (0-based) at load factor `lambda`.
     pub(super) fn record(
         &mut self,

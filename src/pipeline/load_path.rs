@@ -652,16 +652,9 @@ impl Walk<'_, '_> {
                     .map_err(|e| at_increment(path.named_steps, (k, i, end.increments), e))?;
                 let (u, equilibrium) = self.bodies(&step, &start, (k, lambda), timer)?;
                 let seconds = started.elapsed().as_secs_f64();
-                for (h, g) in self.histories.iter_mut().zip(&path.groups) {
-                    let share = if g.len() == m { None } else { Some(select(&step, g.clone())) };
-                    h.record(
-                        share.as_ref().unwrap_or(&step),
-                        (k, i, lambda),
-                        equilibrium,
-                        Vec::new(),
-                        seconds,
-                    );
-                }
+                let groups = path.groups.iter().cloned();
+                let record = (equilibrium, &[][..], seconds);
+                History::record_pairs(&mut self.histories, groups, &step, (k, i, lambda), record);
                 self.step_problem.previous_tangential.clone_from(&step.tangential_displacement);
                 self.last = Some((step, normal, u));
             }

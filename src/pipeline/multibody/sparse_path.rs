@@ -320,12 +320,9 @@ impl Walk {
             })
             .fold(0.0, f64::max);
         let seconds = started.elapsed().as_secs_f64();
-        for (p, h) in self.histories.iter_mut().enumerate() {
-            let share =
-                super::super::load_path::select(step, scene.offsets[p]..scene.offsets[p + 1]);
-            let changes = solved.answer.changes.clone();
-            h.record(&share, (k, i, lambda), equilibrium, changes, seconds);
-        }
+        let groups = scene.offsets.windows(2).map(|w| w[0]..w[1]);
+        let record = (equilibrium, &solved.answer.changes[..], seconds);
+        History::record_pairs(&mut self.histories, groups, step, (k, i, lambda), record);
     }
 
     /// The previous step's end becomes the next step's start.
