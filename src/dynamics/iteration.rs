@@ -8,7 +8,7 @@
 //! `q_{n+θ}` on the prescribed value, exactly. With a history in time ([`StepLoad::Given`])
 //! that value is `(1 − θ) ū(t_n) + θ ū(t_{n+1})`, so that with `q_n` on `ū(t_n)` the step's end
 //! `q_{n+1} = q_n + h ((1 − θ) v_n + θ v_{n+1})` is on `ū(t_{n+1})`: the velocity row asks
-//! `(1 − θ) v_n + θ v_{n+1} = (ū(t_{n+1}) − ū(t_n)) / h` (docs/method.md §10.6).
+//! `(1 − θ) v_n + θ v_{n+1} = (ū(t_{n+1}) − ū(t_n)) / h` (docs/method.md §10.5).
 
 use super::DynamicsError;
 use crate::assembly::{GlobalSystem, SystemMatrix};

@@ -1,5 +1,5 @@
 //! Loads and prescribed displacements that vary in time (`[[step]]` tables with `time`,
-//! docs/method.md §10.6): the assembled load `f` and right-hand side `r` (a collocation or
+//! docs/method.md §10.5): the assembled load `f` and right-hand side `r` (a collocation or
 //! eliminated row's value `D₀₀ ū`, the FE lift `− K_fc ū` on the free rows) at the steps'
 //! times, linear between them and held after the last. A step `n → n + 1` takes the θ-weighted
 //! right-hand side `(1 − θ) r(t_n) + θ r(t_{n+1})`: on a free row the load at `t_{n+θ}` when the

@@ -249,7 +249,7 @@ pub fn simulate(
 /// their values vary in time (a prescribed row is massless in `M̂`; its nodal velocity is the
 /// θ-method's `v_{n+1}`, which only the average `(1 − θ) v_n + θ v_{n+1}` constrains, so at
 /// θ = ½ it alternates about the prescribed rate: its kinetic energy and momentum are the
-/// support's, docs/method.md §10.6).
+/// support's, docs/method.md §10.5).
 fn recorded_mass<'a>(body: &'a Body<'_>) -> std::borrow::Cow<'a, [f64]> {
     match body.history {
         None => std::borrow::Cow::Borrowed(&body.mass),

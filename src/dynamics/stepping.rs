@@ -269,7 +269,7 @@ fn advance(
 }
 
 /// The work done on `body` at its prescribed DOFs over the step from `s` to `next` (docs/method.md
-/// §10.6): `Σ_d F_d Δū_d` over the DOFs whose prescribed value moves by `Δū_d`
+/// §10.5): `Σ_d F_d Δū_d` over the DOFs whose prescribed value moves by `Δū_d`
 /// (`side.moved`), with `F_d = (K q_{n+θ})_d − (E Π)_d / h` the force the support (and any
 /// load on that row) exerts there: the balance of the massless row `d` that its
 /// prescribed-value row replaced (`K` unconstrained: the interior faces' fluxes, or the FE

@@ -232,7 +232,7 @@ pub struct LoadStep {
     pub increments: usize,
     /// With `[dynamics]`: the time at which the step's state holds (the states are
     /// interpolated linearly in time between steps, from the unloaded body at time 0, and
-    /// held after the last; docs/method.md §10.6). `None` in a static solve.
+    /// held after the last; docs/method.md §10.5). `None` in a static solve.
     pub time: Option<f64>,
     /// Every edge's condition at the end of the step (same kinds as `Problem::boundary`).
     pub boundary: Vec<EdgeCondition>,

@@ -1843,7 +1843,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     // One body given as a `[[body]]` table: its steps may name it.
     let one_table = file.body.len() == 1;
     let body_force = all.iter().any(|p| p.body_force.is_some());
-    // With [dynamics] the steps are a history in time (docs/method.md §10.6): no contact is
+    // With [dynamics] the steps are a history in time (docs/method.md §10.5): no contact is
     // needed, and the body force acts in full from time 0.
     let dynamic = file.dynamics.is_some();
     let mut times = Vec::with_capacity(file.step.len());

@@ -1,5 +1,5 @@
 //! Loads and prescribed displacements in time (`[[step]]` tables with `time` under
-//! `[dynamics]`, docs/method.md §10.6) against exact answers.
+//! `[dynamics]`, docs/method.md §10.5) against exact answers.
 //!
 //! The bar: a strip of length `L`, height `H`, plane stress with ν = 0 (exactly
 //! one-dimensional), `E = ρ = 1` (wave speed `c = 1`). With its left end moved by `f(t)` and
