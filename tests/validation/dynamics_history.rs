@@ -406,3 +406,69 @@ fn pushed_bar_on_a_wall_with_lemke_and_the_active_set() {
     assert!((mean - exact).abs() <= 0.06 * exact, "mean force {mean} against {exact}");
     assert!(apart <= 1e-10 * peak, "Lemke and the active set {apart:e} apart");
 }
+
+/// An axisymmetric body (loads and masses per radian, `r`-weighted): a solid cylinder
+/// (radius 0.5, length 1, E = 1000, ν = 0.3, ρ = 1) whose end face `z = 0` is moved along the
+/// axis by a displacement pulse. Its nodes sit on the history at every step's end to round-off
+/// (MFVM and FE), and the FE run keeps `E − E0 = W` with the work at the moving face (θ = ½,
+/// symmetric `K`) to round-off.
+#[test]
+fn axisymmetric_cylinder_end_moved_by_a_pulse() {
+    const U: f64 = 1e-3;
+    let pulse = [(0.01, U), (0.02, 0.0)];
+    for (name, method) in [("MFVM", ""), ("FE", "[discretisation]\nmethod = \"fem\"")] {
+        let text = format!(
+            r#"
+            [geometry]
+            kind = "rectangle"
+            x = [0.0, 0.5]
+            y = [0.0, 1.0]
+            [nodes]
+            spacing = 0.1
+            [material]
+            young = 1000.0
+            poisson = 0.3
+            plane = "axisymmetric"
+            density = 1.0
+            {method}
+            [[boundary]]
+            edge = "bottom"
+            displacement = {{ y = 0.0 }}
+            {}
+            [dynamics]
+            end_time = 0.06
+            time_step = 0.0025
+            output.every = 1
+            "#,
+            steps("bottom", "displacement", "y", &pulse)
+        );
+        let problem = Problem::from_toml(&text).unwrap_or_else(|e| panic!("cylinder: {e}"));
+        let outcome = run(&problem);
+        let points = outcome.points();
+        let bottom: Vec<usize> =
+            (0..points.len()).filter(|&i| points[i][1].abs() < 1e-12).collect();
+        let mut held = 0.0_f64;
+        for frame in &outcome.simulation.frames {
+            let exact = piecewise(&pulse, frame.time);
+            for &i in &bottom {
+                held = held.max((frame.bodies[0].displacement[i][1] - exact).abs());
+            }
+        }
+        let records = &outcome.simulation.history.records;
+        let energy = |r: &mlpg_contact::dynamics::Record| r.kinetic_energy + r.strain_energy;
+        let scale = records.iter().map(energy).fold(0.0, f64::max);
+        let balance = records
+            .iter()
+            .map(|r| (energy(r) - energy(&records[0]) - r.external_work).abs())
+            .fold(0.0, f64::max)
+            / scale;
+        println!(
+            "{name}: {} end-face nodes off f(t_n) by at most {held:.2e} (U = {U}); |E − E0 − W| at most {balance:.2e} of the largest energy {scale:.3e}",
+            bottom.len()
+        );
+        assert!(held <= 1e-13 * U, "{name}: the end face is off by {held:e}");
+        if name == "FE" {
+            assert!(balance <= 1e-11, "{name}: the energy balance is off by {balance:e}");
+        }
+    }
+}
