@@ -68,6 +68,8 @@ mod validation {
     mod dynamics_wall;
     // Friction in the time stepping on FE bodies (sliding, stick, slip, pairs) and on axisymmetric rings.
     mod dynamics_friction;
+    // Two equal elastic spheres colliding head-on: Hertz's two-body impact, the one ball on a flat.
+    mod dynamics_spheres;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
     mod quasi_static;
     // Loads and prescribed displacements in time ([[step]] with time): d'Alembert, impulses, statics.

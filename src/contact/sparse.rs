@@ -6,13 +6,16 @@
 //! [`RigidObstacle`] is one body against rigid obstacles, [`Bodies`] any number of elastic
 //! bodies and pairs (rigid pairs among them); both implement the algorithms' traits of
 //! [`crate::lcp::active_set`] (`ActiveSetSystem` for frictionless contact, `FrictionSystem`
-//! for a frictional step), which know nothing of bodies or matrices.
+//! for a frictional step), which know nothing of bodies or matrices, and [`SceneSystem`], the
+//! interface the load path drives them by (bodies' loads, gaps, `μ` per step, displacements).
 
 mod bodies;
 mod obstacle;
+mod scene;
 
 pub use bodies::{Bodies, BodyParts, PairParts, PairTangential, TwoBodies};
 pub use obstacle::{ModelFactors, RigidObstacle, RigidObstacleStats};
+pub use scene::SceneSystem;
 
 use crate::lcp::active_set::{ActiveSetError, CLOSED, Mode, OPEN};
 use crate::linear_solve::{Factorisation, SolveError};

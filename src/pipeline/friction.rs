@@ -452,8 +452,8 @@ pub(super) fn refuse_slanted_force_on(
 /// The checks of a rigid translation of the body held by the contact alone (docs/method.md
 /// §4.7) and `ν_c·r` per candidate for its unit vector `r` (`None` without a pin): only
 /// frictionless, without a force-driven obstacle, and with a pinned node that carries no
-/// contact force (a pair of two bodies has its own checks: [`held_between`] on the condensed
-/// path, the scene's held body on the sparse one).
+/// contact force; on the condensed path (a pair of two bodies has its own checks,
+/// [`held_between`]; the sparse path takes the scene's held body and its checks).
 fn held_projection(
     pinned: Option<assembly::PinnedMode>,
     steps: &[StepEnd],

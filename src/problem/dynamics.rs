@@ -231,16 +231,13 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
 /// axisymmetric, with or without friction) against rigid obstacles, or any number of
-/// plane bodies in contact pairs with each other or with rigid obstacles (with or without
-/// friction), from rest at their prescribed displacements.
+/// bodies (plane, or all axisymmetric) in contact pairs with each other or with rigid
+/// obstacles (with or without friction), undeformed at time 0.
 fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
     let several = problem.body_count() > 1 || problem.is_scene_of_pairs();
     let specs: Vec<&super::ContactSpec> = problem.pairs().iter().map(|p| &p.spec).collect();
-    let axisymmetric = problem.bodies().any(|p| p.material.is_axisymmetric());
     let refused = if several && specs.iter().any(|c| c.interference != 0.0) {
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
-    } else if several && axisymmetric {
-        Some(("body[0].material.plane", "several axisymmetric bodies"))
     } else if problem.adaptive.is_some() {
         Some(("refinement", "adaptive refinement"))
     } else if problem.discretisation.precision != Precision::Double {
@@ -255,7 +252,7 @@ fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
             key,
             "(given)",
             format!(
-                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane or axisymmetric, with Coulomb friction or without, against rigid obstacles, or plane bodies in contact pairs with each other or with rigid obstacles, with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
+                "{what} is not implemented with [dynamics] yet (it steps one body, MFVM or FE, plane or axisymmetric, with Coulomb friction or without, against rigid obstacles, or bodies (plane, or all axisymmetric) in contact pairs with each other or with rigid obstacles, with Coulomb friction or without; docs/dev/dynamics.md); remove it or remove [dynamics]"
             ),
         )),
         None => Ok(()),

@@ -409,12 +409,21 @@ impl<'a> RigidObstacle<'a> {
         Ok(())
     }
 
-    /// Sets the load of a step (docs/method.md §8): the right-hand side `rhs` of `K û = f`,
-    /// the gaps without displacement `g0_c` (the obstacle's normal displacement included) and
-    /// the obstacle's tangential displacement `o_c = d·t_c`.
-    pub fn set_load(&mut self, rhs: &[f64], initial_gap: &[f64], tangential_offset: &[f64]) {
+    /// Sets the right-hand side `rhs` of `K û = f` (a step's load, docs/method.md §8).
+    pub fn set_rhs(&mut self, rhs: &[f64]) {
         self.rhs.copy_from_slice(rhs);
+        self.last = None;
+    }
+
+    /// Sets the gaps without displacement `g0_c` (the obstacle's normal displacement
+    /// included).
+    pub fn set_initial_gap(&mut self, initial_gap: &[f64]) {
         self.initial_gap.copy_from_slice(initial_gap);
+        self.last = None;
+    }
+
+    /// Sets the obstacle's tangential displacement `o_c = d·t_c`.
+    pub fn set_tangential_offset(&mut self, tangential_offset: &[f64]) {
         self.tangential_offset.copy_from_slice(tangential_offset);
         self.last = None;
     }

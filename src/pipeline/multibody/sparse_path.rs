@@ -12,8 +12,9 @@
 
 use super::super::friction::{History, StepEnd, at_increment, force_along, lerp};
 use super::path::{self, Scene};
-use super::{BodiesTrials, Held as HeldBody, Solved};
-use crate::contact::{self, BodyOperator};
+use super::trials::SparseTrials;
+use super::{Held as HeldBody, Solved};
+use crate::contact::{self, BodyOperator, sparse::SceneSystem};
 use crate::error::Error;
 use crate::lcp;
 use crate::model::Model;
@@ -84,33 +85,27 @@ fn one_shot(scene: &Scene<'_>) -> bool {
     scene.problem.steps.is_empty() && scene.pairs.iter().all(|p| p.spec.friction == 0.0)
 }
 
-/// What the increments read: the scene, the models, the held bodies, each body's tangential
-/// operator (none on a one-shot path), every candidate's normal, and whether the path is
-/// one-shot ([`one_shot`]).
-struct Context<'c, 's> {
-    scene: &'c Scene<'s>,
-    models: &'c [&'c Model],
-    held_bodies: &'c [HeldBody],
-    by_body: &'c [Indexed],
-    normals: &'c [crate::geometry::Point],
+/// What stays fixed along the sparse path besides the scene: each pair's tangential
+/// operators and each body's (none on a one-shot path), `μ` per step and candidate, every
+/// candidate's normal, and whether the path is one-shot ([`one_shot`]).
+pub(super) struct Prepared {
+    tangential: Vec<path::Tangential>,
+    by_body: Vec<Indexed>,
+    friction: Vec<Vec<f64>>,
+    normals: Vec<crate::geometry::Point>,
     once: bool,
 }
 
-/// Friction and load steps for several bodies and pairs on the sparse system: the path of
-/// [`path::solve`] with each increment an active-set step instead of the step LCP on
-/// condensed blocks; and frictionless contact in one shot as one step of one increment of it
-/// ([`one_shot`]: no tangential operators, the frictionless active-set method, or the held
-/// bodies' search over warm-started solves), timed as one `active_set` stage.
+/// The sparse path's fixed data for `scene` with its `held_bodies`, after the refusals of
+/// friction the searches cannot take ([`path::refuse_slanted`], [`path::refuse_force`]).
 ///
 /// # Errors
-/// The active-set solver's and the search's errors (naming the step and the increment when
-/// the problem has `[[step]]` tables), a failed solve.
-pub(super) fn solve(
+/// Those refusals.
+pub(super) fn prepare(
     scene: &Scene<'_>,
     models: &[&Model],
     held_bodies: &[HeldBody],
-    clock: &mut Clock<'_>,
-) -> Result<path::OnPath, Error> {
+) -> Result<Prepared, Error> {
     let once = one_shot(scene);
     let m = scene.initial_gap.len();
     // A one-shot path builds no tangential operators: the system stays frictionless.
@@ -128,32 +123,84 @@ pub(super) fn solve(
         path::refuse_slanted(pin, &friction, &normals)?;
     }
     path::refuse_force(scene, &friction, &normals)?;
+    Ok(Prepared { tangential, by_body, friction, normals, once })
+}
+
+/// What the increments read: the scene, the models, the held bodies and the path's fixed
+/// data.
+struct Context<'c, 's> {
+    scene: &'c Scene<'s>,
+    models: &'c [&'c Model],
+    held_bodies: &'c [HeldBody],
+    prepared: &'c Prepared,
+}
+
+/// Friction and load steps for several bodies and pairs on the sparse system: the path of
+/// [`path::solve`] with each increment an active-set step instead of the step LCP on
+/// condensed blocks; and frictionless contact in one shot as one step of one increment of it
+/// ([`one_shot`]: no tangential operators, the frictionless active-set method, or the held
+/// bodies' search over warm-started solves), timed as one `active_set` stage. The system is
+/// [`contact::sparse::Bodies`] over all bodies and pairs ([`walk`] takes any
+/// [`SceneSystem`]).
+///
+/// # Errors
+/// The active-set solver's and the search's errors (naming the step and the increment when
+/// the problem has `[[step]]` tables), a failed solve.
+pub(super) fn solve(
+    scene: &Scene<'_>,
+    models: &[&Model],
+    held_bodies: &[HeldBody],
+    clock: &mut Clock<'_>,
+) -> Result<path::OnPath, Error> {
+    let prepared = prepare(scene, models, held_bodies)?;
     let mut system = super::bodies_system(models, scene.pairs, scene.found, scene.initial_gap)?;
-    let pair_tangential: Vec<contact::sparse::PairTangential<'_>> =
-        tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
-    let cx = Context { scene, models, held_bodies, by_body: &by_body, normals: &normals, once };
+    let walk = self::walk(scene, (models, held_bodies), &prepared, &mut system, clock)?;
+    let work = system.stats;
+    drop(system);
+    Ok(walk.finish(scene, prepared, work))
+}
+
+/// The walk of the sparse path over the steps and their increments on `system` (timed as one
+/// stage, `friction`, or `active_set` on a one-shot path): per step the coefficients, per
+/// increment the bodies' loads and the obstacles set and the step solved; the walk's state
+/// at its end, which [`Walk::finish`] turns into the path's answer.
+///
+/// # Errors
+/// As [`solve`].
+pub(super) fn walk<'p, S: SceneSystem<'p>>(
+    scene: &Scene<'_>,
+    (models, held_bodies): (&[&Model], &[HeldBody]),
+    prepared: &'p Prepared,
+    system: &mut S,
+    clock: &mut Clock<'_>,
+) -> Result<Walk, Error> {
+    let once = prepared.once;
+    let pair_tangential: Vec<contact::sparse::PairTangential<'p>> =
+        prepared.tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
+    let cx = Context { scene, models, held_bodies, prepared };
     let mut walk = Walk::new(scene, models);
     let stage = if once { "active_set" } else { "friction" };
-    let work = clock.run(stage, || -> Result<_, Error> {
+    clock.run(stage, || -> Result<_, Error> {
         for (k, end) in scene.steps[0].iter().enumerate() {
             if !once {
                 let tangential = pair_tangential.clone();
-                system.set_friction(&friction[k], tangential).map_err(lcp::LcpError::from)?;
+                let mu = &prepared.friction[k];
+                system.set_pair_friction(mu, tangential).map_err(lcp::LcpError::from)?;
             }
             for i in 1..=end.increments {
-                walk.increment(&cx, &mut system, (k, i))?;
+                walk.increment(&cx, system, (k, i))?;
             }
             walk.end_step(scene, k);
         }
-        Ok(system.stats)
+        Ok(())
     })?;
-    Ok(walk.finish(scene, tangential, &friction, work))
+    Ok(walk)
 }
 
 /// The path's running state: the previous step's end (each body's load and right-hand side,
 /// the obstacles' position and force), the accumulated tangential displacements and states
 /// to start from, the records, and the last increment's answer.
-struct Walk {
+pub(super) struct Walk {
     loads0: Vec<Vec<f64>>,
     rhss0: Vec<Vec<f64>>,
     d0: [f64; 2],
@@ -198,7 +245,7 @@ impl Walk {
     fn loads(&self, cx: &Context<'_, '_>, (k, lambda): (usize, f64)) -> [Vec<Vec<f64>>; 2] {
         let at = |ends: &[Vec<f64>], which: fn(&StepEnd) -> &Vec<f64>| -> Vec<Vec<f64>> {
             let steps = cx.scene.steps.iter().zip(ends);
-            match cx.once {
+            match cx.prepared.once {
                 true => steps.map(|(e, _)| which(&e[k]).clone()).collect(),
                 false => steps.map(|(e, v0)| lerp(v0, which(&e[k]), lambda)).collect(),
             }
@@ -208,10 +255,10 @@ impl Walk {
 
     /// Increment `i` of step `k` (0-based): the bodies' loads and the obstacles set, solved,
     /// recorded (but on a one-shot path, which has no frictional record).
-    fn increment(
+    fn increment<'p, S: SceneSystem<'p>>(
         &mut self,
         cx: &Context<'_, '_>,
-        system: &mut contact::sparse::Bodies<'_>,
+        system: &mut S,
         (k, i): (usize, usize),
     ) -> Result<(), Error> {
         let scene = cx.scene;
@@ -225,7 +272,7 @@ impl Walk {
             system.set_body_load(b, rhs);
         }
         let (moved, force) =
-            obstacle_increment(scene, cx.normals, (k, lambda), (self.d0, self.force0));
+            obstacle_increment(scene, &cx.prepared.normals, (k, lambda), (self.d0, self.force0));
         if let Some((g, o)) = &moved {
             system.set_initial_gap(g);
             system.set_tangential_offset(o);
@@ -238,13 +285,13 @@ impl Walk {
             force,
         };
         let bodies = (cx.models, cx.held_bodies);
-        let mut solved =
-            solve_increment(system, bodies, (&loads, &rhss), state, cx.once).map_err(at_step)?;
+        let mut solved = solve_increment(system, bodies, (&loads, &rhss), state, cx.prepared.once)
+            .map_err(at_step)?;
         if let Some(l) = &mut solved.load_driven {
             self.evaluations += l.evaluations;
             l.total_evaluations = self.evaluations;
         }
-        if !cx.once {
+        if !cx.prepared.once {
             self.record(cx, &solved, &loads, (k, i, lambda), started);
         }
         let answer = &solved.answer;
@@ -275,7 +322,7 @@ impl Walk {
             .iter()
             .enumerate()
             .map(|(b, model)| {
-                let ops = (&scene.operators[b], &cx.by_body[b]);
+                let ops = (&scene.operators[b], &cx.prepared.by_body[b]);
                 body_equilibrium(model, &loads[b], &solved.u[b], ops, step)
             })
             .fold(0.0, f64::max);
@@ -302,14 +349,14 @@ impl Walk {
     /// The path's answer from its last increment: the normal LCP's view, the held bodies'
     /// translations, one frictional record per pair (none without tangential operators) and
     /// the active set's record.
-    fn finish(
+    pub(super) fn finish(
         self,
         scene: &Scene<'_>,
-        tangential: Vec<path::Tangential>,
-        friction: &[Vec<f64>],
+        prepared: Prepared,
         work: contact::sparse::RigidObstacleStats,
     ) -> path::OnPath {
         let Walk { iterations, rescues, end_all, last, histories, .. } = self;
+        let Prepared { tangential, friction, .. } = prepared;
         let Some(Increment { answer, u, held, load_driven }) = last else {
             unreachable!("validated: at least one step with at least one increment")
         };
@@ -362,8 +409,8 @@ struct Warm<'w> {
 /// active-set step (on a one-shot path, `once`, the frictionless active-set method), or the
 /// search for a force-driven obstacle's displacement ([`force_search`]) or the held bodies'
 /// translations ([`held_search`]).
-fn solve_increment(
-    system: &mut contact::sparse::Bodies<'_>,
+fn solve_increment<'p, S: SceneSystem<'p>>(
+    system: &mut S,
     (models, held_bodies): (&[&Model], &[HeldBody]),
     (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
     start: Warm<'_>,
@@ -404,8 +451,8 @@ fn solve_increment(
 /// ([`lcp::load_driven::nested::search`]); then each pin set to the translation found and the
 /// gaps to the obstacle's displacement alone, so that the displacements answer the system
 /// reported.
-fn held_search(
-    system: &mut contact::sparse::Bodies<'_>,
+fn held_search<'p, S: SceneSystem<'p>>(
+    system: &mut S,
     models: &[&Model],
     (held_bodies, held): (&[HeldBody], &[(&[f64], f64)]),
     rhss: &[Vec<f64>],
@@ -414,7 +461,7 @@ fn held_search(
     let force = start.force.clone();
     let scale =
         held.iter().fold(force.as_ref().map_or(0.0, |f| f.1.abs()), |s, h| s.max(h.1.abs()));
-    let mut trials = BodiesTrials::new(
+    let mut trials = SparseTrials::new(
         &mut *system,
         (start.initial_gap, held[0].0),
         (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
@@ -459,12 +506,12 @@ fn held_search(
 /// A force-driven obstacle's increment (docs/method.md §4.6): the displacement `s` along `e`
 /// whose answer carries the increment's force, over warm-started solves with the moved
 /// candidates' gaps at `g0 − a s` (the system is left at the last trial, the answer's).
-fn force_search(
-    system: &mut contact::sparse::Bodies<'_>,
+fn force_search<'p, S: SceneSystem<'p>>(
+    system: &mut S,
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
     let (e, target, along) = start.force.expect("a force");
-    let mut trials = BodiesTrials::new(
+    let mut trials = SparseTrials::new(
         &mut *system,
         (start.initial_gap, &along),
         (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),

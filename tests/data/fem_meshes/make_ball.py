@@ -10,6 +10,11 @@ From this folder, `python3 make_ball.py` rewrites the committed levels:
                                                       coarse level)
     ../../../problems/ball_impact_axisymmetric_fem.msh  hc = 0.1 mm (1 703 nodes, shipped; the
                                                       test's fine level)
+    ball_lower.msh                                    the shipped mesh mirrored about z = -1 um
+                                                      (z -> -z - 2 um, orientation reversed):
+                                                      the lower sphere of the two spheres'
+                                                      FE test (tests/validation/
+                                                      dynamics_spheres.rs)
 
 each with H = 1 mm (the element size at distance >= 5 mm from the south pole; hc within 1 mm
 of it, linear in between). `--hc 0.00005 --out DIR` writes other levels as
@@ -25,12 +30,15 @@ import gmsh
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 COMMITTED = [
-    (2e-4, os.path.join(HERE, "ball_0.msh")),
-    (1e-4, os.path.join(HERE, "..", "..", "..", "problems", "ball_impact_axisymmetric_fem.msh")),
+    (2e-4, os.path.join(HERE, "ball_0.msh"), False),
+    (1e-4, os.path.join(HERE, "..", "..", "..", "problems", "ball_impact_axisymmetric_fem.msh"), False),
+    (1e-4, os.path.join(HERE, "ball_lower.msh"), True),
 ]
+# The gap between the two spheres' poles (the lower one's north pole at z = -GAP).
+GAP = 2e-6
 
 
-def write(hc, big, out):
+def write(hc, big, out, lower=False):
     gmsh.clear()
     gmsh.parser.setNumber("hc", [hc])
     gmsh.parser.setNumber("H", [big])
@@ -42,6 +50,11 @@ def write(hc, big, out):
     gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
     gmsh.option.setNumber("Mesh.Binary", 0)
     gmsh.model.mesh.generate(2)
+    if lower:
+        # The mirror image z -> -z - GAP of every node; a reflection turns the elements
+        # clockwise, so their orientation is reversed.
+        gmsh.model.mesh.affineTransform([1, 0, 0, 0, 0, -1, 0, -GAP, 0, 0, 1, 0])
+        gmsh.model.mesh.reverse()
     gmsh.write(out)
     print(f"{out}: hc = {hc}, H = {big}, {len(gmsh.model.mesh.getNodes()[0])} nodes")
 
@@ -55,8 +68,8 @@ def main():
     gmsh.initialize()
     gmsh.option.setNumber("General.Terminal", 0)
     if args.hc is None:
-        for hc, out in COMMITTED:
-            write(hc, args.H, os.path.normpath(out))
+        for hc, out, lower in COMMITTED:
+            write(hc, args.H, os.path.normpath(out), lower)
     else:
         for hc in [float(h) for h in args.hc.split(",")]:
             write(hc, args.H, os.path.join(args.out, f"ball_hc{hc}.msh"))
