@@ -72,6 +72,8 @@ mod validation {
     mod dynamics_spheres;
     // The quasi-static limit: a slowly loaded dynamic contact approaches the static solve.
     mod quasi_static;
+    // Loads and prescribed displacements in time ([[step]] with time): d'Alembert, impulses, statics.
+    mod dynamics_history;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.

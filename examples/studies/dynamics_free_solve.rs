@@ -35,7 +35,7 @@ use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::traits::ComplexField;
 use faer::{Conj, MatMut, Par};
 use mlpg_contact::assembly::SystemMatrix;
-use mlpg_contact::dynamics::Iteration;
+use mlpg_contact::dynamics::{Iteration, StepLoad};
 use mlpg_contact::linear_solve::{
     ColumnOrdering, FactorMethod, FactorOptions, FactorPrecision, Factorisation,
 };
@@ -594,7 +594,7 @@ fn main() {
         let mut solve_cpu = 0.0;
         let step_clock = Instant::now();
         for _ in 0..steps {
-            let rhs = it.free_rhs(&q, &v, 1.0);
+            let rhs = it.free_rhs(&q, &v, StepLoad::Scaled(1.0));
             let c = Instant::now();
             let cpu = cpu_seconds();
             match variant {

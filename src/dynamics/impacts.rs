@@ -307,11 +307,17 @@ impl<'a> Impacts<'a> {
 
     /// The work of the impulses on body `b`'s velocity `v`: `(E_b Π + E_t,b Π_t)ᵀ v`.
     pub fn work(&self, b: usize, impulses: &[f64], tangential: &[f64], v: &[f64]) -> f64 {
-        let mut e = vec![0.0; v.len()];
+        let e = self.forces(b, impulses, tangential, v.len());
+        e.iter().zip(v).map(|(e, v)| e * v).sum()
+    }
+
+    /// `E Π` on body `b` (`n` DOFs): the impulses' contributions to its rows.
+    pub fn forces(&self, b: usize, impulses: &[f64], tangential: &[f64], n: usize) -> Vec<f64> {
+        let mut e = vec![0.0; n];
         for (t, p) in self.on_body(b, impulses, tangential) {
             t.term.operator.add_forces(p, &mut e);
         }
-        e.iter().zip(v).map(|(e, v)| e * v).sum()
+        e
     }
 }
 

@@ -5,13 +5,27 @@
 //! and its collocation row enters `M̂` scaled by `h²θ²` like the other rows of `K` (so the
 //! LU's pivoting sees rows of one magnitude: unscaled, the rows of a steel body's axis
 //! rollers were 10¹⁶ times the others and the steps diverged): the step then places the field at
-//! `q_{n+θ}` on the prescribed value (zero in this increment), exactly.
+//! `q_{n+θ}` on the prescribed value, exactly. With a history in time ([`StepLoad::Given`])
+//! that value is `(1 − θ) ū(t_n) + θ ū(t_{n+1})`, so that with `q_n` on `ū(t_n)` the step's end
+//! `q_{n+1} = q_n + h ((1 − θ) v_n + θ v_{n+1})` is on `ū(t_{n+1})`: the velocity row asks
+//! `(1 − θ) v_n + θ v_{n+1} = (ū(t_{n+1}) − ū(t_n)) / h` (docs/method.md §10.5).
 
 use super::DynamicsError;
 use crate::assembly::{GlobalSystem, SystemMatrix};
 use crate::geometry::Point;
 use crate::linear_solve::{ColumnOrdering, Factorisation, mul};
 use crate::mls::ShapeSet;
+
+/// The applied side of a step's free velocity.
+#[derive(Clone, Copy, Debug)]
+pub enum StepLoad<'a> {
+    /// The assembled right-hand side with the applied loads scaled by this factor (the load
+    /// ramp's at `t_{n+θ}`; 1 without); a prescribed row's value unscaled.
+    Scaled(f64),
+    /// The step's right-hand side itself, every row (a history in time:
+    /// `(1 − θ) r(t_n) + θ r(t_{n+1})`, [`super::LoadHistory`]).
+    Given(&'a [f64]),
+}
 
 /// `M̂` factorised, with what the free step needs.
 pub struct Iteration<'a> {
@@ -67,8 +81,9 @@ impl<'a> Iteration<'a> {
     }
 
     /// The velocity at the end of the step without contact impulses:
-    /// `v_free = v + M̂⁻¹ h (s f − K (q + hθ v))`, `s = load_factor` (the applied loads' factor
-    /// at `t_{n+θ}`; a collocation row's `f` is its prescribed value and is not scaled).
+    /// `v_free = v + M̂⁻¹ h (r − K (q + hθ v))`, `r` from `load` ([`StepLoad::Scaled`]: `s f`
+    /// with the applied loads' factor `s` at `t_{n+θ}`, a collocation row's `f` its prescribed
+    /// value, not scaled; [`StepLoad::Given`]: the history's).
     ///
     /// # Errors
     /// [`DynamicsError::Solve`] when the solve is not finite.
@@ -76,23 +91,26 @@ impl<'a> Iteration<'a> {
         &self,
         q: &[f64],
         v: &[f64],
-        load_factor: f64,
+        load: StepLoad<'_>,
     ) -> Result<Vec<f64>, DynamicsError> {
-        let rhs = self.free_rhs(q, v, load_factor);
+        let rhs = self.free_rhs(q, v, load);
         let dv = self.factorisation.solve(&rhs)?;
         Ok(v.iter().zip(&dv).map(|(v, dv)| v + dv).collect())
     }
 
     /// The right-hand side of the step's velocity change without contact,
-    /// `h (s f − K (q + hθ v))` (`M̂ (v_free − v)`; see [`Self::free_velocity`]).
-    pub fn free_rhs(&self, q: &[f64], v: &[f64], load_factor: f64) -> Vec<f64> {
+    /// `h (r − K (q + hθ v))` (`M̂ (v_free − v)`; see [`Self::free_velocity`]).
+    pub fn free_rhs(&self, q: &[f64], v: &[f64], load: StepLoad<'_>) -> Vec<f64> {
         let (h, theta, system) = (self.h, self.theta, self.system);
         let ahead: Vec<f64> = q.iter().zip(v).map(|(q, v)| q + h * theta * v).collect();
         let k_ahead = mul(&system.matrix, &ahead);
         (0..q.len())
-            .map(|d| {
-                let s = if system.is_constrained(d) { 1.0 } else { load_factor };
-                h * (s * system.rhs[d] - k_ahead[d])
+            .map(|d| match load {
+                StepLoad::Scaled(load_factor) => {
+                    let s = if system.is_constrained(d) { 1.0 } else { load_factor };
+                    h * (s * system.rhs[d] - k_ahead[d])
+                }
+                StepLoad::Given(r) => h * (r[d] - k_ahead[d]),
             })
             .collect()
     }

@@ -17,6 +17,7 @@
 //!
 //! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
 //! - `iteration` (private): `M̂` and the free velocity;
+//! - [`LoadHistory`]: loads and prescribed displacements in time (`[[step]]` with `time`);
 //! - [`Impacts`]: `W`, the index set and each step's LCP, over the bodies' [`Term`]s;
 //! - `sparse` (private): the step's contact on the sparse system without `W`
 //!   (`contact.solver = "active_set"`);
@@ -28,6 +29,7 @@ pub mod energy;
 pub mod history;
 mod impacts;
 mod iteration;
+mod loads;
 pub mod mass;
 mod pair;
 mod sparse;
@@ -36,7 +38,8 @@ mod stepping;
 pub use history::{Figures, History, PairFigures, Record};
 
 pub use impacts::{ACTIVATION, Friction, Impacts, Term};
-pub use iteration::Iteration;
+pub use iteration::{Iteration, StepLoad};
+pub use loads::LoadHistory;
 pub use pair::{BodiesSimulation, BodyEnd, simulate_bodies};
 pub use stepping::Contacts;
 
@@ -92,6 +95,9 @@ pub struct Body<'a> {
     pub mass: Vec<f64>,
     /// How the strain energy is measured.
     pub strain: StrainEnergy<'a>,
+    /// The loads and prescribed displacements in time (`[[step]]` tables with `time`;
+    /// `None`: `system`'s, constant or scaled by the load ramp).
+    pub history: Option<LoadHistory>,
 }
 
 /// The strain energy of a state (docs/method.md §10.4).
@@ -239,6 +245,20 @@ pub fn simulate(
     })
 }
 
+/// The mass the records of `body` count: its lumped mass, without the prescribed DOFs when
+/// their values vary in time (a prescribed row is massless in `M̂`; its nodal velocity is the
+/// θ-method's `v_{n+1}`, which only the average `(1 − θ) v_n + θ v_{n+1}` constrains, so at
+/// θ = ½ it alternates about the prescribed rate: its kinetic energy and momentum are the
+/// support's, docs/method.md §10.5).
+fn recorded_mass<'a>(body: &'a Body<'_>) -> std::borrow::Cow<'a, [f64]> {
+    match body.history {
+        None => std::borrow::Cow::Borrowed(&body.mass),
+        Some(_) => (0..body.mass.len())
+            .map(|d| if body.system.is_constrained(d) { 0.0 } else { body.mass[d] })
+            .collect(),
+    }
+}
+
 /// The applied load `f` on the free rows (a constrained row's load goes to the support).
 fn free_load(system: &GlobalSystem) -> Vec<f64> {
     (0..system.load.len())
@@ -246,9 +266,11 @@ fn free_load(system: &GlobalSystem) -> Vec<f64> {
         .collect()
 }
 
-/// The record of `state` at `time`, without contact or work (the caller adds them).
-fn record(body: &Body<'_>, state: &State, time: f64) -> Record {
-    let (mass, v) = (&body.mass, mass::nodal_values(body.node_shapes, &state.v));
+/// The record of `state` at `time`, without contact or work (the caller adds them); the
+/// kinetic energy and momentum with `mass` (the body's, or with a history in time the body's
+/// without its prescribed DOFs: [`recorded_mass`]).
+fn record(body: &Body<'_>, mass: &[f64], state: &State, time: f64) -> Record {
+    let v = mass::nodal_values(body.node_shapes, &state.v);
     Record {
         time,
         contact_force: 0.0,

@@ -5,12 +5,15 @@
 //! [`Term`]s through which the candidates act on them.
 
 use super::impacts::StepImpulses;
+use super::loads::StepSide;
 use super::sparse::SparseStep;
 use super::{Body, DynamicsError, Frame, History, Impacts, Iteration, Record, Seconds, State};
-use super::{Friction, Term, free_load, record};
+use super::{Friction, StepLoad, Term, free_load, record, recorded_mass};
 use crate::geometry::Point;
+use crate::nodes::Axis;
 use crate::problem::ContactSolver;
 use crate::problem::dynamics::Dynamics;
+use std::borrow::Cow;
 use std::time::Instant;
 
 /// The candidates of a run before condensation: every contact pair's, numbered pair after
@@ -86,7 +89,8 @@ pub(super) fn run(
     seconds.setup = clock.elapsed().as_secs_f64();
     let loads: Vec<Vec<f64>> = bodies.iter().map(|b| free_load(b.system)).collect();
     let mut states = initial_states(bodies, velocities);
-    let mut start = summed(bodies, &states, 0.0);
+    let masses: Vec<Cow<'_, [f64]>> = bodies.iter().map(|b| recorded_mass(b)).collect();
+    let mut start = summed(bodies, &masses, &states, 0.0);
     if pair_starts.len() > 1 {
         start.pair_forces = vec![0.0; pair_starts.len()];
     }
@@ -101,6 +105,16 @@ pub(super) fn run(
     let mut final_impulses = Vec::new();
     for step in 1..=steps {
         let factor = params.load_factor((step as f64 - 1.0 + theta) * h);
+        // Each body's loads and prescribed values of the step when they vary in time.
+        let (t0, t1) = ((step - 1) as f64 * h, step as f64 * h);
+        let sides: Vec<Option<StepSide>> = bodies
+            .iter()
+            .map(|b| b.history.as_ref().map(|l| l.step(b.system, t0, t1, theta)))
+            .collect();
+        let load = |b: usize| match &sides[b] {
+            Some(side) => StepLoad::Given(&side.rhs),
+            None => StepLoad::Scaled(factor),
+        };
         // The sparse step: on a non-empty index set the step's velocities come from the
         // sparse system (its free solve included), timed as the LCP.
         let sparse_step = match (&impacts, sparse.as_mut()) {
@@ -114,7 +128,8 @@ pub(super) fn run(
                     let rhs: Vec<Vec<f64>> = iterations
                         .iter()
                         .zip(&states)
-                        .map(|(it, s)| it.free_rhs(&s.q, &s.v, factor))
+                        .enumerate()
+                        .map(|(b, (it, s))| it.free_rhs(&s.q, &s.v, load(b)))
                         .collect();
                     Some(sparse.step(impacts, &active, &rhs, &v, params.restitution, step)?)
                 };
@@ -130,7 +145,8 @@ pub(super) fn run(
                 let v_free = iterations
                     .iter()
                     .zip(&states)
-                    .map(|(it, s)| it.free_velocity(&s.q, &s.v, factor))
+                    .enumerate()
+                    .map(|(b, (it, s))| it.free_velocity(&s.q, &s.v, load(b)))
                     .collect::<Result<Vec<_>, _>>()?;
                 seconds.free += clock.elapsed().as_secs_f64();
                 match (&impacts, sparse.is_some()) {
@@ -154,11 +170,12 @@ pub(super) fn run(
         };
         let previous = &history.records[history.records.len() - 1];
         let start = (previous.external_work, previous.contact_loss);
+        let applied = Applied { bodies, loads: &loads, factor, sides: &sides };
         let (next, (external, loss)) =
-            advance(&states, v_next, answer.as_ref(), &loads, factor, params, start);
+            advance(&states, v_next, answer.as_ref(), &applied, params, start);
         states = next;
         let clock = Instant::now();
-        let mut rec = summed(bodies, &states, step as f64 * h);
+        let mut rec = summed(bodies, &masses, &states, step as f64 * h);
         seconds.records += clock.elapsed().as_secs_f64();
         (rec.external_work, rec.contact_loss) = (external, loss);
         if let Some((_, answer)) = answer {
@@ -201,16 +218,24 @@ fn contact_step(
     impacts.impulses(&active, &v_free, &v, params.restitution, step)
 }
 
+/// The applied side of a step, per body: the constant loads (`loads`, scaled by the ramp's
+/// `factor`) or the step's side of a history (`sides`).
+struct Applied<'s, 'b> {
+    bodies: &'s [&'s Body<'b>],
+    loads: &'s [Vec<f64>],
+    factor: f64,
+    sides: &'s [Option<StepSide>],
+}
+
 /// Each body's next state from its velocity at the step's end `v_next` (the step's
-/// impulses applied), with the loads' work since time 0 (`start.0` plus `factor fᵀ Δq`, body
-/// after body) and the energy taken by the contacts (`start.1` minus the impulses' work
-/// `/ h`).
+/// impulses applied), with the work done on the bodies since time 0 (`start.0` plus the
+/// loads' `fᵀ Δq` and the prescribed displacements' work, body after body) and the energy
+/// taken by the contacts (`start.1` minus the impulses' work `/ h`).
 fn advance(
     states: &[State],
     v_next: Vec<Vec<f64>>,
     answer: Option<&(&Impacts<'_>, StepImpulses)>,
-    loads: &[Vec<f64>],
-    factor: f64,
+    applied: &Applied<'_, '_>,
     params: &Dynamics,
     start: (f64, f64),
 ) -> (Vec<State>, (f64, f64)) {
@@ -221,13 +246,58 @@ fn advance(
         let q: Vec<f64> =
             (0..v.len()).map(|d| s.q[d] + h * ((1.0 - theta) * s.v[d] + theta * v[d])).collect();
         let dq: Vec<f64> = q.iter().zip(&s.q).map(|(a, b)| a - b).collect();
-        external += factor * loads[b].iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
+        let next_state = State { q, v };
+        match &applied.sides[b] {
+            None => {
+                let f = &applied.loads[b];
+                external += applied.factor * f.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
+            }
+            Some(side) => {
+                external += side.free_load.iter().zip(&dq).map(|(f, d)| f * d).sum::<f64>();
+                let contact =
+                    answer.map(|(i, a)| i.forces(b, &a.impulses, &a.tangential, dq.len()));
+                let body = applied.bodies[b];
+                external += support_work(body, s, &next_state, side, contact.as_deref(), params);
+            }
+        }
         if let Some((impacts, a)) = answer {
             loss -= impacts.work(b, &a.impulses, &a.tangential, &dq) / h;
         }
-        next.push(State { q, v });
+        next.push(next_state);
     }
     (next, (external, loss))
+}
+
+/// The work done on `body` at its prescribed DOFs over the step from `s` to `next` (docs/method.md
+/// §10.5): `Σ_d F_d Δū_d` over the DOFs whose prescribed value moves by `Δū_d`
+/// (`side.moved`), with `F_d = (K q_{n+θ})_d − (E Π)_d / h` the force the support (and any
+/// load on that row) exerts there: the balance of the massless row `d` that its
+/// prescribed-value row replaced (`K` unconstrained: the interior faces' fluxes, or the FE
+/// stiffness; the contact's share is in the contact's work).
+fn support_work(
+    body: &Body<'_>,
+    s: &State,
+    next: &State,
+    side: &StepSide,
+    contact: Option<&[f64]>,
+    params: &Dynamics,
+) -> f64 {
+    if side.moved.is_empty() {
+        return 0.0;
+    }
+    let (h, theta) = (params.time_step, params.theta);
+    let q_theta: Vec<f64> =
+        s.q.iter().zip(&next.q).map(|(a, b)| (1.0 - theta) * a + theta * b).collect();
+    let k = &body.system.interior_stiffness;
+    side.moved
+        .iter()
+        .map(|&(d, du)| {
+            let (node, a) = (d / 2, d % 2);
+            let axis = if a == 0 { Axis::X } else { Axis::Y };
+            let contact = contact.map_or(0.0, |e| e[d] / h);
+            (k.row_dot(node, axis, &q_theta) - contact) * du
+        })
+        .sum()
 }
 
 /// `rec` with the step's contact: the mean force `Σ Π / h` (and each pair's, with several
@@ -249,8 +319,9 @@ fn with_contact(rec: &mut Record, answer: &StepImpulses, h: f64, pair_starts: &[
 }
 
 /// The bodies' records at `time`, summed (without contact or work: the caller adds them).
-fn summed(bodies: &[&Body<'_>], states: &[State], time: f64) -> Record {
-    let mut records = bodies.iter().zip(states).map(|(b, s)| record(b, s, time));
+fn summed(bodies: &[&Body<'_>], masses: &[Cow<'_, [f64]>], states: &[State], time: f64) -> Record {
+    let mut records =
+        bodies.iter().zip(masses).zip(states).map(|((b, m), s)| record(b, m, s, time));
     let first = records.next().unwrap_or_else(|| unreachable!("a run has a body"));
     records.fold(first, |a, b| Record {
         kinetic_energy: a.kinetic_energy + b.kinetic_energy,

@@ -7,7 +7,7 @@
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
 use crate::contact::{self, BodyOperator, BodyView, Candidates, ContactTarget, rings};
-use crate::dynamics::{self, Body, BodyEnd, Contact, Simulation, StrainEnergy};
+use crate::dynamics::{self, Body, BodyEnd, Contact, LoadHistory, Simulation, StrainEnergy};
 use crate::error::Error;
 use crate::fem::{self, Mesh};
 use crate::geometry::Point;
@@ -237,7 +237,8 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
         })?),
         None => None,
     };
-    let stepped = stepped_body(problem, &body, dynamics.density);
+    let history = load_history(problem, &body)?;
+    let stepped = stepped_body(problem, &body, dynamics.density, history);
     // Coulomb friction: the tangential operator (a candidate whose owner is held along `t`
     // is frictionless, as in the static solve).
     let mu = problem.contact().map_or(0.0, |c| c.friction);
@@ -368,11 +369,17 @@ fn solve_bodies(
         }
         .into());
     }
+    let histories = problems
+        .iter()
+        .zip(&all)
+        .map(|(p, b)| load_history(p, b))
+        .collect::<Result<Vec<_>, _>>()?;
     let stepped: Vec<Body<'_>> = problems
         .iter()
         .zip(&all)
         .zip(&motions)
-        .map(|((p, b), &(density, _))| stepped_body(p, b, density))
+        .zip(histories)
+        .map(|(((p, b), &(density, _)), history)| stepped_body(p, b, density, history))
         .collect();
     let mut normal = Vec::new();
     for ((pair, (c, target)), &offset) in scene.iter().zip(&found).zip(&offsets) {
@@ -457,11 +464,71 @@ fn ring_areas(problem: &Problem, body: &DynamicBody, edge: usize, found: &Candid
     }
 }
 
+/// The loads and prescribed displacements of `problem`'s `[[step]]` tables in time (`None`
+/// without steps): the unloaded conditions at time 0 and each step's at its time, assembled
+/// on `body` (the same prescribed DOFs, so the same `K`; only `f` and the prescribed values
+/// change, as in the static load steps).
+///
+/// # Errors
+/// The assembly's error.
+fn load_history(problem: &Problem, body: &DynamicBody) -> Result<Option<LoadHistory>, Error> {
+    if problem.steps.is_empty() {
+        return Ok(None);
+    }
+    let d = problem.material.constitutive();
+    let system = match body {
+        DynamicBody::Mfvm(p) => &p.system,
+        DynamicBody::Fem(p) => &p.system,
+    };
+    let mut states = vec![(0.0, system.load.clone(), system.rhs.clone())];
+    for step in &problem.steps {
+        let time = step.time.ok_or_else(|| crate::problem::ProblemError::Invalid {
+            field: "step.time".into(),
+            value: "(missing)".into(),
+            reason: "with [dynamics] each step needs its time".into(),
+        })?;
+        let (load, rhs) = match body {
+            DynamicBody::Mfvm(p) => {
+                let mut input = assembly::Body::new(problem, &p.nodes, &d);
+                input.boundary = &step.boundary;
+                assembly::load_and_rhs(&assembly::AssemblyInput {
+                    body: input,
+                    cells: &p.mfvm.cells,
+                    interior_faces: &p.mfvm.faces.interior,
+                    boundary_faces: &p.mfvm.faces.boundary,
+                    face_quadrature: &p.mfvm.face_quadrature,
+                    face_shapes: &p.mfvm.face_shapes,
+                    node_shapes: &p.node_shapes,
+                    beta: problem.discretisation.beta,
+                    // Loads only: the hoop terms are in the matrix; the loads weigh by r
+                    // through `Body::hoop` in axisymmetry.
+                    axisymmetric: None,
+                })?
+            }
+            DynamicBody::Fem(p) => {
+                let mut input = assembly::Body::new(problem, &p.nodes, &d);
+                input.boundary = &step.boundary;
+                fem::system::load_and_rhs(
+                    &fem::system::FemInput { body: input, mesh: &p.mesh },
+                    &p.system.interior_stiffness,
+                )
+            }
+        };
+        states.push((time, load, rhs));
+    }
+    Ok(Some(LoadHistory::new(states)))
+}
+
 /// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`
-/// on the nodal values; FE: HRZ; axisymmetric: per radian, `ρ r dA`) and its strain energy
+/// on the nodal values; FE: HRZ; axisymmetric: per radian, `ρ r dA`), its strain energy
 /// (the MFVM's collocated strains have no hoop term, so an axisymmetric MFVM body measures
-/// `½ uᵀ K u` as the FE does).
-fn stepped_body<'a>(problem: &Problem, body: &'a DynamicBody, density: f64) -> Body<'a> {
+/// `½ uᵀ K u` as the FE does) and its loads' `history` in time.
+fn stepped_body<'a>(
+    problem: &Problem,
+    body: &'a DynamicBody,
+    density: f64,
+    history: Option<LoadHistory>,
+) -> Body<'a> {
     let axisymmetric = problem.material.is_axisymmetric();
     match body {
         DynamicBody::Mfvm(parts) => {
@@ -481,6 +548,7 @@ fn stepped_body<'a>(problem: &Problem, body: &'a DynamicBody, density: f64) -> B
                         constitutive: problem.material.constitutive(),
                     },
                 },
+                history,
             }
         }
         DynamicBody::Fem(p) => {
@@ -495,6 +563,7 @@ fn stepped_body<'a>(problem: &Problem, body: &'a DynamicBody, density: f64) -> B
                 points: &p.nodes.points,
                 mass: nodal.into_iter().flat_map(|m| [m, m]).collect(),
                 strain: StrainEnergy::Quadratic(&p.system.interior_stiffness),
+                history,
             }
         }
     }

@@ -2,6 +2,7 @@
 //! density, the initial velocity, and the refusals of what the first dynamic increment does
 //! not support (docs/dev/dynamics.md).
 
+use super::file::StepFile;
 use super::{ContactSolver, Precision, Problem, ProblemError, ProblemFile, invalid};
 
 /// Most time steps a run may take.
@@ -111,6 +112,13 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
                 format!("must be a positive time at most dynamics.end_time = {end_time}"),
             ));
         }
+        Some(r) if !file.step.is_empty() => {
+            return Err(invalid(
+                "dynamics.load_ramp",
+                r,
+                "the [[step]] tables give the loads' history in time; remove load_ramp (a ramp is one step: `time = T_r` with the full values)",
+            ));
+        }
         r => r,
     };
     let snapshot_every = d.output.as_ref().and_then(|o| o.every);
@@ -152,7 +160,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
             ),
         ));
     }
-    refuse_unsupported(file, problem)?;
+    refuse_unsupported(problem)?;
     refuse_inconsistent_start(problem, initial_velocity, "")?;
     for (k, m) in dynamics.others.iter().enumerate() {
         if let Some(p) = problem.body(k + 1) {
@@ -224,14 +232,12 @@ fn density(file: &ProblemFile) -> Result<f64, ProblemError> {
 /// What the time stepping refuses: it steps one body (MFVM or finite elements, plane or
 /// axisymmetric, with or without friction) against rigid obstacles, or any number of
 /// bodies (plane, or all axisymmetric) in contact pairs with each other or with rigid
-/// obstacles (with or without friction), from rest at their prescribed displacements.
-fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), ProblemError> {
+/// obstacles (with or without friction), undeformed at time 0.
+fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
     let several = problem.body_count() > 1 || problem.is_scene_of_pairs();
     let specs: Vec<&super::ContactSpec> = problem.pairs().iter().map(|p| &p.spec).collect();
     let refused = if several && specs.iter().any(|c| c.interference != 0.0) {
         Some(("contact.interference", "an interference fit (the bodies start overlapping)"))
-    } else if !file.step.is_empty() {
-        Some(("step", "[[step]] load steps"))
     } else if problem.adaptive.is_some() {
         Some(("refinement", "adaptive refinement"))
     } else if problem.discretisation.precision != Precision::Double {
@@ -251,6 +257,71 @@ fn refuse_unsupported(file: &ProblemFile, problem: &Problem) -> Result<(), Probl
         )),
         None => Ok(()),
     }
+}
+
+/// The time of `[[step]]` number `k` (`step`), after the previous step's `previous` (0
+/// before the first): required and increasing with `[dynamics]` (`dynamic`), where a step is
+/// a state of the conditions in time and `increments`, the obstacle's motion or force and a
+/// step's own friction are refused; refused in a static solve. `None` there.
+///
+/// # Errors
+/// [`ProblemError::Invalid`] naming the step's key and a remedy.
+pub(super) fn step_time(
+    k: usize,
+    step: &StepFile,
+    previous: f64,
+    dynamic: bool,
+) -> Result<Option<f64>, ProblemError> {
+    let key = |f: &str| format!("step[{k}].{f}");
+    if !dynamic {
+        return match step.time {
+            Some(t) => Err(invalid(
+                &key("time"),
+                t,
+                "a step's time needs [dynamics] (a static step is reached in `increments`); remove it or add [dynamics]",
+            )),
+            None => Ok(None),
+        };
+    }
+    let refused = if step.increments.is_some() {
+        Some(("increments", "with [dynamics] a step is reached at its `time`, not in increments"))
+    } else if step.obstacle_displacement.is_some() {
+        Some((
+            "obstacle_displacement",
+            "a rigid obstacle moving in time is not implemented with [dynamics] yet (docs/dev/dynamics.md)",
+        ))
+    } else if step.obstacle_force.is_some() {
+        Some((
+            "obstacle_force",
+            "a force-driven obstacle is not implemented with [dynamics] yet (docs/dev/dynamics.md)",
+        ))
+    } else if step.friction.is_some() {
+        Some((
+            "friction",
+            "a step's own friction coefficient is not implemented with [dynamics] yet; set it in the contact table",
+        ))
+    } else {
+        None
+    };
+    if let Some((name, why)) = refused {
+        return Err(invalid(&key(name), "(given)", format!("{why}; remove it")));
+    }
+    let Some(t) = step.time else {
+        return Err(invalid(
+            &key("time"),
+            "(missing)",
+            "with [dynamics] each step gives the time at which its values are reached (`time = …`, increasing from step to step)",
+        ));
+    };
+    if !(t.is_finite() && t > previous) {
+        let after = match k {
+            0 => "a positive time (the conditions' values at time 0 are the [[boundary]] ones, 0)"
+                .to_string(),
+            _ => format!("greater than step[{}].time = {previous}", k - 1),
+        };
+        return Err(invalid(&key("time"), t, format!("must be {after}")));
+    }
+    Ok(Some(t))
 }
 
 /// The contact solver of every step: the active-set method when a pair asks for it.
@@ -278,7 +349,7 @@ fn refuse_inconsistent_start(
                 return Err(invalid(
                     &format!("{prefix}boundary ({}).displacement", names[k]),
                     "(non-zero)",
-                    "with [dynamics] prescribed displacements must be 0 (a displacement history is a later increment); move the load to a traction or an initial velocity",
+                    "with [dynamics] the body starts undeformed, so a prescribed displacement is 0 at time 0; declare it 0 here and give its history in [[step]] tables with `time` (docs/guide: [[step]])",
                 ));
             }
             if velocity[axis] != 0.0 {

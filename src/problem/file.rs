@@ -218,14 +218,19 @@ impl TargetFile {
 
 /// One `[[step]]`: the end values of named boundary conditions and of the rigid obstacle's
 /// displacement, reached linearly in `increments` equal increments from the values at the
-/// end of the previous step (zero before the first). Conditions a step does not name keep
-/// their values.
+/// end of the previous step (zero before the first); with `[dynamics]`, reached linearly in
+/// time at `time` (a piecewise-linear history of the values). Conditions a step does not
+/// name keep their values.
 #[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct StepFile {
     /// Equal load increments of the step (default 1, at least 1).
     #[serde(default)]
     pub increments: Option<usize>,
+    /// With `[dynamics]`: the time at which the step's values are reached (required there,
+    /// increasing from step to step; refused in a static solve).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
     /// End values of conditions declared in `[[boundary]]`: the same edge and the same kind
     /// (displacement or traction per component, or pressure); with two `[[body]]` tables each
     /// entry names its body.

@@ -230,6 +230,10 @@ impl Problem {
 pub struct LoadStep {
     /// Equal increments (≥ 1).
     pub increments: usize,
+    /// With `[dynamics]`: the time at which the step's state holds (the states are
+    /// interpolated linearly in time between steps, from the unloaded body at time 0, and
+    /// held after the last; docs/method.md §10.5). `None` in a static solve.
+    pub time: Option<f64>,
     /// Every edge's condition at the end of the step (same kinds as `Problem::boundary`).
     pub boundary: Vec<EdgeCondition>,
     /// Total displacement of the rigid obstacle at the end of the step (zero with

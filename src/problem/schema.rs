@@ -206,7 +206,7 @@ fn contact(defs: &mut Map<String, Value>) {
         "StepFile",
         table(
             json!({
-                "increments": integer(), "boundary": list_of("StepBoundaryFile"),
+                "increments": integer(), "time": number(), "boundary": list_of("StepBoundaryFile"),
                 "obstacle_displacement": pair(), "obstacle_force": pair(), "friction": number(),
             }),
             &[],

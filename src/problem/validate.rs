@@ -1843,7 +1843,17 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
     // One body given as a `[[body]]` table: its steps may name it.
     let one_table = file.body.len() == 1;
     let body_force = all.iter().any(|p| p.body_force.is_some());
-    let why = if problem.pairs().is_empty() {
+    // With [dynamics] the steps are a history in time (docs/method.md §10.5): no contact is
+    // needed, and the body force acts in full from time 0.
+    let dynamic = file.dynamics.is_some();
+    let mut times = Vec::with_capacity(file.step.len());
+    for (k, step) in file.step.iter().enumerate() {
+        let previous = times.iter().rev().find_map(|t: &Option<f64>| *t).unwrap_or(0.0);
+        times.push(super::dynamics::step_time(k, step, previous, dynamic)?);
+    }
+    let why = if dynamic {
+        None
+    } else if problem.pairs().is_empty() {
         Some(
             "load steps need contact: without it the problem is linear and one solve gives the answer",
         )
@@ -1887,7 +1897,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
         ));
     }
     let mut force: Option<[f64; 2]> = None;
-    for (k, step) in file.step.iter().enumerate() {
+    for (k, (step, &time)) in file.step.iter().zip(&times).enumerate() {
         let field = |f: &str| format!("step[{k}].{f}");
         let increments = step.increments.unwrap_or(1);
         if !(1..=100_000).contains(&increments) {
@@ -2036,6 +2046,7 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
         for (boundary, steps) in &mut states {
             steps.push(LoadStep {
                 increments,
+                time,
                 boundary: boundary.clone(),
                 obstacle_displacement: obstacle,
                 obstacle_force: force,
