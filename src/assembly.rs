@@ -269,12 +269,11 @@ impl<'a> Body<'a> {
             body_force: problem.body_force.as_ref(),
             load_quadrature_points: problem.discretisation.load_quadrature_points,
             // One body against rigid obstacles; or the first of several bodies, touched by a
-            // contact pair (docs/method.md §4.7; the others: `pipeline::multibody`). Not an
-            // axisymmetric body: its search would balance per-radian loads against the rings'
-            // total forces (`contact::rings`); its axial restraint is checked instead. Not in
+            // contact pair (docs/method.md §4.7; the others: `pipeline::multibody`). An
+            // axisymmetric body's axial translation too: the searches balance its per-radian
+            // loads times 2π against the rings' total forces (`load_path::load_along`). Not in
             // dynamics, where inertia holds the free motions.
-            contact_may_hold: !problem.material.is_axisymmetric()
-                && problem.dynamics.is_none()
+            contact_may_hold: problem.dynamics.is_none()
                 && (problem
                     .contact()
                     .is_some_and(|c| !matches!(c.target, ContactTarget::Body { .. }))

@@ -333,6 +333,33 @@ fn read_piece(path: &Path) -> (HashMap<String, usize>, HashMap<String, DataArray
     (piece, arrays)
 }
 
+/// One frame of a dynamic run of several bodies (`file`, a `frames/frame_<step>.vtm` under
+/// `out`): checks that it names the bodies `names` in order, each its own
+/// `frame_<step>_<k>.vtp` with `nodes[k]` points and one 3-component displacement and
+/// velocity per node; returns each body's (points, displacements, velocities), 3 components
+/// each.
+fn frame_bodies(out: &Path, file: &str, names: &[&str], nodes: &[usize]) -> Vec<[Vec<f64>; 3]> {
+    let vtm = std::fs::read_to_string(out.join(file)).unwrap();
+    let stem = file.trim_start_matches("frames/").trim_end_matches(".vtm");
+    let sets = data_sets(&vtm, "name");
+    let listed: Vec<(String, String)> =
+        names.iter().enumerate().map(|(k, n)| (n.to_string(), format!("{stem}_{k}.vtp"))).collect();
+    assert_eq!(sets, listed, "{vtm}");
+    sets.iter()
+        .zip(nodes)
+        .map(|((_, f), &n)| {
+            let (piece, mut arrays) = read_piece(&out.join("frames").join(f));
+            assert_eq!(piece["NumberOfPoints"], n, "{f}");
+            let mut take = |key: &str| arrays.remove(key).unwrap_or_else(|| panic!("{f}: {key}"));
+            let [points, u, v] =
+                ["Points/", "PointData/displacement", "PointData/velocity"].map(&mut take);
+            assert_eq!([points.components, u.components, v.components], [3, 3, 3], "{f}");
+            assert_eq!([u.values.len(), v.values.len()], [3 * n, 3 * n], "{f}");
+            [points.values, u.values, v.values]
+        })
+        .collect()
+}
+
 /// The strings of a string array (bytes, each string ended by a 0).
 fn strings(a: &DataArray) -> Vec<String> {
     let bytes: Vec<u8> = a.values.iter().map(|&v| v as u8).collect();
@@ -682,47 +709,23 @@ fn dynamic_snapshots_of_several_bodies() {
         .collect();
     assert_eq!(data_sets(&pvd, "timestep"), expected, "{pvd}");
     // Each frame: the bodies' (undeformed x range, warped x range, mean nodal velocity).
+    let nodes: Vec<usize> = bodies.iter().map(|b| b.nodes).collect();
     let frame = |file: &str| {
-        let vtm = std::fs::read_to_string(out.join(file)).unwrap();
-        let sets = data_sets(&vtm, "name");
-        let stem = file.trim_start_matches("frames/").trim_end_matches(".vtm");
-        let listed: Vec<(String, String)> = names
-            .iter()
-            .enumerate()
-            .map(|(k, n)| (n.to_string(), format!("{stem}_{k}.vtp")))
-            .collect();
-        assert_eq!(sets, listed, "{vtm}");
-        sets.iter()
-            .zip(bodies)
-            .map(|((_, f), body)| {
-                let (piece, arrays) = read_piece(&out.join("frames").join(f));
-                assert_eq!(piece["NumberOfPoints"], body.nodes, "{f}");
-                let (points, u, v) = (
-                    &arrays["Points/"].values,
-                    &arrays["PointData/displacement"],
-                    &arrays["PointData/velocity"],
-                );
-                assert_eq!(arrays["Points/"].components, 3, "{f}");
-                assert_eq!((u.components, v.components), (3, 3), "{f}");
-                assert_eq!(u.values.len(), 3 * body.nodes, "{f}");
-                assert_eq!(v.values.len(), 3 * body.nodes, "{f}");
+        frame_bodies(&out, file, &names, &nodes)
+            .into_iter()
+            .map(|[points, u, v]| {
+                let n = points.len() / 3;
                 let x: Vec<f64> = points.chunks(3).map(|p| p[0]).collect();
                 let warped: Vec<f64> =
-                    points.chunks(3).zip(u.values.chunks(3)).map(|(p, d)| p[0] + d[0]).collect();
+                    points.chunks(3).zip(u.chunks(3)).map(|(p, d)| p[0] + d[0]).collect();
                 let range = |x: &[f64]| {
                     (
                         x.iter().copied().fold(f64::INFINITY, f64::min),
                         x.iter().copied().fold(f64::NEG_INFINITY, f64::max),
                     )
                 };
-                let mean = [0, 1]
-                    .map(|c| v.values.chunks(3).map(|t| t[c]).sum::<f64>() / body.nodes as f64);
-                (
-                    range(&x),
-                    range(&warped),
-                    mean,
-                    u.values.iter().fold(0.0_f64, |a, b| a.max(b.abs())),
-                )
+                let mean = [0, 1].map(|c| v.chunks(3).map(|t| t[c]).sum::<f64>() / n as f64);
+                (range(&x), range(&warped), mean, u.iter().fold(0.0_f64, |a, b| a.max(b.abs())))
             })
             .collect::<Vec<_>>()
     };
@@ -786,37 +789,21 @@ fn dynamic_snapshots_of_several_axisymmetric_bodies() {
     assert_eq!(steps, expected, "{pvd}");
     // Each body of a frame: (lowest and highest warped z, mean nodal axial velocity, the
     // largest |displacement|, the nodal axial velocities' spread).
+    let nodes: Vec<usize> = bodies.iter().map(|b| b.nodes).collect();
     let frame = |file: &str| {
-        let vtm = std::fs::read_to_string(out.join(file)).unwrap();
-        let stem = file.trim_start_matches("frames/").trim_end_matches(".vtm");
-        let sets = data_sets(&vtm, "name");
-        let listed: Vec<(String, String)> = names
-            .iter()
-            .enumerate()
-            .map(|(k, n)| (n.to_string(), format!("{stem}_{k}.vtp")))
-            .collect();
-        assert_eq!(sets, listed, "{vtm}");
-        sets.iter()
-            .zip(bodies)
-            .map(|((_, f), body)| {
-                let (piece, arrays) = read_piece(&out.join("frames").join(f));
-                assert_eq!(piece["NumberOfPoints"], body.nodes, "{f}");
-                let (points, u, v) = (
-                    &arrays["Points/"].values,
-                    &arrays["PointData/displacement"],
-                    &arrays["PointData/velocity"],
-                );
-                assert_eq!((u.components, v.components), (3, 3), "{f}");
-                assert_eq!(u.values.len(), 3 * body.nodes, "{f}");
-                assert!(points.chunks(3).all(|p| p[0] >= 0.0 && p[2] == 0.0), "{f}: r ≥ 0");
+        frame_bodies(&out, file, &names, &nodes)
+            .into_iter()
+            .map(|[points, u, v]| {
+                let n = points.len() / 3;
+                assert!(points.chunks(3).all(|p| p[0] >= 0.0 && p[2] == 0.0), "{file}: r ≥ 0");
                 let z: Vec<f64> =
-                    points.chunks(3).zip(u.values.chunks(3)).map(|(p, d)| p[1] + d[1]).collect();
-                let vz: Vec<f64> = v.values.chunks(3).map(|t| t[1]).collect();
+                    points.chunks(3).zip(u.chunks(3)).map(|(p, d)| p[1] + d[1]).collect();
+                let vz: Vec<f64> = v.chunks(3).map(|t| t[1]).collect();
                 let lo = z.iter().copied().fold(f64::INFINITY, f64::min);
                 let hi = z.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-                let mean = vz.iter().sum::<f64>() / body.nodes as f64;
+                let mean = vz.iter().sum::<f64>() / n as f64;
                 let spread = vz.iter().map(|w| (w - mean).abs()).fold(0.0, f64::max);
-                (lo, hi, mean, u.values.iter().fold(0.0_f64, |a, b| a.max(b.abs())), spread)
+                (lo, hi, mean, u.iter().fold(0.0_f64, |a, b| a.max(b.abs())), spread)
             })
             .collect::<Vec<_>>()
     };

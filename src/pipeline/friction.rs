@@ -349,15 +349,19 @@ pub(super) fn solve_frictional(
     let warning =
         compliance_warning(problem, spec, &condensed, target.as_ref().map(|t| &t.operator))?;
     let m = candidates.len();
-    // A rigid translation of the body held by the contact alone (docs/method.md §4.7): ν_c·r
-    // per candidate for its unit vector r; only frictionless, without a force-driven
-    // obstacle or a second body, and with a pinned node that carries no contact force.
+    // A rigid translation of the body held by the contact alone (docs/method.md §4.7):
+    // `a_c = −ν_c·r` per candidate for its unit vector r, as for a body among several; only
+    // with friction whose tangents are orthogonal to r, without a force-driven obstacle,
+    // and with a pinned node that carries no contact force.
     let pinned = model.system.pinned;
     let held = match &target {
         None => refuse_slanted_force(steps, &candidates)
             .and_then(|()| held_projection(pinned, steps, &candidates))?
             .zip(pinned)
-            .map(|(projection, pin)| load_path::Held::Alone { pin, projection }),
+            .map(|(projection, pin)| {
+                let along = projection.iter().map(|p| -p).collect();
+                load_path::Held { term: 0, pin, along }
+            }),
         Some(tg) => held_between(problem, model, tg, &candidates, steps)?,
     };
     // μ per candidate in step k: 0 where the tangential row is a displacement condition.
@@ -395,8 +399,7 @@ pub(super) fn solve_frictional(
     let result = load_path::normal_lcp(&step_problem, &step)?;
     // Either body of a pair held with no load along its translation: determined only where
     // the contact carries a force along it or blocks it both ways (docs/method.md §4.7).
-    if let (Some(load_path::Held::Among { term, pin, along }), Some(r)) =
-        (path.held.first(), &rigid_mode)
+    if let (Some(load_path::Held { term, pin, along }), Some(r)) = (path.held.first(), &rigid_mode)
     {
         let name = match term {
             0 => problem.name.as_str(),
@@ -627,7 +630,7 @@ fn held_between(
     if along.iter().all(|x| x.abs() <= 1e-12) {
         return Err(lcp::LcpError::from(L::NotRestrained { mode: pin.name() }).into());
     }
-    Ok(Some(load_path::Held::Among { term, pin, along }))
+    Ok(Some(load_path::Held { term, pin, along }))
 }
 
 /// The direction `e = F/|F|` of the force pressing the obstacle, `|F|`, and `a_c = ν_c·e` per
@@ -640,26 +643,4 @@ pub(super) fn force_along(
     let e = [f[0] / size, f[1] / size];
     let along: Vec<f64> = normals.iter().map(|nu| nu[0] * e[0] + nu[1] * e[1]).collect();
     (e, size, along)
-}
-
-/// For a translation held by the contact (docs/method.md §4.7) under the load `load`: the
-/// load along the mode, its sign `σ` and `a_c = −σ ν_c·r` (the gaps move by `(ν_c·r) t =
-/// −a_c s` for `t = σ s`); refused when the load does not press the body onto the obstacle.
-pub(super) fn pin_along(
-    pin: assembly::PinnedMode,
-    projection: &[f64],
-    load: &[f64],
-) -> Result<(f64, f64, Vec<f64>), lcp::LcpError> {
-    let a = pin.axis as usize;
-    let along_load: f64 = load.iter().skip(a).step_by(2).sum();
-    let sign = if along_load > 0.0 { 1.0 } else { -1.0 };
-    let along: Vec<f64> = projection.iter().map(|p| -sign * p).collect();
-    if along_load == 0.0 || along.iter().all(|&x| x <= 0.0) {
-        Err(lcp::LcpError::from(lcp::load_driven::LoadDrivenError::NotPressed {
-            mode: pin.name(),
-            load: along_load,
-        }))
-    } else {
-        Ok((along_load, sign, along))
-    }
 }

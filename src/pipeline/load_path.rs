@@ -8,7 +8,7 @@
 //! searches of docs/method.md §4.6–4.7 around it (a force-driven obstacle, a translation held
 //! by the contact), then one solve per body with the contact forces of its candidates.
 
-use super::friction::{History, StepEnd, StepStart, at_increment, force_along, lerp, pin_along};
+use super::friction::{History, StepEnd, StepStart, at_increment, force_along, lerp};
 use super::*;
 use std::ops::Range;
 
@@ -69,29 +69,14 @@ impl Term<'_> {
     }
 }
 
-/// A body's rigid translation held by the contact alone (docs/method.md §4.7).
-pub(super) enum Held {
-    /// The only body, against rigid obstacles: `projection` is `ν_c·r` per candidate; the
-    /// search runs on the obstacle's side (`pin_along`, `find_displacement`).
-    Alone { pin: assembly::PinnedMode, projection: Vec<f64> },
-    /// Term `term` of several: `along` is `a_c = −s_c ν_c·r` over all candidates
-    /// (`s_c = +1` on the candidate's body, `−1` on its target), found by
-    /// `find_translation` from the body's load along `r`.
-    Among { term: usize, pin: assembly::PinnedMode, along: Vec<f64> },
-}
-
-impl Held {
-    fn pin(&self) -> assembly::PinnedMode {
-        match self {
-            Self::Alone { pin, .. } | Self::Among { pin, .. } => *pin,
-        }
-    }
-    fn term(&self) -> usize {
-        match self {
-            Self::Alone { .. } => 0,
-            Self::Among { term, .. } => *term,
-        }
-    }
+/// A body's rigid translation held by the contact alone (docs/method.md §4.7): path term
+/// `term`'s pin and `a_c = −s_c ν_c·r` over all candidates (`s_c = +1` on the candidate's
+/// body, `−1` on its target), found by the nested search
+/// ([`lcp::load_driven::search_condensed`]) from the body's load along `r`.
+pub(super) struct Held {
+    pub(super) term: usize,
+    pub(super) pin: assembly::PinnedMode,
+    pub(super) along: Vec<f64>,
 }
 
 /// The factor from a body's loads to the contact forces' units: `2π` for an axisymmetric body
@@ -159,7 +144,7 @@ pub(super) struct Path<'a> {
     /// The candidates the obstacle's motion or force moves (`None`: all): with several pairs,
     /// those of the pairs against rigid obstacles, which move together (docs/method.md §4.6).
     pub(super) moved: Option<&'a [bool]>,
-    /// The bodies held by contact alone: one `Alone`, or any number `Among` several.
+    /// The bodies held by contact alone.
     pub(super) held: Vec<Held>,
     pub(super) groups: Vec<Range<usize>>,
     pub(super) write_steps: bool,
@@ -440,43 +425,14 @@ fn solve_increment(
     fn forces(answer: &Increment) -> &[f64] {
         answer.0.normal.as_slice()
     }
-    if let ([held @ Held::Alone { projection, .. }], None) = (path.held.as_slice(), end.force) {
-        // The only body, against rigid obstacles: t = σ s along r with σ the sign of the load
-        // along r; the gaps move by (ν_c·r) t = −a_c s, a_c = −σ ν_c·r, and the pin's
-        // reaction vanishes when aᵀz = |F·r|.
-        let pin = held.pin();
-        let load = lerp(&start.loads[0], &terms[0].steps[k].load, lambda);
-        let (along_load, sign, along) = pin_along(pin, projection, &load)?;
-        let mut r = [0.0; 2];
-        r[pin.axis as usize] = sign;
-        let search = lcp::load_driven::find_displacement(
-            compliance,
-            &base,
-            &along,
-            r,
-            along_load.abs(),
-            solve,
-            forces,
-        )?;
-        let found = (vec![sign * search.displacement], search.evaluations);
-        searches.record_held(path, terms, (&[along_load], found));
-        return Ok(search.answer);
-    }
-    // The bodies held among several (their loads along r in the contact's units) and a
-    // force-driven obstacle, searched at once (docs/method.md §4.6–4.7).
+    // The held bodies (their loads along r in the contact's units) and a force-driven
+    // obstacle, searched at once (docs/method.md §4.6–4.7).
     let mut held = Vec::with_capacity(path.held.len());
-    for h in &path.held {
-        let Held::Among { term, pin, along } = h else {
-            // Refused by validation: a body alone against obstacles pressed by a force.
-            let why = "the obstacle is pressed by a force as well".to_string();
-            return Err(lcp::load_driven::LoadDrivenError::Unsupported {
-                mode: h.pin().name(),
-                why,
-            }
-            .into());
-        };
+    for Held { term, pin, along } in &path.held {
         let load = lerp(&start.loads[*term], &terms[*term].steps[k].load, lambda);
-        held.push((along.as_slice(), load_along(terms[*term].model, *pin, &load)));
+        let load = load_along(terms[*term].model, *pin, &load);
+        refuse_not_pressed(*pin, along, load)?;
+        held.push((along.as_slice(), load));
     }
     let force = end.force.map(|f| {
         let (e, size, mut along) = force_along(f, path.normals);
@@ -506,6 +462,20 @@ fn solve_increment(
     Ok(found.outer.answer)
 }
 
+/// Refuses a held body whose load along its translation `r` (`load`, non-zero) no contact
+/// force can balance: every `a_c` has the opposite sign (the load pulls the body off what
+/// holds it, docs/method.md §4.7).
+fn refuse_not_pressed(
+    pin: assembly::PinnedMode,
+    along: &[f64],
+    load: f64,
+) -> Result<(), lcp::LcpError> {
+    if load != 0.0 && along.iter().all(|a| load.signum() * a <= 0.0) {
+        return Err(lcp::load_driven::LoadDrivenError::NotPressed { mode: pin.name(), load }.into());
+    }
+    Ok(())
+}
+
 impl Searches {
     /// Counts a search's LCP solves and records each held body's translation: `loads` along
     /// their translations, `translations` in the order of [`Path::held`].
@@ -522,12 +492,12 @@ impl Searches {
             .zip(translations)
             .zip(loads)
             .map(|((held, translation), &load)| {
-                let pin = held.pin();
+                let pin = held.pin;
                 let mut t = [0.0; 2];
                 t[pin.axis as usize] = translation;
                 solution::RigidMode {
                     mode: pin.name(),
-                    pin_point: terms[held.term()].model.nodes.points[pin.node as usize],
+                    pin_point: terms[held.term].model.nodes.points[pin.node as usize],
                     translation: t,
                     load,
                     evaluations,
@@ -687,8 +657,8 @@ impl Walk<'_, '_> {
             // The body's free translation found: the pin's value (the solve adds the rigid
             // translation, which K_int does not see, to the pinned answer).
             for (held, r) in self.path.held.iter().zip(&self.searches.rigid_modes) {
-                if held.term() == b {
-                    let pin = held.pin();
+                if held.term == b {
+                    let pin = held.pin;
                     set_pin_value(&mut rhs, term.model, pin, r.translation[pin.axis as usize]);
                 }
             }

@@ -24,6 +24,12 @@
 //! 6. **Spence's self-similar stick zone**: in 20 geometric increments (each adds the same
 //!    fraction of the load) `c/a` stays within one candidate spacing `h/a` of its mean
 //!    0.882 from the second increment on (box 0.005; observed at most 0.63 `h/a`).
+//! 7. **Held by the contact alone** (docs/method.md §4.7): the sphere pressed by a pressure `p`
+//!    on its top with no axial displacement condition; its axial translation, pinned, is
+//!    found so that the rings carry the load: total force `p π R²` (the load per radian times
+//!    2π; a body held by contact balances its load through the contact alone) to 1e-10, with
+//!    complementarity and the body's balance; Lemke and the active set alike (forces to 1e-8
+//!    of the largest, the same translation down onto the flat to 1e-8).
 
 use super::axisymmetric_contact::SPHERE_SECTION;
 use super::common::*;
@@ -268,4 +274,60 @@ fn the_stick_zone_is_self_similar_under_geometric_increments() {
             k + 2
         );
     }
+}
+
+/// The Hertz sphere pressed by `pressure` on its top (every node of the top free), the box
+/// at 0.02, by `solver`: the contact alone holds its axial translation.
+fn sphere_pressed(pressure: f64, solver: &str) -> Problem {
+    Problem::from_toml(&format!(
+        r#"
+        {SPHERE_SECTION}
+        [nodes]
+        spacing = 0.05
+        [[nodes.refine]]
+        x = [0.0, 0.2]
+        y = [0.0, 0.05]
+        spacing = 0.02
+        [material]
+        young = 1.0
+        poisson = 0.3
+        plane = "axisymmetric"
+        [discretisation]
+        beta = 0.5
+        [[boundary]]
+        edge = "top"
+        pressure = {pressure:?}
+        [contact]
+        edge = "arc"
+        obstacle_point = [0.0, 0.0]
+        obstacle_normal = [0.0, 1.0]
+        solver = "{solver}"
+        "#
+    ))
+    .unwrap()
+}
+
+#[test]
+fn a_sphere_held_by_the_contact_alone_carries_its_load() {
+    let p = 1e-3;
+    let total = p * std::f64::consts::PI;
+    let runs: Vec<Solution> =
+        ["lemke", "active_set"].iter().map(|s| solve(&sphere_pressed(p, s))).collect();
+    for (label, s) in ["lemke", "active_set"].iter().zip(&runs) {
+        let c = s.contact().unwrap();
+        let mode = c.rigid_mode.as_ref().expect("the axial translation is held by the contact");
+        println!(
+            "sphere held by contact ({label}): total force {:.12e} against p π R² {total:.12e}, translation {:?}",
+            c.total_force, mode.translation
+        );
+        assert!((c.total_force - total).abs() <= 1e-10 * total, "{label}: {}", c.total_force);
+        assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
+        assert!(s.equilibrium_error < 1e-8, "{label}: {}", s.equilibrium_error);
+    }
+    let d = difference(&runs[0], &runs[1]);
+    assert!(d < 1e-8, "Lemke against the active set: {d:.3e}");
+    // The translation is the same on both systems, down onto the flat.
+    let t = runs.iter().map(|s| s.contact().unwrap().rigid_mode.as_ref().unwrap().translation[1]);
+    let t: Vec<f64> = t.collect();
+    assert!(t[0] < 0.0 && (t[0] - t[1]).abs() <= 1e-8 * t[0].abs(), "translations {t:?}");
 }

@@ -154,7 +154,7 @@ pub(super) fn held_on_path(
     for (b, pin, along, _) in held {
         refuse_slanted(pin, friction, normals)?;
         let term = term_of[*b].expect("a held body is touched by a pair");
-        on_path.push(Held::Among { term, pin: *pin, along: along.clone() });
+        on_path.push(Held { term, pin: *pin, along: along.clone() });
     }
     Ok(on_path)
 }
