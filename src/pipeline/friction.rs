@@ -397,8 +397,9 @@ pub(super) fn solve_frictional(
     let u2 = (u.len() == 2).then(|| u.pop()).flatten();
     let u = u.pop().expect("the first body's displacements");
     let result = load_path::normal_lcp(&step_problem, &step)?;
-    // Either body of a pair held with no load along its translation: determined only where
-    // the contact carries a force along it or blocks it both ways (docs/method.md §4.7).
+    // A held body (the one against rigid obstacles, or either body of a pair) with no load
+    // along its translation: determined only where the contact carries a force along it or
+    // blocks it both ways (docs/method.md §4.7).
     if let (Some(load_path::Held { term, pin, along }), Some(r)) = (path.held.first(), &rigid_mode)
     {
         let name = match term {
