@@ -29,7 +29,9 @@
 //!    found so that the rings carry the load: total force `p π R²` (the load per radian times
 //!    2π; a body held by contact balances its load through the contact alone) to 1e-10, with
 //!    complementarity and the body's balance; Lemke and the active set alike (forces to 1e-8
-//!    of the largest, the same translation down onto the flat to 1e-8).
+//!    of the largest, the same translation down onto the flat to 1e-8). The same by finite
+//!    elements: the FE ball of `problems/ball_impact_axisymmetric_fem.toml` pressed by a
+//!    traction on its cap carries its load times 2π.
 
 use super::axisymmetric_contact::SPHERE_SECTION;
 use super::common::*;
@@ -329,5 +331,63 @@ fn a_sphere_held_by_the_contact_alone_carries_its_load() {
     // The translation is the same on both systems, down onto the flat.
     let t = runs.iter().map(|s| s.contact().unwrap().rigid_mode.as_ref().unwrap().translation[1]);
     let t: Vec<f64> = t.collect();
+    assert!(t[0] < 0.0 && (t[0] - t[1]).abs() <= 1e-8 * t[0].abs(), "translations {t:?}");
+}
+
+/// The FE ball (`problems/ball_impact_axisymmetric_fem.msh`, Q9, R = 10 mm) with a traction
+/// `1e6` down on its cap and no axial condition, on a rigid flat, by `solver`.
+fn fe_ball_pressed(solver: &str) -> Problem {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mesh = root.join("problems/ball_impact_axisymmetric_fem.msh");
+    Problem::from_toml(&format!(
+        r#"
+        [geometry]
+        kind = "gmsh"
+        file = "{}"
+        surface = "ball"
+        [nodes]
+        from = "mesh"
+        [material]
+        young = 210e9
+        poisson = 0.3
+        plane = "axisymmetric"
+        [discretisation]
+        method = "fem"
+        [[boundary]]
+        edge = "cap"
+        traction = {{ y = -1e6 }}
+        [contact]
+        edge = "contact"
+        obstacle_point = [0.0, -1e-6]
+        obstacle_normal = [0.0, 1.0]
+        solver = "{solver}"
+        "#,
+        mesh.display()
+    ))
+    .unwrap()
+}
+
+#[test]
+fn an_fe_ball_held_by_the_contact_alone_carries_its_load() {
+    let runs: Vec<Solution> =
+        ["lemke", "active_set"].iter().map(|s| solve(&fe_ball_pressed(s))).collect();
+    for (label, s) in ["lemke", "active_set"].iter().zip(&runs) {
+        let c = s.contact().unwrap();
+        let mode = c.rigid_mode.as_ref().expect("the axial translation is held by the contact");
+        // The load per radian (the cap's traction weighted by r) times 2π.
+        let total = -TAU * s.applied_force[1];
+        println!(
+            "FE ball held by contact ({label}): total force {:.12e} against 2π × load {total:.12e}, translation {:?}",
+            c.total_force, mode.translation
+        );
+        assert!((c.total_force - total).abs() <= 1e-10 * total, "{label}: {}", c.total_force);
+        assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
+        assert!(s.equilibrium_error < 1e-8, "{label}: {}", s.equilibrium_error);
+    }
+    assert!(difference(&runs[0], &runs[1]) < 1e-8);
+    let t: Vec<f64> = runs
+        .iter()
+        .map(|s| s.contact().unwrap().rigid_mode.as_ref().unwrap().translation[1])
+        .collect();
     assert!(t[0] < 0.0 && (t[0] - t[1]).abs() <= 1e-8 * t[0].abs(), "translations {t:?}");
 }
