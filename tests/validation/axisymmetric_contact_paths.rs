@@ -309,29 +309,36 @@ fn sphere_pressed(pressure: f64, solver: &str) -> Problem {
     .unwrap()
 }
 
-#[test]
-fn a_sphere_held_by_the_contact_alone_carries_its_load() {
-    let p = 1e-3;
-    let total = p * std::f64::consts::PI;
-    let runs: Vec<Solution> =
-        ["lemke", "active_set"].iter().map(|s| solve(&sphere_pressed(p, s))).collect();
-    for (label, s) in ["lemke", "active_set"].iter().zip(&runs) {
+/// The checks of a body held along the axis by the contact alone, solved by Lemke and by the
+/// active set (`runs`, `label` naming the body): the rings carry `total` (each run's expected
+/// total force) to 1e-10, complementarity and the body's balance hold, both systems give the
+/// same forces (1e-8) and the same translation down onto the flat (1e-8).
+fn check_held(label: &str, make: impl Fn(&str) -> Problem, total: impl Fn(&Solution) -> f64) {
+    let runs: Vec<Solution> = ["lemke", "active_set"].iter().map(|s| solve(&make(s))).collect();
+    for (solver, s) in ["lemke", "active_set"].iter().zip(&runs) {
         let c = s.contact().unwrap();
         let mode = c.rigid_mode.as_ref().expect("the axial translation is held by the contact");
+        let total = total(s);
         println!(
-            "sphere held by contact ({label}): total force {:.12e} against p π R² {total:.12e}, translation {:?}",
+            "{label} held by contact ({solver}): total force {:.12e} against {total:.12e}, translation {:?}",
             c.total_force, mode.translation
         );
-        assert!((c.total_force - total).abs() <= 1e-10 * total, "{label}: {}", c.total_force);
-        assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
-        assert!(s.equilibrium_error < 1e-8, "{label}: {}", s.equilibrium_error);
+        assert!((c.total_force - total).abs() <= 1e-10 * total, "{solver}: {}", c.total_force);
+        assert_lcp_residuals(solver, &c.lcp.residuals, 1e-9);
+        assert!(s.equilibrium_error < 1e-8, "{solver}: {}", s.equilibrium_error);
     }
     let d = difference(&runs[0], &runs[1]);
     assert!(d < 1e-8, "Lemke against the active set: {d:.3e}");
-    // The translation is the same on both systems, down onto the flat.
     let t = runs.iter().map(|s| s.contact().unwrap().rigid_mode.as_ref().unwrap().translation[1]);
     let t: Vec<f64> = t.collect();
     assert!(t[0] < 0.0 && (t[0] - t[1]).abs() <= 1e-8 * t[0].abs(), "translations {t:?}");
+}
+
+#[test]
+fn a_sphere_held_by_the_contact_alone_carries_its_load() {
+    let p = 1e-3;
+    // p π R² (R = 1).
+    check_held("sphere", |s| sphere_pressed(p, s), |_| p * std::f64::consts::PI);
 }
 
 /// The FE ball (`problems/ball_impact_axisymmetric_fem.msh`, Q9, R = 10 mm) with a traction
@@ -369,25 +376,6 @@ fn fe_ball_pressed(solver: &str) -> Problem {
 
 #[test]
 fn an_fe_ball_held_by_the_contact_alone_carries_its_load() {
-    let runs: Vec<Solution> =
-        ["lemke", "active_set"].iter().map(|s| solve(&fe_ball_pressed(s))).collect();
-    for (label, s) in ["lemke", "active_set"].iter().zip(&runs) {
-        let c = s.contact().unwrap();
-        let mode = c.rigid_mode.as_ref().expect("the axial translation is held by the contact");
-        // The load per radian (the cap's traction weighted by r) times 2π.
-        let total = -TAU * s.applied_force[1];
-        println!(
-            "FE ball held by contact ({label}): total force {:.12e} against 2π × load {total:.12e}, translation {:?}",
-            c.total_force, mode.translation
-        );
-        assert!((c.total_force - total).abs() <= 1e-10 * total, "{label}: {}", c.total_force);
-        assert_lcp_residuals(label, &c.lcp.residuals, 1e-9);
-        assert!(s.equilibrium_error < 1e-8, "{label}: {}", s.equilibrium_error);
-    }
-    assert!(difference(&runs[0], &runs[1]) < 1e-8);
-    let t: Vec<f64> = runs
-        .iter()
-        .map(|s| s.contact().unwrap().rigid_mode.as_ref().unwrap().translation[1])
-        .collect();
-    assert!(t[0] < 0.0 && (t[0] - t[1]).abs() <= 1e-8 * t[0].abs(), "translations {t:?}");
+    // The load per radian (the cap's traction weighted by r) times 2π.
+    check_held("FE ball", fe_ball_pressed, |s| -TAU * s.applied_force[1]);
 }
