@@ -1,8 +1,10 @@
-//! Several bodies and contact pairs along the load path on the sparse system (docs/method.md
-//! §5.1, §8; plan in docs/dev/contact_core.md): friction, `[[step]]` tables and a body held
-//! by the contact with `contact[k].solver = "active_set"`. No condensed blocks: one
-//! [`contact::sparse::Bodies`] over all bodies and pairs, whose factorisations and update
-//! columns carry over the increments; per increment each body's right-hand side, per step
+//! Bodies and contact pairs along the load path on the sparse system (docs/method.md §5.1,
+//! §8; plan in docs/dev/contact_core.md): friction, `[[step]]` tables and a body held by the
+//! contact with `contact[k].solver = "active_set"`, for every sparse problem (one body on
+//! rigid obstacles and two bodies in one pair through [`super::pair`]). No condensed blocks:
+//! one system ([`SceneSystem`]: [`contact::sparse::Bodies`] over all bodies and pairs, or
+//! [`contact::sparse::RigidObstacle`] for one body), whose factorisations and update columns
+//! carry over the increments; per increment each body's right-hand side, per step
 //! the coefficients `μ_c`, and the increment's frictional step solved from the previous
 //! increment's states (the held body's translation by the search of
 //! [`lcp::load_driven::find_translation_with`], a force-driven obstacle's displacement by
