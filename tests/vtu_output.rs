@@ -333,6 +333,28 @@ fn read_piece(path: &Path) -> (HashMap<String, usize>, HashMap<String, DataArray
     (piece, arrays)
 }
 
+/// Runs the shipped dynamic problem `file` (under `problems/`) with a snapshot every `every`
+/// steps into the scratch folder `name`; returns the run's report and the folder.
+fn run_with_frames(
+    file: &str,
+    every: usize,
+    name: &str,
+) -> (mlpg_contact::pipeline::dynamics::DynamicReport, PathBuf) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("problems").join(file)).unwrap()
+        + &format!("\n[dynamics.output]\nevery = {every}\n");
+    let problem = Problem::from_toml(&text).unwrap();
+    let out = scratch(name);
+    let report = mlpg_contact::pipeline::dynamics::run(
+        &problem,
+        &out,
+        serde_json::Value::Null,
+        &mut mlpg_contact::Silent,
+    )
+    .unwrap();
+    (report, out)
+}
+
 /// One frame of a dynamic run of several bodies (`file`, a `frames/frame_<step>.vtm` under
 /// `out`): checks that it names the bodies `names` in order, each its own
 /// `frame_<step>_<k>.vtp` with `nodes[k]` points and one 3-component displacement and
@@ -686,18 +708,7 @@ fn revolved_section_fills_the_revolved_volume() {
 /// `v0`; measured 2e-5), and the last bar's left end has moved more than `v0 / 2`.
 #[test]
 fn dynamic_snapshots_of_several_bodies() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("problems/newtons_cradle.toml")).unwrap()
-        + "\n[dynamics.output]\nevery = 100\n";
-    let problem = Problem::from_toml(&text).unwrap();
-    let out = scratch("cradle-frames");
-    let report = mlpg_contact::pipeline::dynamics::run(
-        &problem,
-        &out,
-        serde_json::Value::Null,
-        &mut mlpg_contact::Silent,
-    )
-    .unwrap();
+    let (report, out) = run_with_frames("newtons_cradle.toml", 100, "cradle-frames");
     let v0 = 0.1;
     let bodies = report.summary.bodies.as_ref().expect("three bodies");
     let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
@@ -766,18 +777,7 @@ fn dynamic_snapshots_of_several_bodies() {
 /// waves ring on; 35 µm apart at the end).
 #[test]
 fn dynamic_snapshots_of_several_axisymmetric_bodies() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let file = root.join("problems/spheres_impact_axisymmetric.toml");
-    let text = std::fs::read_to_string(file).unwrap() + "\n[dynamics.output]\nevery = 140\n";
-    let problem = Problem::from_toml(&text).unwrap();
-    let out = scratch("spheres-frames");
-    let report = mlpg_contact::pipeline::dynamics::run(
-        &problem,
-        &out,
-        serde_json::Value::Null,
-        &mut mlpg_contact::Silent,
-    )
-    .unwrap();
+    let (report, out) = run_with_frames("spheres_impact_axisymmetric.toml", 140, "spheres-frames");
     let bodies = report.summary.bodies.as_ref().expect("two bodies");
     let names: Vec<&str> = bodies.iter().map(|b| b.name.as_str()).collect();
     assert_eq!(names, ["upper", "lower"]);
