@@ -138,6 +138,9 @@ impl Error {
                 | D::SeveralHeld { .. }
                 | D::FreeBody { .. },
             )) => "boundary[*].displacement, contact",
+            Error::Lcp(L::LoadDriven(D::MovesWithObstacle { .. })) => {
+                "boundary[*].displacement, step[*].obstacle_force"
+            }
             Error::Lcp(L::LoadDriven(D::Undetermined { .. } | D::HeldNotConverged { .. })) => {
                 "boundary[*] of the body named, body_force, contact"
             }

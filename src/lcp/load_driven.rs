@@ -89,15 +89,31 @@ pub enum LoadDrivenError {
         candidate: usize,
     },
     /// A rigid-body translation left to the contact with something this method does not
-    /// combine it with (friction, an obstacle pressed by a force, a pin on the contact).
+    /// combine it with (friction with a tangent along the translation, a pin on the contact).
     #[error(
-        "{mode} is held only by the contact, which is solved for contact with an obstacle that does not move by a force, friction only where the tangents are orthogonal to the translation, and a body whose pinned node carries no contact force; here {why} (add a displacement condition that prevents the {mode})"
+        "{mode} is held only by the contact, which is solved with friction only where the tangents are orthogonal to the translation, and for a body whose pinned node carries no contact force; here {why} (add a displacement condition that prevents the {mode})"
     )]
     Unsupported {
         /// The free mode.
         mode: &'static str,
         /// What is not supported.
         why: String,
+    },
+    /// A rigid-body translation left to the contact while the obstacle is pressed by a force,
+    /// where the two move together without changing any gap: the translation's `a_c` and the
+    /// force's are proportional over the candidates (the body touches only the obstacles the
+    /// force moves, their normals in one direction), so the contact fixes neither position
+    /// and balances both loads only if they happen to agree (docs/method.md §4.6–4.7).
+    #[error(
+        "{mode} is held only by the contact, and the obstacle it rests on is pressed by a force along e = ({:.6}, {:.6}): the body and the obstacle can move together without opening or closing any gap, so the contact determines neither position (and balances the body's load and the force only if they happen to agree); add a displacement condition that prevents the {mode}, or prescribe the obstacle's displacement instead of its force",
+        direction[0],
+        direction[1]
+    )]
+    MovesWithObstacle {
+        /// The free mode.
+        mode: &'static str,
+        /// The force's direction `e`.
+        direction: [f64; 2],
     },
     /// Both bodies of a two-body pair leave a rigid translation to the contact: nothing
     /// holds the pair as a whole (docs/method.md §4.7).

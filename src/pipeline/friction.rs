@@ -95,8 +95,11 @@ pub(super) fn at_increment(
     }
 }
 
-/// `(1 − λ) a + λ b`, exactly `b` at `λ = 1` (and `a` at `λ = 0`).
+/// `(1 − λ) a + λ b`, exactly `b` at `λ = 1` (its signed zeros too: the step's end itself).
 pub(super) fn lerp(a: &[f64], b: &[f64], lambda: f64) -> Vec<f64> {
+    if lambda == 1.0 {
+        return b.to_vec();
+    }
     a.iter().zip(b).map(|(x, y)| (1.0 - lambda) * x + lambda * y).collect()
 }
 
@@ -351,8 +354,8 @@ pub(super) fn solve_frictional(
     let m = candidates.len();
     // A rigid translation of the body held by the contact alone (docs/method.md §4.7):
     // `a_c = −ν_c·r` per candidate for its unit vector r, as for a body among several; only
-    // with friction whose tangents are orthogonal to r, without a force-driven obstacle,
-    // and with a pinned node that carries no contact force.
+    // with friction whose tangents are orthogonal to r and with a pinned node that carries
+    // no contact force.
     let pinned = model.system.pinned;
     let held = match &target {
         None => refuse_slanted_force(steps, &candidates)
@@ -378,10 +381,9 @@ pub(super) fn solve_frictional(
         groups: std::iter::once(0..m).collect(),
         write_steps: problem.write_steps,
         named_steps: !problem.steps.is_empty(),
-        lemke,
     };
     // Lemke's numerical failure as its refusal, with the conditioning of `M_nn`.
-    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+    let answer = load_path::run_condensed(&path, &terms, blocks, lemke, clock)
         .map_err(|e| refused_on_path(e, &condensed, warning.is_some()))?;
     drop(terms);
     let load_path::PathAnswer {
@@ -519,9 +521,10 @@ pub(super) fn refuse_slanted_force_on(
 }
 
 /// The checks of a rigid translation of the body held by the contact alone (docs/method.md
-/// §4.7) and `ν_c·r` per candidate for its unit vector `r` (`None` without a pin): only
-/// frictionless, without a force-driven obstacle, and with a pinned node that carries no
-/// contact force; on the condensed path (a pair of two bodies has its own checks,
+/// §4.7) and `ν_c·r` per candidate for its unit vector `r` (`None` without a pin): friction
+/// only where every tangent is orthogonal to `r`, and a pinned node that carries no contact
+/// force (a force-driven obstacle that moves with the body is the walk's refusal,
+/// [`load_path::refuse_moving_together`]); on the condensed path (a pair of two bodies has its own checks,
 /// [`held_between`]; the sparse path takes the scene's held body and its checks).
 fn held_projection(
     pinned: Option<assembly::PinnedMode>,
@@ -547,9 +550,6 @@ fn held_projection(
                     steps[k].friction,
                     k + 1
                 )));
-            }
-            if steps.iter().any(|s| s.force.is_some()) {
-                return Err(unsupported("the obstacle is pressed by a force as well".into()));
             }
             if candidates.operator.owners.iter().flatten().any(|&(i, _)| i == pin.node) {
                 return Err(unsupported(format!(

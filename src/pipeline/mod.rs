@@ -768,10 +768,9 @@ fn solve_condensed_once(
         groups: Vec::new(),
         write_steps: false,
         named_steps: false,
-        lemke,
     };
     let blocks = load_path::normal_blocks(&mut condensed);
-    let answer = match load_path::run_condensed(&path, &terms, blocks, clock) {
+    let answer = match load_path::run_condensed(&path, &terms, blocks, lemke, clock) {
         Ok(answer) => answer,
         Err(e) => {
             let mut refusal = match refused(e, &condensed, warning.is_some()) {

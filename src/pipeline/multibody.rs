@@ -646,10 +646,9 @@ fn solve_lemke(
         groups: Vec::new(),
         write_steps: false,
         named_steps: false,
-        lemke,
     };
     let blocks = load_path::normal_blocks(&mut condensed);
-    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+    let answer = load_path::run_condensed(&path, &terms, blocks, lemke, clock)
         .map_err(|e| super::refused(e, &condensed, warning.is_some()))?;
     drop(terms);
     condensed.compliance = answer.problem.nn;

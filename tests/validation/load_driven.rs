@@ -342,6 +342,36 @@ fn unrestrained_bodies_are_refused_naming_the_mode() {
     }
 }
 
+/// A body held by contact alone on a rigid flat that a force presses (docs/method.md
+/// §4.6–4.7): the block of `problems/block_on_flat_held_by_contact.toml` loaded in a step,
+/// its flat pressed up by a force. Block and flat can move together without changing any
+/// gap, so neither position is determined: refused on both solvers, whether the force
+/// equals the block's load (every common position balances both: the active set used to
+/// answer one of them) or not (none balances both).
+#[test]
+fn a_held_body_moving_with_a_force_driven_flat_is_refused() {
+    const TOML: &str = include_str!("../../problems/block_on_flat_held_by_contact.toml");
+    for solver in ["lemke", "active_set"] {
+        for force in [0.01, 0.02] {
+            let text = TOML
+                .replace("spacing = 0.05", "spacing = 0.1")
+                .replace("pressure = 0.01", "pressure = 0.0")
+                .replace(
+                    "obstacle_normal = [0.0, 1.0]",
+                    &format!("obstacle_normal = [0.0, 1.0]\nsolver = \"{solver}\""),
+                )
+                + &format!(
+                    "\n[[step]]\nobstacle_force = [0.0, {force}]\nboundary = [{{ edge = \"top\", pressure = 0.01 }}]\n"
+                );
+            let e = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap_err();
+            let message = e.to_string();
+            println!("{solver}, force {force}: {message}");
+            let expected = "translation in y is held only by the contact, and the obstacle it rests on is pressed by a force along e = (0.000000, 1.000000): the body and the obstacle can move together";
+            assert!(message.contains(expected), "{message}");
+        }
+    }
+}
+
 /// The cylinder indenter turned over, held by contact alone: the half block `[0, 2] × [0, 2]`
 /// (plane strain, `E = 1`, `ν = 0.3`, roller on the axis `x = 0`, nodes refined to `h` in
 /// `[0, 0.25]²`) pushed by the pressure `0.0017` on its top (`P/2 = 0.0034` per half, the

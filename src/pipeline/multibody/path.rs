@@ -212,10 +212,9 @@ pub(super) fn solve(
         groups: (0..pairs.len()).map(|k| scene.offsets[k]..scene.offsets[k + 1]).collect(),
         write_steps: scene.problem.write_steps,
         named_steps: !scene.problem.steps.is_empty(),
-        lemke,
     };
     let overridden = warning.is_some();
-    let answer = load_path::run_condensed(&path, &terms, blocks, clock)
+    let answer = load_path::run_condensed(&path, &terms, blocks, lemke, clock)
         .map_err(|e| super::super::refused_on_path(e, &compliance, overridden))?;
     let last_friction = path.friction.last().cloned().unwrap_or_default();
     drop(terms);

@@ -4,15 +4,15 @@
 //! rigid obstacles and two bodies in one pair through [`super::pair`]). No condensed blocks:
 //! one system ([`SceneSystem`]: [`contact::sparse::Bodies`] over all bodies and pairs, or
 //! [`contact::sparse::RigidObstacle`] for one body), whose factorisations and update columns
-//! carry over the increments; per increment each body's right-hand side, per step
-//! the coefficients `μ_c`, and the increment's frictional step solved from the previous
-//! increment's states (the held body's translation by the search of
-//! [`lcp::load_driven::find_translation_with`], a force-driven obstacle's displacement by
-//! [`lcp::load_driven::find_displacement_with`], over warm-started solves). A step's
-//! obstacle motion moves the gaps and the stick targets of the pairs against rigid
-//! obstacles (docs/method.md §4.6, §8).
+//! carry over the increments, walked by the load path's one driver ([`load_path::drive`])
+//! as a [`PathSystem`]: per step the coefficients `μ_c` on the system, per increment each
+//! body's right-hand side and the moved candidates' gaps and stick offsets set on it, and
+//! the increment's frictional step solved from the previous increment's states (the held
+//! bodies' translations and a force-driven obstacle's displacement by the searches of
+//! [`lcp::load_driven`] over warm-started solves, [`SparseTrials`]).
 
-use super::super::friction::{History, StepEnd, StepStart, at_increment, force_along, lerp};
+use super::super::friction::StepEnd;
+use super::super::load_path::{self, At, Held, PathSystem, Timer, Walked};
 use super::path::{self, Scene};
 use super::trials::SparseTrials;
 use super::{Held as HeldBody, Solved};
@@ -54,28 +54,6 @@ fn obstacle_at(scene: &Scene<'_>, normals: &[crate::geometry::Point], d: [f64; 2
             .unzip(),
     )
 }
-
-/// The rigid obstacles at load factor `lambda` of step `k`, from where the previous step left
-/// them (`start`): the moved gaps and stick offsets ([`obstacle_at`]), and
-/// a force's direction `e`, the increment's force and `a_c = ν_c·e` on the moved candidates.
-fn obstacle_increment(
-    scene: &Scene<'_>,
-    normals: &[crate::geometry::Point],
-    (k, lambda): (usize, f64),
-    start: &StepStart,
-) -> (Option<Gaps>, Option<Force>) {
-    let end = &scene.steps[0][k];
-    let d = start.obstacle_at(end, lambda);
-    let force = end.force.map(|f| {
-        let (e, size, mut along) = force_along(f, normals);
-        along.iter_mut().zip(scene.moved).filter(|(_, m)| !**m).for_each(|(a, _)| *a = 0.0);
-        (e, start.force_at(size, lambda), along)
-    });
-    (obstacle_at(scene, normals, d), force)
-}
-
-/// A force pressing the obstacles: its direction `e`, the increment's magnitude and `a_c`.
-type Force = ([f64; 2], f64, Vec<f64>);
 
 /// Initial gaps and stick offsets per candidate.
 type Gaps = (Vec<f64>, Vec<f64>);
@@ -128,15 +106,6 @@ pub(super) fn prepare(
     Ok(Prepared { tangential, by_body, friction, normals, once })
 }
 
-/// What the increments read: the scene, the models, the held bodies and the path's fixed
-/// data.
-struct Context<'c, 's> {
-    scene: &'c Scene<'s>,
-    models: &'c [&'c Model],
-    held_bodies: &'c [HeldBody],
-    prepared: &'c Prepared,
-}
-
 /// Friction and load steps for several bodies and pairs on the sparse system: the path of
 /// [`path::solve`] with each increment an active-set step instead of the step LCP on
 /// condensed blocks; and frictionless contact in one shot as one step of one increment of it
@@ -162,10 +131,10 @@ pub(super) fn solve(
     Ok(walk.finish(scene, prepared, work))
 }
 
-/// The walk of the sparse path over the steps and their increments on `system` (timed as one
+/// The load path ([`load_path::drive`]) over the scene's sparse `system` (timed as one
 /// stage, `friction`, or `active_set` on a one-shot path): per step the coefficients, per
-/// increment the bodies' loads and the obstacles set and the step solved; the walk's state
-/// at its end, which [`Walk::finish`] turns into the path's answer.
+/// increment the bodies' loads and the obstacles set and the step solved; what the walk
+/// ends with, which [`Walk::finish`] turns into the path's answer.
 ///
 /// # Errors
 /// As [`solve`].
@@ -177,118 +146,145 @@ pub(super) fn walk<'p, S: SceneSystem<'p>>(
     clock: &mut Clock<'_>,
 ) -> Result<Walk, Error> {
     let once = prepared.once;
-    let pair_tangential: Vec<contact::sparse::PairTangential<'p>> =
-        prepared.tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect();
-    let cx = Context { scene, models, held_bodies, prepared };
-    let mut walk = Walk::new(scene, models);
+    let held = held_bodies.iter().map(|(b, pin, along, _)| Held {
+        term: *b,
+        pin: *pin,
+        along: along.clone(),
+    });
+    let groups = match once {
+        // A one-shot path keeps no frictional record.
+        true => Vec::new(),
+        false => scene.offsets.windows(2).map(|w| w[0]..w[1]).collect(),
+    };
+    let path = load_path::Path {
+        initial_gap: scene.initial_gap,
+        normals: &prepared.normals,
+        steps: &scene.steps[0],
+        friction: prepared.friction.clone(),
+        moved: Some(scene.moved),
+        held: held.collect(),
+        groups,
+        write_steps: scene.problem.write_steps,
+        named_steps: !scene.problem.steps.is_empty(),
+    };
+    let mut sparse = Sparse {
+        scene,
+        models,
+        prepared,
+        tangential: prepared.tangential.iter().map(|(t1, _, t2)| (t1, t2.as_ref())).collect(),
+        system,
+        previous: vec![0.0; scene.initial_gap.len()],
+        warm: None,
+        evaluations: 0,
+        iterations: 0,
+        rescues: Vec::new(),
+        end_all: lcp::active_set::ActiveSetEnd::Converged,
+    };
+    let bodies: Vec<(&Model, &[StepEnd])> =
+        models.iter().zip(scene.steps).map(|(m, s)| (*m, s.as_slice())).collect();
     let stage = if once { "active_set" } else { "friction" };
-    clock.run(stage, || -> Result<_, Error> {
-        for (k, end) in scene.steps[0].iter().enumerate() {
-            if !once {
-                let tangential = pair_tangential.clone();
-                let mu = &prepared.friction[k];
-                system.set_pair_friction(mu, tangential).map_err(lcp::LcpError::from)?;
-            }
-            for i in 1..=end.increments {
-                walk.increment(&cx, system, (k, i))?;
-            }
-            walk.end_step(scene, k);
-        }
-        Ok(())
-    })?;
-    Ok(walk)
+    let walked = load_path::drive(&path, &bodies, &mut sparse, (Some(stage), clock))?;
+    let Sparse { iterations, rescues, end_all, .. } = sparse;
+    Ok(Walk { walked, iterations, rescues, end_all })
 }
 
-/// The path's running state: the previous step's end (each body's load and right-hand side,
-/// the obstacles' position and force), the accumulated tangential displacements and states
-/// to start from, the records, and the last increment's answer.
-pub(super) struct Walk {
-    start: StepStart,
-    /// The force search's solves so far.
-    evaluations: usize,
+/// The sparse system along the path: the scene's system, its pairs' tangential operators,
+/// and what carries over the increments (the accumulated tangential displacements and the
+/// states to start from) with the counts of the active set's record.
+struct Sparse<'c, 's, 'p, S> {
+    scene: &'c Scene<'s>,
+    models: &'c [&'c Model],
+    prepared: &'p Prepared,
+    tangential: Vec<contact::sparse::PairTangential<'p>>,
+    system: &'c mut S,
     previous: Vec<f64>,
     warm: Option<Vec<lcp::ContactState>>,
-    histories: Vec<History>,
+    /// The force search's solves so far.
+    evaluations: usize,
     iterations: usize,
     rescues: Vec<usize>,
     end_all: lcp::active_set::ActiveSetEnd,
-    last: Option<Increment>,
 }
 
-impl Walk {
-    fn new(scene: &Scene<'_>, models: &[&Model]) -> Self {
-        let histories = (0..scene.pairs.len())
-            .map(|k| {
-                History::new(scene.offsets[k + 1] - scene.offsets[k], scene.problem.write_steps)
-            })
-            .collect();
-        Self {
-            start: StepStart::new(models.iter().map(|m| m.system.rhs.len())),
-            evaluations: 0,
-            previous: vec![0.0; scene.initial_gap.len()],
-            warm: None,
-            histories,
-            iterations: 0,
-            rescues: Vec::new(),
-            end_all: lcp::active_set::ActiveSetEnd::Converged,
-            last: None,
+impl<'p, S: SceneSystem<'p>> PathSystem for Sparse<'_, '_, 'p, S> {
+    type Answer = Increment;
+
+    /// The pairs' coefficients on the system (none on a one-shot path: it stays
+    /// frictionless).
+    fn begin_step(&mut self, path: &load_path::Path<'_>, k: usize) -> Result<(), Error> {
+        if !self.prepared.once {
+            let tangential = self.tangential.clone();
+            self.system
+                .set_pair_friction(&path.friction[k], tangential)
+                .map_err(lcp::LcpError::from)?;
         }
+        Ok(())
     }
 
-    /// Each body's load and right-hand side at load factor `lambda` of step `k` (on a
-    /// one-shot path the step's end itself, bit for bit: the models' own).
-    fn loads(&self, cx: &Context<'_, '_>, (k, lambda): (usize, f64)) -> [Vec<Vec<f64>>; 2] {
-        let at = |ends: &[Vec<f64>], which: fn(&StepEnd) -> &Vec<f64>| -> Vec<Vec<f64>> {
-            let steps = cx.scene.steps.iter().zip(ends);
-            match cx.prepared.once {
-                true => steps.map(|(e, _)| which(&e[k]).clone()).collect(),
-                false => steps.map(|(e, v0)| lerp(v0, which(&e[k]), lambda)).collect(),
-            }
-        };
-        [at(&self.start.loads, |e| &e.load), at(&self.start.rhss, |e| &e.rhs)]
-    }
-
-    /// Increment `i` of step `k` (0-based): the bodies' loads and the obstacles set, solved,
-    /// recorded (but on a one-shot path, which has no frictional record).
-    fn increment<'p, S: SceneSystem<'p>>(
+    /// The bodies' right-hand sides and the obstacles set on the system, then the step
+    /// solved ([`solve_increment`]).
+    fn solve(
         &mut self,
-        cx: &Context<'_, '_>,
-        system: &mut S,
-        (k, i): (usize, usize),
-    ) -> Result<(), Error> {
-        let scene = cx.scene;
-        let end = &scene.steps[0][k];
-        let started = std::time::Instant::now();
-        let lambda = i as f64 / end.increments as f64;
-        let named = !scene.problem.steps.is_empty();
-        let at_step = |e| at_increment(named, (k, i, end.increments), e);
-        let [loads, rhss] = self.loads(cx, (k, lambda));
-        for (b, rhs) in rhss.iter().enumerate() {
-            system.set_body_load(b, rhs);
+        path: &load_path::Path<'_>,
+        at: &At<'_>,
+        _: &mut Timer<'_, '_>,
+    ) -> Result<Increment, lcp::LcpError> {
+        for (b, rhs) in at.rhss.iter().enumerate() {
+            self.system.set_body_load(b, rhs);
         }
-        let (moved, force) =
-            obstacle_increment(scene, &cx.prepared.normals, (k, lambda), &self.start);
+        let moved = obstacle_at(self.scene, &self.prepared.normals, at.obstacle);
         if let Some((g, o)) = &moved {
-            system.set_initial_gap(g);
-            system.set_tangential_offset(o);
+            self.system.set_initial_gap(g);
+            self.system.set_tangential_offset(o);
         }
-        let state = Warm {
+        let start = Warm {
             previous: &self.previous,
             warm: self.warm.as_deref(),
             params: lcp::active_set::ActiveSetParams::default(),
-            initial_gap: moved.as_ref().map_or(scene.initial_gap, |(g, _)| g),
-            force,
+            initial_gap: moved.as_ref().map_or(self.scene.initial_gap, |(g, _)| g),
         };
-        let bodies = (cx.models, cx.held_bodies);
-        let mut solved = solve_increment(system, bodies, (&loads, &rhss), state, cx.prepared.once)
-            .map_err(at_step)?;
+        let models = self.models;
+        let mut solved =
+            solve_increment(&mut *self.system, (path, models), at, start, self.prepared.once)?;
         if let Some(l) = &mut solved.load_driven {
             self.evaluations += l.evaluations;
             l.total_evaluations = self.evaluations;
         }
-        if !cx.prepared.once {
-            self.record(cx, &solved, &loads, (k, i, lambda), started);
-        }
+        Ok(solved)
+    }
+
+    /// The final states' displacements (the system's), and the bodies' equilibrium under
+    /// the increment's loads.
+    fn displacements(
+        &mut self,
+        _: &load_path::Path<'_>,
+        answer: &mut Increment,
+        (at, record): (&At<'_>, bool),
+        _: &mut Timer<'_, '_>,
+    ) -> Result<(Vec<Vec<f64>>, f64), Error> {
+        let u = std::mem::take(&mut answer.u);
+        let step = &answer.answer.step;
+        let equilibrium = match record {
+            false => 0.0,
+            true => (self.models.iter().enumerate())
+                .map(|(b, model)| {
+                    let ops = (&self.scene.operators[b], &self.prepared.by_body[b]);
+                    body_equilibrium(model, &at.loads[b], &u[b], ops, step)
+                })
+                .fold(0.0, f64::max),
+        };
+        Ok((u, equilibrium))
+    }
+
+    fn step(answer: &Increment) -> &lcp::FrictionSolution {
+        &answer.answer.step
+    }
+
+    fn changes(answer: &Increment) -> &[usize] {
+        &answer.answer.changes
+    }
+
+    fn end_increment(&mut self, solved: &Increment) {
         let answer = &solved.answer;
         self.previous.clone_from(&answer.step.tangential_displacement);
         self.iterations += answer.step.iterations;
@@ -297,41 +293,19 @@ impl Walk {
             self.end_all = answer.end;
         }
         self.warm = Some(answer.states.clone());
-        self.last = Some(solved);
-        Ok(())
     }
+}
 
-    /// Records the increment in every pair's history, with the largest relative equilibrium
-    /// error of the bodies under `loads`.
-    fn record(
-        &mut self,
-        cx: &Context<'_, '_>,
-        solved: &Increment,
-        loads: &[Vec<f64>],
-        (k, i, lambda): (usize, usize, f64),
-        started: std::time::Instant,
-    ) {
-        let (scene, step) = (cx.scene, &solved.answer.step);
-        let equilibrium = cx
-            .models
-            .iter()
-            .enumerate()
-            .map(|(b, model)| {
-                let ops = (&scene.operators[b], &cx.prepared.by_body[b]);
-                body_equilibrium(model, &loads[b], &solved.u[b], ops, step)
-            })
-            .fold(0.0, f64::max);
-        let seconds = started.elapsed().as_secs_f64();
-        let groups = scene.offsets.windows(2).map(|w| w[0]..w[1]);
-        let record = (equilibrium, &solved.answer.changes[..], seconds);
-        History::record_pairs(&mut self.histories, groups, step, (k, i, lambda), record);
-    }
+/// What the sparse path's walk ends with: the last increment's answer with the bodies'
+/// displacements and the pairs' histories, and the active set's counts over all increments.
+pub(super) struct Walk {
+    walked: Walked<Increment>,
+    iterations: usize,
+    rescues: Vec<usize>,
+    end_all: lcp::active_set::ActiveSetEnd,
+}
 
-    /// The previous step's end becomes the next step's start.
-    fn end_step(&mut self, scene: &Scene<'_>, k: usize) {
-        self.start.advance(scene.steps.iter().map(|ends| &ends[k]), &scene.steps[0][k]);
-    }
-
+impl Walk {
     /// The path's answer from its last increment: the normal LCP's view, the held bodies'
     /// translations, one frictional record per pair (none without tangential operators) and
     /// the active set's record.
@@ -341,11 +315,9 @@ impl Walk {
         prepared: Prepared,
         work: contact::sparse::RigidObstacleStats,
     ) -> path::OnPath {
-        let Walk { iterations, rescues, end_all, last, histories, .. } = self;
+        let Walk { iterations, rescues, end_all, walked } = self;
+        let Walked { last: Increment { answer, held, load_driven, .. }, u, histories } = walked;
         let Prepared { tangential, friction, .. } = prepared;
-        let Some(Increment { answer, u, held, load_driven }) = last else {
-            unreachable!("validated: at least one step with at least one increment")
-        };
         let last_friction = friction.last().cloned().unwrap_or_default();
         let step = answer.step;
         let (search, free_gap) = match held {
@@ -380,15 +352,13 @@ impl Walk {
 }
 
 /// Where an increment starts: the accumulated tangential displacements and the states of
-/// the previous increment, the initial gaps with the obstacles where the increment puts them,
-/// and a force pressing them (`e`, the increment's force, `a_c = ν_c·e` on the moved
-/// candidates).
+/// the previous increment, and the initial gaps with the obstacles where the increment puts
+/// them.
 struct Warm<'w> {
     previous: &'w [f64],
     warm: Option<&'w [lcp::ContactState]>,
     params: lcp::active_set::ActiveSetParams,
     initial_gap: &'w [f64],
-    force: Option<Force>,
 }
 
 /// One increment on the system whose bodies' right-hand sides and gaps are set: the
@@ -397,87 +367,71 @@ struct Warm<'w> {
 /// translations ([`held_search`]).
 fn solve_increment<'p, S: SceneSystem<'p>>(
     system: &mut S,
-    (models, held_bodies): (&[&Model], &[HeldBody]),
-    (loads, rhss): (&[Vec<f64>], &[Vec<f64>]),
+    (path, models): (&load_path::Path<'_>, &[&Model]),
+    at: &At<'_>,
     start: Warm<'_>,
     once: bool,
 ) -> Result<Increment, lcp::LcpError> {
-    if held_bodies.is_empty() {
-        if start.force.is_some() {
-            return force_search(system, start);
-        }
-        if once {
-            // One-shot: the frictionless active-set method from the free gaps.
-            let answer = lcp::active_set::solve(system, &start.params)?;
-            let u = system.final_body_displacements(&answer.active)?;
-            let answer = lcp::active_set::FrictionStepSolution::frictionless(answer);
-            return Ok(Increment { answer, u, held: None, load_driven: None });
-        }
-        let answer = lcp::active_set::solve_friction_step(
-            system,
-            start.previous,
-            start.warm,
-            &start.params,
-        )?;
-        let u = system.final_body_friction_displacements(&answer.states)?;
+    if !path.held.is_empty() {
+        return held_search(system, (path, models), at, start);
+    }
+    if let Some(force) = at.unknowns.force {
+        return force_search(system, force, start);
+    }
+    if once {
+        // One-shot: the frictionless active-set method from the free gaps.
+        let answer = lcp::active_set::solve(system, &start.params)?;
+        let u = system.final_body_displacements(&answer.active)?;
+        let answer = lcp::active_set::FrictionStepSolution::frictionless(answer);
         return Ok(Increment { answer, u, held: None, load_driven: None });
     }
-    let held: Vec<(&[f64], f64)> = held_bodies
-        .iter()
-        .map(|(b, pin, along, _)| {
-            (along.as_slice(), super::super::load_path::load_along(models[*b], *pin, &loads[*b]))
-        })
-        .collect();
-    held_search(system, models, (held_bodies, &held), rhss, start)
+    let answer =
+        lcp::active_set::solve_friction_step(system, start.previous, start.warm, &start.params)?;
+    let u = system.final_body_friction_displacements(&answer.states)?;
+    Ok(Increment { answer, u, held: None, load_driven: None })
 }
 
 /// An increment with bodies held by the contact (docs/method.md §4.6–4.7): their
-/// translations (`held`: each one's `b_c` and load along its translation, in the order of
-/// `held_bodies`), and a force-driven obstacle's displacement, by nested searches
+/// translations (`at.unknowns.held`: each one's `b_c` and load along its translation, in
+/// the order of `path.held`), and a force-driven obstacle's displacement, by nested searches
 /// ([`lcp::load_driven::nested::search`]); then each pin set to the translation found and the
 /// gaps to the obstacle's displacement alone, so that the displacements answer the system
 /// reported.
 fn held_search<'p, S: SceneSystem<'p>>(
     system: &mut S,
-    models: &[&Model],
-    (held_bodies, held): (&[HeldBody], &[(&[f64], f64)]),
-    rhss: &[Vec<f64>],
+    (path, models): (&load_path::Path<'_>, &[&Model]),
+    at: &At<'_>,
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
-    let force = start.force.clone();
-    let scale =
-        held.iter().fold(force.as_ref().map_or(0.0, |f| f.1.abs()), |s, h| s.max(h.1.abs()));
+    let (held, force) = (at.unknowns.held, at.unknowns.force);
+    let scale = held.iter().fold(force.map_or(0.0, |f| f.2.abs()), |s, h| s.max(h.1.abs()));
     let mut trials = SparseTrials::new(
         &mut *system,
         (start.initial_gap, held[0].0),
         (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
         (start.params, scale),
     );
-    let force_along = force.as_ref().map(|(_, _, along)| (along.as_slice(), 0.0));
+    let force_along = force.map(|(along, _, _)| (along, 0.0));
     trials.outer = held[1..].iter().map(|&(along, _)| (along, 0.0)).chain(force_along).collect();
     let base = trials.base_gap()?;
-    let unknowns = lcp::load_driven::nested::Unknowns {
-        held,
-        force: force.as_ref().map(|(e, target, along)| (along.as_slice(), *e, *target)),
-    };
-    let found = lcp::load_driven::nested::search(&mut trials, &base, unknowns)?;
+    let found = lcp::load_driven::nested::search(&mut trials, &base, at.unknowns)?;
     let (iterations, rescues) = (trials.iterations, trials.rescues);
     let mut answer = found.outer.answer;
     answer.step.iterations = iterations;
     answer.rescues = rescues;
-    for ((b, pin, _, _), t) in held_bodies.iter().zip(&found.translations) {
-        let mut rhs = rhss[*b].clone();
-        super::super::load_path::set_pin_value(&mut rhs, models[*b], *pin, *t);
+    for (Held { term: b, pin, .. }, t) in path.held.iter().zip(&found.translations) {
+        let mut rhs = at.rhss[*b].clone();
+        load_path::set_pin_value(&mut rhs, models[*b], *pin, *t);
         system.set_body_load(*b, &rhs);
     }
     let s = found.outer.displacement;
-    let load_driven = match &force {
-        Some((e, target, along)) => {
+    let load_driven = match force {
+        Some((along, e, target)) => {
             let g0 = start.initial_gap.iter().zip(along);
             let moved: Vec<f64> = g0.map(|(g, a)| g - a * s).collect();
             system.set_initial_gap(&moved);
             let solves = (found.evaluations, found.evaluations);
-            Some(solution::LoadDriven::found((*e, *target), s, found.outer.force, solves))
+            Some(solution::LoadDriven::found((e, target), s, found.outer.force, solves))
         }
         None => {
             system.set_initial_gap(start.initial_gap);
@@ -490,21 +444,22 @@ fn held_search<'p, S: SceneSystem<'p>>(
 }
 
 /// A force-driven obstacle's increment (docs/method.md §4.6): the displacement `s` along `e`
-/// whose answer carries the increment's force, over warm-started solves with the moved
-/// candidates' gaps at `g0 − a s` (the system is left at the last trial, the answer's).
+/// whose answer carries the increment's force (`a_c`, `e`, the force), over warm-started
+/// solves with the moved candidates' gaps at `g0 − a s` (the system is left at the last
+/// trial, the answer's).
 fn force_search<'p, S: SceneSystem<'p>>(
     system: &mut S,
+    (along, e, target): (&[f64], [f64; 2], f64),
     start: Warm<'_>,
 ) -> Result<Increment, lcp::LcpError> {
-    let (e, target, along) = start.force.expect("a force");
     let mut trials = SparseTrials::new(
         &mut *system,
-        (start.initial_gap, &along),
+        (start.initial_gap, along),
         (start.previous.to_vec(), start.warm.map(<[_]>::to_vec)),
         (start.params, target.abs()),
     );
     let base = trials.base_gap()?;
-    let search = lcp::load_driven::find_displacement_with(&mut trials, &base, &along, e, target)?;
+    let search = lcp::load_driven::find_displacement_with(&mut trials, &base, along, e, target)?;
     let (iterations, rescues) = (trials.iterations, trials.rescues);
     let mut answer = search.answer;
     answer.step.iterations = iterations;
