@@ -372,6 +372,28 @@ fn a_held_body_moving_with_a_force_driven_flat_is_refused() {
     }
 }
 
+/// A load pulling the held block off its flat is refused as such on both solvers (the
+/// active set searched the translation until its limit of LCP solves before the walk
+/// checked the held loads for both systems).
+#[test]
+fn a_held_body_pulled_off_its_flat_is_refused_on_both_solvers() {
+    const TOML: &str = include_str!("../../problems/block_on_flat_held_by_contact.toml");
+    for solver in ["lemke", "active_set"] {
+        let text = TOML
+            .replace("spacing = 0.05", "spacing = 0.1")
+            .replace("pressure = 0.01", "pressure = -0.01")
+            .replace(
+                "obstacle_normal = [0.0, 1.0]",
+                &format!("obstacle_normal = [0.0, 1.0]\nsolver = \"{solver}\""),
+            );
+        let e = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap_err();
+        let message = e.to_string();
+        println!("{solver}: {message}");
+        let expected = "translation in y is held only by the contact, but the applied load along it (1.000000e-2) does not press the body onto the obstacle";
+        assert!(message.contains(expected), "{message}");
+    }
+}
+
 /// The cylinder indenter turned over, held by contact alone: the half block `[0, 2] × [0, 2]`
 /// (plane strain, `E = 1`, `ν = 0.3`, roller on the axis `x = 0`, nodes refined to `h` in
 /// `[0, 0.25]²`) pushed by the pressure `0.0017` on its top (`P/2 = 0.0034` per half, the
