@@ -524,8 +524,9 @@ pub(super) fn refuse_slanted_force_on(
 /// §4.7) and `ν_c·r` per candidate for its unit vector `r` (`None` without a pin): friction
 /// only where every tangent is orthogonal to `r`, and a pinned node that carries no contact
 /// force (a force-driven obstacle that moves with the body is the walk's refusal,
-/// [`load_path::refuse_moving_together`]); on the condensed path (a pair of two bodies has its own checks,
-/// [`held_between`]; the sparse path takes the scene's held body and its checks).
+/// [`load_path::refuse_moving_together`]); on the condensed path (a pair of two bodies has
+/// its own checks, [`held_between`]; the sparse path takes the scene's held body and its
+/// checks).
 fn held_projection(
     pinned: Option<assembly::PinnedMode>,
     steps: &[StepEnd],

@@ -372,6 +372,82 @@ fn a_held_body_moving_with_a_force_driven_flat_is_refused() {
     }
 }
 
+/// A body held by contact alone in a rigid groove pressed sideways by a force (docs/method.md
+/// §4.6–4.7, the nested search on the one-pair path): the block `[−0.5, 0.5] × [0, 1]`
+/// (plane strain, `E = 1`, `ν = 0.3`, `h = 0.1`), x held by a roller on its left edge,
+/// loaded in one step by a pressure `p = 0.01` on its top and resting by its bottom corners
+/// on the two 45° faces of a polyline groove 0.002 below them, the groove pressed by
+/// `F = 0.002` along x. The two unknowns (the block's translation in y, the groove's
+/// displacement) have two balances with a unique answer by statics alone: the faces'
+/// normals `(±1, 1)/√2` give `(z_L + z_R)/√2 = p` (the block's load) and
+/// `(z_L − z_R)/√2 = F` (the groove's force), so the total normal force is `p√2`, the
+/// block's contact resultant `(F, p)`, both to round-off. Lemke and the active set agree on
+/// the positions found to round-off (bound 1e-9 relative).
+#[test]
+fn a_held_body_in_a_force_driven_groove_balances_both_loads() {
+    const TOML: &str = r#"
+        [geometry]
+        kind = "rectangle"
+        x = [-0.5, 0.5]
+        y = [0.0, 1.0]
+        [nodes]
+        spacing = 0.1
+        [material]
+        young = 1.0
+        poisson = 0.3
+        plane = "strain"
+        [[boundary]]
+        edge = "left"
+        displacement = { x = 0.0 }
+        [[boundary]]
+        edge = "top"
+        pressure = 0.0
+        [[obstacle]]
+        name = "groove"
+        kind = "polyline"
+        points = [[1.0, 0.498], [0.0, -0.502], [-1.0, 0.498]]
+        [contact]
+        edge = "bottom"
+        target = "groove"
+        solver = "SOLVER"
+        [[step]]
+        obstacle_force = [0.002, 0.0]
+        boundary = [{ edge = "top", pressure = 0.01 }]
+    "#;
+    let (p, force) = (0.01, 0.002);
+    let mut found = Vec::new();
+    for solver in ["lemke", "active_set"] {
+        let text = TOML.replace("SOLVER", solver);
+        let s = mlpg_contact::solve(&Problem::from_toml(&text).unwrap()).unwrap();
+        let c = s.contact().unwrap();
+        assert_lcp_residuals(solver, &c.lcp.residuals, 1e-9);
+        let mode = c.rigid_mode.as_ref().expect("the translation in y held by the contact");
+        let driven = c.load_driven.as_ref().expect("the groove driven by its force");
+        let total: f64 = c.lcp.z.iter().sum();
+        println!(
+            "{solver}: total {total:.15e} (p√2 {:.15e}), resultant {:?}, carried {:.15e}, \
+             groove {:.15e}, translation {:.15e}, equilibrium {:.1e}",
+            p * 2f64.sqrt(),
+            s.contact_force,
+            driven.carried,
+            driven.displacement_along,
+            mode.translation[1],
+            s.equilibrium_error
+        );
+        assert!((total - p * 2f64.sqrt()).abs() < 1e-9 * p, "{solver}: total {total}");
+        assert!((s.contact_force[0] - force).abs() < 1e-9 * p, "{:?}", s.contact_force);
+        assert!((s.contact_force[1] - p).abs() < 1e-9 * p, "{:?}", s.contact_force);
+        assert!((driven.carried - force).abs() < 1e-9 * force, "{solver}: {}", driven.carried);
+        assert!(s.equilibrium_error < 1e-8, "{solver}: equilibrium {}", s.equilibrium_error);
+        found.push((driven.displacement_along, mode.translation[1], c.lcp.z.clone()));
+    }
+    let [(s1, t1, z1), (s2, t2, z2)] = [found[0].clone(), found[1].clone()];
+    assert!((s1 - s2).abs() < 1e-9 * s1.abs(), "groove {s1} against {s2}");
+    assert!((t1 - t2).abs() < 1e-9 * t1.abs(), "translation {t1} against {t2}");
+    let worst = z1.iter().zip(&z2).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-9 * p, "forces apart by {worst}");
+}
+
 /// A load pulling the held block off its flat is refused as such on both solvers (the
 /// active set searched the translation until its limit of LCP solves before the walk
 /// checked the held loads for both systems).
