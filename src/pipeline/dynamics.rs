@@ -7,7 +7,9 @@
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
 use crate::contact::{self, BodyOperator, BodyView, Candidates, ContactTarget, rings};
-use crate::dynamics::{self, Body, BodyEnd, Contact, LoadHistory, Simulation, StrainEnergy};
+use crate::dynamics::{
+    self, Body, BodyEnd, Contact, LoadHistory, ObstacleMotion, Simulation, StrainEnergy,
+};
 use crate::error::Error;
 use crate::fem::{self, Mesh};
 use crate::geometry::Point;
@@ -252,6 +254,7 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
             terms: vec![dynamics::Term { body: 0, offset: 0, operator }],
             coefficients: free.iter().map(|&f| if f { mu } else { 0.0 }).collect(),
         }),
+        obstacle: obstacle_motion(problem, c.normals.iter().map(|&n| Some(n)).collect()),
     });
     let simulation = clock.run_counted("time steps", |advance| {
         dynamics::simulate(&stepped, contact, &dynamics, advance)
@@ -414,11 +417,16 @@ fn solve_bodies(
         }
         dynamics::Friction { terms, coefficients }
     });
+    // A step's obstacle motion moves the pairs against rigid obstacles together.
+    let moved = scene.iter().zip(&found).flat_map(|(pair, (c, _))| {
+        c.normals.iter().map(move |&n| pair.target_body.is_none().then_some(n))
+    });
     let contacts = dynamics::Contacts {
         normal,
         initial_gap: found.iter().flat_map(|(c, _)| c.initial_gap.iter().copied()).collect(),
         friction,
         pair_starts: offsets.clone(),
+        obstacle: obstacle_motion(problem, moved.collect()),
     };
     let velocities: Vec<[f64; 2]> = motions.iter().map(|m| m.1).collect();
     let refs: Vec<&Body<'_>> = stepped.iter().collect();
@@ -517,6 +525,20 @@ fn load_history(problem: &Problem, body: &DynamicBody) -> Result<Option<LoadHist
         states.push((time, load, rhs));
     }
     Ok(Some(LoadHistory::new(states)))
+}
+
+/// The rigid obstacles' motion in `problem`'s `[[step]]` tables (`obstacle_displacement`
+/// at each step's `time`, docs/method.md §10.6) for the candidates with normals `normals`
+/// (`None`: a candidate it does not move); `None` when no step moves the obstacles.
+fn obstacle_motion(problem: &Problem, normals: Vec<Option<Point>>) -> Option<ObstacleMotion> {
+    let steps = &problem.steps;
+    if steps.iter().all(|s| s.obstacle_displacement == [0.0, 0.0]) {
+        return None;
+    }
+    let states: Option<Vec<(f64, [f64; 2])>> = std::iter::once(Some((0.0, [0.0, 0.0])))
+        .chain(steps.iter().map(|s| s.time.map(|t| (t, s.obstacle_displacement))))
+        .collect();
+    states.map(|states| ObstacleMotion::new(states, normals))
 }
 
 /// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`
