@@ -54,6 +54,8 @@ struct Tangential<'a> {
     terms: Vec<Condensed<'a>>,
     /// `μ_c` per candidate.
     coefficients: Vec<f64>,
+    /// The coefficients in time ([`Friction::schedule`]).
+    schedule: Vec<(usize, Vec<f64>)>,
     /// `W_nt = G Y_t`, `W_tn = G_t Y`, `W_tt = G_t Y_t`, row-major `m × m`.
     nt: Vec<f64>,
     tn: Vec<f64>,
@@ -67,6 +69,29 @@ pub struct Friction<'a> {
     pub terms: Vec<Term<'a>>,
     /// `μ_c ≥ 0` (0: frictionless candidate).
     pub coefficients: Vec<f64>,
+    /// The coefficients in time (`[[step]] friction` with `time`, docs/method.md §10.6):
+    /// `(n_k, μ_c)`, the coefficients of the time steps up to `n_k` (from 1; after the
+    /// previous entry's), the last entry's after it; empty: `coefficients` throughout.
+    pub schedule: Vec<(usize, Vec<f64>)>,
+}
+
+impl Friction<'_> {
+    /// The coefficients of time step `step` (from 1).
+    pub fn at_step(&self, step: usize) -> &[f64] {
+        coefficients_at(&self.coefficients, &self.schedule, step)
+    }
+}
+
+/// `base`, or the coefficients `schedule` gives time step `step` ([`Friction::schedule`]).
+pub(super) fn coefficients_at<'s>(
+    base: &'s [f64],
+    schedule: &'s [(usize, Vec<f64>)],
+    step: usize,
+) -> &'s [f64] {
+    match schedule.iter().find(|(n, _)| step <= *n).or(schedule.last()) {
+        Some((_, mu)) => mu,
+        None => base,
+    }
 }
 
 /// One step's contact answer.
@@ -115,6 +140,7 @@ impl<'a> Impacts<'a> {
                     tt: block(&t, &t, m),
                     terms: t,
                     coefficients: f.coefficients,
+                    schedule: f.schedule,
                 })
             }
             None => None,
@@ -152,6 +178,7 @@ impl<'a> Impacts<'a> {
         let friction = friction.map(|f| Tangential {
             terms: bare(&f.terms),
             coefficients: f.coefficients,
+            schedule: f.schedule,
             nt: Vec::new(),
             tn: Vec::new(),
             tt: Vec::new(),
@@ -268,9 +295,11 @@ impl<'a> Impacts<'a> {
         let u_free = self.relative_velocities(v_free, obstacle.map(|o| (o, o.end_velocity)));
         let u = self.relative_velocities(v, obstacle.map(|o| (o, o.start_velocity)));
         let q: Vec<f64> = active.iter().map(|&c| u_free[c] + restitution * u[c]).collect();
-        if let Some(f) =
-            self.friction.as_ref().filter(|f| active.iter().any(|&c| f.coefficients[c] > 0.0))
-        {
+        let sliding = |f: &&Tangential<'_>| {
+            let mu = coefficients_at(&f.coefficients, &f.schedule, step);
+            active.iter().any(|&c| mu[c] > 0.0)
+        };
+        if let Some(f) = self.friction.as_ref().filter(sliding) {
             return self.frictional(f, active, q, v_free, step, obstacle);
         }
         let (z, pivots, residual) = solve_on(&self.compliance, m, active, q, step)?;
@@ -317,7 +346,10 @@ impl<'a> Impacts<'a> {
             free_gap: q_n,
             free_tangential: active.iter().map(|&c| u_t[c]).collect(),
             previous_tangential: vec![0.0; active.len()],
-            friction: active.iter().map(|&c| f.coefficients[c]).collect(),
+            friction: {
+                let mu = coefficients_at(&f.coefficients, &f.schedule, step);
+                active.iter().map(|&c| mu[c]).collect()
+            },
         };
         let answer = solve_step(&problem).map_err(|e| DynamicsError::Lcp { step, cause: e })?;
         let (mut impulses, mut tangential) = (vec![0.0; m], vec![0.0; m]);

@@ -30,7 +30,7 @@
 //! the system's free solve is skipped, see [`OnSet`]'s `free_gap`): on the bar of
 //! docs/dev/dynamics.md every contact step then settles in one solve.
 
-use super::impacts::StepImpulses;
+use super::impacts::{StepImpulses, coefficients_at};
 use super::loads::ObstacleStep;
 use super::{DynamicsError, Friction, Impacts, Iteration, Term};
 use crate::contact::BodyOperator;
@@ -50,6 +50,18 @@ pub(super) struct SparseStep<'a> {
     /// With friction: the tangential terms (the rates `U_t`) and each candidate's state at
     /// the last step it was in the index set (the next step's start).
     friction: Option<(Vec<Term<'a>>, Vec<ContactState>)>,
+    /// With friction changing in time ([`Friction::schedule`]): the schedule, the pairs'
+    /// tangential operators (to set the system's coefficients again) and the coefficients
+    /// the system holds.
+    schedule: Option<Schedule<'a>>,
+}
+
+/// The friction coefficients in time of a [`SparseStep`].
+struct Schedule<'a> {
+    base: Vec<f64>,
+    steps: Vec<(usize, Vec<f64>)>,
+    tangential: Vec<PairTangential<'a>>,
+    current: Vec<f64>,
 }
 
 impl<'a> SparseStep<'a> {
@@ -98,6 +110,7 @@ impl<'a> SparseStep<'a> {
             .collect();
         let gaps = vec![0.0; candidates];
         let mut system = Bodies::sharing_corners(bodies, pairs, &gaps).map_err(refused)?;
+        let mut schedule = None;
         let friction = match friction {
             Some(f) => {
                 let tangential: Vec<PairTangential<'a>> = pairs_of(&f.terms, candidates)
@@ -106,12 +119,21 @@ impl<'a> SparseStep<'a> {
                     .into_iter()
                     .map(|(t1, t2)| (t1.operator, t2.map(|t| t.operator)))
                     .collect();
-                system.set_friction(&f.coefficients, tangential).map_err(refused)?;
+                let first = f.at_step(1).to_vec();
+                if !f.schedule.is_empty() {
+                    schedule = Some(Schedule {
+                        base: f.coefficients.clone(),
+                        steps: f.schedule.clone(),
+                        tangential: tangential.clone(),
+                        current: first.clone(),
+                    });
+                }
+                system.set_friction(&first, tangential).map_err(refused)?;
                 Some((f.terms.clone(), vec![ContactState::Stick; candidates]))
             }
             None => None,
         };
-        Ok(Self { system, gaps, friction })
+        Ok(Self { system, gaps, friction, schedule })
     }
 
     /// The step on the index set `active` (not empty): each body's velocity `v_b⁺` and the
@@ -150,6 +172,13 @@ impl<'a> SparseStep<'a> {
         }
         self.system.set_initial_gap(&self.gaps);
         let m = self.gaps.len();
+        if let Some(s) = &mut self.schedule {
+            let mu = coefficients_at(&s.base, &s.steps, step);
+            if mu != s.current.as_slice() {
+                self.system.set_friction(mu, s.tangential.clone()).map_err(failed)?;
+                s.current = mu.to_vec();
+            }
+        }
         if let Some((terms, last)) = &mut self.friction {
             let moving = obstacle.map(|o| o.across(o.end_velocity));
             return frictional(&mut self.system, terms, last, active, v, moving, step);

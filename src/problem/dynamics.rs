@@ -261,9 +261,9 @@ fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
 
 /// The time of `[[step]]` number `k` (`step`), after the previous step's `previous` (0
 /// before the first): required and increasing with `[dynamics]` (`dynamic`), where a step is
-/// a state of the conditions (and of the rigid obstacles' displacement) in time and
-/// `increments`, the obstacle's force and a step's own friction are refused; refused in a
-/// static solve. `None` there.
+/// a state of the conditions (and of the rigid obstacles' displacement, and the friction
+/// coefficient during it) in time and `increments` and the obstacle's force are refused;
+/// refused in a static solve. `None` there.
 ///
 /// # Errors
 /// [`ProblemError::Invalid`] naming the step's key and a remedy.
@@ -290,11 +290,6 @@ pub(super) fn step_time(
         Some((
             "obstacle_force",
             "a force-driven obstacle in time needs the obstacle's mass (its motion follows from the force and its inertia), which a rigid obstacle does not have; prescribe its motion in time with `obstacle_displacement`, or model the obstacle as a body with a density ([[body]] tables and a [[contact]] pair between the bodies)",
-        ))
-    } else if step.friction.is_some() {
-        Some((
-            "friction",
-            "a step's own friction coefficient is not implemented with [dynamics] yet; set it in the contact table",
         ))
     } else {
         None

@@ -349,6 +349,12 @@ fn step_histories_refusals_name_the_key_and_a_remedy() {
             "step[0].obstacle_force",
             "prescribe its motion in time with `obstacle_displacement`",
         ),
+        (
+            step("time = 0.5\nfriction = 0.2"),
+            dynamics.to_string(),
+            "step[0].friction",
+            "no contact pair",
+        ),
         (step("time = 0.5"), dynamics.to_string(), "", ""),
     ];
     for (steps, dynamics, key, remedy) in cases {
