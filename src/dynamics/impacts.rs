@@ -7,6 +7,7 @@
 //! with the opposite direction). The gaps' rates `U = Σ_b G_b v_b` and the impulses' velocity
 //! changes `M̂_b⁻¹ E_b Π` are sums over the terms.
 
+use super::loads::{ObstacleMotion, ObstacleStep};
 use super::{DynamicsError, Iteration};
 use crate::contact::BodyOperator;
 use crate::lcp::{FrictionProblem, Lcp, LemkeParams, lemke, solve_step};
@@ -43,6 +44,8 @@ pub struct Impacts<'a> {
     compliance: Vec<f64>,
     /// Coulomb friction at the velocity level (`None`: frictionless).
     friction: Option<Tangential<'a>>,
+    /// The rigid obstacles' motion in time (`None`: at rest; docs/method.md §10.6).
+    obstacle: Option<ObstacleMotion>,
 }
 
 /// The tangential side of the candidates, condensed with `M̂`.
@@ -51,6 +54,8 @@ struct Tangential<'a> {
     terms: Vec<Condensed<'a>>,
     /// `μ_c` per candidate.
     coefficients: Vec<f64>,
+    /// The coefficients in time ([`Friction::schedule`]).
+    schedule: Vec<(usize, Vec<f64>)>,
     /// `W_nt = G Y_t`, `W_tn = G_t Y`, `W_tt = G_t Y_t`, row-major `m × m`.
     nt: Vec<f64>,
     tn: Vec<f64>,
@@ -64,6 +69,29 @@ pub struct Friction<'a> {
     pub terms: Vec<Term<'a>>,
     /// `μ_c ≥ 0` (0: frictionless candidate).
     pub coefficients: Vec<f64>,
+    /// The coefficients in time (`[[step]] friction` with `time`, docs/method.md §10.6):
+    /// `(n_k, μ_c)`, the coefficients of the time steps up to `n_k` (from 1; after the
+    /// previous entry's), the last entry's after it; empty: `coefficients` throughout.
+    pub schedule: Vec<(usize, Vec<f64>)>,
+}
+
+impl Friction<'_> {
+    /// The coefficients of time step `step` (from 1).
+    pub fn at_step(&self, step: usize) -> &[f64] {
+        coefficients_at(&self.coefficients, &self.schedule, step)
+    }
+}
+
+/// `base`, or the coefficients `schedule` gives time step `step` ([`Friction::schedule`]).
+pub(super) fn coefficients_at<'s>(
+    base: &'s [f64],
+    schedule: &'s [(usize, Vec<f64>)],
+    step: usize,
+) -> &'s [f64] {
+    match schedule.iter().find(|(n, _)| step <= *n).or(schedule.last()) {
+        Some((_, mu)) => mu,
+        None => base,
+    }
 }
 
 /// One step's contact answer.
@@ -112,11 +140,28 @@ impl<'a> Impacts<'a> {
                     tt: block(&t, &t, m),
                     terms: t,
                     coefficients: f.coefficients,
+                    schedule: f.schedule,
                 })
             }
             None => None,
         };
-        Ok(Self { initial_gap, normal, compliance, friction })
+        Ok(Self { initial_gap, normal, compliance, friction, obstacle: None })
+    }
+
+    /// These candidates with the rigid obstacles moving by `motion` (one entry per
+    /// candidate).
+    ///
+    /// # Panics
+    /// When `motion` does not have one entry per candidate (a caller bug).
+    pub fn with_obstacle(mut self, motion: Option<ObstacleMotion>) -> Self {
+        assert!(motion.as_ref().is_none_or(|m| m.len() == self.len()), "one per candidate");
+        self.obstacle = motion;
+        self
+    }
+
+    /// The obstacle's motion over time step `n → n + 1` of size `h` (`None`: at rest).
+    pub fn obstacle_step(&self, n: usize, h: f64) -> Option<ObstacleStep<'_>> {
+        self.obstacle.as_ref().map(|m| m.step(n, h))
     }
 
     /// The candidates of the `normal` terms without `W` (no solve with `M̂`): the index set,
@@ -133,11 +178,12 @@ impl<'a> Impacts<'a> {
         let friction = friction.map(|f| Tangential {
             terms: bare(&f.terms),
             coefficients: f.coefficients,
+            schedule: f.schedule,
             nt: Vec::new(),
             tn: Vec::new(),
             tt: Vec::new(),
         });
-        Self { initial_gap, normal: bare(normal), compliance: Vec::new(), friction }
+        Self { initial_gap, normal: bare(normal), compliance: Vec::new(), friction, obstacle: None }
     }
 
     /// Number of candidates.
@@ -150,10 +196,34 @@ impl<'a> Impacts<'a> {
         self.initial_gap.is_empty()
     }
 
-    /// The gaps `g0 + Σ_b G_b q_b` of the bodies' states `q`.
+    /// The gaps `g0 + Σ_b G_b q_b` of the bodies' states `q` (the obstacles at rest).
     pub fn gaps(&self, q: &[&[f64]]) -> Vec<f64> {
         let gq = rates(&self.normal, q, self.len());
         self.initial_gap.iter().zip(gq).map(|(g0, g)| g0 + g).collect()
+    }
+
+    /// The gaps `g0 + Σ_b G_b q_b − ν_c·d(t)` of the bodies' states `q` at time `t` (the
+    /// moving obstacles at `d(t)`).
+    pub fn gaps_at(&self, q: &[&[f64]], t: f64) -> Vec<f64> {
+        let mut g = self.gaps(q);
+        if let Some(m) = &self.obstacle {
+            g.iter_mut().zip(m.closing(t)).for_each(|(g, d)| *g -= d);
+        }
+        g
+    }
+
+    /// The relative normal velocities `Σ_b G_b v_b − ν_c·w` with the moving obstacles at
+    /// the velocity `w` (`obstacle` and `velocity` of its step; `None`: at rest).
+    pub fn relative_velocities(
+        &self,
+        v: &[&[f64]],
+        w: Option<(&ObstacleStep<'_>, [f64; 2])>,
+    ) -> Vec<f64> {
+        let mut u = self.normal_velocities(v);
+        if let Some((o, w)) = w {
+            u.iter_mut().zip(o.along(w)).for_each(|(u, w)| *u -= w);
+        }
+        u
     }
 
     /// The normal velocities `Σ_b G_b v_b` (the gaps' rates).
@@ -167,14 +237,22 @@ impl<'a> Impacts<'a> {
     /// A contact resting at a zero gap then stays in the set instead of leaving it on the sign
     /// of the last step's round-off (`U⁺ = 0` to the LCP solver's accuracy: Lemke's polished
     /// answer leaves gaps of 1e-20, the frictional step's 1e-15, enough to flip a `≤ 0` test);
-    /// Siconos' "constraint activation threshold", here relative.
-    pub fn index_set(&self, q: &[&[f64]], v: &[&[f64]], h: f64) -> Vec<usize> {
+    /// Siconos' "constraint activation threshold", here relative. With moving obstacles
+    /// (`obstacle`) the gaps are predicted at the same time, with the obstacle at
+    /// `d(t_n + h/2)` (its motion `|d| + h |w|` added to the scale of the moved candidates).
+    pub fn index_set(
+        &self,
+        q: &[&[f64]],
+        v: &[&[f64]],
+        h: f64,
+        obstacle: Option<&ObstacleStep<'_>>,
+    ) -> Vec<usize> {
         let ahead: Vec<Vec<f64>> = q
             .iter()
             .zip(v)
             .map(|(q, v)| q.iter().zip(*v).map(|(q, v)| q + 0.5 * h * v).collect())
             .collect();
-        let g = self.gaps(&ahead.iter().map(Vec::as_slice).collect::<Vec<_>>());
+        let mut g = self.gaps(&ahead.iter().map(Vec::as_slice).collect::<Vec<_>>());
         let largest = |x: &[f64]| x.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
         let motion: Vec<f64> = q.iter().zip(v).map(|(q, v)| largest(q) + h * largest(v)).collect();
         let mut scale: Vec<f64> = self.initial_gap.iter().map(|g| g.abs()).collect();
@@ -182,12 +260,21 @@ impl<'a> Impacts<'a> {
             let range = t.term.offset..t.term.offset + t.term.operator.len();
             scale[range].iter_mut().for_each(|s| *s += motion[t.term.body]);
         }
+        if let Some(o) = obstacle {
+            let own = largest(&o.ahead) + h * largest(&o.end_velocity);
+            for (c, d) in o.along(o.ahead).into_iter().enumerate().filter(|&(c, _)| o.moves(c)) {
+                g[c] -= d;
+                scale[c] += own;
+            }
+        }
         (0..g.len()).filter(|&c| g[c] <= ACTIVATION * scale[c]).collect()
     }
 
     /// The impulses on the index set `active`: `0 ≤ Π ⊥ U⁺ + e U ≥ 0` with
     /// `U⁺ = Σ_b G_b v_b,free + W Π` (Newton's impact law at the velocity level),
-    /// `U = Σ_b G_b v_b` at the step's start.
+    /// `U = Σ_b G_b v_b` at the step's start; with moving obstacles (`obstacle`) the
+    /// velocities relative to theirs, `U⁺ − ν_c·w_{n+1}` and `U − ν_c·w_n` (docs/method.md
+    /// §10.6).
     ///
     /// # Errors
     /// [`DynamicsError::Lcp`] when Lemke's method fails.
@@ -198,18 +285,22 @@ impl<'a> Impacts<'a> {
         v: &[&[f64]],
         restitution: f64,
         step: usize,
+        obstacle: Option<&ObstacleStep<'_>>,
     ) -> Result<StepImpulses, DynamicsError> {
         let m = self.len();
         if active.is_empty() {
             return Ok(StepImpulses::none(m));
         }
         let mut impulses = vec![0.0; m];
-        let (u_free, u) = (self.normal_velocities(v_free), self.normal_velocities(v));
+        let u_free = self.relative_velocities(v_free, obstacle.map(|o| (o, o.end_velocity)));
+        let u = self.relative_velocities(v, obstacle.map(|o| (o, o.start_velocity)));
         let q: Vec<f64> = active.iter().map(|&c| u_free[c] + restitution * u[c]).collect();
-        if let Some(f) =
-            self.friction.as_ref().filter(|f| active.iter().any(|&c| f.coefficients[c] > 0.0))
-        {
-            return self.frictional(f, active, q, v_free, step);
+        let sliding = |f: &&Tangential<'_>| {
+            let mu = coefficients_at(&f.coefficients, &f.schedule, step);
+            active.iter().any(|&c| mu[c] > 0.0)
+        };
+        if let Some(f) = self.friction.as_ref().filter(sliding) {
+            return self.frictional(f, active, q, v_free, step, obstacle);
         }
         let (z, pivots, residual) = solve_on(&self.compliance, m, active, q, step)?;
         for (&c, z) in active.iter().zip(&z) {
@@ -228,7 +319,8 @@ impl<'a> Impacts<'a> {
     /// (`q_n = U_free + e U`) and Coulomb's on the tangential velocities
     /// `U_t = Σ_b G_t,b v_b,free + W_tn Π + W_tt Π_t`: stick (`U_t = 0`, `|Π_t| ≤ μ Π`) or
     /// slide (`Π_t = −μ Π sign U_t`) — the step LCP of the static friction ([`solve_step`])
-    /// with the velocities in place of the displacement increments (`s_prev = 0`).
+    /// with the velocities in place of the displacement increments (`s_prev = 0`); relative
+    /// to a moving obstacle's `t_c·w_{n+1}` (`obstacle`).
     fn frictional(
         &self,
         f: &Tangential<'_>,
@@ -236,9 +328,13 @@ impl<'a> Impacts<'a> {
         q_n: Vec<f64>,
         v_free: &[&[f64]],
         step: usize,
+        obstacle: Option<&ObstacleStep<'_>>,
     ) -> Result<StepImpulses, DynamicsError> {
         let m = self.len();
-        let u_t = rates(&f.terms, v_free, m);
+        let mut u_t = rates(&f.terms, v_free, m);
+        if let Some(o) = obstacle {
+            u_t.iter_mut().zip(o.across(o.end_velocity)).for_each(|(u, w)| *u -= w);
+        }
         let sub = |b: &[f64]| -> Vec<f64> {
             active.iter().flat_map(|&r| active.iter().map(move |&c| b[r * m + c])).collect()
         };
@@ -250,7 +346,10 @@ impl<'a> Impacts<'a> {
             free_gap: q_n,
             free_tangential: active.iter().map(|&c| u_t[c]).collect(),
             previous_tangential: vec![0.0; active.len()],
-            friction: active.iter().map(|&c| f.coefficients[c]).collect(),
+            friction: {
+                let mu = coefficients_at(&f.coefficients, &f.schedule, step);
+                active.iter().map(|&c| mu[c]).collect()
+            },
         };
         let answer = solve_step(&problem).map_err(|e| DynamicsError::Lcp { step, cause: e })?;
         let (mut impulses, mut tangential) = (vec![0.0; m], vec![0.0; m]);
@@ -309,6 +408,25 @@ impl<'a> Impacts<'a> {
     pub fn work(&self, b: usize, impulses: &[f64], tangential: &[f64], v: &[f64]) -> f64 {
         let e = self.forces(b, impulses, tangential, v.len());
         e.iter().zip(v).map(|(e, v)| e * v).sum()
+    }
+
+    /// The work of the impulses of the moved candidates on body `b` along the obstacle's
+    /// displacement over the step `Δd` (`obstacle.displacement`): `(E_b Π + E_t,b Π_t)ᵀ D`
+    /// with `D` the uniform `Δd` at every node and `Π` zero off the moved candidates — the
+    /// obstacle's work on the body times `h` (docs/method.md §10.6).
+    pub fn obstacle_work(
+        &self,
+        b: usize,
+        impulses: &[f64],
+        tangential: &[f64],
+        n: usize,
+        obstacle: &ObstacleStep<'_>,
+    ) -> f64 {
+        let moved = |p: &[f64]| -> Vec<f64> {
+            p.iter().enumerate().map(|(c, &p)| if obstacle.moves(c) { p } else { 0.0 }).collect()
+        };
+        let uniform: Vec<f64> = (0..n).map(|d| obstacle.displacement[d % 2]).collect();
+        self.work(b, &moved(impulses), &moved(tangential), &uniform)
     }
 
     /// `E Π` on body `b` (`n` DOFs): the impulses' contributions to its rows.

@@ -18,6 +18,9 @@
 //! - [`mass`]: the lumped mass `ρ |Ω_I|` on the nodal values `Φ û`;
 //! - `iteration` (private): `M̂` and the free velocity;
 //! - [`LoadHistory`]: loads and prescribed displacements in time (`[[step]]` with `time`);
+//! - [`ObstacleMotion`]: the rigid obstacles' displacement in time (`[[step]]`
+//!   `obstacle_displacement` with `time`): the contact law on the velocities relative to
+//!   theirs (docs/method.md §10.6);
 //! - [`Impacts`]: `W`, the index set and each step's LCP, over the bodies' [`Term`]s;
 //! - `sparse` (private): the step's contact on the sparse system without `W`
 //!   (`contact.solver = "active_set"`);
@@ -39,7 +42,7 @@ pub use history::{Figures, History, PairFigures, Record};
 
 pub use impacts::{ACTIVATION, Friction, Impacts, Term};
 pub use iteration::{Iteration, StepLoad};
-pub use loads::LoadHistory;
+pub use loads::{LoadHistory, ObstacleMotion, ObstacleStep};
 pub use pair::{BodiesSimulation, BodyEnd, simulate_bodies};
 pub use stepping::Contacts;
 
@@ -133,6 +136,8 @@ pub struct Contact<'a> {
     /// Coulomb friction at the velocity level (`None`: frictionless): the one body's
     /// tangential term.
     pub friction: Option<Friction<'a>>,
+    /// The obstacles' motion in time (`None`: at rest).
+    pub obstacle: Option<ObstacleMotion>,
 }
 
 /// A finished run.
@@ -230,6 +235,7 @@ pub fn simulate(
         initial_gap: c.initial_gap.to_vec(),
         friction: c.friction,
         pair_starts: vec![0],
+        obstacle: c.obstacle,
     });
     let mut run = stepping::run(&[body], contacts, params, &[params.initial_velocity], progress)?;
     let state = run.states.pop().unwrap_or_else(|| unreachable!("one body"));

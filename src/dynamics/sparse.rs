@@ -30,7 +30,8 @@
 //! the system's free solve is skipped, see [`OnSet`]'s `free_gap`): on the bar of
 //! docs/dev/dynamics.md every contact step then settles in one solve.
 
-use super::impacts::StepImpulses;
+use super::impacts::{StepImpulses, coefficients_at};
+use super::loads::ObstacleStep;
 use super::{DynamicsError, Friction, Impacts, Iteration, Term};
 use crate::contact::BodyOperator;
 use crate::contact::sparse::{Bodies, BodyParts, PairParts, PairTangential};
@@ -49,6 +50,18 @@ pub(super) struct SparseStep<'a> {
     /// With friction: the tangential terms (the rates `U_t`) and each candidate's state at
     /// the last step it was in the index set (the next step's start).
     friction: Option<(Vec<Term<'a>>, Vec<ContactState>)>,
+    /// With friction changing in time ([`Friction::schedule`]): the schedule, the pairs'
+    /// tangential operators (to set the system's coefficients again) and the coefficients
+    /// the system holds.
+    schedule: Option<Schedule<'a>>,
+}
+
+/// The friction coefficients in time of a [`SparseStep`].
+struct Schedule<'a> {
+    base: Vec<f64>,
+    steps: Vec<(usize, Vec<f64>)>,
+    tangential: Vec<PairTangential<'a>>,
+    current: Vec<f64>,
 }
 
 impl<'a> SparseStep<'a> {
@@ -97,6 +110,7 @@ impl<'a> SparseStep<'a> {
             .collect();
         let gaps = vec![0.0; candidates];
         let mut system = Bodies::sharing_corners(bodies, pairs, &gaps).map_err(refused)?;
+        let mut schedule = None;
         let friction = match friction {
             Some(f) => {
                 let tangential: Vec<PairTangential<'a>> = pairs_of(&f.terms, candidates)
@@ -105,20 +119,32 @@ impl<'a> SparseStep<'a> {
                     .into_iter()
                     .map(|(t1, t2)| (t1.operator, t2.map(|t| t.operator)))
                     .collect();
-                system.set_friction(&f.coefficients, tangential).map_err(refused)?;
+                let first = f.at_step(1).to_vec();
+                if !f.schedule.is_empty() {
+                    schedule = Some(Schedule {
+                        base: f.coefficients.clone(),
+                        steps: f.schedule.clone(),
+                        tangential: tangential.clone(),
+                        current: first.clone(),
+                    });
+                }
+                system.set_friction(&first, tangential).map_err(refused)?;
                 Some((f.terms.clone(), vec![ContactState::Stick; candidates]))
             }
             None => None,
         };
-        Ok(Self { system, gaps, friction })
+        Ok(Self { system, gaps, friction, schedule })
     }
 
     /// The step on the index set `active` (not empty): each body's velocity `v_b⁺` and the
     /// impulses, from the free step's right-hand sides `rhs` and the velocities `v` at the
-    /// step's start.
+    /// step's start; with moving obstacles (`obstacle`) the gap rows hold the velocities
+    /// relative to theirs, `g0_c = (1 + e) U_c − ν_c·(w_{n+1} + e w_n)`, and the stick rows
+    /// `G_t Δv = t_c·w_{n+1} − U_t` (docs/method.md §10.6).
     ///
     /// # Errors
     /// [`DynamicsError::ActiveSet`] when the active-set method fails.
+    #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
         impacts: &Impacts<'_>,
@@ -127,6 +153,7 @@ impl<'a> SparseStep<'a> {
         v: &[&[f64]],
         restitution: f64,
         step: usize,
+        obstacle: Option<&ObstacleStep<'_>>,
     ) -> Result<(Vec<Vec<f64>>, StepImpulses), DynamicsError> {
         let failed = |e| DynamicsError::ActiveSet { step, cause: e };
         for (b, r) in rhs.iter().enumerate() {
@@ -137,10 +164,24 @@ impl<'a> SparseStep<'a> {
         for &c in active {
             self.gaps[c] = (1.0 + restitution) * u[c];
         }
+        if let Some(o) = obstacle {
+            let (end, start) = (o.along(o.end_velocity), o.along(o.start_velocity));
+            for &c in active {
+                self.gaps[c] -= end[c] + restitution * start[c];
+            }
+        }
         self.system.set_initial_gap(&self.gaps);
         let m = self.gaps.len();
+        if let Some(s) = &mut self.schedule {
+            let mu = coefficients_at(&s.base, &s.steps, step);
+            if mu != s.current.as_slice() {
+                self.system.set_friction(mu, s.tangential.clone()).map_err(failed)?;
+                s.current = mu.to_vec();
+            }
+        }
         if let Some((terms, last)) = &mut self.friction {
-            return frictional(&mut self.system, terms, last, active, v, step);
+            let moving = obstacle.map(|o| o.across(o.end_velocity));
+            return frictional(&mut self.system, terms, last, active, v, moving, step);
         }
         let mut on = OnSet { inner: &mut self.system, set: active, m };
         let answer = solve(&mut on, &ActiveSetParams::default()).map_err(failed)?;
@@ -192,13 +233,15 @@ fn pairs_of<'a>(
 /// Lemke's `Impacts` step): the stick rows hold `G_t Δv = −U_t` (`U_t = Σ G_t,b v_b` at the
 /// step's start, so the slip increment `s − s_prev` is the end-of-step tangential velocity
 /// `U_t⁺`), started from each candidate's state at its last step in the set (stick when
-/// new); the gaps and loads are set by the caller.
+/// new); relative to a moving obstacle's tangential velocity `moving` (`t_c·w_{n+1}` per
+/// candidate); the gaps and loads are set by the caller.
 fn frictional(
     system: &mut Bodies<'_>,
     terms: &[Term<'_>],
     last: &mut [ContactState],
     active: &[usize],
     v: &[&[f64]],
+    moving: Option<Vec<f64>>,
     step: usize,
 ) -> Result<(Vec<Vec<f64>>, StepImpulses), DynamicsError> {
     let failed = |e| DynamicsError::ActiveSet { step, cause: e };
@@ -207,6 +250,9 @@ fn frictional(
     for t in terms {
         let g = t.operator.gap_contribution(v[t.body]);
         u_t[t.offset..].iter_mut().zip(g).for_each(|(u, g)| *u += g);
+    }
+    if let Some(w) = moving {
+        u_t.iter_mut().zip(w).for_each(|(u, w)| *u -= w);
     }
     let previous: Vec<f64> = active.iter().map(|&c| -u_t[c]).collect();
     let start: Vec<ContactState> = active.iter().map(|&c| last[c]).collect();

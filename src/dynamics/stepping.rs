@@ -5,7 +5,7 @@
 //! [`Term`]s through which the candidates act on them.
 
 use super::impacts::StepImpulses;
-use super::loads::StepSide;
+use super::loads::{ObstacleMotion, ObstacleStep, StepSide};
 use super::sparse::SparseStep;
 use super::{Body, DynamicsError, Frame, History, Impacts, Iteration, Record, Seconds, State};
 use super::{Friction, StepLoad, Term, free_load, record, recorded_mass};
@@ -30,6 +30,8 @@ pub struct Contacts<'a> {
     /// The first candidate of each contact pair, ascending from 0 (`[0]` for one pair): with
     /// several, each record carries each pair's force ([`Record::pair_forces`]).
     pub pair_starts: Vec<usize>,
+    /// The rigid obstacles' motion in time (`None`: at rest; docs/method.md §10.6).
+    pub obstacle: Option<ObstacleMotion>,
 }
 
 /// A finished run of the loop.
@@ -81,9 +83,15 @@ pub(super) fn run(
             let m = c.initial_gap.len();
             let friction = c.friction.as_ref();
             sparse = Some(SparseStep::new(&iterations, &points, &zeros, &c.normal, m, friction)?);
-            Some(Impacts::uncondensed(&c.normal, c.initial_gap, c.friction))
+            Some(
+                Impacts::uncondensed(&c.normal, c.initial_gap, c.friction)
+                    .with_obstacle(c.obstacle),
+            )
         }
-        Some(c) => Some(Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction)?),
+        Some(c) => Some(
+            Impacts::new(&iterations, &c.normal, c.initial_gap, c.friction)?
+                .with_obstacle(c.obstacle),
+        ),
         None => None,
     };
     seconds.setup = clock.elapsed().as_secs_f64();
@@ -115,13 +123,16 @@ pub(super) fn run(
             Some(side) => StepLoad::Given(&side.rhs),
             None => StepLoad::Scaled(factor),
         };
+        // The moving obstacles' step (docs/method.md §10.6).
+        let obstacle = impacts.as_ref().and_then(|i| i.obstacle_step(step - 1, h));
+        let obstacle = obstacle.as_ref();
         // The sparse step: on a non-empty index set the step's velocities come from the
         // sparse system (its free solve included), timed as the LCP.
         let sparse_step = match (&impacts, sparse.as_mut()) {
             (Some(impacts), Some(sparse)) => {
                 let clock = Instant::now();
                 let (q, v) = (positions(&states), self::velocities(&states));
-                let active = impacts.index_set(&q, &v, h);
+                let active = impacts.index_set(&q, &v, h, obstacle);
                 let answer = if active.is_empty() {
                     None
                 } else {
@@ -131,7 +142,8 @@ pub(super) fn run(
                         .enumerate()
                         .map(|(b, (it, s))| it.free_rhs(&s.q, &s.v, load(b)))
                         .collect();
-                    Some(sparse.step(impacts, &active, &rhs, &v, params.restitution, step)?)
+                    let e = params.restitution;
+                    Some(sparse.step(impacts, &active, &rhs, &v, e, step, obstacle)?)
                 };
                 seconds.lcp += clock.elapsed().as_secs_f64();
                 answer.map(|(v, a)| (v, (impacts, a)))
@@ -152,7 +164,8 @@ pub(super) fn run(
                 match (&impacts, sparse.is_some()) {
                     (Some(impacts), false) => {
                         let clock = Instant::now();
-                        let answer = contact_step(impacts, &states, &v_free, params, step)?;
+                        let answer =
+                            contact_step(impacts, &states, &v_free, params, step, obstacle)?;
                         seconds.lcp += clock.elapsed().as_secs_f64();
                         let v_next = v_free
                             .into_iter()
@@ -172,7 +185,7 @@ pub(super) fn run(
         let start = (previous.external_work, previous.contact_loss);
         let applied = Applied { bodies, loads: &loads, factor, sides: &sides };
         let (next, (external, loss)) =
-            advance(&states, v_next, answer.as_ref(), &applied, params, start);
+            advance(&states, v_next, answer.as_ref(), obstacle, &applied, params, start);
         states = next;
         let clock = Instant::now();
         let mut rec = summed(bodies, &masses, &states, step as f64 * h);
@@ -188,7 +201,8 @@ pub(super) fn run(
         }
         progress(step, steps);
     }
-    let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps(&positions(&states)));
+    let end = steps as f64 * h;
+    let final_gap = impacts.as_ref().map_or_else(Vec::new, |c| c.gaps_at(&positions(&states), end));
     Ok(Run { history, frames, states, final_gap, final_impulses, seconds })
 }
 
@@ -211,11 +225,12 @@ fn contact_step(
     v_free: &[Vec<f64>],
     params: &Dynamics,
     step: usize,
+    obstacle: Option<&ObstacleStep<'_>>,
 ) -> Result<StepImpulses, DynamicsError> {
     let (q, v) = (positions(states), velocities(states));
-    let active = impacts.index_set(&q, &v, params.time_step);
+    let active = impacts.index_set(&q, &v, params.time_step, obstacle);
     let v_free: Vec<&[f64]> = v_free.iter().map(Vec::as_slice).collect();
-    impacts.impulses(&active, &v_free, &v, params.restitution, step)
+    impacts.impulses(&active, &v_free, &v, params.restitution, step, obstacle)
 }
 
 /// The applied side of a step, per body: the constant loads (`loads`, scaled by the ramp's
@@ -229,12 +244,14 @@ struct Applied<'s, 'b> {
 
 /// Each body's next state from its velocity at the step's end `v_next` (the step's
 /// impulses applied), with the work done on the bodies since time 0 (`start.0` plus the
-/// loads' `fᵀ Δq` and the prescribed displacements' work, body after body) and the energy
-/// taken by the contacts (`start.1` minus the impulses' work `/ h`).
+/// loads' `fᵀ Δq`, the prescribed displacements' work and a moving `obstacle`'s work,
+/// body after body) and the energy taken by the contacts (`start.1` minus the impulses'
+/// work `/ h` on the bodies' motion relative to the obstacle's, docs/method.md §10.6).
 fn advance(
     states: &[State],
     v_next: Vec<Vec<f64>>,
     answer: Option<&(&Impacts<'_>, StepImpulses)>,
+    obstacle: Option<&ObstacleStep<'_>>,
     applied: &Applied<'_, '_>,
     params: &Dynamics,
     start: (f64, f64),
@@ -260,8 +277,16 @@ fn advance(
                 external += support_work(body, s, &next_state, side, contact.as_deref(), params);
             }
         }
-        if let Some((impacts, a)) = answer {
-            loss -= impacts.work(b, &a.impulses, &a.tangential, &dq) / h;
+        match (answer, obstacle) {
+            (Some((impacts, a)), Some(o)) => {
+                let moved = impacts.obstacle_work(b, &a.impulses, &a.tangential, dq.len(), o);
+                loss -= (impacts.work(b, &a.impulses, &a.tangential, &dq) - moved) / h;
+                external += moved / h;
+            }
+            (Some((impacts, a)), None) => {
+                loss -= impacts.work(b, &a.impulses, &a.tangential, &dq) / h;
+            }
+            (None, _) => {}
         }
         next.push(next_state);
     }

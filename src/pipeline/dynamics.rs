@@ -7,7 +7,9 @@
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
 use crate::contact::{self, BodyOperator, BodyView, Candidates, ContactTarget, rings};
-use crate::dynamics::{self, Body, BodyEnd, Contact, LoadHistory, Simulation, StrainEnergy};
+use crate::dynamics::{
+    self, Body, BodyEnd, Contact, LoadHistory, ObstacleMotion, Simulation, StrainEnergy,
+};
 use crate::error::Error;
 use crate::fem::{self, Mesh};
 use crate::geometry::Point;
@@ -243,15 +245,25 @@ pub fn solve(problem: &Problem, progress: &mut dyn Progress) -> Result<DynamicOu
     // is frictionless, as in the static solve).
     let mu = problem.contact().map_or(0.0, |c| c.friction);
     let system = stepped.system;
+    let in_time = friction_steps(problem, dynamics.time_step);
+    let frictional = mu > 0.0 || in_time.iter().any(|s| s.1.is_some_and(|m| m > 0.0));
     let tangential =
-        candidates.as_ref().filter(|_| mu > 0.0).map(|c| c.tangential_operator(system));
+        candidates.as_ref().filter(|_| frictional).map(|c| c.tangential_operator(system));
     let contact = candidates.as_ref().map(|c| Contact {
         operator: &c.operator,
         initial_gap: &c.initial_gap,
         friction: tangential.as_ref().map(|(operator, free)| dynamics::Friction {
             terms: vec![dynamics::Term { body: 0, offset: 0, operator }],
             coefficients: free.iter().map(|&f| if f { mu } else { 0.0 }).collect(),
+            schedule: in_time
+                .iter()
+                .map(|&(n, m)| {
+                    let mu = m.unwrap_or(mu);
+                    (n, free.iter().map(|&f| if f { mu } else { 0.0 }).collect())
+                })
+                .collect(),
         }),
+        obstacle: obstacle_motion(problem, c.normals.iter().map(|&n| Some(n)).collect()),
     });
     let simulation = clock.run_counted("time steps", |advance| {
         dynamics::simulate(&stepped, contact, &dynamics, advance)
@@ -390,7 +402,10 @@ fn solve_bodies(
     }
     // Coulomb friction: every pair's tangential operators when any pair has friction (a
     // frictionless pair's candidates get μ = 0).
-    let tangential: Option<Vec<_>> = scene.iter().any(|p| p.spec.friction > 0.0).then(|| {
+    let in_time = friction_steps(problem, dynamics.time_step);
+    let frictional = scene.iter().any(|p| p.spec.friction > 0.0)
+        || in_time.iter().any(|s| s.1.is_some_and(|m| m > 0.0));
+    let tangential: Option<Vec<_>> = frictional.then(|| {
         scene
             .iter()
             .zip(&found)
@@ -404,6 +419,8 @@ fn solve_bodies(
     let friction = tangential.as_ref().map(|tangential| {
         let mut terms = Vec::new();
         let mut coefficients = Vec::new();
+        let mut schedule: Vec<(usize, Vec<f64>)> =
+            in_time.iter().map(|&(n, _)| (n, Vec::new())).collect();
         for ((pair, (t1, free, t2)), &offset) in scene.iter().zip(tangential).zip(&offsets) {
             terms.push(dynamics::Term { body: pair.body, offset, operator: t1 });
             if let (Some(t), Some(op)) = (pair.target_body, t2) {
@@ -411,14 +428,23 @@ fn solve_bodies(
             }
             let mu = pair.spec.friction;
             coefficients.extend(free.iter().map(|&f| if f { mu } else { 0.0 }));
+            for ((_, own), (_, step)) in in_time.iter().zip(&mut schedule) {
+                let mu = own.unwrap_or(mu);
+                step.extend(free.iter().map(|&f| if f { mu } else { 0.0 }));
+            }
         }
-        dynamics::Friction { terms, coefficients }
+        dynamics::Friction { terms, coefficients, schedule }
+    });
+    // A step's obstacle motion moves the pairs against rigid obstacles together.
+    let moved = scene.iter().zip(&found).flat_map(|(pair, (c, _))| {
+        c.normals.iter().map(move |&n| pair.target_body.is_none().then_some(n))
     });
     let contacts = dynamics::Contacts {
         normal,
         initial_gap: found.iter().flat_map(|(c, _)| c.initial_gap.iter().copied()).collect(),
         friction,
         pair_starts: offsets.clone(),
+        obstacle: obstacle_motion(problem, moved.collect()),
     };
     let velocities: Vec<[f64; 2]> = motions.iter().map(|m| m.1).collect();
     let refs: Vec<&Body<'_>> = stepped.iter().collect();
@@ -517,6 +543,36 @@ fn load_history(problem: &Problem, body: &DynamicBody) -> Result<Option<LoadHist
         states.push((time, load, rhs));
     }
     Ok(Some(LoadHistory::new(states)))
+}
+
+/// Each `[[step]]`'s friction in time (docs/method.md §10.6; empty when no step sets one): the
+/// last time step it holds in, `n_k` (a step's coefficient holds during it, `(t_{k−1}, t_k]`:
+/// time step `n`, whose middle is `(n − ½) h`, is step `k`'s when `(n − ½) h ≤ t_k`, so
+/// `n_k = ⌊t_k / h + ½⌋`), and its own coefficient (`None`: each pair's own).
+fn friction_steps(problem: &Problem, h: f64) -> Vec<(usize, Option<f64>)> {
+    if !problem.steps.iter().any(|s| s.friction_set) {
+        return Vec::new();
+    }
+    let last = |t: f64| (t / h + 0.5).floor() as usize;
+    problem
+        .steps
+        .iter()
+        .map(|s| (last(s.time.unwrap_or(0.0)), s.friction_set.then_some(s.friction)))
+        .collect()
+}
+
+/// The rigid obstacles' motion in `problem`'s `[[step]]` tables (`obstacle_displacement`
+/// at each step's `time`, docs/method.md §10.6) for the candidates with normals `normals`
+/// (`None`: a candidate it does not move); `None` when no step moves the obstacles.
+fn obstacle_motion(problem: &Problem, normals: Vec<Option<Point>>) -> Option<ObstacleMotion> {
+    let steps = &problem.steps;
+    if steps.iter().all(|s| s.obstacle_displacement == [0.0, 0.0]) {
+        return None;
+    }
+    let states: Option<Vec<(f64, [f64; 2])>> = std::iter::once(Some((0.0, [0.0, 0.0])))
+        .chain(steps.iter().map(|s| s.time.map(|t| (t, s.obstacle_displacement))))
+        .collect();
+    states.map(|states| ObstacleMotion::new(states, normals))
 }
 
 /// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`

@@ -261,8 +261,9 @@ fn refuse_unsupported(problem: &Problem) -> Result<(), ProblemError> {
 
 /// The time of `[[step]]` number `k` (`step`), after the previous step's `previous` (0
 /// before the first): required and increasing with `[dynamics]` (`dynamic`), where a step is
-/// a state of the conditions in time and `increments`, the obstacle's motion or force and a
-/// step's own friction are refused; refused in a static solve. `None` there.
+/// a state of the conditions (and of the rigid obstacles' displacement, and the friction
+/// coefficient during it) in time and `increments` and the obstacle's force are refused;
+/// refused in a static solve. `None` there.
 ///
 /// # Errors
 /// [`ProblemError::Invalid`] naming the step's key and a remedy.
@@ -285,20 +286,10 @@ pub(super) fn step_time(
     }
     let refused = if step.increments.is_some() {
         Some(("increments", "with [dynamics] a step is reached at its `time`, not in increments"))
-    } else if step.obstacle_displacement.is_some() {
-        Some((
-            "obstacle_displacement",
-            "a rigid obstacle moving in time is not implemented with [dynamics] yet (docs/dev/dynamics.md)",
-        ))
     } else if step.obstacle_force.is_some() {
         Some((
             "obstacle_force",
-            "a force-driven obstacle is not implemented with [dynamics] yet (docs/dev/dynamics.md)",
-        ))
-    } else if step.friction.is_some() {
-        Some((
-            "friction",
-            "a step's own friction coefficient is not implemented with [dynamics] yet; set it in the contact table",
+            "a force-driven obstacle in time needs the obstacle's mass (its motion follows from the force and its inertia), which a rigid obstacle does not have; prescribe its motion in time with `obstacle_displacement`, or model the obstacle as a body with a density ([[body]] tables and a [[contact]] pair between the bodies)",
         ))
     } else {
         None

@@ -2029,9 +2029,20 @@ fn load_steps(file: &ProblemFile, problem: &Problem) -> Result<Vec<Vec<LoadStep>
             }
             set_step_values(&f, b, &mut states[index].0[e], body_size(&body.domain))?;
         }
+        if dynamic && step.friction.is_some() && problem.pairs().is_empty() {
+            return Err(invalid(
+                &field("friction"),
+                step.friction.unwrap_or(0.0),
+                "no contact pair: a step's friction coefficient needs a contact; remove it or add a [contact] table",
+            ));
+        }
+        // With [dynamics] a step may only change the friction (from its previous step's time
+        // to its own).
+        let only_friction = dynamic && step.friction.is_some();
         if step.obstacle_displacement.is_none()
             && step.obstacle_force.is_none()
             && step.boundary.is_empty()
+            && !only_friction
         {
             return Err(invalid(
                 &field("boundary"),

@@ -445,3 +445,92 @@ fn axisymmetric_fe_cylinder_sticks_with_friction() {
         assert!(residual <= mlpg_contact::solution::COMPLEMENTARITY_TOLERANCE, "{name}");
     }
 }
+
+/// A step's own friction in time (`[[step]] friction` with `time`, docs/method.md §10.6): the
+/// block sliding at `v0 = 0.3` on the floor of `μ = 0.3` with a first step setting `friction
+/// = 0` until `t1 = 0.5` and a second setting 0.3 again (during `(0.5, 1]`, held after). A
+/// step's coefficient holds during the step, so the block keeps `m v0` to round-off until
+/// `t1` (1e-10), then obeys `Δp_x + μ Δp_y = −μ m g (t − t1)` from `t1` while it slides (1e-10,
+/// as the sliding block of `dynamics.rs`) and stops at `t1 + v0 / (μ g)` (within two steps);
+/// Lemke and the active set agree (momenta to 1e-10 of `m v0`).
+#[test]
+fn a_steps_friction_holds_during_the_step() {
+    let (v0, t1) = (0.3, 0.5);
+    let stop = t1 + v0 / (MU * G);
+    let steps =
+        format!("[[step]]\ntime = {t1}\nfriction = 0.0\n[[step]]\ntime = 1.0\nfriction = {MU}\n");
+    let runs: Vec<(DynamicOutcome, f64)> = ["", "solver = \"active_set\"\n"]
+        .iter()
+        .map(|solver| run(&block(MU, v0, 0.0, stop + 0.3, &format!("{solver}{steps}"))))
+        .collect();
+    for (k, (outcome, m)) in runs.iter().enumerate() {
+        let records = &outcome.simulation.history.records;
+        let at = records.iter().position(|r| (r.time - t1).abs() < 1e-9).expect("t1 a record");
+        let (p1, free) = (records[at].momentum, &records[..=at]);
+        let frictionless = free.iter().map(|r| (r.momentum[0] - m * v0).abs()).fold(0.0, f64::max);
+        let sliding = records[at..].iter().filter(|r| r.time <= t1 + 0.9 * (stop - t1));
+        let coulomb = sliding
+            .map(|r| {
+                let dp = [r.momentum[0] - p1[0], r.momentum[1] - p1[1]];
+                (dp[0] + MU * dp[1] + MU * m * G * (r.time - t1)).abs()
+            })
+            .fold(0.0, f64::max);
+        let stopped =
+            records.iter().find(|r| r.momentum[0] <= 1e-3 * m * v0).expect("it stops").time;
+        println!(
+            "{}: frictionless to t1 {:.2e}, Coulomb after {:.2e} of m v0, stops at {stopped:.4} (exact {stop:.4})",
+            ["Lemke", "active set"][k],
+            frictionless / (m * v0),
+            coulomb / (m * v0)
+        );
+        assert!(frictionless < 1e-10 * m * v0, "slowed before t1: {frictionless}");
+        assert!(coulomb < 1e-10 * m * v0, "Coulomb's identity off by {coulomb}");
+        assert!((stopped - stop).abs() <= 2.0 * H + 1e-12, "stops at {stopped}");
+    }
+    let (lemke, active) = (&runs[0].0.simulation.history.records, &runs[1].0.simulation.history);
+    let m = runs[0].1;
+    let apart = lemke
+        .iter()
+        .zip(&active.records)
+        .map(|(a, b)| {
+            (a.momentum[0] - b.momentum[0]).abs().max((a.momentum[1] - b.momentum[1]).abs())
+        })
+        .fold(0.0, f64::max);
+    println!("Lemke against the active set: momenta {:.2e} of m v0", apart / (m * v0));
+    assert!(apart < 1e-10 * m * v0, "the solvers differ by {apart}");
+    // The same block as a scene of pairs (`[[body]]`, `[[contact]]`: the several bodies' path,
+    // each pair's coefficients per step) gives the same momenta.
+    let scene = format!(
+        r#"
+        [[body]]
+        name = "block"
+        geometry = {{ kind = "rectangle", x = [0.0, 1.0], y = [0.0, 0.25] }}
+        nodes = {{ spacing = 0.05 }}
+        material = {{ young = 1000.0, poisson = 0.3, plane = "stress", density = 1.0 }}
+        body_force = [0.0, -1.0]
+        initial_velocity = [{v0}, 0.0]
+        [[contact]]
+        body = "block"
+        edge = "bottom"
+        obstacle_point = [0.0, 0.0]
+        obstacle_normal = [0.0, 1.0]
+        friction = {MU}
+        [dynamics]
+        end_time = {}
+        time_step = {H}
+        theta = 0.6
+        {steps}
+        "#,
+        stop + 0.3
+    );
+    let (pairs, _) = run(&Problem::from_toml(&scene).expect("the scene"));
+    let apart = lemke
+        .iter()
+        .zip(&pairs.simulation.history.records)
+        .map(|(a, b)| {
+            (a.momentum[0] - b.momentum[0]).abs().max((a.momentum[1] - b.momentum[1]).abs())
+        })
+        .fold(0.0, f64::max);
+    println!("[contact] against [[contact]]: momenta {:.2e} of m v0", apart / (m * v0));
+    assert!(apart < 1e-10 * m * v0, "the scene of pairs differs by {apart}");
+}

@@ -341,7 +341,19 @@ fn step_histories_refusals_name_the_key_and_a_remedy() {
             step("time = 0.5\nobstacle_displacement = [0.0, 0.1]"),
             dynamics.to_string(),
             "step[0].obstacle_displacement",
-            "not implemented",
+            "no contact pair is against rigid obstacles",
+        ),
+        (
+            step("time = 0.5\nobstacle_force = [0.0, 0.1]"),
+            dynamics.to_string(),
+            "step[0].obstacle_force",
+            "prescribe its motion in time with `obstacle_displacement`",
+        ),
+        (
+            step("time = 0.5\nfriction = 0.2"),
+            dynamics.to_string(),
+            "step[0].friction",
+            "no contact pair",
         ),
         (step("time = 0.5"), dynamics.to_string(), "", ""),
     ];
