@@ -106,9 +106,21 @@ pub fn create_dir(dir: &Path) -> Result<(), OutputError> {
     std::fs::create_dir_all(dir).map_err(io(dir))
 }
 
-/// Formats a float for CSV/JSON-like text: 12 significant digits, scientific.
-pub fn num(v: f64) -> String {
-    format!("{v:.11e}")
+/// Formats a float for CSV/JSON-like text: 12 significant digits, scientific (`{:.11e}`).
+/// Written straight into the text it is formatted into, without a `String` of its own
+/// (millions of numbers in a large body's outputs; `num(v).to_string()` gives the text).
+pub fn num(v: f64) -> Num {
+    Num(v)
+}
+
+/// A float displayed as [`num`] formats it.
+#[derive(Clone, Copy, Debug)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:.11e}", self.0)
+    }
 }
 
 /// The files written for an elastostatic solution (`second`: the second body's model of a
