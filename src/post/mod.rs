@@ -106,9 +106,21 @@ pub fn create_dir(dir: &Path) -> Result<(), OutputError> {
     std::fs::create_dir_all(dir).map_err(io(dir))
 }
 
-/// Formats a float for CSV/JSON-like text: 12 significant digits, scientific.
-pub fn num(v: f64) -> String {
-    format!("{v:.11e}")
+/// Formats a float for CSV/JSON-like text: 12 significant digits, scientific (`{:.11e}`).
+/// Written straight into the text it is formatted into, without a `String` of its own
+/// (millions of numbers in a large body's outputs; `num(v).to_string()` gives the text).
+pub fn num(v: f64) -> Num {
+    Num(v)
+}
+
+/// A float displayed as [`num`] formats it.
+#[derive(Clone, Copy, Debug)]
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{:.11e}", self.0)
+    }
 }
 
 /// The files written for an elastostatic solution (`second`: the second body's model of a
@@ -136,77 +148,92 @@ fn write_body(
     others: &[Drawn<'_>],
 ) -> Result<Vec<PathBuf>, OutputError> {
     create_dir(dir)?;
-    let mut written = Vec::new();
-    let nodes = &model.nodes;
-    let names = problem.domain.edge_names();
-    let [x, y] = coordinate_names(problem);
+    // Three independent groups of files, written side by side (a large body's text
+    // formatting is seconds of one core); listed in the same order as written one after the
+    // other: the tables, the VTU grid, the plots and contact files.
+    let tables = || -> Result<Vec<PathBuf>, OutputError> {
+        let mut written = Vec::new();
+        let nodes = &model.nodes;
+        let names = problem.domain.edge_names();
+        let [x, y] = coordinate_names(problem);
 
-    let mut text = format!("node,{x},{y},edges,spacing\n");
-    for (i, p) in nodes.points.iter().enumerate() {
-        let edges: Vec<&str> = nodes.edges[i].iter().map(|k| names[k].as_str()).collect();
-        let _ = writeln!(
-            text,
-            "{i},{},{},{},{}",
-            num(p[0]),
-            num(p[1]),
-            edges.join("|"),
-            num(nodes.spacing[i])
-        );
-    }
-    written.push(save(dir, "nodes.csv", &text)?);
-
-    let mut text = format!("node,{x},{y},u{x},u{y}\n");
-    for (i, p) in nodes.points.iter().enumerate() {
-        let u = solution.displacement[i];
-        let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(u[0]), num(u[1]));
-    }
-    written.push(save(dir, "displacement.csv", &text)?);
-
-    let mut text = format!("node,{x},{y},s{x}{x},s{y}{y},s{x}{y},von_mises\n");
-    let von_mises = solution.von_mises(&problem.material);
-    for (i, p) in nodes.points.iter().enumerate() {
-        let s = solution.stress[i];
-        let vm = von_mises[i];
-        let _ = writeln!(
-            text,
-            "{i},{},{},{},{},{},{}",
-            num(p[0]),
-            num(p[1]),
-            num(s[0]),
-            num(s[1]),
-            num(s[2]),
-            num(vm)
-        );
-    }
-    written.push(save(dir, "stress.csv", &text)?);
-
-    if !solution.hoop.is_empty() {
-        // Axisymmetric bodies only (x = r, y = z; docs/method.md §9.2).
-        let mut text = String::from("node,r,z,e_thth,s_thth\n");
-        for (i, (p, h)) in nodes.points.iter().zip(&solution.hoop).enumerate() {
-            let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(h[0]), num(h[1]));
+        let mut text = format!("node,{x},{y},edges,spacing\n");
+        for (i, p) in nodes.points.iter().enumerate() {
+            let edges: Vec<&str> = nodes.edges[i].iter().map(|k| names[k].as_str()).collect();
+            let _ = writeln!(
+                text,
+                "{i},{},{},{},{}",
+                num(p[0]),
+                num(p[1]),
+                edges.join("|"),
+                num(nodes.spacing[i])
+            );
         }
-        written.push(save(dir, "hoop.csv", &text)?);
-    }
+        written.push(save(dir, "nodes.csv", &text)?);
 
-    let mut text = format!("node,axis,{x},{y},reaction\n");
-    for &(node, axis, r) in &solution.reactions {
-        let p = nodes.points[node as usize];
-        let a = if axis == Axis::X { x } else { y };
-        let _ = writeln!(text, "{node},{a},{},{},{}", num(p[0]), num(p[1]), num(r));
-    }
-    written.push(save(dir, "reactions.csv", &text)?);
+        let mut text = format!("node,{x},{y},u{x},u{y}\n");
+        for (i, p) in nodes.points.iter().enumerate() {
+            let u = solution.displacement[i];
+            let _ = writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(u[0]), num(u[1]));
+        }
+        written.push(save(dir, "displacement.csv", &text)?);
 
-    let grid = vtk::solution_grid(problem, model, solution)?;
-    written.push(save(dir, "solution.vtu", &grid.to_vtu())?);
-    if let Some(r) = &problem.revolve {
-        written.push(save(dir, "solution_revolved.vtu", &revolve::revolved_vtu(&grid, r))?);
-    }
+        let mut text = format!("node,{x},{y},s{x}{x},s{y}{y},s{x}{y},von_mises\n");
+        let von_mises = solution.von_mises(&problem.material);
+        for (i, p) in nodes.points.iter().enumerate() {
+            let s = solution.stress[i];
+            let vm = von_mises[i];
+            let _ = writeln!(
+                text,
+                "{i},{},{},{},{},{},{}",
+                num(p[0]),
+                num(p[1]),
+                num(s[0]),
+                num(s[1]),
+                num(s[2]),
+                num(vm)
+            );
+        }
+        written.push(save(dir, "stress.csv", &text)?);
 
-    written.extend(solution_plots(dir, problem, model, second, solution, others)?);
-    if let Some(c) = solution.contact() {
-        written.extend(contact_outputs(dir, problem, solution, c)?);
-    }
+        if !solution.hoop.is_empty() {
+            // Axisymmetric bodies only (x = r, y = z; docs/method.md §9.2).
+            let mut text = String::from("node,r,z,e_thth,s_thth\n");
+            for (i, (p, h)) in nodes.points.iter().zip(&solution.hoop).enumerate() {
+                let _ =
+                    writeln!(text, "{i},{},{},{},{}", num(p[0]), num(p[1]), num(h[0]), num(h[1]));
+            }
+            written.push(save(dir, "hoop.csv", &text)?);
+        }
+
+        let mut text = format!("node,axis,{x},{y},reaction\n");
+        for &(node, axis, r) in &solution.reactions {
+            let p = nodes.points[node as usize];
+            let a = if axis == Axis::X { x } else { y };
+            let _ = writeln!(text, "{node},{a},{},{},{}", num(p[0]), num(p[1]), num(r));
+        }
+        written.push(save(dir, "reactions.csv", &text)?);
+        Ok(written)
+    };
+    let grid = || -> Result<Vec<PathBuf>, OutputError> {
+        let grid = vtk::solution_grid(problem, model, solution)?;
+        let mut written = vec![save(dir, "solution.vtu", &grid.to_vtu())?];
+        if let Some(r) = &problem.revolve {
+            written.push(save(dir, "solution_revolved.vtu", &revolve::revolved_vtu(&grid, r))?);
+        }
+        Ok(written)
+    };
+    let plots = || -> Result<Vec<PathBuf>, OutputError> {
+        let mut written = solution_plots(dir, problem, model, second, solution, others)?;
+        if let Some(c) = solution.contact() {
+            written.extend(contact_outputs(dir, problem, solution, c)?);
+        }
+        Ok(written)
+    };
+    let (tables, (grid, plots)) = rayon::join(tables, || rayon::join(grid, plots));
+    let mut written = tables?;
+    written.extend(grid?);
+    written.extend(plots?);
     Ok(written)
 }
 

@@ -381,11 +381,15 @@ pub(crate) fn write_arrays(s: &mut String, tag: &str, arrays: &[Array]) {
                 );
                 // A plane problem's out-of-plane shears are zero.
                 for t in v {
-                    let row: Vec<String> = t
-                        .iter()
-                        .map(|&x| if x == 0.0 { "0".to_string() } else { num(x) })
-                        .collect();
-                    let _ = writeln!(s, "{}", row.join(" "));
+                    for (k, &x) in t.iter().enumerate() {
+                        let sep = if k == 0 { "" } else { " " };
+                        if x == 0.0 {
+                            let _ = write!(s, "{sep}0");
+                        } else {
+                            let _ = write!(s, "{sep}{}", num(x));
+                        }
+                    }
+                    s.push('\n');
                 }
             }
             Array::Scalar(name, v) => {
@@ -434,8 +438,10 @@ pub(crate) fn write_points(s: &mut String, points: &[Point]) {
 pub(crate) fn write_connectivity(s: &mut String, cells: &[Vec<usize>]) {
     let _ = writeln!(s, "<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">");
     for c in cells {
-        let ids: Vec<String> = c.iter().map(|k| k.to_string()).collect();
-        let _ = writeln!(s, "{}", ids.join(" "));
+        for (k, id) in c.iter().enumerate() {
+            let _ = write!(s, "{}{id}", if k == 0 { "" } else { " " });
+        }
+        s.push('\n');
     }
     let _ =
         writeln!(s, "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">");
