@@ -74,6 +74,8 @@ mod validation {
     mod quasi_static;
     // Loads and prescribed displacements in time ([[step]] with time): d'Alembert, impulses, statics.
     mod dynamics_history;
+    // The FE consistent mass against the lumped one: bar impact, cantilever period, active set.
+    mod dynamics_mass;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.
