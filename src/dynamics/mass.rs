@@ -96,6 +96,29 @@ impl Mass {
         }
     }
 
+    /// The work over a step (velocities `v` to `next`) of the prescribed DOFs' inertia on the
+    /// free ones: `−v̄_fᵀ M_fc Δv_c` (`v̄` the step's mean velocity, `f` the free DOFs, `c` the
+    /// `prescribed` ones). The consistent mass couples them (`M̂` keeps a prescribed row's
+    /// columns); the lumped mass does not (its records drop the prescribed rows), 0.
+    pub fn support_inertia_work(
+        &self,
+        v: &[f64],
+        next: &[f64],
+        prescribed: impl Fn(usize) -> bool,
+    ) -> f64 {
+        let Self::Consistent(m) = self else { return 0.0 };
+        let mut work = 0.0;
+        for c in (0..m.n).filter(|&c| prescribed(c)) {
+            for e in m.col_ptr[c]..m.col_ptr[c + 1] {
+                let r = m.row_idx[e];
+                if !prescribed(r) {
+                    work -= 0.5 * (v[r] + next[r]) * m.values[e] * (next[c] - v[c]);
+                }
+            }
+        }
+        work
+    }
+
     /// The entries `(row, column, value)` of `M Φ` on the rows not flagged `skip` (the mass's
     /// share of `M̂`; a skipped row is massless, a constraint's).
     pub fn entries(

@@ -259,6 +259,8 @@ fn advance(
                     answer.map(|(i, a)| i.forces(b, &a.impulses, &a.tangential, dq.len()));
                 let body = applied.bodies[b];
                 external += support_work(body, s, &next_state, side, contact.as_deref(), params);
+                let prescribed = |d: usize| body.system.is_constrained(d);
+                external += body.mass.support_inertia_work(&s.v, &next_state.v, prescribed);
             }
         }
         if let Some((impacts, a)) = answer {
