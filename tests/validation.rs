@@ -76,6 +76,8 @@ mod validation {
     mod dynamics_history;
     // A rigid obstacle moving in time: a wall hitting a bar at rest is the bar impact in the wall's frame.
     mod dynamics_obstacle;
+    // The FE consistent mass against the lumped one: bar impact, cantilever period, active set.
+    mod dynamics_mass;
     // Flat rigid punch (a polyline obstacle with rounded corners) on an elastic block.
     mod flat_punch;
     // Axisymmetric bodies: patch test, Lamé's thick cylinder, solid cylinders on the axis.

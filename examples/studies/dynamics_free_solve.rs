@@ -456,7 +456,9 @@ fn main() {
     let mut clock = Clock::new(&mut silent, Vec::new());
     let parts = mlpg_contact::pipeline::dynamics::discretise(&problem, &mut clock).expect("body");
     let density = problem.dynamics.as_ref().expect("dynamics").density;
-    let mass = mlpg_contact::dynamics::mass::lumped_mass(&parts.mfvm.cells, density);
+    let mass = mlpg_contact::dynamics::mass::Mass::Lumped(
+        mlpg_contact::dynamics::mass::lumped_mass(&parts.mfvm.cells, density),
+    );
     let clock = Instant::now();
     let it =
         Iteration::new(&parts.system, &mass, &parts.node_shapes, h, theta, &parts.nodes.points)

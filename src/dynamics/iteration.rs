@@ -11,6 +11,7 @@
 //! `(1 − θ) v_n + θ v_{n+1} = (ū(t_{n+1}) − ū(t_n)) / h` (docs/method.md §10.5).
 
 use super::DynamicsError;
+use super::mass::Mass;
 use crate::assembly::{GlobalSystem, SystemMatrix};
 use crate::geometry::Point;
 use crate::linear_solve::{ColumnOrdering, Factorisation, mul};
@@ -39,15 +40,15 @@ pub struct Iteration<'a> {
 }
 
 impl<'a> Iteration<'a> {
-    /// Builds and factorises `M̂` from `system` (K with its collocation rows), the lumped
-    /// `mass` and the shape functions at the nodes (`Φ`), for step `h` and `θ`; `points`
+    /// Builds and factorises `M̂` from `system` (K with its collocation rows), the `mass`
+    /// (lumped, or the FE's consistent one: a constrained row has none, its columns stay) and the shape functions at the nodes (`Φ`), for step `h` and `θ`; `points`
     /// order the columns (nested dissection).
     ///
     /// # Errors
     /// [`DynamicsError::Solve`] when the factorisation fails.
     pub fn new(
         system: &'a GlobalSystem,
-        mass: &[f64],
+        mass: &Mass,
         node_shapes: &ShapeSet,
         h: f64,
         theta: f64,
@@ -55,17 +56,7 @@ impl<'a> Iteration<'a> {
     ) -> Result<Self, DynamicsError> {
         let n = system.matrix.n;
         let constrained: Vec<bool> = (0..n).map(|d| system.is_constrained(d)).collect();
-        let mut entries = Vec::new();
-        for i in 0..node_shapes.len() {
-            for (&j, &phi) in node_shapes.support(i).iter().zip(node_shapes.phi(i)) {
-                for a in 0..2 {
-                    let (r, c) = (2 * i + a, 2 * j as usize + a);
-                    if !constrained[r] {
-                        entries.push((r, c, mass[r] * phi));
-                    }
-                }
-            }
-        }
+        let mut entries = mass.entries(node_shapes, |r| constrained[r]);
         let s = h * h * theta * theta;
         let k = &system.matrix;
         for c in 0..n {

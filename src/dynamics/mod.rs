@@ -94,8 +94,9 @@ pub struct Body<'a> {
     pub node_shapes: &'a ShapeSet,
     /// Node positions (the ordering of the factorisation).
     pub points: &'a [Point],
-    /// The lumped mass per DOF (interleaved), acting on the nodal values `Φ v̂`.
-    pub mass: Vec<f64>,
+    /// The mass on the DOFs (interleaved): lumped, acting on the nodal values `Φ v̂`, or the
+    /// FE's consistent one.
+    pub mass: mass::Mass,
     /// How the strain energy is measured.
     pub strain: StrainEnergy<'a>,
     /// The loads and prescribed displacements in time (`[[step]]` tables with `time`;
@@ -150,7 +151,8 @@ pub struct Simulation {
     pub displacement: Vec<f64>,
     /// Their rates `v̂` at the end.
     pub velocity: Vec<f64>,
-    /// The lumped mass per DOF.
+    /// The mass per DOF: the lumped mass, or the consistent mass's row sums (the same total
+    /// and momentum).
     pub mass: Vec<f64>,
     /// Each candidate's gap at the end.
     pub final_gap: Vec<f64>,
@@ -244,24 +246,22 @@ pub fn simulate(
         frames: run.frames,
         displacement: state.q,
         velocity: state.v,
-        mass: body.mass.clone(),
+        mass: body.mass.row_sums(),
         final_gap: run.final_gap,
         final_impulses: run.final_impulses,
         seconds: run.seconds,
     })
 }
 
-/// The mass the records of `body` count: its lumped mass, without the prescribed DOFs when
+/// The mass the records of `body` count: its mass, without the prescribed DOFs when
 /// their values vary in time (a prescribed row is massless in `M̂`; its nodal velocity is the
 /// θ-method's `v_{n+1}`, which only the average `(1 − θ) v_n + θ v_{n+1}` constrains, so at
 /// θ = ½ it alternates about the prescribed rate: its kinetic energy and momentum are the
 /// support's, docs/method.md §10.5).
-fn recorded_mass<'a>(body: &'a Body<'_>) -> std::borrow::Cow<'a, [f64]> {
+fn recorded_mass<'a>(body: &'a Body<'_>) -> std::borrow::Cow<'a, mass::Mass> {
     match body.history {
         None => std::borrow::Cow::Borrowed(&body.mass),
-        Some(_) => (0..body.mass.len())
-            .map(|d| if body.system.is_constrained(d) { 0.0 } else { body.mass[d] })
-            .collect(),
+        Some(_) => std::borrow::Cow::Owned(body.mass.without(|d| body.system.is_constrained(d))),
     }
 }
 
@@ -275,16 +275,16 @@ fn free_load(system: &GlobalSystem) -> Vec<f64> {
 /// The record of `state` at `time`, without contact or work (the caller adds them); the
 /// kinetic energy and momentum with `mass` (the body's, or with a history in time the body's
 /// without its prescribed DOFs: [`recorded_mass`]).
-fn record(body: &Body<'_>, mass: &[f64], state: &State, time: f64) -> Record {
+fn record(body: &Body<'_>, mass: &mass::Mass, state: &State, time: f64) -> Record {
     let v = mass::nodal_values(body.node_shapes, &state.v);
     Record {
         time,
         contact_force: 0.0,
-        kinetic_energy: energy::kinetic(mass, &v),
+        kinetic_energy: mass.kinetic(&v),
         strain_energy: body.strain.of(body.node_shapes, &state.q),
         external_work: 0.0,
         contact_loss: 0.0,
-        momentum: energy::momentum(mass, &v),
+        momentum: mass.momentum(&v),
         pair_forces: Vec::new(),
         active: 0,
         pivots: 0,

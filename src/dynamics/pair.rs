@@ -18,7 +18,7 @@
 //! velocity (the one-body friction of [`super::Impacts`] with the sums over the bodies).
 
 use super::stepping::{self, Contacts};
-use super::{Body, DynamicsError, Simulation, energy, mass};
+use super::{Body, DynamicsError, Simulation, mass};
 use crate::problem::dynamics::Dynamics;
 
 /// One body at the end of a run of several bodies.
@@ -71,8 +71,8 @@ pub fn simulate_bodies(
         .map(|(s, body)| {
             let v = mass::nodal_values(body.node_shapes, &s.v);
             BodyEnd {
-                momentum: energy::momentum(&body.mass, &v),
-                mass: mass::total(&body.mass),
+                momentum: body.mass.momentum(&v),
+                mass: body.mass.total(),
                 displacement: s.q,
                 velocity: s.v,
             }
@@ -85,7 +85,7 @@ pub fn simulate_bodies(
             frames: run.frames,
             displacement: concat(&|e| &e.displacement),
             velocity: concat(&|e| &e.velocity),
-            mass: bodies.iter().flat_map(|b| b.mass.iter().copied()).collect(),
+            mass: bodies.iter().flat_map(|b| b.mass.row_sums()).collect(),
             final_gap: run.final_gap,
             final_impulses: run.final_impulses,
             seconds: run.seconds,

@@ -6,6 +6,7 @@
 
 use super::impacts::StepImpulses;
 use super::loads::{ObstacleMotion, ObstacleStep, StepSide};
+use super::mass::Mass;
 use super::sparse::SparseStep;
 use super::{Body, DynamicsError, Frame, History, Impacts, Iteration, Record, Seconds, State};
 use super::{Friction, StepLoad, Term, free_load, record, recorded_mass};
@@ -97,7 +98,7 @@ pub(super) fn run(
     seconds.setup = clock.elapsed().as_secs_f64();
     let loads: Vec<Vec<f64>> = bodies.iter().map(|b| free_load(b.system)).collect();
     let mut states = initial_states(bodies, velocities);
-    let masses: Vec<Cow<'_, [f64]>> = bodies.iter().map(|b| recorded_mass(b)).collect();
+    let masses: Vec<Cow<'_, Mass>> = bodies.iter().map(|b| recorded_mass(b)).collect();
     let mut start = summed(bodies, &masses, &states, 0.0);
     if pair_starts.len() > 1 {
         start.pair_forces = vec![0.0; pair_starts.len()];
@@ -275,6 +276,8 @@ fn advance(
                     answer.map(|(i, a)| i.forces(b, &a.impulses, &a.tangential, dq.len()));
                 let body = applied.bodies[b];
                 external += support_work(body, s, &next_state, side, contact.as_deref(), params);
+                let prescribed = |d: usize| body.system.is_constrained(d);
+                external += body.mass.support_inertia_work(&s.v, &next_state.v, prescribed);
             }
         }
         match (answer, obstacle) {
@@ -344,7 +347,7 @@ fn with_contact(rec: &mut Record, answer: &StepImpulses, h: f64, pair_starts: &[
 }
 
 /// The bodies' records at `time`, summed (without contact or work: the caller adds them).
-fn summed(bodies: &[&Body<'_>], masses: &[Cow<'_, [f64]>], states: &[State], time: f64) -> Record {
+fn summed(bodies: &[&Body<'_>], masses: &[Cow<'_, Mass>], states: &[State], time: f64) -> Record {
     let mut records =
         bodies.iter().zip(masses).zip(states).map(|((b, m), s)| record(b, m, s, time));
     let first = records.next().unwrap_or_else(|| unreachable!("a run has a body"));

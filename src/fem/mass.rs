@@ -7,8 +7,14 @@
 //! HRZ lumping (Hinton, Rock & Zienkiewicz, Earthq. Eng. Struct. Dyn. 4:245–249, 1976) scales
 //! the consistent diagonal `ρ ∫ N_a² dA` to the element's mass: positive for every node of
 //! both elements, exact in total.
+//!
+//! The consistent mass `M_ab = ρ ∫ N_a N_b dA` (per radian `ρ ∫ N_a N_b r dA`) on the same
+//! quadrature ([`consistent_mass`]): a sparse matrix with the stiffness's pattern, one block
+//! per direction; its entries sum to the element's mass (`Σ_a N_a = 1`), so the total is
+//! exact as the lumped one's.
 
 use super::Mesh;
+use crate::assembly::SystemMatrix;
 
 /// How the consistent element mass is lumped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,6 +44,59 @@ fn assembled(mesh: &Mesh, element: impl Fn(usize) -> Vec<f64>) -> Vec<f64> {
         }
     }
     mass
+}
+
+/// The consistent mass `ρ ∫ N_a N_b dA` of `mesh` on the interleaved DOFs (`2 a + d`, no
+/// coupling between the directions; `per_radian`: `ρ ∫ N_a N_b r dA`, `x = r`), on the
+/// element quadrature of [`element_mass`] and the stiffness (3 × 3 Gauss on Q9: exact for
+/// `N_a N_b` on affine elements, with the factor `r` too).
+pub fn consistent_mass(mesh: &Mesh, density: f64, per_radian: bool) -> SystemMatrix {
+    let mut entries: Vec<(usize, usize, f64)> = Vec::new();
+    for k in 0..mesh.element_count() {
+        let (shape, nodes) = (mesh.cell(k).shape, mesh.cell(k).nodes);
+        let n = shape.node_count();
+        let mut me = vec![0.0; n * n];
+        for ([xi, eta], w) in shape.quadrature() {
+            let r = if per_radian { mesh.point(k, xi, eta)[0] } else { 1.0 };
+            let weight = density * w * r * mesh.area_factor(k, xi, eta);
+            let values = shape.functions(xi, eta)[0];
+            for a in 0..n {
+                for b in 0..n {
+                    me[a * n + b] += weight * values[a] * values[b];
+                }
+            }
+        }
+        for a in 0..n {
+            for b in 0..n {
+                let (i, j) = (nodes[a] as usize, nodes[b] as usize);
+                for d in 0..2 {
+                    entries.push((2 * i + d, 2 * j + d, me[a * n + b]));
+                }
+            }
+        }
+    }
+    entries.sort_by_key(|&(r, c, _)| (c, r));
+    let n = 2 * mesh.node_count();
+    let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::<f64>::new());
+    let mut last = None;
+    for (r, c, v) in entries {
+        if last == Some((r, c)) {
+            if let Some(x) = values.last_mut() {
+                *x += v;
+            }
+            continue;
+        }
+        while col_ptr.len() <= c {
+            col_ptr.push(row_idx.len());
+        }
+        row_idx.push(r);
+        values.push(v);
+        last = Some((r, c));
+    }
+    while col_ptr.len() <= n {
+        col_ptr.push(row_idx.len());
+    }
+    SystemMatrix { n, col_ptr, row_idx, values }
 }
 
 /// The lumped masses of the nodes of element `k`, in local order (`per_radian`: the
@@ -109,6 +168,51 @@ mod tests {
         let total: f64 = m.iter().sum();
         assert!((total - 2.0).abs() < 1e-12, "{total}");
         assert!(m.iter().all(|&x| x > 0.0), "{m:?}");
+    }
+
+    /// The consistent mass is symmetric, has no coupling between the directions, and its
+    /// entries of one direction sum to the mass (plane, and per radian from the axis); its row
+    /// sums are the row-sum lumping's.
+    #[test]
+    fn consistent_mass_is_symmetric_and_sums_to_the_mass() {
+        for (x, per_radian, mesh) in [
+            ([0.0, 3.0], false, Mesh::rectangle([0.0, 3.0], [0.0, 1.0], 0.5)),
+            ([0.0, 2.0], true, Mesh::rectangle([0.0, 2.0], [0.0, 1.0], 0.25)),
+            ([0.0, 1.0], false, triangle()),
+        ] {
+            let m = consistent_mass(&mesh, 3.0, per_radian);
+            let exact = match (per_radian, mesh.grid.is_some()) {
+                (true, _) => 3.0 * (x[1] * x[1] - x[0] * x[0]) / 2.0,
+                (false, true) => 3.0 * (x[1] - x[0]),
+                (false, false) => 3.0,
+            };
+            let mut sums = [0.0; 2];
+            let mut rows = vec![0.0; m.n];
+            let dense = |r: usize, c: usize| {
+                (m.col_ptr[c]..m.col_ptr[c + 1])
+                    .find(|&e| m.row_idx[e] == r)
+                    .map_or(0.0, |e| m.values[e])
+            };
+            for c in 0..m.n {
+                for e in m.col_ptr[c]..m.col_ptr[c + 1] {
+                    let r = m.row_idx[e];
+                    assert_eq!(r % 2, c % 2, "no coupling between the directions");
+                    sums[c % 2] += m.values[e];
+                    rows[r] += m.values[e];
+                    assert!((m.values[e] - dense(c, r)).abs() < 1e-14, "symmetric at ({r}, {c})");
+                }
+            }
+            for s in sums {
+                assert!((s - exact).abs() < 1e-12 * exact, "{s} against {exact}");
+            }
+            let lumped = match per_radian {
+                true => lumped_mass_per_radian(&mesh, 3.0, Lumping::RowSum),
+                false => lumped_mass(&mesh, 3.0, Lumping::RowSum),
+            };
+            for (i, l) in lumped.iter().enumerate() {
+                assert!((rows[2 * i] - l).abs() < 1e-13, "row sum of node {i}");
+            }
+        }
     }
 
     #[test]

@@ -7,6 +7,7 @@
 use super::{MfvmParts, mfvm_parts};
 use crate::assembly::{self, GlobalSystem};
 use crate::contact::{self, BodyOperator, BodyView, Candidates, ContactTarget, rings};
+use crate::dynamics::mass::Mass;
 use crate::dynamics::{
     self, Body, BodyEnd, Contact, LoadHistory, ObstacleMotion, Simulation, StrainEnergy,
 };
@@ -16,7 +17,8 @@ use crate::geometry::Point;
 use crate::mls::ShapeSet;
 use crate::nodes::Nodes;
 use crate::post::{self, history::DynamicSummary};
-use crate::problem::{ContactPair as ScenePair, Method, Problem, dynamics::Dynamics};
+use crate::problem::dynamics::{Dynamics, MassKind};
+use crate::problem::{ContactPair as ScenePair, Method, Problem};
 use crate::progress::{Clock, Progress, StageTiming};
 use std::path::{Path, PathBuf};
 
@@ -575,8 +577,9 @@ fn obstacle_motion(problem: &Problem, normals: Vec<Option<Point>>) -> Option<Obs
     states.map(|states| ObstacleMotion::new(states, normals))
 }
 
-/// What the time stepping needs of `body`: its system, `Φ`, the lumped mass (MFVM: `ρ |Ω_I|`
-/// on the nodal values; FE: HRZ; axisymmetric: per radian, `ρ r dA`), its strain energy
+/// What the time stepping needs of `body`: its system, `Φ`, the mass (MFVM: `ρ |Ω_I|`
+/// on the nodal values; FE: HRZ, or the consistent mass with `[dynamics] mass =
+/// "consistent"`; axisymmetric: per radian, `ρ r dA`), its strain energy
 /// (the MFVM's collocated strains have no hoop term, so an axisymmetric MFVM body measures
 /// `½ uᵀ K u` as the FE does) and its loads' `history` in time.
 fn stepped_body<'a>(
@@ -593,10 +596,10 @@ fn stepped_body<'a>(
                 system: &parts.system,
                 node_shapes: &parts.node_shapes,
                 points: &parts.nodes.points,
-                mass: match axisymmetric {
+                mass: Mass::Lumped(match axisymmetric {
                     true => dynamics::mass::lumped_mass_per_radian(cells, density),
                     false => dynamics::mass::lumped_mass(cells, density),
-                },
+                }),
                 strain: match axisymmetric {
                     true => StrainEnergy::Quadratic(&parts.system.interior_stiffness),
                     false => StrainEnergy::Collocated {
@@ -609,20 +612,34 @@ fn stepped_body<'a>(
         }
         DynamicBody::Fem(p) => {
             let hrz = fem::mass::Lumping::Hrz;
-            let nodal = match axisymmetric {
-                true => fem::mass::lumped_mass_per_radian(&p.mesh, density, hrz),
-                false => fem::mass::lumped_mass(&p.mesh, density, hrz),
+            let consistent =
+                problem.dynamics.as_ref().is_some_and(|d| d.mass == MassKind::Consistent);
+            let mass = match (consistent, axisymmetric) {
+                (true, per_radian) => {
+                    Mass::Consistent(fem::mass::consistent_mass(&p.mesh, density, per_radian))
+                }
+                (false, true) => {
+                    Mass::Lumped(lumped(fem::mass::lumped_mass_per_radian(&p.mesh, density, hrz)))
+                }
+                (false, false) => {
+                    Mass::Lumped(lumped(fem::mass::lumped_mass(&p.mesh, density, hrz)))
+                }
             };
             Body {
                 system: &p.system,
                 node_shapes: &p.node_shapes,
                 points: &p.nodes.points,
-                mass: nodal.into_iter().flat_map(|m| [m, m]).collect(),
+                mass,
                 strain: StrainEnergy::Quadratic(&p.system.interior_stiffness),
                 history,
             }
         }
     }
+}
+
+/// The nodal masses on both DOFs of each node (interleaved).
+fn lumped(nodal: Vec<f64>) -> Vec<f64> {
+    nodal.into_iter().flat_map(|m| [m, m]).collect()
 }
 
 /// Solves the dynamic `problem` and writes its outputs to `out` (`input`: the problem file

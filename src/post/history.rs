@@ -4,7 +4,7 @@
 use super::summary::Verdict;
 use super::{OutputError, num, plot, write_text};
 use crate::dynamics::{Figures, History, Record};
-use crate::problem::dynamics::Dynamics;
+use crate::problem::dynamics::{Dynamics, MassKind};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -135,6 +135,9 @@ pub struct DynamicsEcho {
     /// The loads' ramp time (absent without).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub load_ramp: Option<f64>,
+    /// `"consistent"` with the FE's consistent mass (absent with the lumped one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass: Option<&'static str>,
 }
 
 impl From<&Dynamics> for DynamicsEcho {
@@ -146,6 +149,7 @@ impl From<&Dynamics> for DynamicsEcho {
             restitution: d.restitution,
             initial_velocity: d.initial_velocity,
             load_ramp: d.load_ramp,
+            mass: (d.mass == MassKind::Consistent).then_some("consistent"),
         }
     }
 }

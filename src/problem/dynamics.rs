@@ -37,6 +37,20 @@ pub struct Dynamics {
     /// of the bodies' `M̂` (plane MFVM bodies), otherwise Lemke's method on the
     /// condensed `W` (`Auto` takes Lemke).
     pub solver: ContactSolver,
+    /// The mass of every body (`[dynamics] mass`).
+    pub mass: MassKind,
+}
+
+/// `[dynamics] mass`: how the bodies' mass is formed (docs/method.md §10.1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MassKind {
+    /// Diagonal: the MFVM's `ρ |Ω_I|` on the nodal values (lumped by construction), the
+    /// finite elements' HRZ lumping.
+    #[default]
+    Lumped,
+    /// The finite elements' consistent mass `ρ ∫ N_a N_b dA` (refused for the MFVM).
+    Consistent,
 }
 
 /// A body's mass density and uniform velocity at time 0.
@@ -149,6 +163,7 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         snapshot_every,
         others,
         solver: solver_of(problem),
+        mass: mass_of(file, problem)?,
     };
     if dynamics.steps() > MAX_STEPS {
         return Err(invalid(
@@ -168,6 +183,22 @@ pub fn dynamics(file: &ProblemFile, problem: &Problem) -> Result<Option<Dynamics
         }
     }
     Ok(Some(dynamics))
+}
+
+/// `[dynamics] mass`: `"consistent"` needs every body to be finite elements.
+fn mass_of(file: &ProblemFile, problem: &Problem) -> Result<MassKind, ProblemError> {
+    let kind = file.dynamics.as_ref().and_then(|d| d.mass).unwrap_or_default();
+    let mfvm = (0..problem.body_count())
+        .filter_map(|k| problem.body(k))
+        .any(|p| p.discretisation.method != super::Method::Fem);
+    if kind == MassKind::Consistent && mfvm {
+        return Err(invalid(
+            "dynamics.mass",
+            "consistent",
+            "a consistent mass is formed for finite elements only (the MFVM's Voronoi-cell mass is lumped by construction); remove it, set mass = \"lumped\", or set [discretisation] method = \"fem\"",
+        ));
+    }
+    Ok(kind)
 }
 
 /// The initial velocity of body `k`: `[dynamics] initial_velocity` for a body

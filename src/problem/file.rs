@@ -86,6 +86,10 @@ pub struct DynamicsFile {
         skip_serializing_if = "Option::is_none"
     )]
     pub initial_velocity: Option<[f64; 2]>,
+    /// The mass: `"lumped"` (default; the MFVM's `ρ |Ω_I|`, the FE's HRZ) or `"consistent"`
+    /// (finite elements only: `ρ ∫ N_a N_b dA`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<super::dynamics::MassKind>,
     /// Snapshot frequency and the like.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub output: Option<DynamicsOutputFile>,

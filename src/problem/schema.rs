@@ -248,6 +248,7 @@ fn bodies_and_control(defs: &mut Map<String, Value>) {
             json!({
                 "end_time": number(), "time_step": number(), "theta": number(),
                 "restitution": number(), "load_ramp": number(), "initial_velocity": pair(),
+                "mass": one_of(&["lumped", "consistent"]),
                 "output": def("DynamicsOutputFile"),
             }),
             &["end_time", "time_step"],
