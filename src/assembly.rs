@@ -153,6 +153,34 @@ pub struct SystemMatrix {
     pub values: Vec<f64>,
 }
 
+impl SystemMatrix {
+    /// The `n × n` compressed-column matrix of the entries `(row, column, value)`, duplicates
+    /// summed in the order given (the entries sorted by column, then row).
+    pub fn from_entries(n: usize, mut entries: Vec<(usize, usize, f64)>) -> Self {
+        entries.sort_by_key(|&(r, c, _)| (c, r));
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::<f64>::new());
+        let mut last = None;
+        for (r, c, v) in entries {
+            if last == Some((r, c)) {
+                if let Some(x) = values.last_mut() {
+                    *x += v;
+                }
+                continue;
+            }
+            while col_ptr.len() <= c {
+                col_ptr.push(row_idx.len());
+            }
+            row_idx.push(r);
+            values.push(v);
+            last = Some((r, c));
+        }
+        while col_ptr.len() <= n {
+            col_ptr.push(row_idx.len());
+        }
+        Self { n, col_ptr, row_idx, values }
+    }
+}
+
 /// The assembled global system.
 #[derive(Clone, Debug)]
 pub struct GlobalSystem {

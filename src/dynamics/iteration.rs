@@ -135,27 +135,7 @@ impl<'a> Iteration<'a> {
 /// every diagonal entry present).
 fn compressed_columns(n: usize, mut entries: Vec<(usize, usize, f64)>) -> SystemMatrix {
     entries.extend((0..n).map(|d| (d, d, 0.0)));
-    entries.sort_by_key(|&(r, c, _)| (c, r));
-    let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::<f64>::new());
-    let mut last = None;
-    for (r, c, v) in entries {
-        if last == Some((r, c)) {
-            if let Some(x) = values.last_mut() {
-                *x += v;
-            }
-            continue;
-        }
-        while col_ptr.len() <= c {
-            col_ptr.push(row_idx.len());
-        }
-        row_idx.push(r);
-        values.push(v);
-        last = Some((r, c));
-    }
-    while col_ptr.len() <= n {
-        col_ptr.push(row_idx.len());
-    }
-    SystemMatrix { n, col_ptr, row_idx, values }
+    SystemMatrix::from_entries(n, entries)
 }
 
 #[cfg(test)]

@@ -75,28 +75,7 @@ pub fn consistent_mass(mesh: &Mesh, density: f64, per_radian: bool) -> SystemMat
             }
         }
     }
-    entries.sort_by_key(|&(r, c, _)| (c, r));
-    let n = 2 * mesh.node_count();
-    let (mut col_ptr, mut row_idx, mut values) = (vec![0], Vec::new(), Vec::<f64>::new());
-    let mut last = None;
-    for (r, c, v) in entries {
-        if last == Some((r, c)) {
-            if let Some(x) = values.last_mut() {
-                *x += v;
-            }
-            continue;
-        }
-        while col_ptr.len() <= c {
-            col_ptr.push(row_idx.len());
-        }
-        row_idx.push(r);
-        values.push(v);
-        last = Some((r, c));
-    }
-    while col_ptr.len() <= n {
-        col_ptr.push(row_idx.len());
-    }
-    SystemMatrix { n, col_ptr, row_idx, values }
+    SystemMatrix::from_entries(2 * mesh.node_count(), entries)
 }
 
 /// The lumped masses of the nodes of element `k`, in local order (`per_radian`: the
