@@ -42,9 +42,11 @@
 //! [`Factorisation::solve`]. Nothing here panics on a singular matrix.
 
 mod replaced;
+mod rows;
 mod symmetric;
 
 pub use replaced::ReplacedRows;
+pub use rows::RowProduct;
 pub use symmetric::{ACCEPTED_BACKWARD_ERROR, MAX_REFINEMENT_STEPS};
 
 use crate::assembly::SystemMatrix;
@@ -163,6 +165,15 @@ pub struct FactorOptions {
     /// the same rule (its fill bound below 0.8 times the kept one's). Default `false`; the
     /// graded node sets of the adaptive loop take it (docs/dev/time_to_accuracy.md).
     pub amd: bool,
+    /// [`FactorMethod::StaticPivoting`] with node coordinates: also build the
+    /// [`split_band`] order and take it when its fill bound stays within
+    /// [`SPLIT_BAND_ALLOWANCE`] of the kept order's (its two independent halves go on two
+    /// tasks in the factorisation and in every substitution). Default `false`: it pays where
+    /// one column after another is solved with the same factors (the time steps' `M̂`,
+    /// 1.7× faster per run), not in the contact paths, whose blocks of columns already
+    /// occupy both cores (the adaptive beam and the 10⁶-node strip measured no gain;
+    /// docs/dev/performance.md, "Two-core substitution").
+    pub split_band: bool,
 }
 
 impl FactorOptions {
@@ -180,6 +191,11 @@ pub const STATIC_PIVOTING_MIN_DOFS: usize = 100_000;
 /// A later ordering candidate must bound the flops below this fraction of the kept one's.
 const PREFER_FIRST: f64 = 0.8;
 
+/// The [`split_band`] order replaces the kept one when its fill bound (entries and flops)
+/// is at most this multiple of the kept one's: its two halves halve the substitution's
+/// time on two cores (docs/dev/performance.md, "Two-core substitution").
+pub const SPLIT_BAND_ALLOWANCE: f64 = 1.1;
+
 impl Default for FactorOptions {
     fn default() -> Self {
         Self {
@@ -193,6 +209,7 @@ impl Default for FactorOptions {
             separator_scale: 1.0,
             thin_boxes: vec![2.0, f64::INFINITY],
             amd: false,
+            split_band: false,
         }
     }
 }
@@ -410,6 +427,57 @@ pub fn nested_dissection(
     order.iter().flat_map(|&i| [2 * i as usize, 2 * i as usize + 1]).collect()
 }
 
+/// The nodes cut once across the longer side at the median, each half in a banded order
+/// running towards the cut (the lower half ascending, the upper half descending, along the
+/// longer side then the shorter), the separator (the nodes within `width[axis] / 2` of the
+/// median) last, along the shorter side; the DOF order as [`nested_dissection`]'s. The fill
+/// is about the banded order's, and the assembly tree has two independent halves, which the
+/// static LU factorises and substitutes on two tasks (docs/dev/performance.md, "Two-core
+/// substitution"). `None` when the cut leaves a half empty.
+pub fn split_band(points: &[Point], width: [f64; 2]) -> Option<Vec<usize>> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in points {
+        for d in 0..2 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    let ax = usize::from(hi[1] - lo[1] > hi[0] - lo[0]);
+    let mut along: Vec<f64> = points.iter().map(|p| p[ax]).collect();
+    let mid = along.len() / 2;
+    let median = *along.select_nth_unstable_by(mid, f64::total_cmp).1;
+    let half = 0.5 * width[ax];
+    let key = |i: &u32, sign: f64| {
+        let p = points[*i as usize];
+        (sign * p[ax], sign * p[1 - ax])
+    };
+    let (mut left, mut right, mut sep): (Vec<u32>, Vec<u32>, Vec<u32>) = Default::default();
+    for (i, p) in (0u32..).zip(points) {
+        match p[ax] {
+            x if x < median - half => left.push(i),
+            x if x > median + half => right.push(i),
+            _ => sep.push(i),
+        }
+    }
+    if left.is_empty() || right.is_empty() {
+        return None;
+    }
+    let sort = |ids: &mut Vec<u32>, sign: f64| {
+        ids.sort_unstable_by(|a, b| {
+            let (ka, kb) = (key(a, sign), key(b, sign));
+            ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1)).then(a.cmp(b))
+        });
+    };
+    sort(&mut left, 1.0);
+    sort(&mut right, -1.0);
+    sep.sort_unstable_by(|a, b| {
+        let (p, q) = (points[*a as usize], points[*b as usize]);
+        p[1 - ax].total_cmp(&q[1 - ax]).then(p[ax].total_cmp(&q[ax])).then(a.cmp(b))
+    });
+    let nodes = left.into_iter().chain(right).chain(sep);
+    Some(nodes.flat_map(|i| [2 * i as usize, 2 * i as usize + 1]).collect())
+}
+
 /// COLAMD column order of `matrix`.
 fn colamd_order(a: SymbolicSparseColMatRef<'_, usize>) -> Result<Vec<usize>, SolveError> {
     let n = a.ncols();
@@ -581,7 +649,26 @@ impl Plan {
                     best = Some((perm, nnz, flops));
                 }
             }
-            let Some((perm, nnz, flops)) = best else { return Err(backend("no column ordering")) };
+            let Some((mut perm, mut nnz, mut flops)) = best else {
+                return Err(backend("no column ordering"));
+            };
+            let split = match ordering {
+                ColumnOrdering::NestedDissection(points)
+                    if options.split_band && 2 * points.len() == n =>
+                {
+                    let w =
+                        separator_width(&pruned, points).map(|w| 0.5 * w * options.separator_scale);
+                    split_band(points, w)
+                }
+                _ => None,
+            };
+            if let Some(split) = split {
+                let (s_nnz, s_flops) = symmetric::symmetric_fill(&pruned, graph.as_ref(), &split)?;
+                let within = |a: f64, b: f64| a <= SPLIT_BAND_ALLOWANCE * b;
+                if within(s_nnz as f64, nnz as f64) && within(s_flops, flops) {
+                    (perm, nnz, flops) = (split, s_nnz, s_flops);
+                }
+            }
             stats.ordering_seconds = t.elapsed().as_secs_f64();
             stats.bound_nnz = nnz;
             stats.bound_flops = flops;
@@ -864,6 +951,18 @@ impl Factorisation {
     /// (reported by [`Self::solve`] and by the contact condensation as an error).
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         self.solve_with(rhs, None);
+    }
+
+    /// Solves `K X = B` in place with the factors alone: with
+    /// [`FactorMethod::StaticPivoting`] the substitutions without refinement against `K`
+    /// (no residual, no backward error recorded), otherwise [`Self::solve_in_place`]. For
+    /// callers that check the accuracy themselves, or whose factorisation perturbed no pivot
+    /// and whose matrix the substitution is known to solve to round-off.
+    pub fn solve_unrefined_in_place(&self, rhs: MatMut<'_, f64>) {
+        match &self.inner {
+            Inner::Static(lu) => lu.substitute_in_place(rhs),
+            _ => self.solve_in_place(rhs),
+        }
     }
 
     /// [`Self::solve_in_place`] for a factorisation of replaced rows

@@ -47,9 +47,7 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 
 use faer::dyn_stack::MemStack;
 use faer::linalg::matmul::matmul;
-use faer::linalg::triangular_solve::{
-    solve_unit_lower_triangular_in_place, solve_upper_triangular_in_place,
-};
+use faer::linalg::triangular_solve::solve_unit_lower_triangular_in_place;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::SymbolicSparseColMatRef;
 use faer::sparse::linalg::cholesky::{simplicial, supernodal};
@@ -61,7 +59,9 @@ use super::replaced::ReplacedRows;
 use super::{FactorPrecision, SolveError, backend, buffer};
 
 mod reach;
+mod substitute;
 use crate::assembly::SystemMatrix;
+use substitute::{Substitution, Tree};
 
 /// Refinement stops after this many corrections.
 pub const MAX_REFINEMENT_STEPS: usize = 10;
@@ -454,7 +454,7 @@ struct RowMatrix {
 /// The other orientation of compressed storage with `n` lines (`ptr`, `idx`, `values`):
 /// columns from rows or rows from columns, indices ascending within each line (`V = ()`
 /// for a structure alone).
-fn transpose<V: Copy + Default>(
+pub(super) fn transpose<V: Copy + Default>(
     n: usize,
     ptr: &[usize],
     idx: &[usize],
@@ -553,6 +553,8 @@ pub(super) struct StaticLu {
     row_scale: Vec<f64>,
     col_scale: Vec<f64>,
     nodes: Vec<Supernode>,
+    /// The assembly tree as the substitutions walk it.
+    tree: Tree,
     factors: Factors,
     /// The full, unscaled `K` for refinement (by rows, or rows replacing a base's).
     refine: Refine,
@@ -1126,6 +1128,7 @@ impl StaticLu {
             perm,
             row_scale,
             col_scale,
+            tree: Tree::new(&nodes, first, parallel),
             nodes,
             factors,
             norm,
@@ -1166,11 +1169,18 @@ impl StaticLu {
         }
     }
 
+    /// Solves `K X = B` with the stored factors only (no refinement); `x` holds `B` on entry.
+    pub(super) fn substitute_in_place(&self, x: MatMut<'_, f64>) {
+        match &self.factors {
+            Factors::Double(f) => self.substitute(f, x),
+            Factors::Single(f) => self.substitute(f, x),
+        }
+    }
+
     /// Solves `K X = B` with the factors `factors` only (no refinement); `x` holds `B` on
     /// entry.
     fn substitute<T: Scalar>(&self, factors: &[NodeFactor<T>], mut x: MatMut<'_, f64>) {
         let (n, k) = (self.n, x.ncols());
-        let zero = T::of(0.0);
         // w = P D_r b
         let mut w = Mat::<T>::zeros(n, k);
         for j in 0..k {
@@ -1179,60 +1189,7 @@ impl StaticLu {
                 wj[i] = T::of(xj[p] * self.row_scale[p]);
             }
         }
-        let mut tmp = Mat::<T>::zeros(0, 0);
-        for (node, fac) in self.nodes.iter().zip(factors) {
-            let (ns, p) = (node.end - node.start, node.pattern.len());
-            let m = ns + p;
-            let mut xs = w.as_mut().subrows_mut(node.start, ns);
-            for (j, &sj) in fac.swaps.iter().enumerate() {
-                if sj != j {
-                    for c in 0..k {
-                        let (a, b) = (xs[(j, c)], xs[(sj, c)]);
-                        xs[(j, c)] = b;
-                        xs[(sj, c)] = a;
-                    }
-                }
-            }
-            let lu = MatRef::from_column_major_slice(&fac.lu, m, ns);
-            solve_unit_lower_triangular_in_place(lu.subrows(0, ns), xs.rb_mut(), Par::Seq);
-            if p > 0 {
-                tmp.resize_with(p, k, |_, _| zero);
-                matmul(
-                    tmp.as_mut(),
-                    Accum::Replace,
-                    lu.subrows(ns, p),
-                    xs.rb(),
-                    T::of(1.0),
-                    Par::Seq,
-                );
-                for c in 0..k {
-                    let (wc, tc) = (w.col_as_slice_mut(c), tmp.col_as_slice(c));
-                    for (&g, &t) in node.pattern.iter().zip(tc) {
-                        wc[g] -= t;
-                    }
-                }
-            }
-        }
-        for (node, fac) in self.nodes.iter().zip(factors).rev() {
-            let (ns, p) = (node.end - node.start, node.pattern.len());
-            let m = ns + p;
-            if p > 0 {
-                tmp.resize_with(p, k, |_, _| zero);
-                for c in 0..k {
-                    let (wc, tc) = (w.col_as_slice(c), tmp.col_as_slice_mut(c));
-                    for (t, &g) in tc.iter_mut().zip(&node.pattern) {
-                        *t = wc[g];
-                    }
-                }
-            }
-            let mut xs = w.as_mut().subrows_mut(node.start, ns);
-            if p > 0 {
-                let u12 = MatRef::from_column_major_slice(&fac.u12, ns, p);
-                matmul(xs.rb_mut(), Accum::Add, u12, tmp.as_ref(), T::of(-1.0), Par::Seq);
-            }
-            let lu = MatRef::from_column_major_slice(&fac.lu, m, ns);
-            solve_upper_triangular_in_place(lu.subrows(0, ns), xs, Par::Seq);
-        }
+        Substitution { nodes: &self.nodes, factors, tree: &self.tree }.run(w.as_mut());
         // x = D_c Pᵀ w
         for j in 0..k {
             let wj = w.col_as_slice(j);
