@@ -291,8 +291,9 @@ impl Drop for Admission {
 /// thread per solve, the GIL released): each reserves its estimate ([`estimate`]), the dense
 /// kernels' workspace of its thread ([`system::kernel_workspace`]) and the thread's arena and
 /// stack.
-/// The first solve is always admitted (the run's own check refuses it if it cannot fit, as
-/// on the command line); a solve that starts while others run is refused when the
+/// The first solve is refused only when it and the thread pool's workspace cannot fit
+/// together (the run's own check then refuses what does not fit, as on the command line); a
+/// solve that starts while others run is refused when the
 /// reservations together exceed what the process could use when none ran ([`system::limit`], read
 /// then, less the thread pool's workspace), with the limit named — where it used to run out
 /// of address space in the middle and abort the interpreter.
@@ -306,6 +307,20 @@ pub fn admit(problem: &Problem) -> Result<Admission, crate::Error> {
         let pool =
             rayon::current_num_threads() as f64 * (system::kernel_workspace() + THREAD_BYTES);
         ledger.base = system::limit().map(|(available, what)| (available - pool, what));
+        // The first solve too, when its own thread and the pool's cannot map their kernels'
+        // workspace: that allocation has no fallible path (600 MiB a thread on a machine with
+        // a 300 MiB last-level cache, where a solve under `ulimit -v` aborted the process).
+        if let Some((available, what)) = ledger.base
+            && bytes > available
+        {
+            return Err(crate::Error::Memory {
+                estimate: bytes,
+                nodes,
+                available: available.max(0.0),
+                limit: what,
+                precision_hint: "",
+            });
+        }
     } else if let Some((available, what)) = ledger.base {
         let left = available - ledger.reserved;
         if bytes > left {
