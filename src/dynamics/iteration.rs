@@ -81,7 +81,7 @@ impl<'a> Iteration<'a> {
         }
         let matrix = compressed_columns(n, entries);
         // The static-pivoting LU: its substitutions run the two halves of a split band order
-        // on two cores, 3× faster per solve than the partial-pivoting LU on the bar
+        // on two cores, 1.5–3× faster per solve than the partial-pivoting LU on the bar
         // (docs/dev/dynamics.md, "Two-core substitution").
         let options = FactorOptions {
             method: FactorMethod::StaticPivoting,
