@@ -612,20 +612,23 @@ impl Plan {
                 FactorMethod::PartialPivoting => false,
                 FactorMethod::Auto => n >= STATIC_PIVOTING_MIN_DOFS,
             };
-        let candidates: Vec<Vec<usize>> = match ordering {
+        // The candidates, and the split band order to weigh against the kept one.
+        let (candidates, split): (Vec<Vec<usize>>, _) = match ordering {
             ColumnOrdering::NestedDissection(points) if 2 * points.len() == n => {
                 // The static structure of the static-pivoting LU is that of `K + Kᵀ`, whose
                 // reach is half that of `KᵀK`.
                 let own = if use_static { 0.5 } else { 1.0 };
                 let w = separator_width(&pruned, points).map(|w| w * own * options.separator_scale);
-                options
+                let split = (use_static && options.split_band).then(|| split_band(points, w));
+                let candidates = options
                     .thin_boxes
                     .iter()
                     .map(|&thin| nested_dissection(points, w, options.leaf_nodes.max(1), thin))
-                    .collect()
+                    .collect();
+                (candidates, split.flatten())
             }
-            ColumnOrdering::Permutation(p) if is_permutation(p, n) => vec![p.to_vec()],
-            _ => vec![colamd_order(sym)?],
+            ColumnOrdering::Permutation(p) if is_permutation(p, n) => (vec![p.to_vec()], None),
+            _ => (vec![colamd_order(sym)?], None),
         };
         // The first candidate, unless a later one bounds the flops clearly lower (the first,
         // nested dissection proper, needs less memory at equal flops: 6.5 vs 11.8 GB at 100k
@@ -651,16 +654,6 @@ impl Plan {
             }
             let Some((mut perm, mut nnz, mut flops)) = best else {
                 return Err(backend("no column ordering"));
-            };
-            let split = match ordering {
-                ColumnOrdering::NestedDissection(points)
-                    if options.split_band && 2 * points.len() == n =>
-                {
-                    let w =
-                        separator_width(&pruned, points).map(|w| 0.5 * w * options.separator_scale);
-                    split_band(points, w)
-                }
-                _ => None,
             };
             if let Some(split) = split {
                 let (s_nnz, s_flops) = symmetric::symmetric_fill(&pruned, graph.as_ref(), &split)?;

@@ -690,6 +690,20 @@ fn first_columns(nodes: &[Supernode], n: usize) -> Vec<usize> {
     first
 }
 
+/// Applies a supernode's row swaps (`swaps[j]`: row `j` swapped with row `swaps[j] ≥ j` at
+/// step `j`) to every column of `x`, the rows of its diagonal block.
+fn swap_rows<T: Copy>(swaps: &[usize], mut x: MatMut<'_, T>) {
+    for (j, &sj) in swaps.iter().enumerate() {
+        if sj != j {
+            for c in 0..x.ncols() {
+                let (a, b) = (x[(j, c)], x[(sj, c)]);
+                x[(j, c)] = b;
+                x[(sj, c)] = a;
+            }
+        }
+    }
+}
+
 fn par_for(flops: f64) -> Par {
     if flops > PARALLEL_DENSE_FLOPS { Par::rayon(2) } else { Par::Seq }
 }

@@ -35,7 +35,7 @@ use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
-use super::{NodeFactor, StaticLu, Supernode};
+use super::{NodeFactor, StaticLu, Supernode, swap_rows};
 
 /// Rows of `M` per parallel task of the product (fixed, so that the arithmetic does not
 /// depend on the thread count).
@@ -294,15 +294,7 @@ fn front_solve(
         let (mut top, bottom) = fm.rb_mut().split_at_row_mut(ns);
         match side {
             Side::Lower => {
-                for (j, &sj) in fac.swaps.iter().enumerate() {
-                    if sj != j {
-                        for c in 0..r {
-                            let (a, b) = (top[(j, c)], top[(sj, c)]);
-                            top[(j, c)] = b;
-                            top[(sj, c)] = a;
-                        }
-                    }
-                }
+                swap_rows(&fac.swaps, top.rb_mut());
                 solve_unit_lower_triangular_in_place(lu.subrows(0, ns), top.rb_mut(), Par::Seq);
                 if p > 0 {
                     matmul(bottom, Accum::Add, lu.subrows(ns, p), top.rb(), -1.0, Par::Seq);

@@ -23,7 +23,7 @@ use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 use rayon::prelude::*;
 
-use super::{NodeFactor, Scalar, Supernode};
+use super::{NodeFactor, Scalar, Supernode, swap_rows};
 
 /// A subtree with at most this many factor entries is substituted by one task (2 MB of
 /// `f64`: below that a task costs more than the half of the reads it takes over).
@@ -205,15 +205,7 @@ impl<T: Scalar> Substitution<'_, T> {
         let (hi, k) = (lo + own.nrows(), own.ncols());
         let lu = MatRef::from_column_major_slice(&fac.lu, ns + p, ns);
         let mut xs = own.rb_mut().subrows_mut(node.start - lo, ns);
-        for (j, &sj) in fac.swaps.iter().enumerate() {
-            if sj != j {
-                for c in 0..k {
-                    let (a, b) = (xs[(j, c)], xs[(sj, c)]);
-                    xs[(j, c)] = b;
-                    xs[(sj, c)] = a;
-                }
-            }
-        }
+        swap_rows(&fac.swaps, xs.rb_mut());
         solve_unit_lower_triangular_in_place(lu.subrows(0, ns), xs.rb_mut(), Par::Seq);
         if p == 0 {
             return;
